@@ -1,0 +1,46 @@
+# Two commands do all the set-up on a fresh machine: `make demo` and `make test`.
+PY ?= python3
+VENV := .venv
+BIN := $(VENV)/bin
+STAMP_RUN := $(VENV)/.installed-run
+STAMP_DEV := $(VENV)/.installed-dev
+TORCH := torch==2.13.0
+
+.PHONY: demo test lint system-deps clean
+
+$(BIN)/python:
+	$(PY) -m venv $(VENV)
+	$(BIN)/pip install --quiet --upgrade pip setuptools wheel
+
+$(STAMP_RUN): pyproject.toml | $(BIN)/python
+	$(BIN)/pip install --quiet -e .
+	touch $@
+
+$(STAMP_DEV): pyproject.toml | $(BIN)/python
+	$(BIN)/pip install --quiet $(TORCH)
+	$(BIN)/pip install --quiet -e ".[train,dev]"
+	touch $@ $(STAMP_RUN)
+
+# Debian packages the tests need: PortAudio for sounddevice, Chromium for the viewer test.
+system-deps:
+	@if ! ldconfig -p | grep -q libportaudio.so.2 || ! command -v chromedriver >/dev/null; then \
+		if [ "$$(id -u)" = 0 ]; then \
+			apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq \
+				libportaudio2 chromium chromium-driver >/dev/null; \
+		else \
+			echo "install libportaudio2 chromium chromium-driver (Debian packages) first"; \
+		fi; \
+	fi
+
+demo: $(STAMP_RUN)
+	$(BIN)/gesturecast demo
+
+test: system-deps $(STAMP_DEV)
+	$(BIN)/ruff check .
+	$(BIN)/python -m pytest
+
+lint: $(STAMP_DEV)
+	$(BIN)/ruff check .
+
+clean:
+	rm -rf $(VENV) .cache out

@@ -1,0 +1,48 @@
+"""The ``gesturecast`` console script: one sub-command per module, registered below.
+
+Each command module exposes ``register(subparsers)``, which adds its parser and sets
+``func`` (``args -> exit code``). Errors meant for the user raise :class:`UserError` and are
+printed as one line, without a traceback.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import logging
+import sys
+
+from gesturecast.errors import UserError
+
+# module paths that provide ``register(subparsers)``; imported lazily so that `--help` is fast
+COMMAND_MODULES: tuple[str, ...] = (
+    "gesturecast.tools.render_cli",
+    "gesturecast.tools.data_cli",
+)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="gesturecast", description=__doc__.splitlines()[0])
+    parser.add_argument("-v", "--verbose", action="store_true", help="debug logging")
+    sub = parser.add_subparsers(dest="command", required=True)
+    for module_name in COMMAND_MODULES:
+        importlib.import_module(module_name).register(sub)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    logging.basicConfig(
+        level=logging.DEBUG if args.verbose else logging.INFO, format="%(levelname)s %(name)s: %(message)s"
+    )
+    try:
+        return int(args.func(args) or 0)
+    except UserError as error:
+        print(f"gesturecast {args.command}: error: {error}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

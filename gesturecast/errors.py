@@ -1,0 +1,5 @@
+"""Errors that reach the user as one clear line (the CLI prints them without a traceback)."""
+
+
+class UserError(Exception):
+    """Bad input or environment: the message names the problem and what to do about it."""

@@ -1,0 +1,29 @@
+"""What flows from the generator to the bridges: one pose per motion frame, with timestamps."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class PoseFrame:
+    """One canonical pose.
+
+    seq: frame number in the stream (0, 1, 2, ...).
+    capture_time: clock time (s) at which the audio this frame answers was captured.
+    presentation_time: capture_time + the fixed latency L; bridges send at this time.
+    root_position: (3,) Hips position, metres, internal frame (right-handed, Y-up, faces +Z).
+    rotations: (J, 4) local XYZW rotations on the canonical skeleton.
+    style: the style prompt in effect (for display).
+    speaking: whether the voice-activity flag was set for this frame.
+    """
+
+    seq: int
+    capture_time: float
+    presentation_time: float
+    root_position: np.ndarray
+    rotations: np.ndarray
+    style: str = ""
+    speaking: bool = False
