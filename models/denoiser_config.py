@@ -1,0 +1,77 @@
+"""Configuration of the causal latent denoiser (no torch import: the ONNX runtime reads it too).
+
+Time layout (GestureDiffuCLIP §3.2, DiffuseStyleGesture §3): latent frame ``i`` covers motion frames
+``[i*d, (i+1)*d)`` at 30 fps. Its audio condition is the window of ``audio_window`` feature frames
+ending at motion frame ``(i+1)*d + audio_lookahead - 1`` (``δa`` frames of look-ahead).
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+
+import numpy as np
+
+# Noise-level index of a clean frame (history in diffusion forcing, Chen et al. 2024 §3).
+# Schedule indices 0..T-1 are noisy levels; the model embeds ``t + 1`` so that clean is exact.
+CLEAN_T = -1
+
+
+@dataclass(frozen=True)
+class DenoiserConfig:
+    latent_dim: int = 64  # C: VQ-VAE latent channels
+    audio_dim: int = 64  # F: audio feature channels at 30 fps
+    style_dim: int = 256  # S: style embedding size (wordllama)
+    width: int = 160  # transformer model width
+    num_layers: int = 4
+    num_heads: int = 4
+    ff_mult: int = 4
+    window: int = 16  # W: past latent frames each frame may attend to (KV cache length)
+    frames_per_latent: int = 4  # d: motion frames per latent frame
+    audio_lookahead: int = 8  # δa: audio feature frames past the end of the latent
+    audio_window: int = 16  # A: audio feature frames encoded per latent frame
+    num_timesteps: int = 1000  # T: diffusion steps of the schedule
+
+    @property
+    def head_dim(self) -> int:
+        return self.width // self.num_heads
+
+    def __post_init__(self) -> None:
+        if self.width % self.num_heads:
+            raise ValueError(f"width {self.width} is not divisible by num_heads {self.num_heads}")
+
+    def to_dict(self) -> dict:
+        return asdict(self)
+
+    @classmethod
+    def from_dict(cls, values: dict) -> DenoiserConfig:
+        return cls(**values)
+
+
+def audio_window_end(latent_index: int, config: DenoiserConfig) -> int:
+    """Exclusive end (motion/audio frame index) of latent ``latent_index``'s audio window."""
+    return (latent_index + 1) * config.frames_per_latent + config.audio_lookahead
+
+
+def audio_window_bounds(latent_index: int, config: DenoiserConfig) -> tuple[int, int]:
+    """``[start, end)`` audio feature frames seen by latent ``latent_index``; start may be negative (zero pad)."""
+    end = audio_window_end(latent_index, config)
+    return end - config.audio_window, end
+
+
+def audio_frames_needed(num_latents: int, config: DenoiserConfig) -> int:
+    """Audio feature frames a sequence of ``num_latents`` latents needs: ``N*d + δa``."""
+    return audio_window_end(num_latents - 1, config)
+
+
+def audio_window_from_features(features: np.ndarray, latent_index: int, config: DenoiserConfig) -> np.ndarray:
+    """The (A, F) audio window of latent ``latent_index`` from a (T, F) feature array, zero-padded before 0.
+
+    ``features`` must reach frame ``audio_window_end(latent_index) - 1`` (the look-ahead has arrived).
+    """
+    start, end = audio_window_bounds(latent_index, config)
+    if end > len(features):
+        raise ValueError(f"latent {latent_index} needs {end} audio frames, got {len(features)}")
+    window = np.zeros((config.audio_window, features.shape[1]), dtype=np.float32)  # (A, F)
+    clipped = max(start, 0)
+    window[clipped - start :] = features[clipped:end]
+    return window
