@@ -6,7 +6,7 @@ local causal attention over at most ``window`` past frames, and a feed-forward l
 predicts x0 (DiffuseStyleGesture eq. 4, "x̂0 = D(x_t, t, c)").
 
 Noise levels are per frame (diffusion forcing, Chen et al. 2024 §3): history frames are clean
-(``t = CLEAN_T``) and the current frame is noisy, exactly as during autoregressive inference.
+(``t = CLEAN_TIMESTEP``) and the current frame is noisy, exactly as during autoregressive inference.
 
 The same ``forward_chunk`` serves the whole-sequence forward (empty cache) and the incremental
 step (a cache of the last ``window`` frames' keys/values per layer), so the two agree exactly.
@@ -125,8 +125,8 @@ class CausalDenoiser(nn.Module):
         """One incremental call: x_t (B, C), t (B,), audio_window (B, A, F), style (B, S)
         → x0 (B, C), the cache with this frame appended.
 
-        Keep the returned cache only for a clean frame (``t = CLEAN_T``, x_t = the chosen x0): that is
-        how a generated latent becomes history. Noisy calls reuse the old cache.
+        Keep the returned cache only for a clean frame (``t = CLEAN_TIMESTEP``, x_t = the chosen x0):
+        that is how a generated latent becomes history. Noisy calls reuse the old cache.
         """
         batch = x_t.shape[0]
         audio_present = torch.ones(batch) if audio_present is None else audio_present

@@ -1,7 +1,7 @@
 """Per-frame conditioning encoders of the causal denoiser: diffusion step, audio window, style.
 
 - Diffusion step: sinusoidal embedding (Vaswani et al. 2017 §3.5; Ho et al. 2020 App. B) of ``t + 1``,
-  so that ``t = CLEAN_T = -1`` (clean history, diffusion forcing) has its own exact code.
+  so that ``t = CLEAN_TIMESTEP = -1`` (clean history, diffusion forcing) has its own exact code.
 - Audio: a small 1D conv over the (A, F) window of features ending δa frames past the latent.
 - Style: AdaIN-like modulation ``x * (1 + γ) + β`` (GestureDiffuCLIP §4 eq. 6; ZeroEGGS), γ and β
   predicted from the style embedding and zero-initialised so every layer starts as identity.
@@ -38,7 +38,7 @@ class TimestepEmbedding(nn.Module):
         self.mlp = nn.Sequential(nn.Linear(width, width), nn.SiLU(), nn.Linear(width, width))
 
     def forward(self, t: torch.Tensor) -> torch.Tensor:
-        """t (B, M) int, CLEAN_T = -1 for clean frames → (B, M, D)."""
+        """t (B, M) int, CLEAN_TIMESTEP = -1 for clean frames → (B, M, D)."""
         return self.mlp(sinusoidal_embedding(t + 1, self.width))
 
 

@@ -11,10 +11,6 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-# Noise-level index of a clean frame (history in diffusion forcing, Chen et al. 2024 §3).
-# Schedule indices 0..T-1 are noisy levels; the model embeds ``t + 1`` so that clean is exact.
-CLEAN_T = -1
-
 
 @dataclass(frozen=True)
 class DenoiserConfig:

@@ -3,12 +3,8 @@ import pytest
 import torch
 
 from gesturecast.models.denoiser import CausalDenoiser, KVCache, audio_windows
-from gesturecast.models.denoiser_config import (
-    CLEAN_T,
-    DenoiserConfig,
-    audio_frames_needed,
-    audio_window_from_features,
-)
+from gesturecast.models.denoiser_config import DenoiserConfig, audio_frames_needed, audio_window_from_features
+from gesturecast.models.diffusion import CLEAN_TIMESTEP
 
 TINY = DenoiserConfig(
     latent_dim=6, audio_dim=5, style_dim=8, width=16, num_layers=2, num_heads=2, window=3, audio_window=8
@@ -28,7 +24,7 @@ def random_inputs(batch, num_latents, config=TINY, seed=1):
     gen = torch.Generator().manual_seed(seed)
     x = torch.randn(batch, num_latents, config.latent_dim, generator=gen)
     t = torch.randint(0, config.num_timesteps, (batch, num_latents), generator=gen)
-    t[:, : num_latents // 2] = CLEAN_T
+    t[:, : num_latents // 2] = CLEAN_TIMESTEP
     audio = torch.randn(batch, audio_frames_needed(num_latents, config), config.audio_dim, generator=gen)
     audio_present = torch.tensor([[1.0] * num_latents, [0.0] * num_latents])[:batch]
     style = torch.randn(batch, config.style_dim, generator=gen)
