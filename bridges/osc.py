@@ -1,0 +1,81 @@
+"""Plain OSC for Unreal's OSC plugin, TouchDesigner and similar receivers.
+
+Address scheme (all arguments float32 ``f`` or int32 ``i``), per frame, in this order:
+
+- ``/gesturecast/frame``        i seq, f capture_time (s, engine clock)
+- ``/gesturecast/root``         f x y z   Hips position, in the selected coordinate frame
+- ``/gesturecast/bone/<Name>``  f qx qy qz qw   local rotation of each canonical bone
+  (Unity HumanBodyBones names: Hips, Spine, ..., RightToes), in the selected frame
+
+The coordinate frame is ``unity``, ``unreal`` (Z-up, centimetres) or ``internal``
+(right-handed Y-up, metres); see :mod:`gesturecast.bridges.coords`. Messages go out grouped in
+bundles of at most 1500 bytes, or one datagram per message with ``bundled=False`` for
+receivers that do not unpack bundles.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from gesturecast.models.skeleton import CANONICAL, Skeleton
+from gesturecast.realtime.frames import PoseFrame
+
+from .coords import coordinate_frame
+from .osc_wire import MAX_DATAGRAM_SIZE, MessageLayout, encode_float_rows, pack_bundles
+from .transport import RateLimiter, UdpSender, UdpTarget
+
+OSC_DEFAULT_PORT = 9000
+ADDRESS_PREFIX = "/gesturecast"
+
+
+@dataclass(frozen=True)
+class OscConfig:
+    host: str = "127.0.0.1"
+    port: int = OSC_DEFAULT_PORT
+    send_rate: float = 30.0
+    coordinate_frame: str = "unity"
+    bundled: bool = True
+    max_bundle_size: int = MAX_DATAGRAM_SIZE
+
+
+def bone_address(name: str) -> str:
+    return f"{ADDRESS_PREFIX}/bone/{name}"
+
+
+class OscEncoder:
+    """Pure encoder: PoseFrame → datagrams (bundles, or single messages when not ``bundled``)."""
+
+    def __init__(self, config: OscConfig = OscConfig(), skeleton: Skeleton = CANONICAL) -> None:
+        self.frame = coordinate_frame(config.coordinate_frame)
+        self.bundled = config.bundled
+        self.max_bundle_size = config.max_bundle_size
+        self._frame_number = MessageLayout(f"{ADDRESS_PREFIX}/frame", (), "if")
+        self._root = MessageLayout(f"{ADDRESS_PREFIX}/root", (), "fff")
+        self._bones = [MessageLayout(bone_address(name), (), "ffff") for name in skeleton.names]
+
+    def encode(self, frame: PoseFrame) -> list[bytes]:
+        messages = [
+            self._frame_number.encode(int(frame.seq), float(frame.capture_time)),
+            self._root.encode_floats(self.frame.position(frame.root_position)),
+        ]
+        messages += encode_float_rows(self._bones, self.frame.rotation(frame.rotations))
+        return pack_bundles(messages, self.max_bundle_size) if self.bundled else messages
+
+
+class OscBridge:
+    """Sends PoseFrames as plain OSC to one receiver; a missing receiver never raises."""
+
+    name = "osc"
+
+    def __init__(self, config: OscConfig = OscConfig(), skeleton: Skeleton = CANONICAL) -> None:
+        self.config = config
+        self.encoder = OscEncoder(config, skeleton)
+        self.limiter = RateLimiter(config.send_rate)
+        self.sender = UdpSender(UdpTarget(config.host, config.port), "OSC")
+
+    def send(self, frame: PoseFrame) -> None:
+        if self.limiter.admit(frame.presentation_time):
+            self.sender.send_all(self.encoder.encode(frame))
+
+    def close(self) -> None:
+        self.sender.close()

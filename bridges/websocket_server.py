@@ -1,0 +1,280 @@
+"""WebSocket stream + browser viewer on one port (websockets asyncio server in its own thread).
+
+On connect a client receives the JSON hello (:func:`ws_protocol.hello_message`), then one
+binary frame per PoseFrame, or JSON frames after sending ``{"type": "subscribe", "format":
+"json"}``. A style change is announced as ``{"type": "style", ...}``. Frames go out with
+``broadcast()``; a client whose socket write buffer is above ``slow_client_buffer_bytes`` is
+skipped for that frame (counted), so nothing is buffered without bound.
+
+Clients may send control messages (:mod:`control`); valid ones go to ``on_control(dict)``,
+invalid ones get ``{"type": "error"}`` back and one log line. Listens on 127.0.0.1 unless told
+otherwise; beyond loopback a token is required for control messages.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import errno
+import hmac
+import ipaddress
+import json
+import logging
+import threading
+import time
+from collections import deque
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+from websockets.asyncio.server import Server, ServerConnection, broadcast, serve
+from websockets.exceptions import ConnectionClosed
+
+from gesturecast.errors import UserError
+from gesturecast.models.skeleton import CANONICAL, Skeleton
+from gesturecast.realtime.frames import PoseFrame
+
+from . import ws_protocol
+from .control import ControlError, control_schema, validate_control
+from .coords import coordinate_frame
+from .transport import ErrorThrottle
+from .viewer_http import process_request
+
+logger = logging.getLogger(__name__)
+
+WS_DEFAULT_PORT = 8765
+LOOPBACK_NAMES = frozenset({"localhost"})
+MAX_CLIENT_MESSAGE_BYTES = 64 * 1024
+SLOW_CLIENT_BUFFER_BYTES = 256 * 1024
+MAX_PENDING_FRAMES = 8
+START_TIMEOUT_S = 10.0
+STOP_TIMEOUT_S = 5.0
+
+
+def is_loopback(host: str) -> bool:
+    if host in LOOPBACK_NAMES:
+        return True
+    try:
+        return ipaddress.ip_address(host).is_loopback
+    except ValueError:
+        return False
+
+
+def token_required(host: str, token: str | None) -> bool:
+    """A token, once given, is always checked; beyond loopback one must be given (see check_exposure)."""
+    return token is not None or not is_loopback(host)
+
+
+def check_exposure(host: str, token: str | None) -> None:
+    """UserError when a server would listen beyond loopback without a token."""
+    if not is_loopback(host) and not token:
+        raise UserError(f"listening on {host} exposes the server beyond this machine; give a --token too")
+
+
+@dataclass(frozen=True)
+class WebSocketConfig:
+    host: str = "127.0.0.1"
+    port: int = WS_DEFAULT_PORT
+    token: str | None = None
+    coordinate_frame: str = "internal"
+    fps: float = 30.0
+    style_choices: tuple[str, ...] = ()
+    slow_client_buffer_bytes: int = SLOW_CLIENT_BUFFER_BYTES
+    clock: Callable[[], float] = field(default=time.monotonic, compare=False)  # the engine's clock
+
+
+@dataclass
+class ClientState:
+    address: str
+    wants_json: bool = False
+    skipped_frames: int = 0
+
+
+def _ignore_control(control: dict) -> None:
+    logger.info("control message received but no engine is attached: %s", control)
+
+
+class WebSocketBridge:
+    """Start with :meth:`start`; :meth:`send` is thread-safe and never blocks on clients."""
+
+    name = "websocket"
+
+    def __init__(
+        self,
+        config: WebSocketConfig = WebSocketConfig(),
+        on_control: Callable[[dict], None] = _ignore_control,
+        skeleton: Skeleton = CANONICAL,
+    ) -> None:
+        check_exposure(config.host, config.token)
+        self.config = config
+        self.on_control = on_control
+        self.skeleton = skeleton
+        self.coords = coordinate_frame(config.coordinate_frame)
+        self.port = config.port
+        self.style = ""
+        self.dropped_pending = 0
+        self._clients: dict[ServerConnection, ClientState] = {}
+        self._pending: deque[PoseFrame] = deque(maxlen=MAX_PENDING_FRAMES)
+        self._lock = threading.Lock()
+        self._drain_scheduled = False
+        self._loop = asyncio.new_event_loop()
+        self._thread = threading.Thread(target=self._loop.run_forever, name="gesturecast-websocket", daemon=True)
+        self._server: Server | None = None
+        self._control_errors = ErrorThrottle("WebSocket control message rejected")
+
+    # ---- lifecycle (caller's thread) ----
+    def start(self) -> WebSocketBridge:
+        self._thread.start()
+        future = asyncio.run_coroutine_threadsafe(self._open_server(), self._loop)
+        try:
+            future.result(START_TIMEOUT_S)
+        except OSError as error:
+            self._stop_loop()
+            if error.errno == errno.EADDRINUSE:
+                raise UserError(
+                    f"port {self.config.port} on {self.config.host} is in use; pick another with --port"
+                ) from None
+            raise UserError(f"cannot listen on {self.config.host}:{self.config.port}: {error.strerror}") from None
+        logger.info("WebSocket stream and viewer on %s", self.url)
+        return self
+
+    @property
+    def url(self) -> str:
+        return f"http://{self.config.host}:{self.port}/"
+
+    def close(self) -> None:
+        if self._server is not None:
+            asyncio.run_coroutine_threadsafe(self._close_server(), self._loop).result(STOP_TIMEOUT_S)
+        self._stop_loop()
+
+    def client_count(self) -> int:
+        return len(self._clients)
+
+    # ---- frames (engine thread) ----
+    def send(self, frame: PoseFrame) -> None:
+        with self._lock:
+            if len(self._pending) == MAX_PENDING_FRAMES:
+                self.dropped_pending += 1
+            self._pending.append(frame)
+            schedule = not self._drain_scheduled
+            self._drain_scheduled = True
+        if schedule:
+            self._loop.call_soon_threadsafe(self._drain)
+
+    # ---- event-loop thread ----
+    async def _open_server(self) -> None:
+        self._server = await serve(
+            self._handle,
+            self.config.host,
+            self.config.port,
+            process_request=process_request,
+            max_size=MAX_CLIENT_MESSAGE_BYTES,
+        )
+        self.port = self._server.sockets[0].getsockname()[1]
+
+    async def _close_server(self) -> None:
+        self._server.close()
+        await self._server.wait_closed()
+
+    def _stop_loop(self) -> None:
+        self._loop.call_soon_threadsafe(self._loop.stop)
+        self._thread.join(STOP_TIMEOUT_S)
+
+    def _hello(self) -> str:
+        return ws_protocol.hello_message(
+            self.skeleton,
+            self.coords,
+            self.config.fps,
+            self.style,
+            self.config.style_choices,
+            control_schema(),
+            token_required(self.config.host, self.config.token),
+        )
+
+    async def _handle(self, connection: ServerConnection) -> None:
+        client = ClientState(address=str(connection.remote_address))
+        try:
+            await connection.send(self._hello())
+            self._clients[connection] = client
+            async for message in connection:
+                reply = self._reply_to(client, message)
+                if reply is not None:
+                    await connection.send(reply)
+        except ConnectionClosed:
+            logger.debug("client %s went away", client.address)
+        finally:
+            self._clients.pop(connection, None)
+
+    def _reply_to(self, client: ClientState, message: str | bytes) -> str | None:
+        try:
+            return self._apply(client, message)
+        except ControlError as error:
+            self._control_errors.report(ControlError(f"from {client.address}: {error}"))
+            return ws_protocol.error_message(str(error))
+
+    def _apply(self, client: ClientState, message: str | bytes) -> str | None:
+        if isinstance(message, bytes):
+            raise ControlError("binary messages are not accepted; send JSON text")
+        try:
+            decoded = json.loads(message)
+        except json.JSONDecodeError as error:
+            raise ControlError(f"not JSON ({error.msg})") from None
+        if not isinstance(decoded, dict):
+            raise ControlError("a message must be a JSON object")
+        kind = decoded.get("type")
+        if kind == "subscribe":
+            return self._subscribe(client, decoded)
+        if kind == "control":
+            return self._control(decoded)
+        raise ControlError(f"unknown message type {kind!r}; use 'subscribe' or 'control'")
+
+    def _subscribe(self, client: ClientState, message: dict) -> str:
+        wire_format = message.get("format")
+        if wire_format not in ("json", "binary"):
+            raise ControlError("subscribe format must be 'json' or 'binary'")
+        client.wants_json = wire_format == "json"
+        return json.dumps({"type": "subscribed", "format": wire_format})
+
+    def _control(self, message: dict) -> str:
+        if token_required(self.config.host, self.config.token):
+            given = message.get("token")
+            if not isinstance(given, str) or not hmac.compare_digest(given, self.config.token or ""):
+                raise ControlError("missing or wrong token")
+        control = validate_control(message)
+        try:
+            self.on_control(control)
+        except (ValueError, UserError) as error:
+            raise ControlError(f"the engine refused it: {error}") from None
+        return json.dumps({"type": "ack", "applied": control})
+
+    def _drain(self) -> None:
+        with self._lock:
+            frames = list(self._pending)
+            self._pending.clear()
+            self._drain_scheduled = False
+        for frame in frames:
+            self._broadcast(frame)
+
+    def _broadcast(self, frame: PoseFrame) -> None:
+        if frame.style != self.style:
+            self.style = frame.style
+            broadcast(self._clients, ws_protocol.style_message(frame.style))
+        ready = self._ready_clients()
+        send_unix = time.time()
+        capture_unix = send_unix - (self.config.clock() - frame.capture_time)
+        binary_clients = [c for c, state in ready if not state.wants_json]
+        json_clients = [c for c, state in ready if state.wants_json]
+        if binary_clients:
+            broadcast(binary_clients, ws_protocol.binary_frame(frame, self.coords, capture_unix, send_unix))
+        if json_clients:
+            broadcast(json_clients, ws_protocol.json_frame(frame, self.coords, capture_unix, send_unix))
+
+    def _ready_clients(self) -> Sequence[tuple[ServerConnection, ClientState]]:
+        """Clients whose write buffer has room; the others skip this frame (never queued)."""
+        ready = []
+        for connection, state in self._clients.items():
+            if connection.transport.get_write_buffer_size() > self.config.slow_client_buffer_bytes:
+                state.skipped_frames += 1
+                if state.skipped_frames == 1:
+                    logger.warning("client %s is too slow; skipping frames for it", state.address)
+            else:
+                ready.append((connection, state))
+        return ready

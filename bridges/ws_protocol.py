@@ -1,0 +1,101 @@
+"""WebSocket stream messages: the JSON hello, binary frames and JSON frames.
+
+Binary frame (little-endian, ``BINARY_HEADER`` then quaternions; docs/bridges.md):
+
+======  ====  ===========  =====================================================
+offset  size  type         field
+======  ====  ===========  =====================================================
+0       4     char[4]      magic ``b"GCPF"``
+4       4     uint32       seq
+8       8     float64      capture time, Unix epoch seconds
+16      8     float64      send time, Unix epoch seconds
+24      12    float32 × 3  root (Hips) position, selected coordinate frame
+36      2     uint16       joint count J (same order as the hello's ``bones``)
+38      2     uint16       flags: bit 0 = speaking
+40      16·J  float32 × 4  local rotation per joint, XYZW, selected coordinate frame
+======  ====  ===========  =====================================================
+"""
+
+from __future__ import annotations
+
+import json
+import struct
+from collections.abc import Sequence
+
+import numpy as np
+
+from gesturecast.models.skeleton import Skeleton
+from gesturecast.realtime.frames import PoseFrame
+
+from .coords import CoordinateFrame
+
+FORMAT_VERSION = 1
+FRAME_MAGIC = b"GCPF"
+BINARY_HEADER = struct.Struct("<4sIddfffHH")  # 40 bytes
+FLAG_SPEAKING = 1
+JSON_DECIMALS = 6
+UINT32_MODULUS = 2**32
+
+
+def hello_message(
+    skeleton: Skeleton,
+    frame: CoordinateFrame,
+    fps: float,
+    style: str,
+    style_choices: Sequence[str],
+    control_schema: dict,
+    token_required: bool,
+) -> str:
+    """The first message on every connection: everything a client needs to interpret frames."""
+    return json.dumps(
+        {
+            "type": "hello",
+            "format_version": FORMAT_VERSION,
+            "bones": list(skeleton.names),
+            "parents": list(skeleton.parents),
+            "offsets": np.round(frame.position(skeleton.offsets), JSON_DECIMALS).tolist(),
+            "fps": fps,
+            "coordinate_frame": frame.name,
+            "coordinate_description": frame.description,
+            "to_internal": frame.to_internal_matrix().tolist(),
+            "binary_header": {"magic": FRAME_MAGIC.decode(), "size": BINARY_HEADER.size, "byte_order": "little"},
+            "style": style,
+            "style_choices": list(style_choices),
+            "control_schema": control_schema,
+            "token_required": token_required,
+        }
+    )
+
+
+def binary_frame(frame: PoseFrame, coords: CoordinateFrame, capture_unix: float, send_unix: float) -> bytes:
+    """One binary frame (layout in the module docstring)."""
+    rotations = coords.rotation(frame.rotations)  # (J, 4)
+    root = coords.position(frame.root_position)  # (3,)
+    flags = FLAG_SPEAKING if frame.speaking else 0
+    header = BINARY_HEADER.pack(
+        FRAME_MAGIC, frame.seq % UINT32_MODULUS, capture_unix, send_unix, *root.tolist(), len(rotations), flags
+    )
+    return header + np.ascontiguousarray(rotations, dtype="<f4").tobytes()
+
+
+def json_frame(frame: PoseFrame, coords: CoordinateFrame, capture_unix: float, send_unix: float) -> str:
+    """The same content as :func:`binary_frame`, as JSON (for clients that subscribe to it)."""
+    return json.dumps(
+        {
+            "type": "frame",
+            "seq": int(frame.seq),
+            "capture_time": capture_unix,
+            "send_time": send_unix,
+            "root": np.round(coords.position(frame.root_position), JSON_DECIMALS).tolist(),
+            "rotations": np.round(coords.rotation(frame.rotations), JSON_DECIMALS).tolist(),
+            "speaking": bool(frame.speaking),
+        }
+    )
+
+
+def style_message(style: str) -> str:
+    return json.dumps({"type": "style", "style": style})
+
+
+def error_message(reason: str) -> str:
+    return json.dumps({"type": "error", "message": reason})
