@@ -96,11 +96,11 @@ class CausalDenoiser(nn.Module):
     def forward_chunk(self, x_t, t, windows, audio_present, style, style_present, cache_k, cache_v, cache_len):
         """Denoise M new frames after a cache of Wc frames.
 
-        x_t (B, M, C), t (B, M) int64, windows (B, M, A, F), audio_present (B, M), style (B, S),
-        style_present (B,), cache_k/v (L, B, H, Wc, Dh), cache_len (B,) int64
+        x_t (B, M, C), t (B, M) int64, windows (B, M, A, F), audio_present (B, M), style (B, M, S),
+        style_present (B, M), cache_k/v (L, B, H, Wc, Dh), cache_len (B,) int64
         → x0 (B, M, C), new keys/values (L, B, H, M, Dh).
         """
-        style_code = self.style(style, style_present)  # (B, D)
+        style_code = self.style(style, style_present)  # (B, M, D)
         h = self.input(x_t) + self.timestep(t) + self.audio(windows, audio_present)  # (B, M, D)
         new_keys, new_values = [], []
         for layer, block in enumerate(self.blocks):
@@ -118,6 +118,8 @@ class CausalDenoiser(nn.Module):
         empty = x_t.new_zeros(cfg.num_layers, batch, cfg.num_heads, 0, cfg.head_dim)  # (L, B, H, 0, Dh)
         no_history = torch.zeros(batch, dtype=torch.int64, device=x_t.device)
         windows = audio_windows(audio, num_latents, cfg)  # (B, N, A, F)
+        style = style[:, None].expand(-1, num_latents, -1)  # (B, N, S)
+        style_present = style_present[:, None].expand(-1, num_latents)  # (B, N)
         x0, _, _ = self.forward_chunk(x_t, t, windows, audio_present, style, style_present, empty, empty, no_history)
         return x0
 
@@ -131,8 +133,7 @@ class CausalDenoiser(nn.Module):
         batch = x_t.shape[0]
         audio_present = torch.ones(batch) if audio_present is None else audio_present
         style_present = torch.ones(batch) if style_present is None else style_present
-        x0, keys, values = self.forward_chunk(
-            x_t[:, None], t[:, None], audio_window[:, None], audio_present[:, None], style, style_present,
-            cache.keys, cache.values, cache.length,
-        )  # fmt: skip
+        frame_inputs = (x_t, t, audio_window, audio_present, style, style_present)
+        as_chunk = (value[:, None] for value in frame_inputs)  # one new frame: M = 1
+        x0, keys, values = self.forward_chunk(*as_chunk, cache.keys, cache.values, cache.length)
         return x0[:, 0], cache.append(keys, values)

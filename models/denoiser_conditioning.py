@@ -69,7 +69,7 @@ class AudioWindowEncoder(nn.Module):
 
 
 class StyleEncoder(nn.Module):
-    """(B, S) style embedding (or the learned null style) → (B, D) style code."""
+    """(B, M, S) per-frame style embedding (or the learned null style) → (B, M, D) style code."""
 
     def __init__(self, config: DenoiserConfig):
         super().__init__()
@@ -77,8 +77,8 @@ class StyleEncoder(nn.Module):
         self.mlp = nn.Sequential(nn.Linear(config.style_dim, config.width), nn.SiLU())
 
     def forward(self, style: torch.Tensor, style_present: torch.Tensor) -> torch.Tensor:
-        present = style_present[:, None].to(style.dtype)  # (B, 1)
-        return self.mlp(style * present + self.null_style * (1 - present))  # (B, D)
+        present = style_present[..., None].to(style.dtype)  # (B, M, 1)
+        return self.mlp(style * present + self.null_style * (1 - present))  # (B, M, D)
 
 
 class StyleModulation(nn.Module):
@@ -92,6 +92,6 @@ class StyleModulation(nn.Module):
         nn.init.zeros_(self.to_gamma_beta.bias)
 
     def forward(self, x: torch.Tensor, style_code: torch.Tensor) -> torch.Tensor:
-        """x (B, M, D), style_code (B, D) → (B, M, D)."""
-        gamma, beta = self.to_gamma_beta(style_code)[:, None].chunk(2, dim=-1)  # 2 × (B, 1, D)
+        """x (B, M, D), style_code (B, M, D) → (B, M, D)."""
+        gamma, beta = self.to_gamma_beta(style_code).chunk(2, dim=-1)  # 2 × (B, M, D)
         return self.norm(x) * (1 + gamma) + beta

@@ -1,23 +1,11 @@
 import numpy as np
 import pytest
 import torch
+from denoiser_helpers import TINY, random_model
 
 from gesturecast.models.denoiser import CausalDenoiser, KVCache, audio_windows
-from gesturecast.models.denoiser_config import DenoiserConfig, audio_frames_needed, audio_window_from_features
+from gesturecast.models.denoiser_config import audio_frames_needed, audio_window_from_features
 from gesturecast.models.diffusion import CLEAN_TIMESTEP
-
-TINY = DenoiserConfig(
-    latent_dim=6, audio_dim=5, style_dim=8, width=16, num_layers=2, num_heads=2, window=3, audio_window=8
-)
-
-
-def random_model(config=TINY, seed=0):
-    torch.manual_seed(seed)
-    model = CausalDenoiser(config).eval()
-    with torch.no_grad():  # make the zero-initialised style modulation non-trivial
-        for param in model.parameters():
-            param.add_(0.1 * torch.randn_like(param))
-    return model
 
 
 def random_inputs(batch, num_latents, config=TINY, seed=1):

@@ -1,7 +1,8 @@
 import torch
+from denoiser_helpers import TINY
 
 from gesturecast.models.denoiser import CausalDenoiser
-from gesturecast.models.denoiser_config import DenoiserConfig, audio_frames_needed
+from gesturecast.models.denoiser_config import audio_frames_needed
 from gesturecast.models.denoiser_training import (
     DenoiserTrainConfig,
     noise_frames,
@@ -9,10 +10,6 @@ from gesturecast.models.denoiser_training import (
     training_loss,
 )
 from gesturecast.models.diffusion import CLEAN_TIMESTEP, get_schedule
-
-TINY = DenoiserConfig(
-    latent_dim=6, audio_dim=5, style_dim=8, width=16, num_layers=2, num_heads=2, window=3, audio_window=8
-)
 
 
 def test_noise_levels_have_clean_prefixes_and_independent_levels():

@@ -1,0 +1,20 @@
+"""Tiny denoiser config and random-weight model shared by the denoiser tests."""
+
+import torch
+
+from gesturecast.models.denoiser import CausalDenoiser
+from gesturecast.models.denoiser_config import DenoiserConfig
+
+TINY = DenoiserConfig(
+    latent_dim=6, audio_dim=5, style_dim=8, width=16, num_layers=2, num_heads=2, window=3, audio_window=8
+)
+WEIGHT_JITTER = 0.1  # perturbs every weight so zero-initialised style modulation is exercised too
+
+
+def random_model(config: DenoiserConfig = TINY, seed: int = 0) -> CausalDenoiser:
+    torch.manual_seed(seed)
+    model = CausalDenoiser(config).eval()
+    with torch.no_grad():
+        for param in model.parameters():
+            param.add_(WEIGHT_JITTER * torch.randn_like(param))
+    return model
