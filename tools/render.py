@@ -21,7 +21,7 @@ from PIL import Image
 
 from gesturecast.errors import UserError
 
-from .stick_figure import BACKGROUND, FigureConfig, FigureDrawer, joint_sides, project_clip
+from .stick_figure import BACKGROUND, FigureConfig, FigureDrawer, hips_index, joint_sides, project_clip
 
 log = logging.getLogger(__name__)
 
@@ -50,12 +50,16 @@ def render_positions(
     """Draw a clip of joint positions (T, J, 3) (Y-up, faces +Z) from the front and the side.
 
     parents: parent index per joint (-1 for the root, which must be joint 0). names, when given,
-    colour the character's left limbs blue and right limbs red. Returns the written path.
+    colour the character's left limbs blue and right limbs red and pick the hips joint (else
+    joint 0), which is followed in the ground plane; joints above it are not drawn. Returns the
+    written path.
     """
     config = config or RenderConfig()
     out_path = Path(out_path)
     _check_inputs(positions, parents, out_path, config)
-    sides = joint_sides(names) if names is not None else np.zeros(len(parents), dtype=int)
+    body, parents = hips_subtree(parents, hips_index(names))
+    positions = positions[:, body]  # (T, J', 3): a floor-level root above the hips (Bandai) is left out
+    sides = joint_sides([names[j] for j in body]) if names is not None else np.zeros(len(body), dtype=int)
     drawer = FigureDrawer(parents, sides, config.figure, title)
     clip = project_clip(positions, config.figure)
     num_frames = positions.shape[0]
@@ -93,6 +97,15 @@ def _check_inputs(positions: np.ndarray, parents: Sequence[int], out_path: Path,
         raise UserError("ffmpeg is not on PATH: install it (e.g. apt-get install ffmpeg) or render to .gif / .png")
     if not out_path.parent.is_dir():
         raise UserError(f"output folder {out_path.parent} does not exist")
+
+
+def hips_subtree(parents: Sequence[int], hips: int) -> tuple[list[int], list[int]]:
+    """The joints under `hips` (itself included, in order) and their parent indices within that subset."""
+    body: list[int] = []
+    for j, parent in enumerate(parents):
+        if j == hips or parent in body:
+            body.append(j)
+    return body, [body.index(parents[j]) if j != hips else -1 for j in body]
 
 
 def sheet_indices(num_frames: int, count: int) -> list[int]:

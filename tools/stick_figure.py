@@ -2,7 +2,7 @@
 
 Conventions (DESIGN.md): Y-up, the character faces +Z, its left is +X. The front panel looks at
 the character from +Z (its left appears on the viewer's right); the side panel looks from the
-character's right (-X), so it faces to the right of the picture. The hips are followed in the
+character's right (-X), so it faces to the right of the picture. The root is followed in the
 ground plane (X, Z) so the figure stays centred; vertical motion is kept, over a ground line at Y = 0.
 
 Frames are drawn as palette ("P") images with a fixed palette, which GIF stores directly.
@@ -35,6 +35,7 @@ PANEL_NAMES = ("front", "side")
 # "left" anywhere, "_L" / ".L" suffixes, "l_" prefix (any case); CMU's "LHipJoint" (case-sensitive, not "LowerBack")
 _LEFT_NAME = re.compile(r"(?i:left|_l$|\.l$|^l_)|^L[A-Z]")
 _RIGHT_NAME = re.compile(r"(?i:right|_r$|\.r$|^r_)|^R[A-Z]")
+_HIPS_NAME = re.compile(r"hips|pelvis", re.IGNORECASE)
 
 
 @dataclass(frozen=True)
@@ -76,8 +77,14 @@ class ProjectedClip:
     ground_y: float
 
 
+def hips_index(names: Sequence[str] | None) -> int:
+    """The joint to follow: the first named like hips/pelvis (Bandai's root sits on the floor), else joint 0."""
+    matches = [j for j, n in enumerate(names or ()) if _HIPS_NAME.search(n)]
+    return matches[0] if matches else 0
+
+
 def project_clip(positions: np.ndarray, config: FigureConfig) -> ProjectedClip:
-    """Follow the root in X/Z, project to the two panels, and fit one scale to the whole clip."""
+    """Follow the root (joint 0) in X/Z, project to the two panels, and fit one scale to the whole clip."""
     centred = positions - positions[:, :1] * np.array([1.0, 0.0, 1.0])  # (T, J, 3) root at X = Z = 0
     x, y, z = centred[..., 0], centred[..., 1], centred[..., 2]  # each (T, J)
     horizontal = np.stack([x, z], axis=1)  # (T, 2, J): front shows X, side shows Z

@@ -109,3 +109,14 @@ def test_bad_outputs_are_user_errors(tmp_path, monkeypatch):
         render_positions(positions[:0], CANONICAL.parents, tmp_path / "clip.gif")
     with pytest.raises(UserError, match="does not exist"):
         render_positions(positions, CANONICAL.parents, tmp_path / "missing" / "clip.gif")
+
+
+def test_a_floor_level_root_above_the_hips_is_left_out(tmp_path):
+    body = waving_positions(1) + np.array([2.0, 0.0, 1.0])
+    with_floor_root = np.concatenate([np.zeros((1, 1, 3)), body], axis=1)  # (1, J + 1, 3) Bandai-style root
+    parents = (-1, *(p + 1 for p in CANONICAL.parents))
+    names = ("joint_Root", *CANONICAL.names)
+    config = RenderConfig(sheet_frames=1)
+    plain = render_positions(body, CANONICAL.parents, tmp_path / "plain.png", names=CANONICAL.names, config=config)
+    rooted = render_positions(with_floor_root, parents, tmp_path / "rooted.png", names=names, config=config)
+    assert (np.asarray(Image.open(plain)) == np.asarray(Image.open(rooted))).all()
