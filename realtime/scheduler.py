@@ -26,7 +26,7 @@ from gesturecast.models.rotations import quat_slerp
 
 from .clock import Clock
 from .frames import PoseFrame
-from .latency import LatencyStats
+from .latency import MS_PER_S, LatencyStats
 
 logger = logging.getLogger(__name__)
 
@@ -74,7 +74,7 @@ class SchedulerStats:
             "released": self.released,
             "deadline_misses": self.deadline_misses,
             "overflow_drops": self.overflow_drops,
-            "max_lateness_ms": self.max_lateness_s * 1000.0,
+            "max_lateness_ms": self.max_lateness_s * MS_PER_S,
         }
 
 
@@ -97,7 +97,7 @@ def midpoint_frame(a: PoseFrame, b: PoseFrame) -> PoseFrame:
 class FrameScheduler:
     """Releases submitted frames to ``sink`` at their presentation times on ``clock`` (thread-safe).
 
-    Frames must be submitted in non-decreasing presentation time (the generator's order).
+    Frames must be submitted in non-decreasing presentation time (the generator's order); ValueError otherwise.
     If ``stats`` is given, each release records release lateness, the sink's duration ("bridge") and
     capture-to-sent time ("end_to_end", measured after the sink returns).
     """
@@ -136,10 +136,15 @@ class FrameScheduler:
         return [midpoint_frame(previous, frame), renumbered]
 
     def _enqueue(self, frame: PoseFrame, now: float) -> None:
+        if self._pending and frame.presentation_time < self._pending[-1].presentation_time:
+            raise ValueError(
+                f"frame {frame.seq} is due at {frame.presentation_time:.4f} s, before the frame queued ahead of it"
+            )
         self.stats.submitted += 1
         if now > frame.presentation_time:
             self.stats.deadline_misses += 1
-            logger.debug("frame %d missed its deadline by %.1f ms", frame.seq, (now - frame.presentation_time) * 1e3)
+            late_ms = (now - frame.presentation_time) * MS_PER_S
+            logger.debug("frame %d missed its deadline by %.1f ms", frame.seq, late_ms)
         if len(self._pending) >= self.config.max_pending:
             self._pending.popleft()
             self.stats.overflow_drops += 1

@@ -12,8 +12,11 @@ from dataclasses import dataclass
 from typing import TextIO
 
 from .clock import Clock
+from .latency import LatencyBudget, LatencyStats
+from .scheduler import STAGE_END_TO_END, SchedulerStats
 
 DEFAULT_UPDATE_INTERVAL_S = 0.25
+RECENT_FRAMES = 300  # the status line's percentiles cover the last ~10 s at 30 fps
 MAX_STYLE_CHARS = 24
 
 
@@ -28,6 +31,19 @@ class StatusSnapshot:
     audio_drops: int
     style: str = ""
     speaking: bool = False
+
+
+def build_snapshot(
+    budget: LatencyBudget,
+    stats: LatencyStats,
+    scheduler_stats: SchedulerStats,
+    audio_drops: int,
+    style: str = "",
+    speaking: bool = False,
+) -> StatusSnapshot:
+    """The current status: end-to-end percentiles over the last :data:`RECENT_FRAMES` frames."""
+    p50, p95 = stats.percentiles_ms(STAGE_END_TO_END, (50.0, 95.0), last=RECENT_FRAMES)
+    return StatusSnapshot(budget.total_ms, p50, p95, scheduler_stats.deadline_misses, audio_drops, style, speaking)
 
 
 def _ms(value: float) -> str:

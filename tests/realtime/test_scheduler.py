@@ -165,3 +165,10 @@ def test_worker_thread_releases_on_time_on_a_fake_clock():
         worker.stop()
     assert [f.seq for f in sink.frames] == list(range(count))
     assert sink.times == pytest.approx([seq / FPS + LATENCY_S for seq in range(count)], abs=1e-12)
+
+
+def test_out_of_order_submission_is_refused():
+    _, _, scheduler = setup()
+    scheduler.submit(make_frame(3))
+    with pytest.raises(ValueError):
+        scheduler.submit(make_frame(2))

@@ -2,8 +2,12 @@
 
 import io
 
+import pytest
+
 from gesturecast.realtime.clock import FakeClock
-from gesturecast.realtime.status import StatusLine, StatusSnapshot, format_status
+from gesturecast.realtime.latency import LatencyBudget, LatencyStats
+from gesturecast.realtime.scheduler import STAGE_END_TO_END, SchedulerStats
+from gesturecast.realtime.status import RECENT_FRAMES, StatusLine, StatusSnapshot, build_snapshot, format_status
 
 
 class FakeTty(io.StringIO):
@@ -47,3 +51,15 @@ def test_non_tty_writes_nothing():
     assert not status.update(SNAPSHOT)
     status.close()
     assert stream.getvalue() == ""
+
+
+def test_snapshot_uses_recent_end_to_end_samples_and_scheduler_counters():
+    stats = LatencyStats(FakeClock())
+    for _ in range(1000):
+        stats.record(STAGE_END_TO_END, 2.0)  # an old bad patch
+    for _ in range(RECENT_FRAMES):
+        stats.record(STAGE_END_TO_END, 0.5)
+    snapshot = build_snapshot(LatencyBudget(4, 8, 100.0), stats, SchedulerStats(deadline_misses=3), 4, "calm")
+    assert snapshot.end_to_end_p95_ms == pytest.approx(500.0)
+    assert (snapshot.latency_budget_ms, snapshot.deadline_misses, snapshot.audio_drops) == (500.0, 3, 4)
+    assert "style calm" in format_status(snapshot)
