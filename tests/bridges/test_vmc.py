@@ -1,0 +1,160 @@
+import logging
+import socket
+import struct
+import threading
+
+import numpy as np
+import pytest
+from bridge_test_frames import moving_frame
+from pythonosc.dispatcher import Dispatcher
+from pythonosc.osc_packet import OscPacket
+from pythonosc.osc_server import ThreadingOSCUDPServer
+
+from gesturecast.bridges.coords import UNITY
+from gesturecast.bridges.vmc import VmcBridge, VmcConfig, VmcEncoder
+from gesturecast.models.rotations import quat_from_axis_angle
+from gesturecast.models.skeleton import CANONICAL
+from gesturecast.realtime.frames import PoseFrame
+
+RECEIVE_TIMEOUT_S = 5.0
+FLOAT32_TOLERANCE = 1e-6
+
+
+def rest_frame(rotations=None, root=None) -> PoseFrame:
+    q = np.tile([0.0, 0.0, 0.0, 1.0], (CANONICAL.num_joints, 1)) if rotations is None else rotations
+    return PoseFrame(0, 0.0, 0.0, CANONICAL.offsets[0].copy() if root is None else root, q)
+
+
+def parse(bundles: list[bytes]) -> list[tuple[str, list]]:
+    return [(m.message.address, m.message.params) for b in bundles for m in OscPacket(b).messages]
+
+
+def type_tags(bundle: bytes) -> list[str]:
+    """The type-tag string of every element of a bundle, read from the raw bytes."""
+    tags, position = [], 16
+    while position < len(bundle):
+        (size,) = struct.unpack(">i", bundle[position : position + 4])
+        element = bundle[position + 4 : position + 4 + size]
+        tag_start = element.index(b",")
+        tags.append(element[tag_start : element.index(b"\0", tag_start)].decode())
+        position += 4 + size
+    return tags
+
+
+def test_root_message_bytes_at_rest():
+    bundles = VmcEncoder().encode(rest_frame(), stream_time=0.0)
+    expected_root = b"/VMC/Ext/Root/Pos\0\0\0,sfffffff\0\0\0root\0\0\0\0" + struct.pack(">7f", 0, 0, 0, 0, 0, 0, 1)
+    assert bundles[0][:16] == b"#bundle\0" + struct.pack(">Q", 1)
+    assert bundles[0][16:20] == struct.pack(">i", len(expected_root))
+    assert bundles[0][20 : 20 + len(expected_root)] == expected_root
+
+
+# bone, internal local rotation (axis-angle), expected Unity XYZW
+BONE_CASES = [
+    ("LeftUpperArm", [0.0, 0.0, -0.5], UNITY.rotation(quat_from_axis_angle(np.array([0.0, 0.0, -0.5])))),
+    ("Head", [0.3, 0.0, 0.0], [np.sin(0.15), 0.0, 0.0, np.cos(0.15)]),  # nod: x kept
+    ("Hips", [0.0, 0.4, 0.0], [0.0, -np.sin(0.2), 0.0, np.cos(0.2)]),  # yaw: y flips
+]
+
+
+@pytest.mark.parametrize(("bone", "axis_angle", "unity_q"), BONE_CASES)
+def test_bone_message_bytes(bone, axis_angle, unity_q):
+    rotations = np.tile([0.0, 0.0, 0.0, 1.0], (CANONICAL.num_joints, 1))
+    rotations[CANONICAL.index(bone)] = quat_from_axis_angle(np.array(axis_angle))
+    bundles = VmcEncoder().encode(rest_frame(rotations), stream_time=0.0)
+    offset = UNITY.position(CANONICAL.offsets[CANONICAL.index(bone)])
+    name = bone.encode() + b"\0" * (4 - len(bone) % 4)
+    expected = (
+        b"/VMC/Ext/Bone/Pos\0\0\0,sfffffff\0\0\0" + name + struct.pack(">7f", *offset, *unity_q)
+    )
+    assert any(expected in b for b in bundles)
+
+
+def test_frame_layout_order_types_and_sizes():
+    bundles = VmcEncoder().encode(moving_frame(5), stream_time=2.5)
+    assert all(len(b) <= 1500 for b in bundles)
+    messages = parse(bundles)
+    addresses = [a for a, _ in messages]
+    bones = ["/VMC/Ext/Bone/Pos"] * CANONICAL.num_joints
+    assert addresses == ["/VMC/Ext/Root/Pos", *bones, "/VMC/Ext/OK", "/VMC/Ext/T"]
+    assert [p[0] for a, p in messages if a == "/VMC/Ext/Bone/Pos"] == list(CANONICAL.names)
+    assert messages[-2][1] == [1] and messages[-1][1] == [2.5]
+    assert {tag for b in bundles for tag in type_tags(b)} == {",sfffffff", ",i", ",f"}
+
+
+def test_root_carries_hips_displacement():
+    root = CANONICAL.offsets[0] + np.array([0.1, 0.02, -0.3])
+    (address, params), *_ = parse(VmcEncoder().encode(rest_frame(root=root), stream_time=0.0))
+    np.testing.assert_allclose(params[1:4], [-0.1, 0.02, -0.3], atol=FLOAT32_TOLERANCE)  # Unity: x flips
+
+
+class Collector:
+    """python-osc's own threaded UDP server + dispatcher, collecting what arrives."""
+
+    def __init__(self) -> None:
+        self.messages: list[tuple[str, tuple]] = []
+        self.done = threading.Event()
+        dispatcher = Dispatcher()
+        dispatcher.set_default_handler(self.handle)
+        self.server = ThreadingOSCUDPServer(("127.0.0.1", 0), dispatcher)
+        self.port = self.server.server_address[1]
+        self.thread = threading.Thread(target=self.server.serve_forever, daemon=True)
+
+    def handle(self, address: str, *args) -> None:
+        self.messages.append((address, args))
+        if address == "/VMC/Ext/T":
+            self.done.set()
+
+    def __enter__(self):
+        self.thread.start()
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.server.shutdown()
+        self.server.server_close()
+
+
+def test_loopback_python_osc_server_parses_our_bundles():
+    frame = moving_frame(7)
+    with Collector() as collector:
+        bridge = VmcBridge(VmcConfig(port=collector.port))
+        bridge.send(frame)
+        assert collector.done.wait(RECEIVE_TIMEOUT_S)
+        bridge.close()
+    bones = {args[0]: np.array(args[1:]) for address, args in collector.messages if address == "/VMC/Ext/Bone/Pos"}
+    assert list(bones) == list(CANONICAL.names)
+    expected_q = UNITY.rotation(frame.rotations)  # (J, 4)
+    expected_p = UNITY.position(CANONICAL.offsets)  # (J, 3)
+    for j, name in enumerate(CANONICAL.names):
+        np.testing.assert_allclose(bones[name][:3], expected_p[j], atol=FLOAT32_TOLERANCE)
+        np.testing.assert_allclose(bones[name][3:], expected_q[j], atol=FLOAT32_TOLERANCE)
+    ok = [args for address, args in collector.messages if address == "/VMC/Ext/OK"]
+    assert ok == [(1,)]
+
+
+def test_send_rate_30_drops_every_other_60fps_frame():
+    with Collector() as collector:
+        bridge = VmcBridge(VmcConfig(port=collector.port, send_rate=30.0))
+        sent = 0
+        for seq in range(10):
+            before = bridge.sender.sent_datagrams
+            bridge.send(moving_frame(seq, fps=60.0, clock_now=seq / 60.0))
+            sent += bridge.sender.sent_datagrams > before
+        bridge.close()
+    assert sent == 5
+
+
+def test_receiver_not_running_never_raises_and_logs_once(caplog):
+    probe = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+    probe.bind(("127.0.0.1", 0))
+    free_port = probe.getsockname()[1]
+    probe.close()
+    bridge = VmcBridge(VmcConfig(port=free_port, send_rate=60.0))
+    with caplog.at_level(logging.WARNING):
+        for seq in range(20):
+            bridge.send(moving_frame(seq, fps=60.0, clock_now=seq / 60.0))
+    bridge.close()
+    assert bridge.sender.errors.count > 0  # ConnectionRefused really happened
+    warnings = [r for r in caplog.records if "VMC send" in r.getMessage()]
+    assert len(warnings) == 1
+    assert "Connection refused" in warnings[0].getMessage()
