@@ -18,6 +18,8 @@ from gesturecast.errors import UserError
 COMMAND_MODULES: tuple[str, ...] = (
     "gesturecast.tools.render_cli",
     "gesturecast.tools.data_cli",
+    "gesturecast.realtime.audio_cli",
+    "gesturecast.tools.bench_cli",
 )
 
 
