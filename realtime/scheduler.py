@@ -209,10 +209,12 @@ class SchedulerWorker:
     """A daemon thread that keeps a :class:`FrameScheduler` releasing frames on time.
 
     It sleeps until the next due frame, or at most ``poll_interval_s`` so newly submitted frames are seen.
+    If the sink raises, the thread logs it, keeps it in ``error`` for the engine to re-raise, and ends.
     """
 
     def __init__(self, scheduler: FrameScheduler) -> None:
         self.scheduler = scheduler
+        self.error: Exception | None = None
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._loop, name="frame-scheduler", daemon=True)
 
@@ -224,7 +226,18 @@ class SchedulerWorker:
         self._stop.set()
         self._thread.join(timeout_s)
 
+    @property
+    def running(self) -> bool:
+        return self._thread.is_alive()
+
     def _loop(self) -> None:
+        try:
+            self._release_until_stopped()
+        except Exception as error:  # a failing sink must surface in the engine, not vanish with the thread
+            logger.exception("frame scheduler stopped: the output failed")
+            self.error = error
+
+    def _release_until_stopped(self) -> None:
         clock = self.scheduler.clock
         poll = self.scheduler.config.poll_interval_s
         while not self._stop.is_set():

@@ -172,3 +172,21 @@ def test_out_of_order_submission_is_refused():
     scheduler.submit(make_frame(3))
     with pytest.raises(ValueError):
         scheduler.submit(make_frame(2))
+
+
+def test_worker_keeps_a_sink_error_for_the_engine():
+    _, _, scheduler = setup()
+    called = threading.Event()
+
+    def broken_sink(frame: PoseFrame) -> None:
+        called.set()
+        raise OSError("network unreachable")
+
+    scheduler.sink = broken_sink
+    scheduler.submit(make_frame(0))
+    worker = SchedulerWorker(scheduler)
+    worker.start()
+    assert called.wait(timeout=10.0)
+    worker.stop(timeout_s=10.0)  # joins the thread, which ends on the error
+    assert not worker.running
+    assert isinstance(worker.error, OSError)
