@@ -22,7 +22,7 @@ SILERO_CHUNK = 512  # samples per Silero VAD step at 16 kHz (fixed by the model)
 
 @dataclass(frozen=True)
 class VadConfig:
-    method: str = "energy"  # "energy" or "silero"
+    method: str = "silero"  # "silero" (default: measured better in noise, see docs/audio.md) or "energy"
     hangover_frames: int = 8  # keep "speaking" 267 ms after the last active frame (word gaps)
     # energy detector
     absolute_threshold_db: float = -50.0  # never call anything quieter than this speech

@@ -9,7 +9,7 @@ from __future__ import annotations
 import argparse
 import importlib
 
-BENCH_MODULES: tuple[str, ...] = ("gesturecast.tools.bench_features",)
+BENCH_MODULES: tuple[str, ...] = ("gesturecast.tools.bench_features", "gesturecast.tools.bench_vad")
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
