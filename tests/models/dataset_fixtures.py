@@ -9,6 +9,7 @@ import soundfile
 
 TAKE = "067_Speech_2_x_1_0"
 FPS = 30
+FIRST_FRAME = 90  # the take is silent for its first 2 s
 INFO_COLUMNS = ("audio_filename", "anim_bvh", "style", "validation")
 
 
@@ -36,8 +37,8 @@ def make_zeggs_folder(folder: Path, shared_zeggs: Path, takes: dict[str, str], n
     folder.mkdir(parents=True, exist_ok=True)
     rows = []
     for offset, (stem, style) in enumerate(takes.items()):
-        cut_bvh(shared_zeggs / f"{TAKE}.bvh", folder / f"{stem}_x_1_0.bvh", num_frames, 100 * offset)
-        cut_wav(shared_zeggs / f"{TAKE}.wav", folder / f"{stem}_x_1_0.wav", num_frames, 100 * offset)
+        cut_bvh(shared_zeggs / f"{TAKE}.bvh", folder / f"{stem}_x_1_0.bvh", num_frames, FIRST_FRAME + 100 * offset)
+        cut_wav(shared_zeggs / f"{TAKE}.wav", folder / f"{stem}_x_1_0.wav", num_frames, FIRST_FRAME + 100 * offset)
         rows.append((f"{stem}.wav", f"{stem}.bvh", style, "FALSE"))
         rows.append((f"{stem}.wav", f"{stem}_mirror.bvh", style, "FALSE"))
     rows.append(("099_Sad_9.wav", "099_Sad_9.bvh", "Sad", "FALSE"))
