@@ -1,0 +1,42 @@
+import pytest
+
+from gesturecast.bridges.control import ControlError, control_schema, validate_control
+
+
+@pytest.mark.parametrize(
+    ("message", "expected"),
+    [
+        ({"type": "control", "style": "happy"}, {"style": "happy"}),
+        ({"type": "control", "guidance": 2}, {"guidance": 2.0}),
+        ({"type": "control", "style": "a", "style2": "b", "gamma": 1.5, "token": "x"},
+         {"style": "a", "style2": "b", "gamma": 1.5}),
+        ({"type": "control", "prompt": "sweeping arms", "gamma": -2.0}, {"prompt": "sweeping arms", "gamma": -2.0}),
+    ],
+)
+def test_valid_controls(message, expected):
+    assert validate_control(message) == expected
+
+
+@pytest.mark.parametrize(
+    ("message", "reason"),
+    [
+        ({"type": "control"}, "at least one"),
+        ({"type": "control", "volume": 3}, "unknown control field"),
+        ({"type": "control", "guidance": "high"}, "guidance must be a finite number"),
+        ({"type": "control", "guidance": True}, "guidance must be a finite number"),
+        ({"type": "control", "guidance": float("nan")}, "finite"),
+        ({"type": "control", "guidance": 11}, r"within \[0, 10\]"),
+        ({"type": "control", "gamma": -2.5}, "gamma must be within"),
+        ({"type": "control", "style": 5}, "style must be a string"),
+        ({"type": "control", "prompt": "x" * 501}, "longer than 500"),
+    ],
+)
+def test_invalid_controls(message, reason):
+    with pytest.raises(ControlError, match=reason):
+        validate_control(message)
+
+
+def test_schema_lists_every_field():
+    schema = control_schema()
+    assert set(schema) == {"style", "style2", "prompt", "guidance", "gamma"}
+    assert schema["guidance"] == {"type": "number", "min": 0.0, "max": 10.0}

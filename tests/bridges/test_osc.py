@@ -1,0 +1,56 @@
+import struct
+
+import numpy as np
+import pytest
+from bridge_test_frames import moving_frame
+from pythonosc.osc_packet import OscPacket
+
+from gesturecast.bridges.coords import FRAMES
+from gesturecast.bridges.osc import OscBridge, OscConfig, OscEncoder
+from gesturecast.models.skeleton import CANONICAL
+from gesturecast.realtime.frames import PoseFrame
+
+FLOAT32_TOLERANCE = 1e-4  # centimetre-scaled Unreal positions are ~100x larger
+
+
+def decode(datagrams: list[bytes]) -> dict[str, list]:
+    return {m.message.address: m.message.params for d in datagrams for m in OscPacket(d).messages}
+
+
+def test_frame_message_bytes():
+    frame = PoseFrame(42, 1.5, 1.6, CANONICAL.offsets[0], np.tile([0.0, 0.0, 0.0, 1.0], (CANONICAL.num_joints, 1)))
+    datagrams = OscEncoder(OscConfig(bundled=False)).encode(frame)
+    assert datagrams[0] == b"/gesturecast/frame\0\0,if\0" + struct.pack(">if", 42, 1.5)
+    assert datagrams[2] == b"/gesturecast/bone/Hips\0\0,ffff\0\0\0" + struct.pack(">4f", 0, 0, 0, 1)
+
+
+@pytest.mark.parametrize("frame_name", sorted(FRAMES))
+def test_address_scheme_and_values_per_coordinate_frame(frame_name):
+    frame = moving_frame(9)
+    coords = FRAMES[frame_name]
+    values = decode(OscEncoder(OscConfig(coordinate_frame=frame_name)).encode(frame))
+    bones = [f"/gesturecast/bone/{n}" for n in CANONICAL.names]
+    assert list(values) == ["/gesturecast/frame", "/gesturecast/root", *bones]
+    assert values["/gesturecast/frame"][0] == 9
+    root = coords.position(frame.root_position)
+    np.testing.assert_allclose(values["/gesturecast/root"], root, atol=FLOAT32_TOLERANCE)
+    for j, name in enumerate(CANONICAL.names):
+        expected = coords.rotation(frame.rotations[j])
+        np.testing.assert_allclose(values[f"/gesturecast/bone/{name}"], expected, atol=FLOAT32_TOLERANCE)
+
+
+def test_bundled_and_unbundled_carry_the_same_messages():
+    frame = moving_frame(3)
+    bundled = OscEncoder(OscConfig(bundled=True)).encode(frame)
+    single = OscEncoder(OscConfig(bundled=False)).encode(frame)
+    assert all(len(d) <= 1500 for d in bundled)
+    assert len(single) == 2 + CANONICAL.num_joints
+    assert decode(bundled) == decode(single)
+
+
+def test_receiver_not_running_is_survivable():
+    bridge = OscBridge(OscConfig(port=9, send_rate=60.0))  # discard port: nothing listens here
+    for seq in range(5):
+        bridge.send(moving_frame(seq, fps=60.0, clock_now=seq / 60.0))
+    bridge.close()
+    assert bridge.sender.sent_datagrams + bridge.sender.errors.count == 5

@@ -1,0 +1,196 @@
+import json
+import logging
+import socket
+import struct
+import time
+import urllib.request
+
+import numpy as np
+import pytest
+from bridge_test_frames import CAPTURE_AGE_S, moving_frame
+from websockets.sync.client import connect
+
+from gesturecast.bridges.coords import UNREAL
+from gesturecast.bridges.websocket_server import WebSocketBridge, WebSocketConfig
+from gesturecast.bridges.ws_protocol import BINARY_HEADER
+from gesturecast.errors import UserError
+from gesturecast.models.skeleton import CANONICAL
+
+TIMEOUT_S = 5.0
+J = CANONICAL.num_joints
+
+
+@pytest.fixture
+def controls() -> list[dict]:
+    return []
+
+
+@pytest.fixture
+def bridge(controls):
+    server = WebSocketBridge(WebSocketConfig(port=0), on_control=controls.append).start()
+    yield server
+    server.close()
+
+
+def ws_url(bridge: WebSocketBridge) -> str:
+    return f"ws://127.0.0.1:{bridge.port}/"
+
+
+def hello_of(client) -> dict:
+    hello = json.loads(client.recv(TIMEOUT_S))
+    assert hello["type"] == "hello"
+    return hello
+
+
+def next_binary(client) -> bytes:
+    while isinstance(message := client.recv(TIMEOUT_S), str):
+        pass
+    return message
+
+
+def wait_for_clients(bridge: WebSocketBridge, count: int) -> None:
+    deadline = time.monotonic() + TIMEOUT_S
+    while bridge.client_count() != count:
+        assert time.monotonic() < deadline, "clients never registered"
+        time.sleep(0.01)
+
+
+def test_hello_describes_the_stream(bridge):
+    with connect(ws_url(bridge)) as client:
+        hello = hello_of(client)
+    assert hello["format_version"] == 1
+    assert hello["bones"] == list(CANONICAL.names)
+    assert hello["parents"] == list(CANONICAL.parents)
+    np.testing.assert_allclose(hello["offsets"], CANONICAL.offsets, atol=1e-6)
+    assert hello["fps"] == 30.0 and hello["coordinate_frame"] == "internal"
+    assert hello["token_required"] is False
+
+
+def test_binary_frames_to_many_clients():
+    bridge = WebSocketBridge(WebSocketConfig(port=0, coordinate_frame="unreal")).start()
+    try:
+        with connect(ws_url(bridge)) as a, connect(ws_url(bridge)) as b:
+            hello_of(a), hello_of(b)
+            wait_for_clients(bridge, 2)
+            frame = moving_frame(12)
+            bridge.send(frame)
+            payloads = [next_binary(a), next_binary(b)]
+    finally:
+        bridge.close()
+    assert payloads[0] == payloads[1]
+    assert len(payloads[0]) == BINARY_HEADER.size + 16 * J
+    magic, seq, capture, sent, x, y, z, count, flags = BINARY_HEADER.unpack_from(payloads[0])
+    assert (magic, seq, count, flags) == (b"GCPF", 12, J, 1)
+    assert 0.0 <= sent - capture - CAPTURE_AGE_S < 1.0
+    np.testing.assert_allclose([x, y, z], UNREAL.position(frame.root_position), atol=1e-4)
+    quats = np.frombuffer(payloads[0], dtype="<f4", offset=BINARY_HEADER.size).reshape(J, 4)
+    np.testing.assert_allclose(quats, UNREAL.rotation(frame.rotations), atol=1e-6)
+
+
+def test_json_frames_on_request_and_style_announcement(bridge):
+    with connect(ws_url(bridge)) as client:
+        hello_of(client)
+        client.send(json.dumps({"type": "subscribe", "format": "json"}))
+        assert json.loads(client.recv(TIMEOUT_S)) == {"type": "subscribed", "format": "json"}
+        bridge.send(moving_frame(3, style="happy"))
+        style, frame = json.loads(client.recv(TIMEOUT_S)), json.loads(client.recv(TIMEOUT_S))
+    assert style == {"type": "style", "style": "happy"}
+    assert frame["type"] == "frame" and frame["seq"] == 3
+    np.testing.assert_allclose(frame["rotations"], moving_frame(3).rotations, atol=1e-6)
+
+
+def test_control_reaches_engine_and_garbage_is_answered(bridge, controls, caplog):
+    garbage = ["not json", "[1, 2]", '{"type": "dance"}', '{"type": "control", "guidance": 99}', b"\x00\x01"]
+    with caplog.at_level(logging.WARNING), connect(ws_url(bridge)) as client:
+        hello_of(client)
+        replies = []
+        for message in garbage:
+            client.send(message)
+            replies.append(json.loads(client.recv(TIMEOUT_S)))
+        client.send(json.dumps({"type": "control", "style": "angry", "guidance": 2.5}))
+        ack = json.loads(client.recv(TIMEOUT_S))
+        bridge.send(moving_frame(1))  # the stream still flows to this client
+        assert next_binary(client)[:4] == b"GCPF"
+    assert [r["type"] for r in replies] == ["error"] * len(garbage)
+    assert "within [0, 10]" in replies[3]["message"]
+    assert ack == {"type": "ack", "applied": {"style": "angry", "guidance": 2.5}}
+    assert controls == [{"style": "angry", "guidance": 2.5}]
+    rejected = [r for r in caplog.records if "control message rejected" in r.getMessage()]
+    assert len(rejected) == 1  # one clear line, not one per garbage message
+
+
+def test_token_is_required_when_configured_or_exposed(controls):
+    with pytest.raises(UserError, match="--token"):
+        WebSocketBridge(WebSocketConfig(host="0.0.0.0", port=0))
+    bridge = WebSocketBridge(WebSocketConfig(port=0, token="s3cret"), on_control=controls.append).start()
+    try:
+        with connect(ws_url(bridge)) as client:
+            assert hello_of(client)["token_required"] is True
+            client.send(json.dumps({"type": "control", "style": "sad"}))
+            denied = json.loads(client.recv(TIMEOUT_S))
+            client.send(json.dumps({"type": "control", "style": "sad", "token": "s3cret"}))
+            accepted = json.loads(client.recv(TIMEOUT_S))
+    finally:
+        bridge.close()
+    assert denied == {"type": "error", "message": "missing or wrong token"}
+    assert accepted["type"] == "ack" and controls == [{"style": "sad"}]
+
+
+def test_port_in_use_is_one_line_user_error():
+    with socket.socket() as holder:
+        holder.bind(("127.0.0.1", 0))
+        holder.listen()
+        port = holder.getsockname()[1]
+        with pytest.raises(UserError) as error:
+            WebSocketBridge(WebSocketConfig(port=port)).start()
+    assert str(error.value) == f"port {port} on 127.0.0.1 is in use; pick another with --port"
+
+
+def test_client_vanishing_mid_stream_leaves_stream_running(bridge):
+    with connect(ws_url(bridge)) as survivor, connect(ws_url(bridge)) as vanishing:
+        hello_of(survivor), hello_of(vanishing)
+        wait_for_clients(bridge, 2)
+        bridge.send(moving_frame(0))
+        next_binary(vanishing)
+        vanishing.socket.close()  # no closing handshake: the TCP connection just dies
+        seqs = [struct.unpack_from("<I", next_binary(survivor), 4)[0]]
+        for seq in range(1, 30):
+            bridge.send(moving_frame(seq))
+            seqs.append(struct.unpack_from("<I", next_binary(survivor), 4)[0])
+        wait_for_clients(bridge, 1)
+    assert seqs == list(range(30))
+    assert bridge.client_count() <= 1
+
+
+def test_slow_client_is_skipped_not_buffered():
+    bridge = WebSocketBridge(WebSocketConfig(port=0, slow_client_buffer_bytes=4096)).start()
+    sock = socket.socket()
+    sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
+    sock.connect(("127.0.0.1", bridge.port))
+    try:
+        with connect(ws_url(bridge), sock=sock, max_queue=1) as slow:  # stops reading after a frame or two
+            hello_of(slow)
+            wait_for_clients(bridge, 1)
+            (connection,) = bridge._clients
+            server_socket = connection.transport.get_extra_info("socket")
+            server_socket.setsockopt(socket.SOL_SOCKET, socket.SO_SNDBUF, 4096)  # a slow network link
+            for seq in range(3000):
+                bridge.send(moving_frame(seq))
+                if seq % 8 == 0:
+                    time.sleep(0.001)  # let the server loop drain the pending slot
+            time.sleep(0.2)
+            (state,) = bridge._clients.values()
+            buffered = connection.transport.get_write_buffer_size()
+    finally:
+        bridge.close()
+    assert state.skipped_frames > 0
+    assert buffered <= 4096 + BINARY_HEADER.size + 16 * J + 64
+
+
+def test_viewer_page_is_served_over_http(bridge):
+    with urllib.request.urlopen(f"http://127.0.0.1:{bridge.port}/", timeout=TIMEOUT_S) as response:
+        page = response.read().decode()
+        assert response.headers["Content-Type"].startswith("text/html")
+    assert '<canvas id="stage"' in page and "viewer.js" in page
+    with urllib.request.urlopen(f"http://127.0.0.1:{bridge.port}/viewer.js", timeout=TIMEOUT_S) as response:
+        assert "forwardKinematics" in response.read().decode()
