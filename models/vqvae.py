@@ -171,9 +171,9 @@ class MotionVQVAE(nn.Module):
             + self.config.commitment_weight * encoding.commitment_loss
         )
         parts = {
-            "reconstruction": float(feature_loss),
-            "velocity": float(velocity_loss),
-            "commitment": float(encoding.commitment_loss),
+            "reconstruction": feature_loss.item(),
+            "velocity": velocity_loss.item(),
+            "commitment": encoding.commitment_loss.item(),
         }
         return total, parts
 
