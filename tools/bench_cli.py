@@ -9,7 +9,11 @@ from __future__ import annotations
 import argparse
 import importlib
 
-BENCH_MODULES: tuple[str, ...] = ("gesturecast.tools.bench_features", "gesturecast.tools.bench_vad")
+BENCH_MODULES: tuple[str, ...] = (
+    "gesturecast.tools.bench_features",
+    "gesturecast.tools.bench_vad",
+    "gesturecast.tools.bench_bridges",
+)
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
