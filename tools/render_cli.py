@@ -107,5 +107,5 @@ def auto_stride(num_frames: int, output: Path) -> int:
     if output.suffix == ".png" or num_frames <= MAX_AUTO_FRAMES:
         return 1
     stride = math.ceil(num_frames / MAX_AUTO_FRAMES)
-    log.info("%d frames: drawing every %d-th frame (pass --stride 1 or --seconds to change)", num_frames, stride)
+    log.info("%d frames: drawing with stride %d (pass --stride 1 or --seconds to change)", num_frames, stride)
     return stride
