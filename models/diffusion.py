@@ -170,9 +170,7 @@ def predict_noise_from_x0(schedule: DiffusionSchedule, x0: Array, t: int, sample
     return (sample - math.sqrt(alpha_bar) * x0) * (1.0 / math.sqrt(1.0 - alpha_bar))
 
 
-def ddpm_posterior(
-    schedule: DiffusionSchedule, x0: Array, t: int, t_prev: int, sample: Array
-) -> tuple[Array, float]:
+def ddpm_posterior(schedule: DiffusionSchedule, x0: Array, t: int, t_prev: int, sample: Array) -> tuple[Array, float]:
     """Mean and variance of q(x_{t_prev} | x_t, x0) — Ho et al. 2020, eq. 6–7.
 
     μ̃ = √ᾱ_prev·β_t/(1 − ᾱ_t) · x0 + √α_t·(1 − ᾱ_prev)/(1 − ᾱ_t) · x_t,

@@ -31,7 +31,12 @@ def _sinusoid_clips(seed: int, count: int = 4, length: int = 120) -> list[np.nda
 
 def test_training_reduces_loss_and_reports_validation_metrics():
     model, metrics = train_vqvae(
-        _sinusoid_clips(0), CONFIG, steps=80, seed=0, progress=False, val_clips=_sinusoid_clips(1, count=2),
+        _sinusoid_clips(0),
+        CONFIG,
+        steps=80,
+        seed=0,
+        progress=False,
+        val_clips=_sinusoid_clips(1, count=2),
         train_config=TRAIN,
     )
     history = metrics["loss_history"]
