@@ -250,10 +250,11 @@ def tpose_positions(mapped: MappedSkeleton, tpose: np.ndarray) -> np.ndarray:
     return positions
 
 
-def tpose_height(mapped: MappedSkeleton, tpose: np.ndarray) -> float:
-    """Height of the source T-pose (lowest joint to the head's tip), as :meth:`Skeleton.height` measures it."""
-    positions = tpose_positions(mapped, tpose)
-    head = CANONICAL.index("Head")
-    d = mapped.driver[head]
-    top = positions[head, 1] + (quat_rotate(tpose[head], mapped.source.tips[d])[1] if d >= 0 else 0.0)
-    return float(top - positions[:, 1].min())
+def hip_height(positions: np.ndarray) -> float:
+    """Height of the Hips (canonical joint 0) above the lowest joint, for joint positions (J, 3)."""
+    return float(positions[0, 1] - positions[:, 1].min())
+
+
+def tpose_hip_height(mapped: MappedSkeleton, tpose: np.ndarray) -> float:
+    """Hip height of the source standing in its T-pose (source units): the leg length that scales the root."""
+    return hip_height(tpose_positions(mapped, tpose))

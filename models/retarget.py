@@ -4,7 +4,8 @@
 Bandai Namco), or a user JSON map is given; the source's T-pose is solved
 (:mod:`.rest_alignment`) so that it maps to identity. ``.npz``: SMPL-X axis-angle ``poses``
 (T, 165) and ``trans`` (T, 3), as in BEAT2 / AMASS. Root positions are converted to metres and
-scaled by the canonical skeleton's height over the source's. Facing is left as recorded.
+scaled by the canonical hip height over the source's (leg length, so the feet stay on the floor).
+Facing is left as recorded.
 """
 
 from __future__ import annotations
@@ -31,7 +32,15 @@ from .joint_maps import (
 )
 from .motion import MOTION_FPS, Motion
 from .resample import resample_motion
-from .rest_alignment import MappedSkeleton, SourceSkeleton, joint_tips, solve_tpose, tpose_height, tpose_positions
+from .rest_alignment import (
+    MappedSkeleton,
+    SourceSkeleton,
+    hip_height,
+    joint_tips,
+    solve_tpose,
+    tpose_hip_height,
+    tpose_positions,
+)
 from .rotations import (
     quat_between,
     quat_conj,
@@ -152,12 +161,17 @@ def retarget_bvh(data: BvhData, joint_map: JointMap | None = None, source: str =
         data.parents, data.local_rotations(), data.local_translations()
     )
     tpose = solve_tpose(mapped, source_global)
-    scale = CANONICAL.height() / tpose_height(mapped, tpose)
+    scale = canonical_hip_height() / tpose_hip_height(mapped, tpose)
     logger.debug("%s: %s skeleton, scale %.5f to canonical metres", source, joint_map.name, scale)
     rotations = canonical_local_rotations(mapped, source_global, tpose, source_positions)
     root = source_positions[:, mapped.first[0]] * scale  # (T, 3)
     motion = Motion(rotations, root, data.fps)
     return Retargeted(motion, joint_map, scale, _proportioned_skeleton(mapped, tpose, scale))
+
+
+def canonical_hip_height() -> float:
+    """Rest height of the canonical Hips above its lowest joint (metres)."""
+    return hip_height(CANONICAL.forward_kinematics(quat_identity((CANONICAL.num_joints,)))[1])
 
 
 def _ground_root_height(rotations: np.ndarray, root: np.ndarray) -> np.ndarray:
@@ -179,7 +193,7 @@ def retarget_smplx(poses: np.ndarray, trans: np.ndarray, fps: float) -> Motion:
                               np.zeros((len(SMPLX_JOINTS), 3)))
     mapped = MappedSkeleton.build(skeleton, SMPLX)
     rotations = canonical_local_rotations(mapped, source_global, quat_identity((CANONICAL.num_joints,)))
-    root = trans * (CANONICAL.height() / SMPLX_NOMINAL_HEIGHT_M)
+    root = trans * (CANONICAL.height() / SMPLX_NOMINAL_HEIGHT_M)  # horizontal path; height set by grounding
     return Motion(rotations, _ground_root_height(rotations, root), fps)
 
 
