@@ -13,6 +13,8 @@ BENCH_MODULES: tuple[str, ...] = (
     "gesturecast.tools.bench_features",
     "gesturecast.tools.bench_vad",
     "gesturecast.tools.bench_bridges",
+    "gesturecast.tools.bench_denoiser",
+    "gesturecast.tools.bench_vq",
 )
 
 
