@@ -14,8 +14,8 @@ import numpy as np
 
 @dataclass(frozen=True)
 class DenoiserConfig:
-    latent_dim: int = 64  # C: VQ-VAE latent channels
-    audio_dim: int = 64  # F: audio feature channels at 30 fps
+    latent_dim: int = 32  # C: VQ-VAE latent channels (VQVAEConfig.latent_dim)
+    audio_dim: int = 67  # F: audio feature channels at 30 fps (StreamingFeatureExtractor().num_features)
     style_dim: int = 256  # S: style embedding size (wordllama)
     width: int = 160  # transformer model width
     num_layers: int = 4
