@@ -21,7 +21,8 @@ _ROOT_CHANNELS = ("Xposition", "Yposition", "Zposition", *_ROTATION_CHANNELS)
 def canonical_frame_values(rotations: np.ndarray, root_position: np.ndarray) -> np.ndarray:
     """BVH channel values for canonical poses: (T, J, 4), (T, 3) metres -> (T, 3 + 3 J)."""
     euler = rotation_channel_values(rotations, ROTATION_ORDER)  # (T, J, 3) degrees
-    return np.concatenate([root_position * BVH_UNITS_PER_METRE, euler.reshape(len(euler), -1)], axis=1)
+    flat = euler.reshape(len(euler), 3 * rotations.shape[1])  # (T, 3 J)
+    return np.concatenate([root_position * BVH_UNITS_PER_METRE, flat], axis=1)
 
 
 def canonical_bvh_data(
