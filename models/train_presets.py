@@ -1,0 +1,114 @@
+"""Training presets: every size, step count and batch of one `gesturecast train` run.
+
+- ``tiny``: a few seconds on a few short clips; the tests train it end to end.
+- ``default``: the bundled model; sized to train on a 2-core CPU in well under an hour.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, field, replace
+
+from gesturecast.errors import UserError
+
+
+@dataclass(frozen=True)
+class VQPreset:
+    hidden_dim: int
+    latent_dim: int
+    codebook_size: int
+    res_blocks_per_stage: int
+    downsample: int
+    steps: int
+    batch_size: int
+    window: int  # motion frames per training window
+
+
+@dataclass(frozen=True)
+class DenoiserPreset:
+    width: int
+    num_layers: int
+    num_heads: int
+    window: int  # W: latent frames of attention history (KV cache length)
+    audio_window: int  # A
+    steps: int
+    batch_size: int
+    sequence_latents: int  # N latent frames per training sequence
+    learning_rate: float
+    paired_fraction: float  # share of each batch drawn from takes with speech audio
+
+
+@dataclass(frozen=True)
+class PromptPreset:
+    width: int
+    steps: int
+    batch_size: int
+    clip_frames: int
+
+
+@dataclass(frozen=True)
+class TrainPreset:
+    name: str
+    vq: VQPreset
+    denoiser: DenoiserPreset
+    prompt: PromptPreset
+    audio_lookahead: int = 8  # δa feature frames
+    default_guidance: float = 1.5
+    seed: int = 0
+    threads: int = 2
+    mirror_motion_only: bool = True  # mirror the motion-only takes (paired takes get mirror + speed)
+    paired_speeds: tuple[float, ...] = field(default=(0.9, 1.1))
+
+    def to_dict(self) -> dict:
+        return asdict(self)
+
+    @classmethod
+    def from_dict(cls, values: dict) -> TrainPreset:
+        return cls(
+            **{
+                **values,
+                "vq": VQPreset(**values["vq"]),
+                "denoiser": DenoiserPreset(**values["denoiser"]),
+                "prompt": PromptPreset(**values["prompt"]),
+                "paired_speeds": tuple(values["paired_speeds"]),
+            }
+        )
+
+
+TINY = TrainPreset(
+    name="tiny",
+    vq=VQPreset(hidden_dim=32, latent_dim=8, codebook_size=32, res_blocks_per_stage=1, downsample=4, steps=12,
+                batch_size=4, window=32),
+    denoiser=DenoiserPreset(width=32, num_layers=1, num_heads=2, window=4, audio_window=16, steps=12, batch_size=4,
+                            sequence_latents=6, learning_rate=1e-3, paired_fraction=0.5),
+    prompt=PromptPreset(width=16, steps=5, batch_size=4, clip_frames=32),
+    threads=1,
+    paired_speeds=(),
+)
+
+DEFAULT = TrainPreset(
+    name="default",
+    vq=VQPreset(hidden_dim=128, latent_dim=32, codebook_size=512, res_blocks_per_stage=2, downsample=4, steps=3000,
+                batch_size=32, window=64),
+    denoiser=DenoiserPreset(width=192, num_layers=4, num_heads=4, window=16, audio_window=16, steps=6000,
+                            batch_size=32, sequence_latents=24, learning_rate=3e-4, paired_fraction=0.5),
+    prompt=PromptPreset(width=128, steps=600, batch_size=32, clip_frames=90),
+)
+
+PRESETS = {preset.name: preset for preset in (TINY, DEFAULT)}
+
+
+def get_preset(name: str, **overrides) -> TrainPreset:
+    """A named preset with top-level overrides (seed, audio_lookahead, threads) and step counts
+    (``vq_steps``, ``denoiser_steps``, ``prompt_steps``) replaced when given (not None)."""
+    if name not in PRESETS:
+        raise UserError(f"unknown preset {name!r}; known presets: {', '.join(PRESETS)}")
+    preset = PRESETS[name]
+    steps = {key: overrides.pop(key) for key in ("vq_steps", "denoiser_steps", "prompt_steps") if key in overrides}
+    preset = replace(preset, **{key: value for key, value in overrides.items() if value is not None})
+    if steps.get("vq_steps") is not None:
+        preset = replace(preset, vq=replace(preset.vq, steps=steps["vq_steps"]))
+    if steps.get("denoiser_steps") is not None:
+        preset = replace(preset, denoiser=replace(preset.denoiser, steps=steps["denoiser_steps"]))
+    if steps.get("prompt_steps") is not None:
+        preset = replace(preset, prompt=replace(preset.prompt, steps=steps["prompt_steps"]))
+    return preset

@@ -1,0 +1,219 @@
+"""The live gesture generator: one latent frame (d motion frames) per :meth:`Generator.step`.
+
+numpy + onnxruntime only (no torch). Per step (GestureDiffuCLIP §3.2, run autoregressively):
+
+1. draw x_T ~ N(0, I) for the new latent from the generator's own seeded RNG;
+2. run the sampler (K-step DDIM, or the 1000-step DDPM path) — each step is ONE batched denoiser
+   call whose rows are [style 1, style 2 (only with γ), null style (only with guidance s ≠ 1)],
+   all conditioned on the clean past latents through the KV cache and on the audio window;
+   the rows are combined as x̂0 = γ·D(c1) + (1 − γ)·D(c2) (DiffuseStyleGesture) and then
+   x̂0 = D(∅) + s·(x̂0 − D(∅)) (classifier-free guidance, Ho & Salimans 2022 eq. 6);
+3. commit the clean latent to the history (folded into the next denoiser call) and decode it with
+   the streaming VQ decoder into d motion-feature frames (denormalised, canonical layout).
+
+The generator keeps no audio handling and no timing: the caller passes normalised (A, F) audio
+windows (:meth:`ModelBundle.audio_stats`) and owns the clock.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections import deque
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from gesturecast.errors import UserError
+from gesturecast.models.bundle import ModelBundle
+from gesturecast.models.diffusion import (
+    CLEAN_TIMESTEP,
+    SamplerConfig,
+    classifier_free_guidance,
+    get_schedule,
+    sampler_step,
+    sampling_plan,
+    style_interpolation,
+)
+from gesturecast.models.ort_session import DEFAULT_THREADS
+from gesturecast.models.runtime_denoiser import FrameInputs, roll_cache
+from gesturecast.realtime.style_prompts import StylePrompt, StyleResolver
+
+logger = logging.getLogger(__name__)
+
+NEUTRAL_STYLE = StylePrompt("label", "neutral")
+NO_GUIDANCE = 1.0  # s = 1 is the conditional prediction alone: no null-style row needed
+SINGLE_STYLE = 1.0  # γ = 1 is style 1 alone: no second-style row needed
+
+
+@dataclass(frozen=True)
+class GeneratorSettings:
+    sampler: SamplerConfig = field(default_factory=lambda: SamplerConfig("ddim", 4))
+    guidance: float | None = None  # s; None = the bundle's default guidance scale
+    style: StylePrompt = NEUTRAL_STYLE
+    second_style: StylePrompt | None = None  # c2 of x̂0 = γ·D(c1) + (1 − γ)·D(c2)
+    gamma: float = SINGLE_STYLE
+    seed: int = 0
+    threads: int = DEFAULT_THREADS
+
+
+@dataclass(frozen=True)
+class HistoryFrame:
+    """A committed clean latent (normalised) and the conditions it was committed with."""
+
+    latent: np.ndarray  # (C,)
+    window: np.ndarray  # (A, F)
+    audio_present: float
+
+
+@dataclass(frozen=True)
+class RowLayout:
+    """The rows of one batched denoiser call: style embeddings (B, S) and style_present (B,)."""
+
+    styles: np.ndarray
+    style_present: np.ndarray
+    has_second: bool
+    has_null: bool
+
+    @property
+    def batch(self) -> int:
+        return int(self.styles.shape[0])
+
+    def same_rows(self, other: RowLayout) -> bool:
+        return (self.has_second, self.has_null) == (other.has_second, other.has_null)
+
+
+def row_layout(style: np.ndarray, second: np.ndarray | None, gamma: float, guidance: float) -> RowLayout:
+    has_second = second is not None and gamma != SINGLE_STYLE
+    has_null = guidance != NO_GUIDANCE
+    rows = [style] + ([second] if has_second else []) + ([np.zeros_like(style)] if has_null else [])
+    present = [1.0] + ([1.0] if has_second else []) + ([0.0] if has_null else [])
+    return RowLayout(np.stack(rows).astype(np.float32), np.asarray(present, np.float32), has_second, has_null)
+
+
+def combine_rows(x0_rows: np.ndarray, layout: RowLayout, gamma: float, guidance: float) -> np.ndarray:
+    """(B, C) per-row x0 predictions → the guided (C,) prediction (γ mix, then CFG)."""
+    x0 = x0_rows.astype(np.float64)
+    conditional = style_interpolation(x0[0], x0[1], gamma) if layout.has_second else x0[0]
+    if not layout.has_null:
+        return conditional
+    return classifier_free_guidance(x0[-1], conditional, guidance)
+
+
+class Generator:
+    """Seeded, stateful latent-by-latent motion generator over a :class:`ModelBundle`."""
+
+    def __init__(self, bundle: ModelBundle, settings: GeneratorSettings | None = None):
+        self.bundle = bundle
+        self.settings = settings or GeneratorSettings()
+        self.config = bundle.denoiser_config
+        self.schedule = get_schedule(bundle.schedule_name)
+        self.denoiser = bundle.denoiser(self.settings.threads)
+        self.decoder = bundle.vq_decoder(self.settings.threads)
+        self.styles = StyleResolver(bundle, self.settings.threads)
+        self.history: deque[HistoryFrame] = deque(maxlen=self.config.window)
+        self._style = self.styles.embed(self.settings.style)
+        self._second = None if self.settings.second_style is None else self.styles.embed(self.settings.second_style)
+        self._plan = sampling_plan(self.schedule.num_timesteps, self.settings.sampler)
+        self.layout = self._make_layout()
+        self.reset(self.settings.seed)
+
+    @property
+    def guidance(self) -> float:
+        return self.bundle.default_guidance if self.settings.guidance is None else float(self.settings.guidance)
+
+    @property
+    def latent_dim(self) -> int:
+        return self.config.latent_dim
+
+    def _make_layout(self) -> RowLayout:
+        return row_layout(self._style, self._second, self.settings.gamma, self.guidance)
+
+    def reset(self, seed: int | None = None, seed_pose: np.ndarray | None = None) -> None:
+        """Start a new stream: fresh RNG (``seed``, default the settings' seed), empty history and decoder
+        state; ``seed_pose`` (T, D) denormalised motion features pre-fills the history (seed gesture)."""
+        self.rng = np.random.default_rng(self.settings.seed if seed is None else seed)
+        self.history.clear()
+        self.decoder.reset()
+        if seed_pose is not None:
+            self._prefill(seed_pose)
+        self._rebuild_cache()
+
+    def _prefill(self, seed_pose: np.ndarray) -> None:
+        d = self.bundle.frames_per_latent
+        usable = len(seed_pose) - len(seed_pose) % d
+        if usable == 0:
+            raise UserError(f"a seed gesture needs at least {d} frames, got {len(seed_pose)}")
+        normalized = self.bundle.motion_stats.normalize(np.asarray(seed_pose[-usable:], np.float32))  # (T', D)
+        latents = self.bundle.vq_encoder(self.settings.threads).encode(normalized)  # (N, C)
+        silent = np.zeros((self.config.audio_window, self.config.audio_dim), np.float32)  # (A, F)
+        for latent in latents:
+            self.decoder.step(latent)  # advance the decoder state through the seed gesture
+            self.history.append(HistoryFrame(self.bundle.latent_stats.normalize(latent), silent, 0.0))
+
+    def _rebuild_cache(self) -> None:
+        """KV caches of every row recomputed from the history (one chunked call; empty history = empty cache)."""
+        batch = self.layout.batch
+        self.denoiser.reset(batch)
+        if not self.history:
+            return
+        length = len(self.history)
+        frames = FrameInputs(
+            np.broadcast_to(np.stack([h.latent for h in self.history]), (batch, length, self.latent_dim)).copy(),
+            np.full((batch, length), CLEAN_TIMESTEP, np.int64),
+            np.broadcast_to(np.stack([h.window for h in self.history]), (batch, length, *self.history[0].window.shape)),
+            np.broadcast_to(np.array([h.audio_present for h in self.history], np.float32), (batch, length)).copy(),
+            np.repeat(self.layout.styles[:, None], length, axis=1),  # (B, M, S)
+            np.repeat(self.layout.style_present[:, None], length, axis=1),  # (B, M)
+        )
+        _, keys, values = self.denoiser.run(frames, self.denoiser.state)
+        self.denoiser.state = roll_cache(self.denoiser.state, keys, values)
+
+    def _apply_layout(self) -> None:
+        new_layout = self._make_layout()
+        rows_changed = not new_layout.same_rows(self.layout)
+        self.layout = new_layout
+        if rows_changed:
+            self._rebuild_cache()
+
+    def set_style(self, style: StylePrompt, second_style: StylePrompt | None = None, gamma: float = SINGLE_STYLE):
+        """Change the style from the next latent on (history keeps the style it was made with)."""
+        self._style = self.styles.embed(style)
+        self._second = None if second_style is None else self.styles.embed(second_style)
+        self.settings = replace(self.settings, style=style, second_style=second_style, gamma=gamma)
+        self._apply_layout()
+
+    def set_guidance(self, scale: float) -> None:
+        self.settings = replace(self.settings, guidance=scale)
+        self._apply_layout()
+
+    def set_sampler(self, sampler: SamplerConfig) -> None:
+        self.settings = replace(self.settings, sampler=sampler)
+        self._plan = sampling_plan(self.schedule.num_timesteps, sampler)
+
+    def _noise(self, t_prev: int) -> np.ndarray | None:
+        sampler = self.settings.sampler
+        stochastic = sampler.kind == "ddpm" or sampler.eta > 0.0
+        return self.rng.standard_normal(self.latent_dim) if stochastic and t_prev != CLEAN_TIMESTEP else None
+
+    def denoise(self, audio_window: np.ndarray, audio_present: bool) -> np.ndarray:
+        """Sample the next clean latent (C,) (normalised) and commit it to the history."""
+        layout = self.layout
+        windows = np.broadcast_to(np.asarray(audio_window, np.float32), (layout.batch, *np.shape(audio_window)))
+        present = np.full(layout.batch, float(audio_present), np.float32)
+        x = self.rng.standard_normal(self.latent_dim)  # (C,) x_T
+        for t, t_prev in self._plan:
+            rows = np.broadcast_to(x, (layout.batch, self.latent_dim))  # (B, C)
+            x0_rows = self.denoiser.step(rows, t, windows, layout.styles, present, layout.style_present)
+            x0 = combine_rows(x0_rows, layout, self.settings.gamma, self.guidance)  # (C,)
+            x = sampler_step(self.schedule, self.settings.sampler, x0, t, t_prev, x, self._noise(t_prev))
+        clean = np.broadcast_to(x, (layout.batch, self.latent_dim))  # (B, C)
+        self.denoiser.commit(clean, windows, layout.styles, present, layout.style_present)
+        latent = x.astype(np.float32)  # (C,)
+        self.history.append(HistoryFrame(latent, np.asarray(audio_window, np.float32), float(audio_present)))
+        return latent
+
+    def step(self, audio_window: np.ndarray, audio_present: bool = True) -> np.ndarray:
+        """One latent frame: (A, F) normalised audio window → (d, D) denormalised motion features."""
+        latent = self.denoise(audio_window, audio_present)  # (C,)
+        features = self.decoder.step(self.bundle.latent_stats.denormalize(latent))  # (d, D) normalised
+        return self.bundle.motion_stats.denormalize(features)

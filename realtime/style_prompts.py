@@ -1,0 +1,80 @@
+"""Style prompts → style embeddings in the denoiser's style space (numpy + onnxruntime, no torch).
+
+Three kinds of prompt (GestureDiffuCLIP §4.1: text, motion; DiffuseStyleGesture: labels):
+
+- ``label``: a vocabulary label or synonym ("happy", "elderly") → the embedding precomputed into
+  the bundle at training time (unknown labels raise :class:`UserError` listing the known ones);
+- ``text``: any free text → wordllama embedding of the same prompt template used in training;
+- ``motion``: a BVH/NPZ clip of any supported skeleton → canonical features → motion_prompt.onnx.
+
+On the command line: ``happy``, ``text:calm and slow``, ``motion:clip.bvh``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from gesturecast.errors import UserError
+from gesturecast.models.bundle import ModelBundle
+from gesturecast.models.ort_session import DEFAULT_THREADS
+
+STYLE_KINDS = ("label", "text", "motion")
+KIND_SEPARATOR = ":"
+
+
+@dataclass(frozen=True)
+class StylePrompt:
+    kind: str
+    value: str
+
+    def __post_init__(self) -> None:
+        if self.kind not in STYLE_KINDS:
+            raise UserError(f"style kind must be one of {', '.join(STYLE_KINDS)}, got {self.kind!r}")
+        if not self.value.strip():
+            raise UserError("empty style prompt")
+
+    @classmethod
+    def parse(cls, spec: str) -> StylePrompt:
+        """``happy`` → label, ``text:...`` → free text, ``motion:path`` → motion clip."""
+        kind, separator, value = spec.partition(KIND_SEPARATOR)
+        if separator and kind in ("text", "motion"):
+            return cls(kind, value)
+        return cls("label", spec)
+
+
+class StyleResolver:
+    """Turns :class:`StylePrompt` objects into (S,) float32 embeddings; loads wordllama / ONNX lazily."""
+
+    def __init__(self, bundle: ModelBundle, threads: int = DEFAULT_THREADS):
+        self.bundle = bundle
+        self.threads = threads
+        self._text_embedder = None
+        self._motion_prompt = None
+
+    def embed(self, prompt: StylePrompt) -> np.ndarray:
+        if prompt.kind == "label":
+            return self.bundle.styles.embedding(prompt.value)
+        if prompt.kind == "text":
+            return self._embed_text(prompt.value)
+        return self._embed_motion(Path(prompt.value))
+
+    def _embed_text(self, text: str) -> np.ndarray:
+        if self._text_embedder is None:
+            from gesturecast.models.style_text import StyleTextEmbedder
+
+            self._text_embedder = StyleTextEmbedder()
+        return self._text_embedder.embed_labels([text])[0]
+
+    def _embed_motion(self, path: Path) -> np.ndarray:
+        from gesturecast.models.motion_features import face_forward, motion_to_features
+        from gesturecast.models.retarget import load_motion_file
+
+        if not path.is_file():
+            raise UserError(f"motion style prompt not found: {path}")
+        if self._motion_prompt is None:
+            self._motion_prompt = self.bundle.motion_prompt(self.threads)
+        features = motion_to_features(face_forward(load_motion_file(path)))  # (T, D)
+        return self._motion_prompt.embed(features)
