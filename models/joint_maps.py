@@ -6,7 +6,7 @@ joints such as ZeroEGGS ``Spine2`` or ``Neck1`` are merged: their rotations are 
 the last joint's global rotation). An empty chain means the source has no such joint: the
 canonical joint then keeps an identity local rotation (it follows its parent).
 
-Built-in maps: ZeroEGGS, Mixamo, CMU, Bandai Namco and SMPL-X. :func:`detect_joint_map`
+Built-in maps: ZeroEGGS, Mixamo, CMU, Bandai Namco, SMPL-X and the canonical skeleton itself. :func:`detect_joint_map`
 picks the most specific built-in map whose joints are all present; :func:`load_joint_map`
 reads a user JSON map ``{"Hips": ["pelvis"], "Spine": ["spine_01"], ...}``.
 """
@@ -144,7 +144,10 @@ SMPLX = JointMap(
     ),
 )
 
-BUILTIN_BVH_MAPS: tuple[JointMap, ...] = (ZEROEGGS, MIXAMO, CMU, BANDAI_NAMCO)
+# this project's own BVH exports (motion_to_bvh, the BVH recorder)
+GESTURECAST = JointMap("gesturecast canonical", {name: (name,) for name in CANONICAL_JOINTS})
+
+BUILTIN_BVH_MAPS: tuple[JointMap, ...] = (ZEROEGGS, MIXAMO, CMU, BANDAI_NAMCO, GESTURECAST)
 
 
 def strip_namespace(name: str) -> str:

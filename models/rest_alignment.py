@@ -123,6 +123,8 @@ class MappedSkeleton:
         """(source vector in the driver's frame, canonical vector, canonical child or -1 for a tip) per bone."""
         d = self.driver[c]
         pairs = [(self.source.vector(d, self.first[k]), _canonical_vector(c, k), k) for k in self.mapped_children(c)]
+        # zero-length bones (CMU puts LowerBack, Neck and the shoulders on their parent) carry no direction
+        pairs = [pair for pair in pairs if min(np.linalg.norm(pair[0]), np.linalg.norm(pair[1])) > _MIN_LENGTH]
         name = CANONICAL.names[c]
         if not pairs and name in END_SITES and np.linalg.norm(self.source.tips[d]) > _MIN_LENGTH:
             pairs.append((self.source.tips[d], np.asarray(END_SITES[name]), -1))
@@ -143,13 +145,12 @@ def _angle_deg(u: np.ndarray, v: np.ndarray) -> float:
 
 
 def rest_is_tpose(mapped: MappedSkeleton) -> bool:
-    """Whether every mapped bone at the source's identity pose points along its canonical bone."""
-    return all(
-        _angle_deg(src, canon) < TPOSE_TOLERANCE_DEG
-        for c in range(CANONICAL.num_joints)
-        if mapped.driver[c] >= 0
-        for src, canon, _ in mapped.bone_pairs(c)
-    )
+    """Whether every mapped chain bone (limbs, spine, neck) at the source's identity pose points along
+    its canonical bone. End Sites (often arbitrary) and branching offsets (hips to thighs, chest to
+    shoulders: CMU's thigh offsets point 55 degrees down) vary too much between rigs and are left out."""
+    chain_pairs = [pairs[0] for c in range(CANONICAL.num_joints) if mapped.driver[c] >= 0
+                   for pairs in [mapped.bone_pairs(c)] if len(pairs) == 1]
+    return all(_angle_deg(src, canon) < TPOSE_TOLERANCE_DEG for src, canon, child in chain_pairs if child >= 0)
 
 
 def align_two_directions(a1: np.ndarray, b1: np.ndarray, a2: np.ndarray, b2: np.ndarray) -> np.ndarray:

@@ -59,6 +59,7 @@ logger = logging.getLogger(__name__)
 SMPLX_NOMINAL_HEIGHT_M = 1.70
 FLOOR_PERCENTILE = 5.0
 SMPLX_AXIS_ANGLE_DIM = 3 * len(SMPLX_JOINTS)
+MIN_BONE_LENGTH = 1e-9  # source units; shorter bones carry no direction
 
 
 @dataclass
@@ -106,6 +107,8 @@ def _merged_chain_correction(
     if k < 0 or mapped.first[c] == mapped.driver[c]:
         return quat_identity((len(global_c),))
     rest_bone = quat_rotate(tpose[c], mapped.source.vector(mapped.first[c], mapped.first[k]))
+    if np.linalg.norm(rest_bone) < MIN_BONE_LENGTH:
+        return quat_identity((len(global_c),))
     current = quat_rotate(global_c, np.broadcast_to(rest_bone, global_c[..., :3].shape))  # (T, 3)
     actual = source_positions[:, mapped.first[k]] - source_positions[:, mapped.first[c]]  # (T, 3)
     return quat_between(current, actual)
