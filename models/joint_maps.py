@@ -169,9 +169,9 @@ def detect_joint_map(source_names: list[str], source: str = "motion file") -> Jo
     missing = closest.missing_joints(names)
     if len(missing) <= (1.0 - NEAR_MATCH_FRACTION) * len(closest.source_joints()):
         raise UserError(f"{source}: looks like a {closest.name} skeleton but lacks joints {', '.join(missing)}; "
-                        "pass a joint map file (--joint-map) for this skeleton")
+                        "pass a joint map file for this skeleton (see docs/retargeting.md)")
     raise UserError(f"{source}: unknown skeleton layout (joints such as {', '.join(source_names[:4])}); "
-                    "pass a joint map file (--joint-map, see docs/retargeting.md)")
+                    "pass a joint map file (see docs/retargeting.md)")
 
 
 def load_joint_map(path: str | Path) -> JointMap:

@@ -13,10 +13,13 @@ canonical T-pose, so that the source T-pose maps to identity.
   solved from bone directions: the bone towards the mapped child must point along the
   canonical bone. The twist about the bone comes from a second reference direction:
   - joints with several mapped children (Hips, the chest): the left-minus-right child vector;
-  - single-chain joints: the source local axis that points along a canonical reference axis
+  - a bone continuing a chain bone (elbow, wrist, knee, ankle, head): the smallest rotation
+    from its parent's T-pose frame (rigs keep one axis convention along a limb);
+  - a bone leaving a branching joint (spine, thighs, clavicles, neck), where rigs often switch
+    axis conventions: the source local axis that points along a canonical reference axis
     (forward, else up) in the T-pose. The axis is picked by first estimating the twist from the
-    motion (the mean twist of the joint's canonical local rotation is taken as zero), then the
-    rotation is solved exactly from the bone and that axis (rigs use axis-aligned joint frames).
+    motion (the mean twist of the joint's canonical local rotation is taken as zero; these
+    joints move little), then the rotation is solved exactly from the bone and that axis.
 """
 
 from __future__ import annotations
@@ -29,6 +32,7 @@ from gesturecast.errors import UserError
 
 from .joint_maps import JointMap
 from .rotations import (
+    quat_between,
     quat_conj,
     quat_from_axis_angle,
     quat_from_matrix,
@@ -206,6 +210,12 @@ def _chain_alignment(
     return align_two_directions(src, canon, local_axis, reference)
 
 
+def _inherited_alignment(src: np.ndarray, canon: np.ndarray, parent_tpose: np.ndarray) -> np.ndarray:
+    """T for a bone continuing a chain bone: the smallest local rotation from the parent's T-pose frame."""
+    target_in_parent = quat_rotate(quat_conj(parent_tpose), canon)
+    return quat_mul(parent_tpose, quat_between(src, target_in_parent))
+
+
 def solve_tpose(mapped: MappedSkeleton, source_global: np.ndarray) -> np.ndarray:
     """Source global rotations T (J_canonical, 4) of each canonical joint's driver in the T-pose.
 
@@ -225,8 +235,10 @@ def solve_tpose(mapped: MappedSkeleton, source_global: np.ndarray) -> np.ndarray
             raise UserError(f"cannot solve the rest pose of source joint '{mapped.source.names[d]}': "
                             "it has no mapped child and no End Site")
         solved = _branch_alignment(pairs) if len(pairs) > 1 else None
+        p = mapped.mapped_parent(c)
+        if solved is None and p >= 0 and len(mapped.bone_pairs(p)) == 1:
+            solved = _inherited_alignment(pairs[0][0], pairs[0][1], tpose[p])
         if solved is None:
-            p = mapped.mapped_parent(c)
             parent_global = canonical_global[:, p] if p >= 0 else quat_identity((source_global.shape[0],))
             solved = _chain_alignment(pairs[0][0], pairs[0][1], source_global[:, d], parent_global)
         tpose[c] = solved

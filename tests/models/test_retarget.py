@@ -248,3 +248,23 @@ def test_motion_to_bvh_round_trip(tmp_path: Path) -> None:
     dots = np.abs(np.sum(back.rotations * rotations, axis=-1))
     assert np.degrees(2 * np.arccos(np.clip(dots, -1, 1))).max() < 1e-4
     np.testing.assert_allclose(back.root_position, root, atol=1e-6)
+
+
+@pytest.mark.skipif(not _bandai_files(), reason="Bandai Namco data not unpacked into .cache/bandai")
+def test_bandai_tpose_is_the_same_for_every_take() -> None:
+    """The solved rest alignment depends on the rig, not on the motion (waving takes included)."""
+    from gesturecast.models.rest_alignment import MappedSkeleton, SourceSkeleton, joint_tips, solve_tpose
+
+    solved = []
+    for name in ("bye_normal_001", "byebye_active_001", "walk_musical_001"):
+        paths = sorted(BANDAI.glob(f"*/data/dataset-1_{name}.bvh"))
+        if not paths:
+            pytest.skip(f"Bandai take {name} not unpacked")
+        data = _first_frames(read_bvh(paths[0]))
+        source = SourceSkeleton(data.names, data.parents, data.offsets,
+                                joint_tips(data.parents, data.offsets, data.end_sites))
+        global_rot, _ = source_forward_kinematics(data.parents, data.local_rotations())
+        solved.append(solve_tpose(MappedSkeleton.build(source, retarget_bvh(data).joint_map), global_rot))
+    for other in solved[1:]:
+        angle = np.degrees(2 * np.arccos(np.clip(np.abs(np.sum(other * solved[0], axis=-1)), 0, 1)))
+        assert angle.max() < 1.0
