@@ -21,6 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
+from gesturecast.errors import UserError
 from gesturecast.models.denoiser_config import DenoiserConfig
 from gesturecast.models.diffusion import CLEAN_TIMESTEP
 from gesturecast.models.ort_session import DEFAULT_THREADS, make_session
@@ -72,6 +73,8 @@ class DenoiserRuntime:
     def __init__(self, path: Path | str | bytes, threads: int = DEFAULT_THREADS):
         self.session = make_session(path, threads)
         metadata = self.session.get_modelmeta().custom_metadata_map
+        if CONFIG_METADATA_KEY not in metadata:
+            raise UserError(f"{path!s:.200} is not a gesturecast denoiser export (no {CONFIG_METADATA_KEY} metadata)")
         self.config = DenoiserConfig.from_dict(json.loads(metadata[CONFIG_METADATA_KEY]))
         self.state = self.empty_state(1)
 

@@ -6,10 +6,13 @@ import pytest
 import torch
 from denoiser_helpers import TINY, random_model
 
+from gesturecast.errors import UserError
 from gesturecast.models.denoiser import audio_windows
 from gesturecast.models.denoiser_config import audio_frames_needed
 from gesturecast.models.diffusion import CLEAN_TIMESTEP
 from gesturecast.models.export_denoiser import example_inputs, export_denoiser
+from gesturecast.models.export_motion_prompt import export_motion_prompt
+from gesturecast.models.motion_prompt import MotionPromptConfig, MotionPromptEncoder
 from gesturecast.models.runtime_denoiser import DenoiserRuntime, FrameInputs
 
 
@@ -90,3 +93,11 @@ def test_guidance_rows_in_one_batch_equal_separate_calls(exported):
         )
         np.testing.assert_allclose(batched[row : row + 1], single, atol=1e-5)
     assert not np.allclose(batched[0], batched[1])  # the style matters
+
+
+def test_rejects_an_onnx_file_without_denoiser_metadata(tmp_path):
+    path = export_motion_prompt(
+        MotionPromptEncoder(MotionPromptConfig(feature_dim=4, width=8, embed_dim=4)), tmp_path / "p.onnx"
+    )
+    with pytest.raises(UserError, match="not a gesturecast denoiser"):
+        DenoiserRuntime(path)
