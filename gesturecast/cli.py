@@ -20,6 +20,9 @@ COMMAND_MODULES: tuple[str, ...] = (
     "gesturecast.tools.data_cli",
     "gesturecast.realtime.audio_cli",
     "gesturecast.tools.bench_cli",
+    "gesturecast.tools.train_cli",
+    "gesturecast.tools.export_cli",
+    "gesturecast.realtime.engine_cli",
 )
 
 

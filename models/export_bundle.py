@@ -14,6 +14,7 @@ from pathlib import Path
 import torch
 from torch import nn
 
+from gesturecast.errors import UserError
 from gesturecast.models.bundle import LICENSE_NOTE, ONNX_FILES, write_manifest
 from gesturecast.models.denoiser import CausalDenoiser
 from gesturecast.models.denoiser_config import DenoiserConfig
@@ -22,6 +23,7 @@ from gesturecast.models.export_denoiser import export_denoiser
 from gesturecast.models.export_motion_prompt import export_motion_prompt
 from gesturecast.models.export_vq import export_vq_decoder_step
 from gesturecast.models.motion_prompt import MotionPromptConfig, MotionPromptEncoder
+from gesturecast.models.train import STAGES
 from gesturecast.models.vqvae import MotionVQVAE, vqvae_from_checkpoint
 
 OPSET_VERSION = 17
@@ -54,6 +56,9 @@ def export_vq_encoder(model: MotionVQVAE, path: Path) -> Path:
 def models_from_checkpoint(checkpoint: dict) -> tuple[MotionVQVAE, CausalDenoiser, MotionPromptEncoder]:
     """Rebuild the three torch models from a training checkpoint's plain data."""
     stages = checkpoint["stages"]
+    missing = [stage for stage in STAGES if stage not in stages]
+    if missing:
+        raise UserError(f"the checkpoint has not finished training (missing {', '.join(missing)}); run train --resume")
     vqvae = vqvae_from_checkpoint(stages["vqvae"]["model"])
     denoiser = CausalDenoiser(DenoiserConfig.from_dict(stages["denoiser"]["config"]))
     denoiser.load_state_dict(stages["denoiser"]["state"])

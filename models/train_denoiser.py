@@ -25,6 +25,7 @@ from gesturecast.models.diffusion import get_schedule
 logger = logging.getLogger(__name__)
 
 WARMUP_STEPS = 200
+WARMUP_FRACTION = 0.1  # short runs warm up over at most a tenth of their steps
 GRAD_CLIP_NORM = 1.0
 LOG_EVERY = 100
 
@@ -81,9 +82,10 @@ class LatentBatchSampler:
 
 def learning_rate_factor(step: int, total: int) -> float:
     """Linear warm-up, then cosine decay to 10 % (Loshchilov & Hutter 2017)."""
-    if step < WARMUP_STEPS:
-        return (step + 1) / WARMUP_STEPS
-    progress = (step - WARMUP_STEPS) / max(total - WARMUP_STEPS, 1)
+    warmup = max(1, min(WARMUP_STEPS, int(total * WARMUP_FRACTION)))
+    if step < warmup:
+        return (step + 1) / warmup
+    progress = (step - warmup) / max(total - warmup, 1)
     return 0.1 + 0.9 * 0.5 * (1.0 + np.cos(np.pi * min(progress, 1.0)))
 
 

@@ -78,7 +78,7 @@ TINY = TrainPreset(
     name="tiny",
     vq=VQPreset(hidden_dim=32, latent_dim=8, codebook_size=32, res_blocks_per_stage=1, downsample=4, steps=12,
                 batch_size=4, window=32),
-    denoiser=DenoiserPreset(width=32, num_layers=1, num_heads=2, window=4, audio_window=16, steps=12, batch_size=4,
+    denoiser=DenoiserPreset(width=32, num_layers=1, num_heads=2, window=4, audio_window=16, steps=40, batch_size=4,
                             sequence_latents=6, learning_rate=1e-3, paired_fraction=0.5),
     prompt=PromptPreset(width=16, steps=5, batch_size=4, clip_frames=32),
     threads=1,

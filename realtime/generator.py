@@ -182,6 +182,11 @@ class Generator:
         self.settings = replace(self.settings, style=style, second_style=second_style, gamma=gamma)
         self._apply_layout()
 
+    def set_gamma(self, gamma: float) -> None:
+        """Move γ of x̂0 = γ·D(c1) + (1 − γ)·D(c2) without re-embedding the styles (used by smooth changes)."""
+        self.settings = replace(self.settings, gamma=gamma)
+        self._apply_layout()
+
     def set_guidance(self, scale: float) -> None:
         self.settings = replace(self.settings, guidance=scale)
         self._apply_layout()
@@ -212,8 +217,11 @@ class Generator:
         self.history.append(HistoryFrame(latent, np.asarray(audio_window, np.float32), float(audio_present)))
         return latent
 
-    def step(self, audio_window: np.ndarray, audio_present: bool = True) -> np.ndarray:
-        """One latent frame: (A, F) normalised audio window → (d, D) denormalised motion features."""
-        latent = self.denoise(audio_window, audio_present)  # (C,)
+    def decode(self, latent: np.ndarray) -> np.ndarray:
+        """A committed (C,) normalised latent → (d, D) denormalised motion features (streaming VQ decoder)."""
         features = self.decoder.step(self.bundle.latent_stats.denormalize(latent))  # (d, D) normalised
         return self.bundle.motion_stats.denormalize(features)
+
+    def step(self, audio_window: np.ndarray, audio_present: bool = True) -> np.ndarray:
+        """One latent frame: (A, F) normalised audio window → (d, D) denormalised motion features."""
+        return self.decode(self.denoise(audio_window, audio_present))

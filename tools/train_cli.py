@@ -1,0 +1,54 @@
+"""`gesturecast train`: train the generator (VQ-VAE, denoiser, motion prompt) from the dataset cache.
+
+Checkpoints go to ``--work-dir`` (default ``.cache/train/<preset>``, never committed); with
+``--out`` the finished model is also exported as a bundle (``gesturecast export`` does it later).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import logging
+import time
+from pathlib import Path
+
+from gesturecast.models.train_presets import PRESETS, get_preset
+
+LOGGER = logging.getLogger(__name__)
+DEFAULT_DATA = Path(".cache/dataset")
+DEFAULT_WORK_ROOT = Path(".cache/train")
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    parser = subparsers.add_parser("train", help="train the gesture generator from the dataset cache")
+    parser.add_argument("--preset", choices=sorted(PRESETS), default="default", help="sizes and steps")
+    parser.add_argument("--data", type=Path, default=DEFAULT_DATA, help="dataset cache (default %(default)s)")
+    parser.add_argument("--work-dir", type=Path, default=None, help="checkpoint folder (default .cache/train/PRESET)")
+    parser.add_argument("--out", type=Path, default=None, help="also export the bundle to this folder")
+    parser.add_argument("--resume", action="store_true", help="continue from the checkpoint's finished stages")
+    parser.add_argument("--seed", type=int, default=None, help="random seed (default: the preset's)")
+    parser.add_argument("--lookahead", type=int, default=None, help="audio look-ahead δa in frames (default 8)")
+    parser.add_argument("--threads", type=int, default=None, help="torch CPU threads (default: the preset's)")
+    parser.add_argument("--vq-steps", type=int, default=None)
+    parser.add_argument("--denoiser-steps", type=int, default=None)
+    parser.add_argument("--prompt-steps", type=int, default=None)
+    parser.add_argument("--no-progress", action="store_true", help="no progress bars")
+    parser.set_defaults(func=run_train)
+
+
+def run_train(args: argparse.Namespace) -> int:
+    from gesturecast.models.export_bundle import export_bundle, training_summary
+    from gesturecast.models.train import run_training
+
+    preset = get_preset(args.preset, seed=args.seed, audio_lookahead=args.lookahead, threads=args.threads,
+                        vq_steps=args.vq_steps, denoiser_steps=args.denoiser_steps, prompt_steps=args.prompt_steps)
+    work_dir = args.work_dir or DEFAULT_WORK_ROOT / preset.name
+    started = time.perf_counter()
+    checkpoint = run_training(preset, args.data, work_dir, resume=args.resume, progress=not args.no_progress)
+    if args.out is not None:
+        export_bundle(checkpoint, args.out)
+        LOGGER.info("bundle written to %s", args.out)
+    summary = {"checkpoint": str(work_dir), "bundle": None if args.out is None else str(args.out),
+               "wall_seconds": round(time.perf_counter() - started, 1), **training_summary(checkpoint)}
+    print(json.dumps(summary, indent=1))
+    return 0
