@@ -32,6 +32,8 @@ class BvhRecorderConfig:
 class BvhRecorder:
     """Append canonical poses to a BVH file; ``close()`` (or the context manager) finishes it."""
 
+    name = "bvh"
+
     def __init__(self, path: str | Path, skeleton: Skeleton = CANONICAL, fps: float = MOTION_FPS) -> None:
         self.config = BvhRecorderConfig(skeleton, fps)
         self.path = Path(path)
@@ -50,7 +52,7 @@ class BvhRecorder:
     def _count_field(self) -> str:
         return str(self.frames_written).ljust(FRAME_COUNT_WIDTH)
 
-    def write(self, frame: PoseFrame) -> None:
+    def send(self, frame: PoseFrame) -> None:
         """Append one pose and update the frame count, so the file is valid after every call."""
         values = canonical_frame_values(frame.rotations[None], np.asarray(frame.root_position)[None])  # (1, C)
         self._file.write(format_motion_rows(values))

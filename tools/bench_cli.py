@@ -15,6 +15,7 @@ BENCH_MODULES: tuple[str, ...] = (
     "gesturecast.tools.bench_bridges",
     "gesturecast.tools.bench_denoiser",
     "gesturecast.tools.bench_vq",
+    "gesturecast.tools.bench_latency",
 )
 
 

@@ -27,7 +27,7 @@ def test_recording_matches_offline_export(tmp_path: Path) -> None:
     rotations, root = _poses()
     with BvhRecorder(tmp_path / "live.bvh") as recorder:
         for k in range(NUM_FRAMES):
-            recorder.write(PoseFrame(k, k / 30, k / 30 + 0.2, root[k], rotations[k]))
+            recorder.send(PoseFrame(k, k / 30, k / 30 + 0.2, root[k], rotations[k]))
     motion_to_bvh(Motion(rotations, root), tmp_path / "offline.bvh")
     live, offline = read_bvh(tmp_path / "live.bvh"), read_bvh(tmp_path / "offline.bvh")
     assert live.num_frames == NUM_FRAMES and live.fps == offline.fps
@@ -40,6 +40,6 @@ def test_interrupted_recording_is_readable(tmp_path: Path) -> None:
     rotations, root = _poses()
     recorder = BvhRecorder(tmp_path / "crash.bvh")
     for k in range(5):
-        recorder.write(PoseFrame(k, 0.0, 0.0, root[k], rotations[k]))
+        recorder.send(PoseFrame(k, 0.0, 0.0, root[k], rotations[k]))
         assert read_bvh(tmp_path / "crash.bvh").num_frames == k + 1  # never closed: still valid
     recorder.close()

@@ -1,0 +1,120 @@
+"""Building a session and its outputs from command-line flags (shared by live, demo, generate, bench)."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from gesturecast.bridges.bvh_recorder import BvhRecorder
+from gesturecast.bridges.fanout import BridgeFanout
+from gesturecast.bridges.osc import OscBridge, OscConfig
+from gesturecast.bridges.vmc import VmcBridge, VmcConfig
+from gesturecast.bridges.websocket_server import WebSocketBridge, WebSocketConfig
+from gesturecast.errors import UserError
+from gesturecast.models.bundle import ModelBundle
+from gesturecast.models.diffusion import SamplerConfig
+from gesturecast.realtime.clock import Clock
+from gesturecast.realtime.generator import SINGLE_STYLE, Generator, GeneratorSettings
+from gesturecast.realtime.latency import LatencyBudget
+from gesturecast.realtime.session import GestureSession
+from gesturecast.realtime.style_prompts import StylePrompt
+
+DEFAULT_MODEL_DIR = Path(__file__).resolve().parents[1] / "models" / "weights" / "default"
+DEFAULT_MARGIN_MS = 100.0
+DEFAULT_STEPS = 4
+
+
+def add_generation_arguments(parser: argparse.ArgumentParser) -> None:
+    group = parser.add_argument_group("generation")
+    group.add_argument("--model", type=Path, default=DEFAULT_MODEL_DIR, help="model bundle directory")
+    group.add_argument("--style", default="neutral", help="style label (e.g. happy, old), text:FREE TEXT, "
+                       "or motion:CLIP.bvh")
+    group.add_argument("--prompt", help="free-text style prompt (same as --style text:...)")
+    group.add_argument("--motion-prompt", type=Path, help="a BVH/NPZ clip whose style to imitate")
+    group.add_argument("--style2", help="second style for γ interpolation/extrapolation")
+    group.add_argument("--gamma", type=float, default=SINGLE_STYLE, help="x̂0 = γ·D(style) + (1 − γ)·D(style2)")
+    group.add_argument("--guidance", type=float, help="classifier-free guidance scale s (default: the model's)")
+    group.add_argument("--sampler", choices=("ddim", "ddpm"), default="ddim")
+    group.add_argument("--steps", type=int, default=DEFAULT_STEPS, help="DDIM steps K per latent frame")
+    group.add_argument("--seed", type=int, default=0)
+    group.add_argument("--lookahead", type=int, help="audio look-ahead δa in frames (must match the model)")
+    group.add_argument("--margin-ms", type=float, default=DEFAULT_MARGIN_MS, help="compute margin in the latency L")
+    group.add_argument("--threads", type=int, default=1, help="onnxruntime intra-op threads")
+
+
+def load_bundle(path: Path) -> ModelBundle:
+    if not (path / "model.json").is_file():
+        raise UserError(f"no model bundle at {path} (expected model.json); train one with `gesturecast train`")
+    return ModelBundle.load(path)
+
+
+def style_prompt(args: argparse.Namespace) -> StylePrompt:
+    if args.motion_prompt is not None:
+        return StylePrompt("motion", str(args.motion_prompt))
+    if args.prompt:
+        return StylePrompt("text", args.prompt)
+    return StylePrompt.parse(args.style)
+
+
+def generator_settings(args: argparse.Namespace, bundle: ModelBundle) -> GeneratorSettings:
+    """DDIM with K steps, or DDPM over all T steps of the model's schedule (the offline-quality path)."""
+    steps = args.steps if args.sampler == "ddim" else bundle.denoiser_config.num_timesteps
+    sampler = SamplerConfig(args.sampler, steps)
+    return GeneratorSettings(
+        sampler=sampler,
+        guidance=args.guidance,
+        style=style_prompt(args),
+        second_style=StylePrompt.parse(args.style2) if args.style2 else None,
+        gamma=args.gamma,
+        seed=args.seed,
+        threads=args.threads,
+    )
+
+
+def build_session(args: argparse.Namespace, clock: Clock) -> GestureSession:
+    bundle = load_bundle(args.model)
+    if args.lookahead is not None and args.lookahead != bundle.audio_lookahead:
+        raise UserError(
+            f"this model was trained with look-ahead δa = {bundle.audio_lookahead} frames, not {args.lookahead}; "
+            f"train one with `gesturecast train --lookahead {args.lookahead}` and pass it with --model"
+        )
+    budget = LatencyBudget(bundle.frames_per_latent, bundle.audio_lookahead, args.margin_ms)
+    generator = Generator(bundle, generator_settings(args, bundle))
+    return GestureSession(bundle, generator, budget, clock)
+
+
+def add_output_arguments(parser: argparse.ArgumentParser) -> None:
+    group = parser.add_argument_group("outputs")
+    group.add_argument("--vmc", metavar="HOST:PORT", help="VMC over OSC/UDP (VSeeFace, Warudo, EVMC4U, VMC4UE)")
+    group.add_argument("--osc", metavar="HOST:PORT", help="plain OSC (Unreal OSC plugin, TouchDesigner)")
+    group.add_argument("--osc-frame", choices=("unity", "unreal", "internal"), default="unity")
+    group.add_argument("--ws", metavar="PORT", type=int, help="WebSocket stream + browser viewer on this port")
+    group.add_argument("--host", default="127.0.0.1", help="listen address of the WebSocket server")
+    group.add_argument("--token", help="required from clients for control messages when --host is not loopback")
+    group.add_argument("--bvh", type=Path, metavar="FILE", help="record the stream as BVH")
+    group.add_argument("--fps", type=int, choices=(30, 60), default=30, help="output rate (60 = slerp upsampling)")
+
+
+def parse_host_port(value: str, flag: str) -> tuple[str, int]:
+    host, separator, port = value.rpartition(":")
+    if not separator or not port.isdigit() or not 0 < int(port) < 65536:
+        raise UserError(f"{flag} wants HOST:PORT (e.g. 127.0.0.1:39539), got {value!r}")
+    return host or "127.0.0.1", int(port)
+
+
+def build_outputs(args: argparse.Namespace, session: GestureSession, clock: Clock) -> BridgeFanout:
+    """The bridges the flags ask for, fanned out so that one failing output never stops the others."""
+    bridges = []
+    if args.vmc:
+        host, port = parse_host_port(args.vmc, "--vmc")
+        bridges.append(VmcBridge(VmcConfig(host, port, send_rate=float(args.fps))))
+    if args.osc:
+        host, port = parse_host_port(args.osc, "--osc")
+        bridges.append(OscBridge(OscConfig(host, port, send_rate=float(args.fps), coordinate_frame=args.osc_frame)))
+    if args.ws is not None:
+        config = WebSocketConfig(host=args.host, port=args.ws, token=args.token, fps=float(args.fps),
+                                 style_choices=tuple(session.bundle.styles.labels), clock=clock.now)
+        bridges.append(WebSocketBridge(config, on_control=session.controls.submit).start())
+    if args.bvh is not None:
+        bridges.append(BvhRecorder(args.bvh))
+    return BridgeFanout(bridges)

@@ -1,0 +1,168 @@
+"""One stream's state and the step that turns audio into poses: the shared core of `live` and `generate`.
+
+Data flow per pushed chunk (DESIGN.md): streaming features → normalised feature buffer → as soon as
+the audio up to ``(i+1)·d + δa`` has arrived, one generator step for latent ``i`` (K-step DDIM or
+DDPM, KV cache, CFG) → d motion-feature frames → root integration + 6D → quaternions → idle
+cross-fade in silence → :class:`PoseFrame` with capture and presentation times.
+
+The session never reads a clock: every time it uses is stream time (frame index / fps) or the
+capture time carried by the audio chunks, so a file replayed at real-time pace and the same file
+processed as fast as possible give identical poses (the parity the tests check).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from gesturecast.models.bundle import ModelBundle
+from gesturecast.models.denoiser_config import audio_window_bounds, audio_window_end
+from gesturecast.models.motion_features import RootIntegrator, features_to_rotations
+from gesturecast.realtime.clock import Clock
+from gesturecast.realtime.feature_buffer import FeatureBuffer
+from gesturecast.realtime.feature_dsp import frame_boundary
+from gesturecast.realtime.features import StreamingFeatureExtractor, speaking_flags
+from gesturecast.realtime.frames import PoseFrame
+from gesturecast.realtime.generator import Generator
+from gesturecast.realtime.idle import IdleMotion
+from gesturecast.realtime.latency import LatencyBudget, LatencyStats
+from gesturecast.realtime.session_controls import SessionControls
+from gesturecast.realtime.sources import AudioChunk
+from gesturecast.realtime.transitions import PoseCrossfade
+
+logger = logging.getLogger(__name__)
+
+STAGE_FEATURES = "features"
+STAGE_DENOISER = "denoiser"
+STAGE_DECODER = "decoder"
+SPEECH = 1.0  # cross-fade weight of the generated stream while speaking (idle = 0)
+IDLE = 0.0
+
+
+@dataclass(frozen=True)
+class SessionConfig:
+    idle_fade_s: float = 0.6  # cross-fade duration between idle motion and speech gestures
+    silence_hold_s: float = 1.0  # silence this long after the last speech frame fades to idle
+
+
+class GestureSession:
+    """Audio chunks in, timed pose frames out, for one stream (constant memory on any duration)."""
+
+    def __init__(
+        self,
+        bundle: ModelBundle,
+        generator: Generator,
+        budget: LatencyBudget,
+        clock: Clock,
+        config: SessionConfig | None = None,
+        stats: LatencyStats | None = None,
+    ) -> None:
+        self.bundle = bundle
+        self.generator = generator
+        self.budget = budget
+        self.config = config or SessionConfig()
+        self.stats = stats or LatencyStats(clock)
+        self.controls = SessionControls(generator)
+        self.denoiser_config = bundle.denoiser_config
+        self.fps = bundle.feature_config.fps
+        self.sample_rate = bundle.feature_config.sample_rate
+        self.extractor = StreamingFeatureExtractor(bundle.feature_config)
+        self.idle = IdleMotion(seed=generator.settings.seed)
+        self._hold_frames = round(self.config.silence_hold_s * self.fps)
+        self.reset()
+
+    def reset(self) -> None:
+        """Forget the stream (features, generator history, root, idle fade): the next chunk is sample 0."""
+        self.extractor.reset()
+        self.features = FeatureBuffer(self.extractor.num_features)
+        self.generator.reset()
+        self.root = RootIntegrator()
+        self.crossfade = PoseCrossfade(self.config.idle_fade_s, initial_weight_b=IDLE)
+        self.next_latent = 0
+        self.frames_out = 0
+        self.samples_in = 0
+        self._anchor = (0, 0.0)  # (stream sample, capture time) of the newest chunk
+        self._last_speech_frame = -math.inf
+        self._frame_limit: int | None = None
+
+    # ---- audio in ----
+    def push(self, chunk: AudioChunk) -> list[PoseFrame]:
+        """Feed one chunk; returns the pose frames it completed (often none)."""
+        self._anchor = (chunk.start_sample, chunk.capture_time)
+        self.samples_in = chunk.start_sample + len(chunk.samples)
+        with self.stats.time(STAGE_FEATURES):
+            raw = self.extractor.push(chunk.samples)  # (n, F)
+        self.features.append(self.bundle.audio_stats.apply(raw), speaking_flags(raw, self.bundle.feature_config))
+        return self._generate_ready()
+
+    def finish(self) -> list[PoseFrame]:
+        """End of stream: pad with silence for the look-ahead so every captured audio frame gets a pose."""
+        audio_frames = self.extractor.frames_emitted
+        if audio_frames == 0:
+            return []
+        d = self.denoiser_config.frames_per_latent
+        needed = audio_window_end(math.ceil(audio_frames / d) - 1, self.denoiser_config)
+        padding = max(int(frame_boundary(needed, self.sample_rate, self.fps)) - self.samples_in, 0)
+        self._frame_limit = audio_frames
+        start, time = self._anchor
+        pad_time = time + (self.samples_in - start) / self.sample_rate
+        return self.push(AudioChunk(np.zeros(padding, np.float32), self.samples_in, pad_time))
+
+    # ---- generation ----
+    def _generate_ready(self) -> list[PoseFrame]:
+        frames: list[PoseFrame] = []
+        while self.features.end >= audio_window_end(self.next_latent, self.denoiser_config):
+            frames.extend(self._generate_latent(self.next_latent))
+            self.next_latent += 1
+            self.features.forget_before(audio_window_bounds(self.next_latent, self.denoiser_config)[0])
+        return frames
+
+    def _generate_latent(self, index: int) -> list[PoseFrame]:
+        d = self.denoiser_config.frames_per_latent
+        self.controls.advance(index * d / self.fps)
+        window = self.features.window(index, self.denoiser_config)  # (A, F)
+        with self.stats.time(STAGE_DENOISER):
+            latent = self.generator.denoise(window, audio_present=True)  # (C,)
+        with self.stats.time(STAGE_DECODER):
+            motion = self.generator.decode(latent)  # (d, D)
+        speaking = self._is_speaking(index)
+        first = index * d
+        return [self._pose_frame(first + j, motion[j], speaking) for j in range(d) if self._wanted(first + j)]
+
+    def _is_speaking(self, index: int) -> bool:
+        """Speech within the hold time before this latent or in its look-ahead (only audio it may see)."""
+        previous_end = audio_window_end(index - 1, self.denoiser_config) if index else 0
+        last = self.features.last_speech(previous_end, audio_window_end(index, self.denoiser_config))
+        if last is not None:
+            self._last_speech_frame = last
+        return self._last_speech_frame >= index * self.denoiser_config.frames_per_latent - self._hold_frames
+
+    def _wanted(self, frame: int) -> bool:
+        return self._frame_limit is None or frame < self._frame_limit
+
+    def _pose_frame(self, frame: int, features: np.ndarray, speaking: bool) -> PoseFrame:
+        position, yaw = self.root.step(features)  # (3,), facing yaw
+        rotations = features_to_rotations(features, np.asarray(yaw))  # (J, 4)
+        t = frame / self.fps
+        self.crossfade.fade_to(SPEECH if speaking else IDLE, t)
+        idle_root = np.array([position[0], self.idle.base_root[1], position[2]])  # idle in place
+        rotations, root = self.crossfade.mix(t, self.idle.rotations(t), idle_root, rotations, position)
+        capture = self._capture_time(frame)
+        self.frames_out += 1
+        return PoseFrame(
+            seq=frame,
+            capture_time=capture,
+            presentation_time=capture + self.budget.total_s,
+            root_position=root,
+            rotations=rotations,
+            style=self.controls.describe(),
+            speaking=speaking,
+        )
+
+    def _capture_time(self, frame: int) -> float:
+        """Capture time of the first audio sample of ``frame``, from the newest chunk's timestamp."""
+        start, time = self._anchor
+        return time + (int(frame_boundary(frame, self.sample_rate, self.fps)) - start) / self.sample_rate

@@ -1,0 +1,102 @@
+"""Live changes of style, guidance and γ, blended in over a short stream time (no visible pop).
+
+Controls arrive from any thread (WebSocket clients, the CLI) and are applied by the session
+between latent steps. Numbers (guidance s, γ) move along a smoothstep ramp. A new style with no
+second style is blended with DiffuseStyleGesture's own mechanism: the generator runs
+x̂0 = γ·D(new) + (1 − γ)·D(old) while γ ramps 0 → 1, then drops the old style.
+"""
+
+from __future__ import annotations
+
+import threading
+from collections import deque
+
+from gesturecast.realtime.generator import SINGLE_STYLE, Generator
+from gesturecast.realtime.style_prompts import StylePrompt
+from gesturecast.realtime.transitions import DEFAULT_RAMP_S, Ramp
+
+MAX_PENDING_CONTROLS = 32  # bounded inbox: the oldest unapplied control is dropped first
+
+
+class SessionControls:
+    """Holds the control inbox and the ramps; :meth:`advance` applies them at stream time ``t``."""
+
+    def __init__(self, generator: Generator, fade_s: float = DEFAULT_RAMP_S) -> None:
+        self.generator = generator
+        self.fade_s = fade_s
+        self._inbox: deque[dict] = deque(maxlen=MAX_PENDING_CONTROLS)
+        self._lock = threading.Lock()
+        self._guidance = Ramp(generator.guidance, fade_s)
+        self._gamma = Ramp(generator.settings.gamma, fade_s)
+        self._blending_from: StylePrompt | None = None  # old style while a style change blends in
+
+    def submit(self, control: dict) -> None:
+        """Queue a validated control message (keys: style, prompt, style2, guidance, gamma); thread-safe."""
+        with self._lock:
+            self._inbox.append(dict(control))
+
+    def advance(self, t: float) -> None:
+        """Apply queued controls and move the ramps to stream time ``t`` (called once per latent)."""
+        with self._lock:
+            pending = list(self._inbox)
+            self._inbox.clear()
+        for control in pending:
+            self._apply(control, t)
+        self._update_style_blend(t)
+        guidance = float(self._guidance.value(t))
+        if guidance != self.generator.guidance:
+            self.generator.set_guidance(guidance)
+        if self._blending_from is None and self.generator.settings.second_style is not None:
+            self.generator.set_gamma(float(self._gamma.value(t)))
+
+    def describe(self) -> str:
+        """The style in effect, for display (``happy``, ``text:calm``, ``happy→sad γ=0.5``)."""
+        settings = self.generator.settings
+        name = _prompt_name(settings.style)
+        if settings.second_style is None or self._blending_from is not None:
+            return name
+        return f"{name}→{_prompt_name(settings.second_style)} γ={settings.gamma:.2f}"
+
+    def _apply(self, control: dict, t: float) -> None:
+        if "guidance" in control:
+            self._guidance.set_target(float(control["guidance"]), t)
+        if "gamma" in control:
+            self._gamma.set_target(float(control["gamma"]), t)
+        new_style = _style_from_control(control)
+        if "style2" in control:
+            self._blending_from = None
+            style = new_style or self.generator.settings.style
+            self.generator.set_style(style, StylePrompt.parse(control["style2"]), float(self._gamma.value(t)))
+        elif new_style is not None and new_style != self.generator.settings.style:
+            self._start_style_blend(new_style, t)
+
+    def _start_style_blend(self, new_style: StylePrompt, t: float) -> None:
+        settings = self.generator.settings
+        if settings.second_style is not None:  # a user γ mix is active: keep its second style, ramp as usual
+            self.generator.set_style(new_style, settings.second_style, settings.gamma)
+            return
+        self._blending_from = settings.style
+        self._blend = Ramp(0.0, self.fade_s, t)
+        self._blend.set_target(SINGLE_STYLE, t)
+        self.generator.set_style(new_style, self._blending_from, 0.0)
+
+    def _update_style_blend(self, t: float) -> None:
+        if self._blending_from is None:
+            return
+        if self._blend.done(t):
+            self._blending_from = None
+            self.generator.set_style(self.generator.settings.style)
+        else:
+            self.generator.set_gamma(float(self._blend.value(t)))
+
+
+def _style_from_control(control: dict) -> StylePrompt | None:
+    if "prompt" in control:
+        return StylePrompt("text", control["prompt"])
+    if "style" in control:
+        return StylePrompt.parse(control["style"])
+    return None
+
+
+def _prompt_name(prompt: StylePrompt) -> str:
+    return prompt.value if prompt.kind == "label" else f"{prompt.kind}:{prompt.value}"

@@ -1,0 +1,135 @@
+"""The live session: offline = streaming, chunk-size invariance, complete output, live changes, idle."""
+
+import numpy as np
+import pytest
+import soundfile
+
+from gesturecast.models.bundle import ModelBundle
+from gesturecast.models.diffusion import SamplerConfig
+from gesturecast.models.rotations import quat_conj, quat_mul, quat_to_axis_angle
+from gesturecast.realtime.audio_io import SAMPLE_RATE, load_audio
+from gesturecast.realtime.clock import FakeClock, MonotonicClock
+from gesturecast.realtime.engine import LiveEngine, run_offline
+from gesturecast.realtime.feature_dsp import frames_complete
+from gesturecast.realtime.generator import Generator, GeneratorSettings
+from gesturecast.realtime.latency import LatencyBudget
+from gesturecast.realtime.session import GestureSession
+from gesturecast.realtime.sources import FastFileSource, PacedFileSource
+from gesturecast.realtime.style_prompts import StylePrompt
+
+SECONDS = 4.0
+
+
+@pytest.fixture(scope="module")
+def bundle(tiny_model):
+    return ModelBundle.load(tiny_model[1])
+
+
+@pytest.fixture(scope="module")
+def speech(tmp_path_factory, shared_data):
+    """4 s of real speech (ZeroEGGS 067 from 3 s) as a 16 kHz WAV."""
+    audio = load_audio(shared_data / "zeggs" / "067_Speech_2_x_1_0.wav")
+    audio = audio[3 * SAMPLE_RATE :][: int(SECONDS * SAMPLE_RATE)]
+    path = tmp_path_factory.mktemp("speech") / "speech.wav"
+    soundfile.write(path, audio, SAMPLE_RATE, subtype="FLOAT")
+    return path
+
+
+def make_session(bundle, clock=None, **settings) -> GestureSession:
+    settings = {"sampler": SamplerConfig("ddim", 2), "guidance": 1.5, "seed": 1, **settings}
+    generator = Generator(bundle, GeneratorSettings(**settings))
+    budget = LatencyBudget(bundle.frames_per_latent, bundle.audio_lookahead, 100.0)
+    return GestureSession(bundle, generator, budget, clock or FakeClock())
+
+
+def poses(frames) -> np.ndarray:
+    return np.stack([np.concatenate([f.rotations.ravel(), f.root_position]) for f in frames])
+
+
+def test_offline_equals_paced_live_and_any_chunk_size(bundle, speech):
+    offline, _ = run_offline(make_session(bundle), FastFileSource(speech, chunk_samples=16000))
+    clock = FakeClock(100.0)
+    paced, _ = run_offline(make_session(bundle, clock), PacedFileSource(speech, chunk_samples=512, clock=clock))
+    odd_chunks, _ = run_offline(make_session(bundle), FastFileSource(speech, chunk_samples=333))
+    np.testing.assert_array_equal(poses(offline), poses(paced))
+    np.testing.assert_array_equal(poses(offline), poses(odd_chunks))
+    assert [f.seq for f in offline] == list(range(len(offline)))
+
+
+def test_every_complete_audio_frame_gets_one_pose_with_fixed_latency(bundle, speech):
+    clock = FakeClock(50.0)
+    session = make_session(bundle, clock)
+    frames, _ = run_offline(session, PacedFileSource(speech, chunk_samples=512, clock=clock))
+    assert len(frames) == frames_complete(int(SECONDS * SAMPLE_RATE), SAMPLE_RATE, 30)
+    latency = np.array([f.presentation_time - f.capture_time for f in frames])
+    np.testing.assert_allclose(latency, session.budget.total_s, atol=1e-9)
+    np.testing.assert_allclose(np.diff([f.capture_time for f in frames]), 1 / 30, atol=1 / SAMPLE_RATE)
+    assert frames[0].capture_time == pytest.approx(50.0)
+
+
+def test_seeds_give_different_gestures(bundle, speech):
+    first, _ = run_offline(make_session(bundle, seed=1), FastFileSource(speech))
+    second, _ = run_offline(make_session(bundle, seed=2), FastFileSource(speech))
+    assert np.abs(poses(first) - poses(second)).max() > 1e-3
+
+
+def max_step_degrees(frames) -> np.ndarray:
+    """Largest joint rotation change between consecutive frames, per frame (degrees)."""
+    rotations = np.stack([f.rotations for f in frames])  # (T, J, 4)
+    delta = quat_mul(quat_conj(rotations[:-1]), rotations[1:])
+    return np.degrees(np.linalg.norm(quat_to_axis_angle(delta), axis=-1)).max(axis=-1)  # (T-1,)
+
+
+def test_style_change_blends_in_without_a_pop(bundle, speech):
+    session = make_session(bundle, style=StylePrompt("label", "neutral"))
+    frames = []
+    for index, chunk in enumerate(FastFileSource(speech, chunk_samples=1600)):
+        if index == 20:  # 2 s in
+            session.controls.submit({"style": "old", "guidance": 2.5})
+        frames.extend(session.push(chunk))
+    frames.extend(session.finish())
+    assert frames[-1].style == "old"
+    assert session.generator.settings.second_style is None  # the blend finished and dropped the old style
+    assert session.generator.guidance == pytest.approx(2.5)
+    steps = max_step_degrees(frames)
+    change = 60  # frame of the change (2 s)
+    assert steps[change - 5 : change + 20].max() < 3.0 * np.percentile(steps[:change], 95) + 1.0
+
+
+def test_silence_gives_calm_idle_motion(bundle, tmp_path):
+    path = tmp_path / "silence.wav"
+    soundfile.write(path, np.zeros(3 * SAMPLE_RATE, np.float32), SAMPLE_RATE)
+    frames, _ = run_offline(make_session(bundle), FastFileSource(path))
+    assert not any(f.speaking for f in frames)
+    late = frames[45:]  # after the fade into idle
+    steps = max_step_degrees(late)
+    assert steps.max() > 0.01  # breathing and sway: not frozen
+    assert steps.max() < 2.0  # and not wild
+
+
+def test_memory_is_bounded_on_a_long_stream(bundle):
+    session = make_session(bundle)
+    noise = np.random.default_rng(0).normal(0, 0.05, 20 * SAMPLE_RATE).astype(np.float32)
+    for start in range(0, len(noise), 4000):
+        session.push(_chunk(noise[start : start + 4000], start))
+    assert session.features.kept <= bundle.audio_window + 4000 // 533 + 1
+    assert len(session.generator.history) <= bundle.denoiser_config.window
+
+
+def _chunk(samples, start):
+    from gesturecast.realtime.sources import AudioChunk
+
+    return AudioChunk(samples, start, start / SAMPLE_RATE)
+
+
+def test_live_engine_releases_every_frame_in_order_at_real_time(bundle, speech, tmp_path):
+    short = tmp_path / "short.wav"
+    soundfile.write(short, load_audio(speech)[: SAMPLE_RATE], SAMPLE_RATE, subtype="FLOAT")
+    clock = MonotonicClock()
+    received = []
+    session = make_session(bundle, clock)
+    report = LiveEngine(session, PacedFileSource(short, 512, clock), received.append, clock).run()
+    offline, _ = run_offline(make_session(bundle), FastFileSource(short))
+    np.testing.assert_array_equal(poses(received), poses(offline))
+    assert report.frames == len(received) == 30
+    assert report.latency["end_to_end"]["count"] == 30
