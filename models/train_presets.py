@@ -89,7 +89,7 @@ DEFAULT = TrainPreset(
     name="default",
     vq=VQPreset(hidden_dim=128, latent_dim=32, codebook_size=512, res_blocks_per_stage=2, downsample=4, steps=3000,
                 batch_size=32, window=64),
-    denoiser=DenoiserPreset(width=192, num_layers=4, num_heads=4, window=16, audio_window=16, steps=6000,
+    denoiser=DenoiserPreset(width=128, num_layers=4, num_heads=4, window=16, audio_window=16, steps=7000,
                             batch_size=32, sequence_latents=24, learning_rate=3e-4, paired_fraction=0.5),
     prompt=PromptPreset(width=128, steps=600, batch_size=32, clip_frames=90),
 )

@@ -16,6 +16,7 @@ BENCH_MODULES: tuple[str, ...] = (
     "gesturecast.tools.bench_denoiser",
     "gesturecast.tools.bench_vq",
     "gesturecast.tools.bench_latency",
+    "gesturecast.tools.bench_generator",
 )
 
 

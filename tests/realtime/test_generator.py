@@ -124,3 +124,12 @@ def test_full_ddpm_path_runs_on_the_same_model(bundle, audio):
     generator = make(bundle, sampler=SamplerConfig("ddpm", 1000), seed=0)
     frames = generator.step(audio[0], True)
     assert np.isfinite(frames).all()
+
+
+def test_motion_clip_as_style_prompt(tiny_model, bundle, audio):
+    clip = tiny_model[1].parent / "zeggs" / "001_Neutral_0_x_1_0.bvh"
+    generator = make(bundle, style=StylePrompt.parse(f"motion:{clip}"), seed=0)
+    np.testing.assert_allclose(np.linalg.norm(generator.layout.styles[0]), 1.0, atol=1e-5)
+    assert np.isfinite(run(generator, audio)).all()
+    with pytest.raises(UserError, match="not found"):
+        make(bundle, style=StylePrompt.parse("motion:/no/such/clip.bvh"))
