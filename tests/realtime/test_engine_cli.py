@@ -1,0 +1,59 @@
+"""The user commands: `generate` and `live --input` give the same motion; bad flags are one-line errors."""
+
+import json
+
+import numpy as np
+import pytest
+import soundfile
+
+from gesturecast.cli import main
+from gesturecast.models.bvh import read_bvh
+from gesturecast.realtime.audio_io import SAMPLE_RATE, load_audio
+
+
+@pytest.fixture(scope="module")
+def speech(tmp_path_factory, shared_data):
+    audio = load_audio(shared_data / "speech" / "tts_01_en-us.wav")[: 2 * SAMPLE_RATE]
+    path = tmp_path_factory.mktemp("cli") / "speech.wav"
+    soundfile.write(path, audio, SAMPLE_RATE, subtype="PCM_16")
+    return path
+
+
+def test_generate_equals_live_input_with_the_same_seed(tiny_model, speech, tmp_path):
+    bundle = str(tiny_model[1])
+    common = ["--model", bundle, "--seed", "3", "--steps", "2", "--style", "old"]
+    assert main(["generate", str(speech), "-o", str(tmp_path / "gen.bvh"), "--json", str(tmp_path / "gen.json"),
+                 *common]) == 0
+    assert main(["live", "--input", str(speech), "--bvh", str(tmp_path / "live.bvh"), *common]) == 0
+    generated, live = read_bvh(tmp_path / "gen.bvh"), read_bvh(tmp_path / "live.bvh")
+    assert generated.motion.shape == live.motion.shape == (60, generated.motion.shape[1])
+    np.testing.assert_allclose(generated.motion, live.motion, atol=1e-6)
+    stream = json.loads((tmp_path / "gen.json").read_text())
+    assert len(stream["frames"]) == 60 and len(stream["frames"][0]["rotations"]) == len(stream["bones"])
+
+
+def test_ddpm_sampler_runs_all_steps_on_the_same_model(tiny_model, speech, tmp_path):
+    out = tmp_path / "ddpm.bvh"
+    assert main(["generate", str(speech), "-o", str(out), "--model", str(tiny_model[1]), "--sampler", "ddpm"]) == 0
+    assert np.isfinite(read_bvh(out).motion).all()
+
+
+@pytest.mark.parametrize(
+    ("flags", "message"),
+    [
+        (["--style", "sparkly"], "unknown style"),
+        (["--lookahead", "3"], "look-ahead"),
+        (["--model", "/nonexistent"], "no model bundle"),
+    ],
+)
+def test_bad_generation_flags_are_one_line_errors(tiny_model, speech, tmp_path, capsys, flags, message):
+    args = ["generate", str(speech), "-o", str(tmp_path / "x.bvh"), "--model", str(tiny_model[1]), *flags]
+    assert main(args) == 2
+    error = capsys.readouterr().err.strip()
+    assert message in error and "\n" not in error
+    assert not (tmp_path / "x.bvh").exists()
+
+
+def test_live_without_outputs_says_which_flags_to_use(tiny_model, speech, capsys):
+    assert main(["live", "--input", str(speech), "--model", str(tiny_model[1])]) == 2
+    assert "--vmc" in capsys.readouterr().err
