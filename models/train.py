@@ -206,11 +206,16 @@ def new_checkpoint(preset: TrainPreset, feature_config: FeatureConfig) -> dict:
             "feature_config": feature_config.to_dict(), "stages": {}, "stage_seconds": {}}
 
 
+def same_training_settings(stored: dict, wanted: dict) -> bool:
+    """Equal presets up to settings that do not change the result (thread count)."""
+    return {**stored, "threads": None} == {**wanted, "threads": None}
+
+
 def open_checkpoint(path: Path, preset: TrainPreset, feature_config: FeatureConfig, resume: bool) -> dict:
     if not resume or not path.is_file():
         return new_checkpoint(preset, feature_config)
     checkpoint = load_checkpoint(path)
-    if checkpoint["preset"] != preset.to_dict():
+    if not same_training_settings(checkpoint["preset"], preset.to_dict()):
         raise UserError(f"{path} was trained with other settings; drop --resume or use another --work-dir")
     logger.info("resuming: stages done %s", list(checkpoint["stages"]))
     return checkpoint

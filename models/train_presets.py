@@ -54,7 +54,7 @@ class TrainPreset:
     audio_lookahead: int = 8  # δa feature frames
     default_guidance: float = 1.5
     seed: int = 0
-    threads: int = 2
+    threads: int = 1  # on a shared 2-core CPU one torch thread is steadier than two (no barrier stalls)
     mirror_motion_only: bool = True  # mirror the motion-only takes (paired takes get mirror + speed)
     paired_speeds: tuple[float, ...] = field(default=(0.9, 1.1))
 
@@ -81,17 +81,16 @@ TINY = TrainPreset(
     denoiser=DenoiserPreset(width=32, num_layers=1, num_heads=2, window=4, audio_window=16, steps=40, batch_size=4,
                             sequence_latents=6, learning_rate=1e-3, paired_fraction=0.5),
     prompt=PromptPreset(width=16, steps=5, batch_size=4, clip_frames=32),
-    threads=1,
     paired_speeds=(),
 )
 
 DEFAULT = TrainPreset(
     name="default",
-    vq=VQPreset(hidden_dim=128, latent_dim=32, codebook_size=512, res_blocks_per_stage=2, downsample=4, steps=3000,
+    vq=VQPreset(hidden_dim=128, latent_dim=32, codebook_size=512, res_blocks_per_stage=2, downsample=4, steps=2000,
                 batch_size=32, window=64),
-    denoiser=DenoiserPreset(width=128, num_layers=4, num_heads=4, window=16, audio_window=16, steps=7000,
-                            batch_size=32, sequence_latents=24, learning_rate=3e-4, paired_fraction=0.5),
-    prompt=PromptPreset(width=128, steps=600, batch_size=32, clip_frames=90),
+    denoiser=DenoiserPreset(width=128, num_layers=4, num_heads=4, window=16, audio_window=16, steps=6000,
+                            batch_size=32, sequence_latents=16, learning_rate=3e-4, paired_fraction=0.5),
+    prompt=PromptPreset(width=128, steps=400, batch_size=32, clip_frames=90),
 )
 
 PRESETS = {preset.name: preset for preset in (TINY, DEFAULT)}
