@@ -25,7 +25,7 @@ from .frechet import frechet_distance, frechet_distance_from_statistics, gaussia
 __all__ = [
     "BeatConsistencyConfig", "Liveliness", "acceleration", "beat_alignment", "beat_consistency",
     "frechet_distance", "frechet_distance_from_statistics", "gaussian_statistics", "jerk", "joint_speeds",
-    "l1_diversity", "liveliness", "root_relative", "seed_diversity", "speech_onsets",
+    "l1_diversity", "liveliness", "liveliness_from_speeds", "root_relative", "seed_diversity", "speech_onsets",
 ]  # fmt: skip
 
 
@@ -58,7 +58,11 @@ class Liveliness:
 
 def liveliness(generated: np.ndarray, real: np.ndarray, fps: float) -> Liveliness:
     """Compare the joint speeds of generated and real positions (each (T, J, 3), same joints)."""
-    gen_speed, real_speed = joint_speeds(generated, fps), joint_speeds(real, fps)  # (T, J) each
+    return liveliness_from_speeds(joint_speeds(generated, fps), joint_speeds(real, fps))
+
+
+def liveliness_from_speeds(gen_speed: np.ndarray, real_speed: np.ndarray) -> Liveliness:
+    """:func:`liveliness` from joint speeds of any shape (e.g. several clips' (T, J) speeds concatenated)."""
     if real_speed.mean() == 0.0 or real_speed.var() == 0.0:
         raise ValueError("the real motion does not move: liveliness is undefined")
     return Liveliness(float(gen_speed.mean() / real_speed.mean()), float(gen_speed.var() / real_speed.var()))
