@@ -23,6 +23,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "gesturecast.tools.train_cli",
     "gesturecast.tools.export_cli",
     "gesturecast.realtime.engine_cli",
+    "gesturecast.realtime.serve_cli",
     "gesturecast.tools.eval_cli",
     "gesturecast.tools.eval_train_cli",
 )
