@@ -17,6 +17,8 @@ BENCH_MODULES: tuple[str, ...] = (
     "gesturecast.tools.bench_vq",
     "gesturecast.tools.bench_latency",
     "gesturecast.tools.bench_generator",
+    "gesturecast.tools.bench_serve",
+    "gesturecast.tools.bench_memory",
 )
 
 
