@@ -28,6 +28,7 @@ from gesturecast.models.vqvae import MotionVQVAE, vqvae_from_checkpoint
 
 OPSET_VERSION = 17
 EXAMPLE_LATENTS = 8
+BUNDLE_FOLDER_MODE = 0o755
 
 
 class VQEncodeGraph(nn.Module):
@@ -127,6 +128,7 @@ def export_bundle(checkpoint: dict, directory: Path) -> Path:
         export_vq_encoder(vqvae, staging / ONNX_FILES["vq_encoder"])
         export_motion_prompt(prompt, staging / ONNX_FILES["motion_prompt"])
         write_manifest(staging, bundle_manifest(checkpoint))
+        staging.chmod(BUNDLE_FOLDER_MODE)  # mkdtemp makes it private; a bundle is shipped data
         if directory.exists():
             shutil.rmtree(directory)
         staging.rename(directory)
