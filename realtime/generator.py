@@ -122,6 +122,16 @@ class Generator:
         return self.bundle.default_guidance if self.settings.guidance is None else float(self.settings.guidance)
 
     @property
+    def style_embedding(self) -> np.ndarray:
+        """(S,) embedding of style c1."""
+        return self._style
+
+    @property
+    def second_style_embedding(self) -> np.ndarray | None:
+        """(S,) embedding of style c2 (γ mixing), or None."""
+        return self._second
+
+    @property
     def latent_dim(self) -> int:
         return self.config.latent_dim
 

@@ -66,7 +66,7 @@ def test_reset_restarts_the_stream_exactly(bundle, audio):
 def test_guidance_one_equals_the_conditional_row_of_the_batched_call(bundle, audio):
     conditional_only = make(bundle, style=HAPPY, guidance=1.0, seed=1)
     batched = make(bundle, style=HAPPY, guidance=1.0, seed=1)
-    batched.layout = row_layout(batched._style, None, 1.0, guidance=2.0)  # null row computed but s = 1
+    batched.layout = row_layout(batched.style_embedding, None, 1.0, guidance=2.0)  # null row computed but s = 1
     batched.reset(1)
     assert conditional_only.layout.batch == 1 and batched.layout.batch == 2
     np.testing.assert_allclose(run(batched, audio), run(conditional_only, audio), atol=1e-5)
@@ -77,7 +77,8 @@ def test_guidance_one_equals_the_conditional_row_of_the_batched_call(bundle, aud
 def test_gamma_one_equals_style_one(bundle, audio):
     style_one = make(bundle, style=HAPPY, guidance=1.5, seed=2)
     mixed = make(bundle, style=HAPPY, second_style=OLD, gamma=1.0, guidance=1.5, seed=2)
-    mixed.layout = row_layout(mixed._style, mixed._second, 0.5, guidance=1.5)  # c2 row computed, γ = 1
+    # the c2 row is computed, but γ = 1 gives it no weight
+    mixed.layout = row_layout(mixed.style_embedding, mixed.second_style_embedding, 0.5, guidance=1.5)
     mixed.reset(2)
     assert mixed.layout.batch == 3
     np.testing.assert_allclose(run(mixed, audio), run(style_one, audio), atol=1e-5)
