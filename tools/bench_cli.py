@@ -19,6 +19,7 @@ BENCH_MODULES: tuple[str, ...] = (
     "gesturecast.tools.bench_generator",
     "gesturecast.tools.bench_serve",
     "gesturecast.tools.bench_memory",
+    "gesturecast.tools.bench_following",
 )
 
 
