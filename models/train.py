@@ -30,6 +30,7 @@ import numpy as np
 import torch
 
 from gesturecast.errors import UserError
+from gesturecast.models.audio_augment import AudioAugmentConfig, FeatureAugmenter
 from gesturecast.models.bundle import Normalizer, StyleTable
 from gesturecast.models.denoiser_config import DenoiserConfig
 from gesturecast.models.motion_prompt import (
@@ -178,8 +179,12 @@ def denoiser_stage(inputs: TrainInputs, preset: TrainPreset, checkpoint: dict, p
     config = denoiser_config(preset, model.config.latent_dim, inputs.feature_config.num_features,
                              styles.embeddings.shape[1])
     den = preset.denoiser
+    augmenter = None
+    if preset.audio_augmentation:
+        audio_stats = FeatureStats.from_dict(stages["data"]["audio_stats"])
+        augmenter = FeatureAugmenter(AudioAugmentConfig(), audio_stats, inputs.feature_config)
     denoiser, metrics = train_denoiser(clips, config, den.steps, den.batch_size, den.sequence_latents,
-                                       den.learning_rate, den.paired_fraction, preset.seed, progress)
+                                       den.learning_rate, den.paired_fraction, preset.seed, progress, augmenter)
     return {"config": config.to_dict(), "state": denoiser.state_dict(), "latent_stats": latent_stats.to_dict(),
             "metrics": metrics}
 

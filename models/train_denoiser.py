@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import logging
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -37,11 +38,14 @@ class LatentClip:
     style: np.ndarray  # (S,) label embedding
 
 
+AudioAugmenter = Callable[[np.ndarray, np.random.Generator], np.ndarray]  # (T, F) normalised → (T, F)
+
+
 class LatentBatchSampler:
     """Random (latents, audio, audio_mask, style) windows of ``num_latents`` frames."""
 
     def __init__(self, clips: list[LatentClip], config: DenoiserConfig, num_latents: int, paired_fraction: float,
-                 rng: np.random.Generator):
+                 rng: np.random.Generator, augmenter: AudioAugmenter | None = None):
         usable = [clip for clip in clips if len(clip.latents) >= num_latents]
         if not usable:
             raise ValueError(f"no latent clip holds {num_latents} frames")
@@ -51,6 +55,7 @@ class LatentBatchSampler:
         self.config = config
         self.num_latents = num_latents
         self.rng = rng
+        self.augmenter = augmenter
 
     def _pick(self) -> LatentClip:
         pool = self.paired if self.rng.random() < self.paired_fraction else self.motion_only
@@ -66,6 +71,8 @@ class LatentBatchSampler:
             return latents, audio, 0.0
         first = start * self.config.frames_per_latent
         available = clip.audio[first : first + needed]
+        if self.augmenter is not None:
+            available = self.augmenter(available, self.rng)
         audio[: len(available)] = available
         return latents, audio, 1.0
 
@@ -99,12 +106,16 @@ def train_denoiser(
     paired_fraction: float,
     seed: int,
     progress: bool = True,
+    augmenter: AudioAugmenter | None = None,
 ) -> tuple[CausalDenoiser, dict]:
-    """Train from scratch, deterministically under ``seed``; returns (model in eval mode, metrics)."""
+    """Train from scratch, deterministically under ``seed``; returns (model in eval mode, metrics).
+
+    ``augmenter`` (optional) changes every paired audio window (voice / channel augmentation)."""
     torch.manual_seed(seed)
     generator = torch.Generator().manual_seed(seed)
     model = CausalDenoiser(config).train()
-    sampler = LatentBatchSampler(clips, config, num_latents, paired_fraction, np.random.default_rng(seed))
+    sampler = LatentBatchSampler(clips, config, num_latents, paired_fraction, np.random.default_rng(seed),
+                                 augmenter)
     schedule = get_schedule()
     optimizer = torch.optim.AdamW(model.parameters(), lr=learning_rate, weight_decay=0.0)
     scheduler = torch.optim.lr_scheduler.LambdaLR(optimizer, lambda s: learning_rate_factor(s, steps))

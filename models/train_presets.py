@@ -57,6 +57,7 @@ class TrainPreset:
     threads: int = 1  # on a shared 2-core CPU one torch thread is steadier than two (no barrier stalls)
     mirror_motion_only: bool = True  # mirror the motion-only takes (paired takes get mirror + speed)
     paired_speeds: tuple[float, ...] = field(default=(0.9, 1.1))
+    audio_augmentation: bool = False  # voice / channel augmentation of paired audio (models/audio_augment.py)
 
     def to_dict(self) -> dict:
         return asdict(self)

@@ -29,6 +29,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--seed", type=int, default=None, help="random seed (default: the preset's)")
     parser.add_argument("--lookahead", type=int, default=None, help="audio look-ahead δa in frames (default 8)")
     parser.add_argument("--threads", type=int, default=None, help="torch CPU threads (default: the preset's)")
+    parser.add_argument("--audio-augmentation", action=argparse.BooleanOptionalAction, default=None,
+                        help="voice / channel augmentation of the paired audio (default: the preset's)")
     parser.add_argument("--vq-steps", type=int, default=None)
     parser.add_argument("--denoiser-steps", type=int, default=None)
     parser.add_argument("--prompt-steps", type=int, default=None)
@@ -41,7 +43,8 @@ def run_train(args: argparse.Namespace) -> int:
     from gesturecast.models.train import run_training
 
     preset = get_preset(args.preset, seed=args.seed, audio_lookahead=args.lookahead, threads=args.threads,
-                        vq_steps=args.vq_steps, denoiser_steps=args.denoiser_steps, prompt_steps=args.prompt_steps)
+                        audio_augmentation=args.audio_augmentation, vq_steps=args.vq_steps,
+                        denoiser_steps=args.denoiser_steps, prompt_steps=args.prompt_steps)
     work_dir = args.work_dir or DEFAULT_WORK_ROOT / preset.name
     started = time.perf_counter()
     checkpoint = run_training(preset, args.data, work_dir, resume=args.resume, progress=not args.no_progress)
