@@ -20,6 +20,7 @@ BENCH_MODULES: tuple[str, ...] = (
     "gesturecast.tools.bench_serve",
     "gesturecast.tools.bench_memory",
     "gesturecast.tools.bench_following",
+    "gesturecast.tools.bench_denoising",
 )
 
 

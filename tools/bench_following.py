@@ -3,7 +3,8 @@
 For a bundle, motion is generated through the product's offline path (``run_offline``, DDIM K,
 the bundle's guidance) for: the held-out test segments of the paired takes (seen speakers,
 unseen sentences; their real motion is scored too), the unseen ZeroEGGS Flirty recording and the
-synthetic espeak voices (``/work/shared/data``). Per file and seed: the energy–speed correlation
+synthetic espeak voices (``/work/shared/data``), each alone and all six joined into one stream
+with 1.5 s pauses (does the motion rest in the pauses?). Per file and seed: the energy–speed correlation
 of :mod:`gesturecast.models.speech_following` (lag searched within ±0.5 s) and BEAT beat
 consistency. Groups report the mean over files and seeds. One JSON object; nothing is asserted.
 """
@@ -30,7 +31,8 @@ from .eval_generate import generate_offline
 
 DEFAULT_BUNDLE = Path("models/weights/default")
 UNSEEN_STYLE = "speech"  # the style of the paired ZeroEGGS take: the one that co-occurs with audio
-DEFAULT_SEEDS = "0,1"
+DEFAULT_SEEDS = "0,1,2"
+JOIN_GAP_S = 1.5  # silence between the espeak sentences of the joined stream
 
 
 def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
@@ -44,7 +46,15 @@ def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
     parser.set_defaults(func=run_bench)
 
 
+def joined_clip(clips: list[EvalClip], name: str, gap_s: float) -> EvalClip:
+    """One stream of the clips' audio with ``gap_s`` of silence after each."""
+    gap = np.zeros(int(round(gap_s * SAMPLE_RATE)), np.float32)
+    return EvalClip(name, np.concatenate([part for clip in clips for part in (clip.audio, gap)]), clips[0].style)
+
+
 def group_of(clip: EvalClip) -> str:
+    if clip.name == "espeak_joined":
+        return clip.name
     if clip.name.endswith("[test]"):
         return f"heldout_{clip.name.split('/')[0]}"
     return "espeak" if clip.name.startswith("tts_") else Path(clip.name).stem.split("_")[1].lower()
@@ -72,7 +82,10 @@ def summarise(rows: list[dict]) -> dict:
 def following_report(bundle_dir: Path, cache: Path, shared: Path, seeds: list[int], steps: int) -> dict:
     bundle = ModelBundle.load(bundle_dir)
     sampler = SamplerConfig("ddim", steps)
-    clips = [*held_out_clips(cache), *unseen_clips(default_unseen_paths(shared), UNSEEN_STYLE, None)]
+    unseen = unseen_clips(default_unseen_paths(shared), UNSEEN_STYLE, None)
+    espeak = [clip for clip in unseen if clip.name.startswith("tts_")]
+    joined = [joined_clip(espeak, "espeak_joined", JOIN_GAP_S)] if espeak else []
+    clips = [*held_out_clips(cache), *unseen, *joined]
     rows, real = [], []
     started = time.perf_counter()
     for clip in clips:
