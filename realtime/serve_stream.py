@@ -39,7 +39,9 @@ STOP_TIMEOUT_S = 5.0
 @dataclass(frozen=True)
 class StreamConfig:
     """max_queued_messages: audio messages waiting for the session (beyond: dropped, counted).
-    poll_interval_s: how often an idle worker looks for the end of the stream or a stop."""
+    poll_interval_s: how often an idle worker looks for the end of the stream or a stop, and how often
+    an idle frame releaser looks for new frames (a new frame is due about L later, so this costs no lateness;
+    many streams polling at the live engine's 5 ms would burn CPU)."""
 
     max_queued_messages: int = 64
     poll_interval_s: float = 0.02
@@ -73,8 +75,8 @@ class ServeStream:
         self._next_capture = -np.inf
         self._ending = threading.Event()
         self._stopped = threading.Event()
-        self.scheduler = FrameScheduler(clock, self._send_frame, SchedulerConfig(self.config.output_fps),
-                                        stats=session.stats)
+        release = SchedulerConfig(self.config.output_fps, poll_interval_s=self.config.poll_interval_s)
+        self.scheduler = FrameScheduler(clock, self._send_frame, release, stats=session.stats)
         self._releaser = SchedulerWorker(self.scheduler)
         self._worker = threading.Thread(target=self._run, name=f"stream-{stream_id}", daemon=True)
 
