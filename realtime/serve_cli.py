@@ -54,6 +54,7 @@ def run_serve(args: argparse.Namespace) -> int:
     server = build_server(args, clock)
     sys.stdout.write(f"{server.sessions.budget.describe()}\nstreams: {server.url}<id> (at most {args.max_streams}); "
                      "Ctrl-C stops\n")
+    sys.stdout.flush()
     try:
         threading.Event().wait()
     except KeyboardInterrupt:
