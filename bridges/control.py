@@ -36,6 +36,21 @@ class TextField:
         return {"type": "string", "max_chars": self.max_chars}
 
 
+MOTION_PROMPT_PREFIX = "motion:"
+
+
+@dataclass(frozen=True)
+class StyleField(TextField):
+    """A style from a client: a label or ``text:...``. ``motion:PATH`` names a file on the server, so it is
+    refused from clients (motion prompts are given at start with --motion-prompt)."""
+
+    def check(self, name: str, value: object) -> str:
+        value = super().check(name, value)
+        if value.strip().startswith(MOTION_PROMPT_PREFIX):
+            raise ControlError(f"{name}: motion prompts name files on the server and are not accepted from clients")
+        return value
+
+
 @dataclass(frozen=True)
 class NumberField:
     low: float
@@ -53,8 +68,8 @@ class NumberField:
 
 
 CONTROL_FIELDS: dict[str, TextField | NumberField] = {
-    "style": TextField(MAX_STYLE_CHARS),
-    "style2": TextField(MAX_STYLE_CHARS),
+    "style": StyleField(MAX_STYLE_CHARS),
+    "style2": StyleField(MAX_STYLE_CHARS),
     "prompt": TextField(MAX_PROMPT_CHARS),
     "guidance": NumberField(*GUIDANCE_RANGE),
     "gamma": NumberField(*GAMMA_RANGE),
