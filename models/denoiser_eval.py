@@ -7,8 +7,9 @@ always present; the error is the x0 Huber loss of :func:`denoiser_training.train
 over ``draws`` fixed noise draws. The same draws are scored with the audio condition masked, so
 ``audio_gain = error_without_audio − error_with_audio`` says how much the speech helps predict the
 held-out motion (> 0: the model uses the audio). A stricter control scores the same draws with
-the audio of another window (the batch rolled by half): ``match_gain = error_mismatched_audio −
-error_with_audio`` > 0 means the model uses *this* speech, not just the presence of speech.
+the audio of another moment of the same take (each take's windows rolled by half their count, so
+speaker and room stay the same): ``match_gain = error_mismatched_audio − error_with_audio`` > 0
+means the model uses *this* speech, not just the presence or the voice of the speaker.
 """
 
 from __future__ import annotations
@@ -43,7 +44,7 @@ class HeldOutConfig:
 
 
 def held_out_windows(checkpoint: dict, cache_dir: Path, config: HeldOutConfig) -> tuple[torch.Tensor, ...]:
-    """latents (B, N, C), audio (B, N*d + δa, F), style (B, S) of every held-out paired window."""
+    """latents (B, N, C), audio (B, N*d + δa, F), style (B, S), take index (B,) of every held-out paired window."""
     stages = checkpoint["stages"]
     feature_config = FeatureConfig.from_dict(checkpoint["feature_config"])
     den_config = DenoiserConfig.from_dict(stages["denoiser"]["config"])
@@ -55,8 +56,8 @@ def held_out_windows(checkpoint: dict, cache_dir: Path, config: HeldOutConfig) -
     clips = load_training_clips(cache_dir, config.split, feature_config, progress=False)
     clips = [clip for clip in clips if clip.audio is not None]
     needed = audio_frames_needed(config.num_latents, den_config)
-    latents, audio, style = [], [], []
-    for clip in clips:
+    latents, audio, style, take = [], [], [], []
+    for index, clip in enumerate(clips):
         clip_latents = latent_stats.normalize(encode_latents(vq, motion_stats.normalize(clip.motion)))  # (L, C)
         clip_audio = audio_stats.apply(clip.audio)  # (T, F)
         for start in range(0, len(clip_latents) - config.num_latents + 1, config.stride):
@@ -66,9 +67,20 @@ def held_out_windows(checkpoint: dict, cache_dir: Path, config: HeldOutConfig) -
             latents.append(clip_latents[start : start + config.num_latents])
             audio.append(window)
             style.append(styles.embedding(clip.style))
+            take.append(index)
     if not latents:
         raise ValueError(f"no held-out paired window of {config.num_latents} latents in {cache_dir}")
-    return tuple(torch.as_tensor(np.stack(values), dtype=torch.float32) for values in (latents, audio, style))
+    tensors = tuple(torch.as_tensor(np.stack(values), dtype=torch.float32) for values in (latents, audio, style))
+    return (*tensors, torch.as_tensor(take))
+
+
+def same_take_mismatch(audio: torch.Tensor, take: torch.Tensor) -> torch.Tensor:
+    """audio (B, A, F) with each take's windows rolled by half their count (another moment, same speaker)."""
+    mismatched = audio.clone()
+    for index in torch.unique(take):
+        rows = torch.nonzero(take == index).flatten()  # (n,)
+        mismatched[rows] = audio[torch.roll(rows, len(rows) // 2)]
+    return mismatched
 
 
 def held_out_denoising_error(checkpoint: dict, cache_dir: Path, config: HeldOutConfig | None = None) -> dict:
@@ -78,9 +90,9 @@ def held_out_denoising_error(checkpoint: dict, cache_dir: Path, config: HeldOutC
     model = CausalDenoiser(DenoiserConfig.from_dict(den["config"]))
     model.load_state_dict(den["state"])
     model.eval()
-    latents, audio, style = held_out_windows(checkpoint, cache_dir, config)
+    latents, audio, style, take = held_out_windows(checkpoint, cache_dir, config)
     schedule = get_schedule()
-    mismatched = torch.roll(audio, len(audio) // 2, dims=0)  # (B, A, F) another window's speech
+    mismatched = same_take_mismatch(audio, take)  # (B, A, F)
     conditions = {"with_audio": (audio, 1.0), "without_audio": (audio, 0.0), "mismatched_audio": (mismatched, 1.0)}
     errors: dict[str, list[float]] = {key: [] for key in conditions}
     with torch.no_grad():
