@@ -72,11 +72,11 @@ class CausalResBlock(nn.Module):
         return x + self._residual(h), state
 
 
-class Upsample(nn.Module):
-    """Stateless causal ×factor upsampling: each input frame becomes ``factor`` output frames.
+class TransposedUpsample(nn.Module):
+    """Stateless causal ×factor upsampling by a transposed convolution with kernel = stride.
 
-    A transposed convolution with kernel = stride has no overlap between input frames, so it needs
-    no state and the streaming step is the offline forward on one frame.
+    Its taps give alternate output frames different weights ("checkerboard"), which shows as
+    10–15 Hz frame-level jitter in decoded motion; kept so that format-1 checkpoints still load.
     """
 
     context = 0
@@ -87,6 +87,24 @@ class Upsample(nn.Module):
 
     def forward(self, x: torch.Tensor) -> torch.Tensor:
         return self.conv(x)  # (B, C, T * factor)
+
+
+class NearestUpsample(nn.Module):
+    """Stateless causal ×factor nearest-neighbour upsampling: each input frame repeated ``factor`` times.
+
+    Followed by a causal convolution in the decoder, it gives every output frame the same weights
+    (no checkerboard); measured on held-out motion it cut the decoder's frame-level jitter about
+    twofold (docs/diffusion-and-vqvae.md).
+    """
+
+    context = 0
+
+    def __init__(self, factor: int):
+        super().__init__()
+        self.factor = factor
+
+    def forward(self, x: torch.Tensor) -> torch.Tensor:
+        return torch.repeat_interleave(x, self.factor, dim=-1)  # (B, C, T * factor)
 
 
 class Activation(nn.SiLU):

@@ -21,12 +21,19 @@ import torch
 from torch import nn
 from torch.nn import functional as F
 
-from gesturecast.models.causal_conv import Activation, CausalConv1d, CausalResBlock, Upsample
+from gesturecast.models.causal_conv import (
+    Activation,
+    CausalConv1d,
+    CausalResBlock,
+    NearestUpsample,
+    TransposedUpsample,
+)
 from gesturecast.models.quantizer import EMAQuantizer, QuantizerOutput
 
 STAGE_FACTOR = 2  # each encoder stage halves the frame rate, each decoder stage doubles it
 DOWNSAMPLE_KERNEL = 2 * STAGE_FACTOR
-VQVAE_FORMAT_VERSION = 1
+VQVAE_FORMAT_VERSION = 2  # 2 added `upsampling` and `acceleration_weight`
+UPSAMPLINGS = ("nearest", "transposed")
 
 
 @dataclass(frozen=True)
@@ -45,10 +52,14 @@ class VQVAEConfig:
     dead_code_threshold: float = 0.1  # EMA assignments per training step below which a code is re-seeded
     commitment_weight: float = 0.02
     velocity_weight: float = 0.5  # weight of the frame-difference reconstruction loss
+    acceleration_weight: float = 1.0  # weight of the second-difference loss (suppresses frame-level jitter)
+    upsampling: str = "nearest"  # decoder: "nearest" + causal conv, or "transposed" (format 1)
 
     def __post_init__(self) -> None:
         if self.downsample < 1 or self.downsample & (self.downsample - 1):
             raise ValueError(f"downsample must be a power of two, got {self.downsample}")
+        if self.upsampling not in UPSAMPLINGS:
+            raise ValueError(f"upsampling must be one of {UPSAMPLINGS}, got {self.upsampling!r}")
 
     @property
     def num_stages(self) -> int:
@@ -64,6 +75,13 @@ class VQEncoding:
     quantized: torch.Tensor  # (B, N, C) code vectors (straight-through gradient)
     codes: torch.Tensor  # (B, N) int64
     commitment_loss: torch.Tensor  # ()
+
+
+def _upsampling_layers(config: VQVAEConfig) -> list[nn.Module]:
+    """One ×2 decoder stage's upsampling: nearest repeat + causal conv, or the format-1 transposed conv."""
+    if config.upsampling == "transposed":
+        return [TransposedUpsample(config.hidden_dim, STAGE_FACTOR)]
+    return [NearestUpsample(STAGE_FACTOR), CausalConv1d(config.hidden_dim, config.hidden_dim, config.kernel_size)]
 
 
 def _res_blocks(config: VQVAEConfig) -> list[nn.Module]:
@@ -97,7 +115,7 @@ class VQDecoder(nn.Module):
         layers: list[nn.Module] = [CausalConv1d(config.latent_dim, config.hidden_dim, config.kernel_size)]
         for _ in range(config.num_stages):
             layers.extend(_res_blocks(config))
-            layers.append(Upsample(config.hidden_dim, STAGE_FACTOR))
+            layers.extend(_upsampling_layers(config))
         layers += [Activation(), CausalConv1d(config.hidden_dim, config.feature_dim, config.kernel_size)]
         self.layers = nn.ModuleList(layers)
         self.frames_per_latent = config.downsample
@@ -161,18 +179,21 @@ class MotionVQVAE(nn.Module):
         return self.decode(encoding.quantized), encoding  # (B, T, D)
 
     def loss(self, x: torch.Tensor) -> tuple[torch.Tensor, dict[str, float]]:
-        """Smooth-L1 reconstruction of features and of frame differences + β·commitment (VQ-VAE eq. 3)."""
+        """Smooth-L1 reconstruction of features, first and second frame differences + β·commitment (VQ-VAE eq. 3)."""
         reconstruction, encoding = self(x)  # (B, T, D)
         feature_loss = F.smooth_l1_loss(reconstruction, x)
         velocity_loss = F.smooth_l1_loss(reconstruction.diff(dim=1), x.diff(dim=1))
+        acceleration_loss = F.smooth_l1_loss(reconstruction.diff(n=2, dim=1), x.diff(n=2, dim=1))
         total = (
             feature_loss
             + self.config.velocity_weight * velocity_loss
+            + self.config.acceleration_weight * acceleration_loss
             + self.config.commitment_weight * encoding.commitment_loss
         )
         parts = {
             "reconstruction": feature_loss.item(),
             "velocity": velocity_loss.item(),
+            "acceleration": acceleration_loss.item(),
             "commitment": encoding.commitment_loss.item(),
         }
         return total, parts
@@ -183,9 +204,14 @@ def vqvae_checkpoint(model: MotionVQVAE) -> dict[str, Any]:
     return {"format_version": VQVAE_FORMAT_VERSION, "config": model.config.to_dict(), "state": model.state_dict()}
 
 
+FORMAT_1_CONFIG = {"upsampling": "transposed", "acceleration_weight": 0.0}  # what format 1 implied
+
+
 def vqvae_from_checkpoint(checkpoint: dict[str, Any]) -> MotionVQVAE:
-    if checkpoint.get("format_version") != VQVAE_FORMAT_VERSION:
-        raise ValueError(f"unsupported VQ-VAE checkpoint format {checkpoint.get('format_version')!r}")
-    model = MotionVQVAE(VQVAEConfig(**checkpoint["config"]))
+    version = checkpoint.get("format_version")
+    if version not in (1, VQVAE_FORMAT_VERSION):
+        raise ValueError(f"unsupported VQ-VAE checkpoint format {version!r}")
+    config = {**FORMAT_1_CONFIG, **checkpoint["config"]} if version == 1 else checkpoint["config"]
+    model = MotionVQVAE(VQVAEConfig(**config))
     model.load_state_dict(checkpoint["state"])
     return model.eval()
