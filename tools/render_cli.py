@@ -41,13 +41,15 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--stride", type=int, default=None, help="draw every K-th frame (default: 1, thinned if long)")
     parser.add_argument("--sheet-frames", type=int, default=RenderConfig.sheet_frames, help="frames on a PNG sheet")
     parser.add_argument("--raw", action="store_true", help="draw the BVH's own skeleton, without retargeting")
+    parser.add_argument("--joint-map", type=Path, help="JSON joint map for a skeleton that is not detected "
+                        "automatically (docs/retargeting.md)")
     parser.set_defaults(func=run_render)
 
 
 def run_render(args: argparse.Namespace) -> int:
     if not args.input.is_file():
         raise UserError(f"motion file {args.input} does not exist")
-    clip = load_raw_bvh(args.input) if args.raw else load_canonical(args.input)
+    clip = load_raw_bvh(args.input) if args.raw else load_canonical(args.input, args.joint_map)
     positions = select_time_range(clip.positions, clip.fps, args.start, args.seconds)
     stride = args.stride if args.stride is not None else auto_stride(len(positions), args.output)
     if stride < 1 or args.sheet_frames < 1:
@@ -59,10 +61,10 @@ def run_render(args: argparse.Namespace) -> int:
     return 0
 
 
-def load_canonical(path: Path) -> LoadedClip:
+def load_canonical(path: Path, joint_map: Path | None = None) -> LoadedClip:
     from gesturecast.models.retarget import load_motion_file
 
-    motion = load_motion_file(path)
+    motion = load_motion_file(path, joint_map)
     return LoadedClip(motion.positions(), motion.skeleton.parents, motion.skeleton.names, motion.fps)
 
 

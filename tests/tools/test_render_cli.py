@@ -53,3 +53,23 @@ def test_raw_render_of_the_real_zeroeggs_take(shared_data, tmp_path):
     assert render_cli.run_render(parse([str(take), "-o", str(out), "--raw", "--start", "10", "--seconds", "1"])) == 0
     with Image.open(out) as gif:
         assert gif.n_frames == 30
+
+
+def test_joint_map_file_renders_a_skeleton_that_is_not_detected(tmp_path):
+    import json
+    import re
+
+    from gesturecast.models.motion import Motion
+    from gesturecast.models.retarget import motion_to_bvh
+
+    rotations = quat_from_axis_angle(np.random.default_rng(3).normal(0, 0.3, size=(6, CANONICAL.num_joints, 3)))
+    canonical = tmp_path / "canonical.bvh"
+    motion_to_bvh(Motion(rotations, np.tile(CANONICAL.offsets[0], (6, 1))), canonical)
+    custom = tmp_path / "custom.bvh"
+    custom.write_text(re.sub(r"(ROOT|JOINT) (\w+)", r"\1 rig_\2", canonical.read_text()))
+    with pytest.raises(UserError, match="unknown skeleton layout"):
+        render_cli.run_render(parse([str(custom), "-o", str(tmp_path / "x.png")]))
+    joint_map = tmp_path / "map.json"
+    joint_map.write_text(json.dumps({name: [f"rig_{name}"] for name in CANONICAL.names}))
+    render_cli.run_render(parse([str(custom), "-o", str(tmp_path / "ok.png"), "--joint-map", str(joint_map)]))
+    assert Image.open(tmp_path / "ok.png").size[0] > 0
