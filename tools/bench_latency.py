@@ -38,6 +38,7 @@ def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--sweep", action="store_true", help="vary K (and --model bundles) and write table + plot")
     parser.add_argument("--sweep-models", type=Path, nargs="*", default=[], help="extra bundles for the δa sweep")
     parser.add_argument("--out", type=Path, default=Path("out/bench"), help="folder for the sweep table and plot")
+    parser.add_argument("--block-size", type=int, default=DEFAULT_CHUNK, help="samples per audio chunk (16 kHz)")
     add_generation_arguments(parser)
     parser.set_defaults(func=run_bench_latency)
 
@@ -74,7 +75,7 @@ def measure(args: argparse.Namespace, audio: Path) -> dict:
     viewer = WebSocketBridge(WebSocketConfig(port=0, clock=clock.now)).start()
     outputs = BridgeFanout([VmcBridge(VmcConfig(port=VMC_DEFAULT_PORT)), viewer])
     try:
-        report = LiveEngine(session, PacedFileSource(audio, DEFAULT_CHUNK, clock), outputs.send, clock).run()
+        report = LiveEngine(session, PacedFileSource(audio, args.block_size, clock), outputs.send, clock).run()
     finally:
         outputs.close()
     return benchmark_json(report, args, session.generator.guidance)
@@ -98,6 +99,7 @@ def benchmark_json(report: EngineReport, args: argparse.Namespace, guidance: flo
             "lookahead_frames": report.budget.get("lookahead_frames"),
             "guidance": guidance,
             "threads": args.threads,
+            "block_size": args.block_size,
             "model": str(args.model),
         },
         "machine": {"cpus": os.cpu_count(), "platform": platform.platform(), "python": platform.python_version()},
