@@ -113,15 +113,23 @@ def _optimise(module: nn.Module, loss_of_step, config: EvalTrainConfig, desc: st
     return loss_value
 
 
-def train_fgd_encoder(
-    clips: list[RealClip], net_config: ConvNetConfig, config: EvalTrainConfig, progress: bool = True
-) -> tuple[EvalConvNet, float]:
-    """Train the autoencoder on windows of ``clips``; the frozen encoder and the final reconstruction MSE."""
+def _seeded_setup(
+    clips: list[RealClip], net_config: ConvNetConfig, config: EvalTrainConfig
+) -> tuple[np.random.Generator, int, np.ndarray, np.ndarray]:
+    """Seed torch and numpy, set the thread count; (rng, window frames, channel mean, channel std)."""
     torch.manual_seed(config.seed)
     torch.set_num_threads(config.threads)
     rng = np.random.default_rng(config.seed)
     frames = net_config.window.frames
     mean, std = channel_statistics(clips, frames, rng)
+    return rng, frames, mean, std
+
+
+def train_fgd_encoder(
+    clips: list[RealClip], net_config: ConvNetConfig, config: EvalTrainConfig, progress: bool = True
+) -> tuple[EvalConvNet, float]:
+    """Train the autoencoder on windows of ``clips``; the frozen encoder and the final reconstruction MSE."""
+    rng, frames, mean, std = _seeded_setup(clips, net_config, config)
     model = MotionAutoencoder(net_config)
 
     def loss_of_step(_: int) -> torch.Tensor:
@@ -137,11 +145,7 @@ def train_style_classifier(
     progress: bool = True,
 ) -> tuple[EvalConvNet, float]:
     """Train the classifier on class-balanced windows of ``clips`` (their ``style`` in ``labels``)."""
-    torch.manual_seed(config.seed)
-    torch.set_num_threads(config.threads)
-    rng = np.random.default_rng(config.seed)
-    frames = net_config.window.frames
-    mean, std = channel_statistics(clips, frames, rng)
+    rng, frames, mean, std = _seeded_setup(clips, net_config, config)
     by_style = [[c for c in clips if c.style == label] for label in labels]
     model = TorchConvNet(replace(net_config, out_dim=len(labels)))
     per_class = max(config.batch_size // len(labels), 1)

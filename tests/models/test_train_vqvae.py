@@ -11,15 +11,6 @@ CONFIG = VQVAEConfig(
 TRAIN = VQTrainConfig(window=32, batch_size=8, learning_rate=3e-3, warmup_steps=5, log_every=10)
 
 
-@pytest.fixture(autouse=True, scope="module")
-def _one_torch_thread():
-    """Tiny models run fastest on one thread; two threads thrash on a busy 2-core machine."""
-    previous = torch.get_num_threads()
-    torch.set_num_threads(1)
-    yield
-    torch.set_num_threads(previous)
-
-
 def _sinusoid_clips(seed: int, count: int = 4, length: int = 120) -> list[np.ndarray]:
     """Structured motion-like data: six channels of fixed frequencies, a random phase per clip and channel."""
     rng = np.random.default_rng(seed)

@@ -8,15 +8,6 @@ from gesturecast.models.vqvae import MotionVQVAE, VQVAEConfig, vqvae_checkpoint,
 TINY = dict(feature_dim=10, hidden_dim=16, latent_dim=8, res_blocks_per_stage=2, codebook_size=32)
 
 
-@pytest.fixture(autouse=True, scope="module")
-def _one_torch_thread():
-    """Tiny models run fastest on one thread; two threads thrash on a busy 2-core machine."""
-    previous = torch.get_num_threads()
-    torch.set_num_threads(1)
-    yield
-    torch.set_num_threads(previous)
-
-
 def _model(downsample: int = 4, seed: int = 0, upsampling: str = "nearest") -> MotionVQVAE:
     torch.manual_seed(seed)
     return MotionVQVAE(VQVAEConfig(downsample=downsample, upsampling=upsampling, **TINY)).eval()
