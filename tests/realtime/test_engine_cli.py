@@ -57,3 +57,29 @@ def test_bad_generation_flags_are_one_line_errors(tiny_model, speech, tmp_path, 
 def test_live_without_outputs_says_which_flags_to_use(tiny_model, speech, capsys):
     assert main(["live", "--input", str(speech), "--model", str(tiny_model[1])]) == 2
     assert "--vmc" in capsys.readouterr().err
+
+
+BLOCK_TRAINING_PACKAGES = """
+import importlib.abc, sys
+class Blocker(importlib.abc.MetaPathFinder):
+    def find_spec(self, name, path, target=None):
+        if name.split(".")[0] in {"torch", "onnx", "onnxscript", "matplotlib", "librosa"}:
+            raise ModuleNotFoundError(name)
+sys.meta_path.insert(0, Blocker())
+from gesturecast.cli import main
+sys.exit(main(sys.argv[1:]))
+"""
+
+
+def test_the_cli_and_generate_run_without_training_packages(tiny_model, speech, tmp_path):
+    """A VTuber installs no torch: every command parses, and the live/offline path runs, with torch,
+    onnx, matplotlib and librosa unimportable."""
+    import subprocess
+    import sys
+
+    out = tmp_path / "no_torch.bvh"
+    for argv in (["--help"], ["generate", str(speech), "-o", str(out), "--model", str(tiny_model[1])]):
+        result = subprocess.run([sys.executable, "-c", BLOCK_TRAINING_PACKAGES, *argv], capture_output=True,
+                                text=True, timeout=300)
+        assert result.returncode == 0, result.stderr[-2000:]
+    assert read_bvh(out).motion.shape[0] == 60
