@@ -273,5 +273,7 @@ class GestureServer:
         except ConnectionClosed:
             logger.debug("stream %s: client went away", stream_id)
         finally:
-            del self._connections[stream_id]
-            await connection.close()
+            try:
+                await connection.close()  # records the stream's stats before it stops counting as active
+            finally:
+                del self._connections[stream_id]
