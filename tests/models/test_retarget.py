@@ -18,7 +18,7 @@ from gesturecast.models.rotations import quat_from_axis_angle, quat_rotate, quat
 from gesturecast.models.skeleton import CANONICAL
 
 DATA = Path(__file__).resolve().parents[2].parent / "shared" / "data"
-BANDAI = Path(__file__).resolve().parents[2] / ".cache" / "bandai"
+RAW_CACHE = Path(__file__).resolve().parents[2] / ".cache" / "raw"  # where `gesturecast data build` unpacks
 TEST_FRAMES = 300
 MAX_OWN_PROPORTION_ERROR_M = 0.01
 rng = np.random.default_rng(0)
@@ -173,14 +173,17 @@ def test_zeggs_take() -> None:
     assert canonical_error < 0.03  # canonical offsets are this take's, left/right averaged
 
 
-def _bandai_files() -> list[Path]:
-    return sorted(BANDAI.glob("*/data/dataset-1_*_normal_001.bvh"))[:3]
+@pytest.fixture(scope="module")
+def bandai(shared_data) -> Path:
+    """Bandai Namco dataset 1, unpacked once from the shared archive into the ignored cache (~2 s)."""
+    from gesturecast.models.dataset_sources import unpack_archive
+
+    return unpack_archive(shared_data / "bandai" / "dataset-1.tar.xz", RAW_CACHE / "bandai")
 
 
-@pytest.mark.skipif(not _bandai_files(), reason="Bandai Namco data not unpacked into .cache/bandai")
 @pytest.mark.parametrize("index", range(3))
-def test_bandai_takes(index: int) -> None:
-    data = _first_frames(read_bvh(_bandai_files()[index]))
+def test_bandai_takes(bandai: Path, index: int) -> None:
+    data = _first_frames(read_bvh(sorted(bandai.glob("*/data/dataset-1_*_normal_001.bvh"))[index]))
     result = retarget_bvh(data)
     assert result.joint_map.name == "Bandai Namco"
     own_error, _ = _position_error(data)
@@ -250,17 +253,13 @@ def test_motion_to_bvh_round_trip(tmp_path: Path) -> None:
     np.testing.assert_allclose(back.root_position, root, atol=1e-6)
 
 
-@pytest.mark.skipif(not _bandai_files(), reason="Bandai Namco data not unpacked into .cache/bandai")
-def test_bandai_tpose_is_the_same_for_every_take() -> None:
+def test_bandai_tpose_is_the_same_for_every_take(bandai: Path) -> None:
     """The solved rest alignment depends on the rig, not on the motion (waving takes included)."""
     from gesturecast.models.rest_alignment import MappedSkeleton, SourceSkeleton, joint_tips, solve_tpose
 
     solved = []
     for name in ("bye_normal_001", "byebye_active_001", "walk_musical_001"):
-        paths = sorted(BANDAI.glob(f"*/data/dataset-1_{name}.bvh"))
-        if not paths:
-            pytest.skip(f"Bandai take {name} not unpacked")
-        data = _first_frames(read_bvh(paths[0]))
+        data = _first_frames(read_bvh(next(bandai.glob(f"*/data/dataset-1_{name}.bvh"))))
         source = SourceSkeleton(data.names, data.parents, data.offsets,
                                 joint_tips(data.parents, data.offsets, data.end_sites))
         global_rot, _ = source_forward_kinematics(data.parents, data.local_rotations())
