@@ -148,8 +148,10 @@ class GestureSession:
         rotations = features_to_rotations(features, np.asarray(yaw))  # (J, 4)
         t = frame / self.fps
         self.crossfade.fade_to(SPEECH if speaking else IDLE, t)
-        idle_root = np.array([position[0], self.idle.base_root[1], position[2]])  # idle in place
-        rotations, root = self.crossfade.mix(t, self.idle.rotations(t), idle_root, rotations, position)
+        root = position
+        if self.crossfade.weight(t) < SPEECH:  # idle visible: blend (skipped while fully in speech: hot path)
+            idle_root = np.array([position[0], self.idle.base_root[1], position[2]])  # idle in place
+            rotations, root = self.crossfade.mix(t, self.idle.rotations(t), idle_root, rotations, position)
         capture = self._capture_time(frame)
         self.frames_out += 1
         return PoseFrame(
