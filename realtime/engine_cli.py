@@ -125,7 +125,7 @@ def _write_demo_results(args: argparse.Namespace, report: EngineReport) -> None:
 
     motion = load_motion_file(args.bvh)
     preview = render_positions(motion.positions(), motion.skeleton.parents, args.out / "demo.gif",
-                               fps=motion.fps, title=f"gesturecast demo — {args.style}",
+                               fps=motion.fps, title=f"gesturecast demo - style {args.style}",  # ASCII font
                                names=motion.skeleton.names)
     (args.out / "latency.json").write_text(json.dumps(report.to_dict(), indent=2) + "\n")
     sys.stdout.write(summary_line(report) + "\n")
