@@ -16,8 +16,10 @@ import math
 import torch
 from torch import nn
 
+AttentionMask = tuple[torch.Tensor, torch.Tensor]  # distance (M, K) int64, valid (B, 1, M, K) bool
 
-def local_causal_mask(num_new: int, cache_size: int, cache_len: torch.Tensor, window: int) -> tuple:
+
+def local_causal_mask(num_new: int, cache_size: int, cache_len: torch.Tensor, window: int) -> AttentionMask:
     """Distances and validity of every (query, key) pair.
 
     Keys are ``cache_size`` cached slots followed by the ``num_new`` new frames; cached slot ``s`` sits
@@ -40,21 +42,21 @@ class LocalCausalAttention(nn.Module):
         super().__init__()
         self.num_heads = num_heads
         self.head_dim = width // num_heads
-        self.window = window
         self.qkv = nn.Linear(width, 3 * width)
         self.out = nn.Linear(width, width)
         self.distance_bias = nn.Parameter(torch.zeros(num_heads, window + 1))  # (H, W+1)
 
     def forward(
-        self, x: torch.Tensor, cache_k: torch.Tensor, cache_v: torch.Tensor, cache_len: torch.Tensor
+        self, x: torch.Tensor, cache_k: torch.Tensor, cache_v: torch.Tensor, mask: AttentionMask
     ) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
-        """x (B, M, D); cache_k/v (B, H, Wc, Dh); cache_len (B,) → out (B, M, D), new k, v (B, H, M, Dh)."""
+        """x (B, M, D); cache_k/v (B, H, Wc, Dh); mask from :func:`local_causal_mask` (computed once for all
+        layers) → out (B, M, D), new k, v (B, H, M, Dh)."""
         batch, num_new, width = x.shape
         q, k, v = self.qkv(x).split(width, dim=-1)  # 3 × (B, M, D)
         q, k, v = (z.reshape(batch, num_new, self.num_heads, self.head_dim).transpose(1, 2) for z in (q, k, v))
         keys = torch.cat([cache_k, k], dim=2)  # (B, H, Wc+M, Dh)
         values = torch.cat([cache_v, v], dim=2)  # (B, H, Wc+M, Dh)
-        distance, valid = local_causal_mask(num_new, cache_k.shape[2], cache_len, self.window)
+        distance, valid = mask
         scores = q @ keys.transpose(-1, -2) / math.sqrt(self.head_dim)  # (B, H, M, Wc+M)
         scores = scores + self.distance_bias[:, distance]  # (B, H, M, Wc+M)
         scores = scores.masked_fill(~valid, float("-inf"))

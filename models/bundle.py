@@ -7,7 +7,8 @@ Layout of a bundle directory (e.g. ``models/weights/default/``)::
                         style vocabulary with precomputed wordllama label embeddings, the null-style
                         handling, default guidance, diffusion schedule, component configs,
                         training summary and license
-    denoiser.onnx       one causal denoiser call (KV cache in/out), see export_denoiser
+    denoiser.onnx       one causal denoiser step (KV cache in/out), see export_denoiser
+    denoiser_condition.onnx  a frame's condition (audio token + style modulations), once per latent
     vq_decoder.onnx     one streaming VQ decoder step (state in/out)
     vq_encoder.onnx     motion features (1, T, D) → quantized latents (1, T/d, C), for seed gestures
     motion_prompt.onnx  motion features (1, T, D) → (1, S) style embedding
@@ -28,7 +29,7 @@ import numpy as np
 from gesturecast.errors import UserError
 from gesturecast.models.denoiser_config import DenoiserConfig
 from gesturecast.models.ort_session import DEFAULT_THREADS, make_session
-from gesturecast.models.runtime_denoiser import DenoiserRuntime
+from gesturecast.models.runtime_denoiser import DenoiserRuntime, condition_path
 from gesturecast.models.runtime_motion_prompt import MotionPromptRuntime
 from gesturecast.models.styles import canonical_style
 from gesturecast.realtime.feature_stats import FeatureStats
@@ -40,6 +41,7 @@ BUNDLE_FORMAT_VERSION = 1
 MANIFEST_FILE = "model.json"
 ONNX_FILES = {
     "denoiser": "denoiser.onnx",
+    "denoiser_condition": condition_path("denoiser.onnx").name,  # written by export_denoiser next to it
     "vq_decoder": "vq_decoder.onnx",
     "vq_encoder": "vq_encoder.onnx",
     "motion_prompt": "motion_prompt.onnx",

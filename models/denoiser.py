@@ -20,14 +20,19 @@ import torch
 import torch.nn.functional as F
 from torch import nn
 
-from gesturecast.models.attention import LocalCausalAttention
+from gesturecast.models.attention import AttentionMask, LocalCausalAttention, local_causal_mask
 from gesturecast.models.denoiser_conditioning import (
     AudioWindowEncoder,
     StyleEncoder,
     StyleModulation,
     TimestepEmbedding,
 )
-from gesturecast.models.denoiser_config import DenoiserConfig, audio_frames_needed, audio_window_end
+from gesturecast.models.denoiser_config import (
+    MODULATION_WIDTHS_PER_LAYER,
+    DenoiserConfig,
+    audio_frames_needed,
+    audio_window_end,
+)
 
 
 @dataclass(frozen=True)
@@ -73,11 +78,17 @@ class DenoiserBlock(nn.Module):
             nn.Linear(width, config.ff_mult * width), nn.GELU(), nn.Linear(config.ff_mult * width, width)
         )
 
-    def forward(self, x, style_code, cache_k, cache_v, cache_len):
-        """x (B, M, D) → (B, M, D), new keys/values (B, H, M, Dh)."""
-        attended, keys, values = self.attn(self.attn_mod(x, style_code), cache_k, cache_v, cache_len)
+    def modulation(self, style_code: torch.Tensor) -> torch.Tensor:
+        """style_code (B, M, D) → this block's (γ, β) of both modulations (B, M, 4D)."""
+        return torch.cat([self.attn_mod.modulation(style_code), self.ff_mod.modulation(style_code)], dim=-1)
+
+    def forward(self, x, modulation: tuple[torch.Tensor, ...], cache_k, cache_v, mask: AttentionMask):
+        """x (B, M, D), modulation = (attention scale, shift, feed-forward scale, shift), each (B, M, D)
+        → (B, M, D), new keys/values (B, H, M, Dh)."""
+        attn_scale, attn_shift, ff_scale, ff_shift = modulation
+        attended, keys, values = self.attn(self.attn_mod(x, attn_scale, attn_shift), cache_k, cache_v, mask)
         x = x + attended
-        x = x + self.ff(self.ff_mod(x, style_code))
+        x = x + self.ff(self.ff_mod(x, ff_scale, ff_shift))
         return x, keys, values
 
 
@@ -93,22 +104,45 @@ class CausalDenoiser(nn.Module):
         self.final_norm = nn.LayerNorm(config.width)
         self.output = nn.Linear(config.width, config.latent_dim)
 
-    def forward_chunk(self, x_t, t, windows, audio_present, style, style_present, cache_k, cache_v, cache_len):
-        """Denoise M new frames after a cache of Wc frames.
+    def condition(self, windows, audio_present, style, style_present):
+        """Everything a frame's denoising needs besides x_t and t, computed once per frame (not per sampler step).
 
-        x_t (B, M, C), t (B, M) int64, windows (B, M, A, F), audio_present (B, M), style (B, M, S),
-        style_present (B, M), cache_k/v (L, B, H, Wc, Dh), cache_len (B,) int64
-        → x0 (B, M, C), new keys/values (L, B, H, M, Dh).
+        windows (B, M, A, F), audio_present (B, M), style (B, M, S), style_present (B, M)
+        → (B, M, condition_dim) = [audio token | per layer: attention scale 1 + γ, shift β, feed-forward scale, shift],
+        each D wide.
         """
         style_code = self.style(style, style_present)  # (B, M, D)
-        h = self.input(x_t) + self.timestep(t) + self.audio(windows, audio_present)  # (B, M, D)
+        parts = [self.audio(windows, audio_present)] + [block.modulation(style_code) for block in self.blocks]
+        return torch.cat(parts, dim=-1)  # (B, M, D + L·4D)
+
+    def split_condition(self, condition: torch.Tensor) -> tuple[torch.Tensor, list[tuple[torch.Tensor, ...]]]:
+        """(B, M, condition_dim) → audio token (B, M, D) and per layer 4 × (B, M, D) (one static split)."""
+        width = self.config.width
+        parts = condition.split(width, dim=-1)  # (1 + 4L) × (B, M, D)
+        per_layer = MODULATION_WIDTHS_PER_LAYER
+        return parts[0], [parts[1 + per_layer * i : 1 + per_layer * (i + 1)] for i in range(len(self.blocks))]
+
+    def forward_conditioned(self, x_t, t, condition, cache_k, cache_v, cache_len):
+        """Denoise M new frames after a cache of Wc frames, given their :meth:`condition`.
+
+        x_t (B, M, C), t (B, M) int64, condition (B, M, condition_dim), cache_k/v (L, B, H, Wc, Dh),
+        cache_len (B,) int64 → x0 (B, M, C), new keys/values (L, B, H, M, Dh).
+        """
+        audio_token, modulations = self.split_condition(condition)  # (B, M, D), L × 4 × (B, M, D)
+        h = self.input(x_t) + self.timestep(t) + audio_token  # (B, M, D)
+        mask = local_causal_mask(x_t.shape[1], cache_k.shape[3], cache_len, self.config.window)
         new_keys, new_values = [], []
-        for layer, block in enumerate(self.blocks):
-            h, keys, values = block(h, style_code, cache_k[layer], cache_v[layer], cache_len)
+        for layer, (block, modulation) in enumerate(zip(self.blocks, modulations, strict=True)):
+            h, keys, values = block(h, modulation, cache_k[layer], cache_v[layer], mask)
             new_keys.append(keys)
             new_values.append(values)
         x0 = self.output(self.final_norm(h))  # (B, M, C)
         return x0, torch.stack(new_keys), torch.stack(new_values)
+
+    def forward_chunk(self, x_t, t, windows, audio_present, style, style_present, cache_k, cache_v, cache_len):
+        """:meth:`forward_conditioned` on the raw per-frame inputs (B, M, ...) (see :meth:`condition`)."""
+        condition = self.condition(windows, audio_present, style, style_present)  # (B, M, condition_dim)
+        return self.forward_conditioned(x_t, t, condition, cache_k, cache_v, cache_len)
 
     def forward(self, x_t, t, audio, audio_present, style, style_present):
         """Whole-sequence forward: x_t (B, N, C), t (B, N), audio (B, N*d+δa, F), audio_present (B, N),

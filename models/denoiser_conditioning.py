@@ -82,16 +82,25 @@ class StyleEncoder(nn.Module):
 
 
 class StyleModulation(nn.Module):
-    """AdaIN-like ``norm(x) * (1 + γ) + β`` with (γ, β) = Linear(style code), zero-initialised."""
+    """AdaIN-like ``norm(x) * (1 + γ) + β`` with (γ, β) = Linear(style code), zero-initialised.
+
+    Split in two so the scale ``1 + γ`` and the shift ``β`` can be computed once per latent frame
+    (:meth:`modulation`, part of the denoiser's condition) and applied at every sampler step (:meth:`forward`).
+    """
 
     def __init__(self, width: int):
         super().__init__()
+        self.width = width
         self.norm = nn.LayerNorm(width, elementwise_affine=False)
         self.to_gamma_beta = nn.Linear(width, 2 * width)
         nn.init.zeros_(self.to_gamma_beta.weight)
         nn.init.zeros_(self.to_gamma_beta.bias)
 
-    def forward(self, x: torch.Tensor, style_code: torch.Tensor) -> torch.Tensor:
-        """x (B, M, D), style_code (B, M, D) → (B, M, D)."""
-        gamma, beta = self.to_gamma_beta(style_code).chunk(2, dim=-1)  # 2 × (B, M, D)
-        return self.norm(x) * (1 + gamma) + beta
+    def modulation(self, style_code: torch.Tensor) -> torch.Tensor:
+        """style_code (B, M, D) → [scale 1 + γ | shift β] (B, M, 2D)."""
+        gamma, beta = self.to_gamma_beta(style_code).split(self.width, dim=-1)  # 2 × (B, M, D): static split
+        return torch.cat([1 + gamma, beta], dim=-1)
+
+    def forward(self, x: torch.Tensor, scale: torch.Tensor, shift: torch.Tensor) -> torch.Tensor:
+        """x, scale, shift (B, M, D) → (B, M, D)."""
+        return self.norm(x) * scale + shift

@@ -11,6 +11,8 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
+MODULATION_WIDTHS_PER_LAYER = 4  # (γ, β) before attention + (γ, β) before the feed-forward, D each
+
 
 @dataclass(frozen=True)
 class DenoiserConfig:
@@ -30,6 +32,11 @@ class DenoiserConfig:
     @property
     def head_dim(self) -> int:
         return self.width // self.num_heads
+
+    @property
+    def condition_dim(self) -> int:
+        """Per-frame condition width: the audio token (D) + scale and shift of both style modulations per layer (4D)."""
+        return self.width * (1 + MODULATION_WIDTHS_PER_LAYER * self.num_layers)
 
     def __post_init__(self) -> None:
         if self.width % self.num_heads:

@@ -1,8 +1,9 @@
 """Training checkpoint → model bundle directory (ONNX files + model.json), the format of models/bundle.py.
 
-Exports the denoiser step (D2's export_denoiser), the VQ decoder step (D1's export_vq), the VQ
-encoder with quantization (here: seed gestures), and the motion-prompt encoder; then writes the
-manifest with configs, statistics, style table and the training summary.
+Exports the denoiser (condition and step graphs, export_denoiser), the VQ decoder step (export_vq),
+the VQ encoder with quantization (here: seed gestures), and the motion-prompt encoder; then writes the
+manifest with configs, statistics, style table and the training summary. Weights are rounded to
+float16 and stored that way (half the size; onnxruntime still computes in float32, see onnx_half).
 """
 
 from __future__ import annotations
@@ -23,12 +24,14 @@ from gesturecast.models.export_denoiser import export_denoiser
 from gesturecast.models.export_motion_prompt import export_motion_prompt
 from gesturecast.models.export_vq import export_vq_decoder_step
 from gesturecast.models.motion_prompt import MotionPromptConfig, MotionPromptEncoder
+from gesturecast.models.onnx_half import round_weights_to_half, store_weights_in_half
 from gesturecast.models.train import STAGES
 from gesturecast.models.vqvae import MotionVQVAE, vqvae_from_checkpoint
 
 OPSET_VERSION = 17
 EXAMPLE_LATENTS = 8
 BUNDLE_FOLDER_MODE = 0o755
+WEIGHTS_NOTE = "rounded to float16 and stored as float16; onnxruntime computes in float32"
 
 
 class VQEncodeGraph(nn.Module):
@@ -66,6 +69,12 @@ def models_from_checkpoint(checkpoint: dict) -> tuple[MotionVQVAE, CausalDenoise
     prompt = MotionPromptEncoder(MotionPromptConfig(**stages["motion_prompt"]["config"]))
     prompt.load_state_dict(stages["motion_prompt"]["state"])
     return vqvae, denoiser.eval(), prompt.eval()
+
+
+def bundle_models(checkpoint: dict) -> tuple[MotionVQVAE, CausalDenoiser, MotionPromptEncoder]:
+    """The torch models exactly as a bundle ships them: the checkpoint's weights rounded to float16."""
+    vqvae, denoiser, prompt = models_from_checkpoint(checkpoint)
+    return round_weights_to_half(vqvae), round_weights_to_half(denoiser), round_weights_to_half(prompt)
 
 
 def training_summary(checkpoint: dict) -> dict:
@@ -111,6 +120,7 @@ def bundle_manifest(checkpoint: dict) -> dict:
         "vqvae": vq,
         "motion_prompt": stages["motion_prompt"]["config"],
         "files": dict(ONNX_FILES),
+        "weights": WEIGHTS_NOTE,
         "training": training_summary(checkpoint),
         "license": LICENSE_NOTE,
     }
@@ -118,15 +128,17 @@ def bundle_manifest(checkpoint: dict) -> dict:
 
 def export_bundle(checkpoint: dict, directory: Path) -> Path:
     """Write a complete bundle to ``directory`` (replaced only once the new one is complete)."""
-    vqvae, denoiser, prompt = models_from_checkpoint(checkpoint)
+    vqvae, denoiser, prompt = bundle_models(checkpoint)
     directory = Path(directory)
     directory.parent.mkdir(parents=True, exist_ok=True)
     staging = Path(tempfile.mkdtemp(dir=directory.parent, prefix=f".{directory.name}-export-"))
     try:
-        export_denoiser(denoiser, staging / ONNX_FILES["denoiser"])
+        export_denoiser(denoiser, staging / ONNX_FILES["denoiser"])  # and ONNX_FILES["denoiser_condition"]
         export_vq_decoder_step(vqvae, staging / ONNX_FILES["vq_decoder"])
         export_vq_encoder(vqvae, staging / ONNX_FILES["vq_encoder"])
         export_motion_prompt(prompt, staging / ONNX_FILES["motion_prompt"])
+        for name in ONNX_FILES.values():
+            store_weights_in_half(staging / name)
         write_manifest(staging, bundle_manifest(checkpoint))
         staging.chmod(BUNDLE_FOLDER_MODE)  # mkdtemp makes it private; a bundle is shipped data
         if directory.exists():

@@ -116,6 +116,7 @@ class StreamDenoiser(DenoiserRuntime):
 
     def __init__(self, batcher: DenoiserBatcher) -> None:  # no super().__init__: the session is shared
         self.session = BatchPort(batcher)
+        self.condition_session = batcher.runtime.condition_session  # once per latent: run directly (thread-safe)
         self.config = batcher.config
         self.state = self.empty_state(1)
 

@@ -2,10 +2,11 @@
 
 numpy + onnxruntime only (no torch). Per step (GestureDiffuCLIP §3.2, run autoregressively):
 
-1. draw x_T ~ N(0, I) for the new latent from the generator's own seeded RNG;
+1. draw x_T ~ N(0, I) for the new latent from the generator's own seeded RNG, and compute the
+   rows' condition (audio-window token + style modulations) once — it is the same at every step;
 2. run the sampler (K-step DDIM, or the 1000-step DDPM path) — each step is ONE batched denoiser
    call whose rows are [style 1, style 2 (only with γ), null style (only with guidance s ≠ 1)],
-   all conditioned on the clean past latents through the KV cache and on the audio window;
+   all conditioned on the clean past latents through the KV cache and on that condition;
    the rows are combined as x̂0 = γ·D(c1) + (1 − γ)·D(c2) (DiffuseStyleGesture) and then
    x̂0 = D(∅) + s·(x̂0 − D(∅)) (classifier-free guidance, Ho & Salimans 2022 eq. 6);
 3. commit the clean latent to the history (folded into the next denoiser call) and decode it with
@@ -167,13 +168,16 @@ class Generator:
         if not self.history:
             return
         length = len(self.history)
+        condition = self.denoiser.condition(
+            np.broadcast_to(np.stack([h.window for h in self.history]), (batch, length, *self.history[0].window.shape)),
+            np.broadcast_to(np.array([h.audio_present for h in self.history], np.float32), (batch, length)),
+            np.repeat(self.layout.styles[:, None], length, axis=1),  # (B, M, S)
+            np.repeat(self.layout.style_present[:, None], length, axis=1),  # (B, M)
+        )  # (B, M, Dc)
         frames = FrameInputs(
             np.broadcast_to(np.stack([h.latent for h in self.history]), (batch, length, self.latent_dim)).copy(),
             np.full((batch, length), CLEAN_TIMESTEP, np.int64),
-            np.broadcast_to(np.stack([h.window for h in self.history]), (batch, length, *self.history[0].window.shape)),
-            np.broadcast_to(np.array([h.audio_present for h in self.history], np.float32), (batch, length)).copy(),
-            np.repeat(self.layout.styles[:, None], length, axis=1),  # (B, M, S)
-            np.repeat(self.layout.style_present[:, None], length, axis=1),  # (B, M)
+            condition,
         )
         _, keys, values = self.denoiser.run(frames, self.denoiser.state)
         self.denoiser.state = roll_cache(self.denoiser.state, keys, values)
@@ -215,14 +219,14 @@ class Generator:
         layout = self.layout
         windows = np.broadcast_to(np.asarray(audio_window, np.float32), (layout.batch, *np.shape(audio_window)))
         present = np.full(layout.batch, float(audio_present), np.float32)
+        condition = self.denoiser.frame_condition(windows, layout.styles, present, layout.style_present)  # (B, Dc)
         x = self.rng.standard_normal(self.latent_dim)  # (C,) x_T
         for t, t_prev in self._plan:
             rows = np.broadcast_to(x, (layout.batch, self.latent_dim))  # (B, C)
-            x0_rows = self.denoiser.step(rows, t, windows, layout.styles, present, layout.style_present)
+            x0_rows = self.denoiser.step(rows, t, condition)
             x0 = combine_rows(x0_rows, layout, self.settings.gamma, self.guidance)  # (C,)
             x = sampler_step(self.schedule, self.settings.sampler, x0, t, t_prev, x, self._noise(t_prev))
-        clean = np.broadcast_to(x, (layout.batch, self.latent_dim))  # (B, C)
-        self.denoiser.commit(clean, windows, layout.styles, present, layout.style_present)
+        self.denoiser.commit(np.broadcast_to(x, (layout.batch, self.latent_dim)), condition)
         latent = x.astype(np.float32)  # (C,)
         self.history.append(HistoryFrame(latent, np.asarray(audio_window, np.float32), float(audio_present)))
         return latent

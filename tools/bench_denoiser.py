@@ -23,7 +23,7 @@ import numpy as np
 from gesturecast.models.denoiser_config import DenoiserConfig
 from gesturecast.models.diffusion import SamplerConfig, classifier_free_guidance, get_schedule, sampler_step
 from gesturecast.models.diffusion import sampling_plan as make_plan
-from gesturecast.models.runtime_denoiser import DenoiserRuntime
+from gesturecast.models.runtime_denoiser import DenoiserRuntime, condition_path
 
 BENCH_DIR = Path(".cache/bench")
 DDIM_STEPS = (1, 2, 4, 8)
@@ -73,13 +73,14 @@ def time_stream(runtime: DenoiserRuntime, steps: int, num_latents: int, rng: np.
     for _ in range(num_latents + WARMUP_LATENTS):
         audio = rng.standard_normal((CFG_BATCH, cfg.audio_window, cfg.audio_dim)).astype(np.float32)  # (2, A, F)
         start = time.perf_counter()
+        condition = runtime.frame_condition(audio, style, style_present=style_present)  # (2, Dc)
         x = rng.standard_normal((1, cfg.latent_dim))  # (1, C)
         for t, t_prev in plan:
             both = np.repeat(x, CFG_BATCH, axis=0)  # (2, C)
-            x0 = runtime.step(both, t, audio, style, style_present=style_present)  # (2, C)
+            x0 = runtime.step(both, t, condition)  # (2, C)
             guided = classifier_free_guidance(x0[1:], x0[:1], GUIDANCE_SCALE)  # (1, C)
             x = sampler_step(schedule, SamplerConfig("ddim", steps), guided, t, t_prev, x)
-        runtime.commit(np.repeat(x, CFG_BATCH, axis=0), audio, style, style_present=style_present)
+        runtime.commit(np.repeat(x, CFG_BATCH, axis=0), condition)
         durations.append(time.perf_counter() - start)
     return durations[WARMUP_LATENTS:]
 
@@ -106,7 +107,7 @@ def measure(args: argparse.Namespace) -> dict:
     return {
         "config": config.to_dict(),
         "parameters": parameters,
-        "onnx_bytes": path.stat().st_size,
+        "onnx_bytes": path.stat().st_size + condition_path(path).stat().st_size,
         "threads": args.threads,
         "cfg_batch": CFG_BATCH,
         "latent_period_ms": round(latent_period_s * MS_PER_S, 3),

@@ -11,7 +11,7 @@ from gesturecast.errors import UserError
 from gesturecast.models.bundle import MANIFEST_FILE, ONNX_FILES, ModelBundle
 from gesturecast.models.denoiser import KVCache
 from gesturecast.models.diffusion import CLEAN_TIMESTEP, get_schedule, sampler_step, sampling_plan
-from gesturecast.models.export_bundle import models_from_checkpoint
+from gesturecast.models.export_bundle import bundle_models
 from gesturecast.realtime.generator import Generator, GeneratorSettings, combine_rows
 from gesturecast.realtime.style_prompts import StylePrompt
 
@@ -27,7 +27,7 @@ def bundle(tiny_model):
 
 def torch_generator_steps(checkpoint, bundle, generator: Generator, windows: np.ndarray) -> np.ndarray:
     """The generator's latent steps recomputed with the torch models (same noise, same guidance rows)."""
-    vqvae, denoiser, _ = models_from_checkpoint(checkpoint)
+    vqvae, denoiser, _ = bundle_models(checkpoint)
     schedule = get_schedule(bundle.schedule_name)
     layout = generator.layout
     rng = np.random.default_rng(SEED)

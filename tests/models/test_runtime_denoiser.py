@@ -10,10 +10,10 @@ from gesturecast.errors import UserError
 from gesturecast.models.denoiser import audio_windows
 from gesturecast.models.denoiser_config import audio_frames_needed
 from gesturecast.models.diffusion import CLEAN_TIMESTEP
-from gesturecast.models.export_denoiser import example_inputs, export_denoiser
+from gesturecast.models.export_denoiser import example_condition_inputs, example_step_inputs, export_denoiser
 from gesturecast.models.export_motion_prompt import export_motion_prompt
 from gesturecast.models.motion_prompt import MotionPromptConfig, MotionPromptEncoder
-from gesturecast.models.runtime_denoiser import DenoiserRuntime, FrameInputs
+from gesturecast.models.runtime_denoiser import DenoiserRuntime, FrameInputs, condition_path
 
 
 @pytest.fixture(scope="module")
@@ -23,19 +23,26 @@ def exported(tmp_path_factory):
     return model, DenoiserRuntime(path, threads=1)
 
 
+def _random(inputs: tuple[torch.Tensor, ...], seed: int) -> list[torch.Tensor]:
+    gen = torch.Generator().manual_seed(seed)
+    return [torch.randn(x.shape, generator=gen) if x.is_floating_point() else x for x in inputs]
+
+
 def test_onnx_matches_torch_on_random_inputs_with_partial_cache(exported):
+    """Both graphs (condition, then step) against the torch forward on the raw inputs, within 1e-4."""
     model, runtime = exported
-    gen = torch.Generator().manual_seed(3)
-    inputs = [torch.randn(x.shape, generator=gen) if x.is_floating_point() else x for x in example_inputs(TINY, 2, 3)]
-    inputs[1] = torch.tensor([[CLEAN_TIMESTEP, 10, 999], [0, 500, 20]])
-    inputs[3] = torch.tensor([[1.0, 1.0, 0.0], [0.0, 1.0, 1.0]])
-    inputs[5] = torch.tensor([[1.0, 0.0, 1.0], [1.0, 1.0, 1.0]])
-    inputs[8] = torch.tensor([1, TINY.window])
+    windows, audio_present, style, style_present = _random(example_condition_inputs(TINY, 2, 3), 3)
+    audio_present = torch.tensor([[1.0, 1.0, 0.0], [0.0, 1.0, 1.0]])
+    style_present = torch.tensor([[1.0, 0.0, 1.0], [1.0, 1.0, 1.0]])
+    x_t, _, _, cache_k, cache_v, _ = _random(example_step_inputs(TINY, 2, 3), 4)
+    t = torch.tensor([[CLEAN_TIMESTEP, 10, 999], [0, 500, 20]])
+    length = torch.tensor([1, TINY.window])
     with torch.no_grad():
-        expected = model.forward_chunk(*inputs)
-    state = runtime.empty_state(2)
-    state = type(state)(inputs[6].numpy(), inputs[7].numpy(), inputs[8].numpy())
-    got = runtime.run(FrameInputs(*(x.numpy() for x in inputs[:6])), state)
+        expected = model.forward_chunk(x_t, t, windows, audio_present, style, style_present, cache_k, cache_v, length)
+    condition = runtime.condition(windows.numpy(), audio_present.numpy(), style.numpy(), style_present.numpy())
+    assert condition.shape == (2, 3, TINY.condition_dim)
+    state = type(runtime.state)(cache_k.numpy(), cache_v.numpy(), length.numpy())
+    got = runtime.run(FrameInputs(x_t.numpy(), t.numpy(), condition), state)
     for ort_out, torch_out in zip(got, expected, strict=True):
         np.testing.assert_allclose(ort_out, torch_out.numpy(), atol=1e-4)
 
@@ -59,9 +66,10 @@ def test_streaming_runtime_equals_torch_full_sequence(exported):
         steps[:, -1] = t
         with torch.no_grad():
             full = model(sequence, steps, audio, torch.ones(2, i + 1), style, style_present)[:, -1]
-        got = runtime.step(noisy[:, i].numpy(), t, windows[:, i], style.numpy(), style_present=style_present.numpy())
+        condition = runtime.frame_condition(windows[:, i], style.numpy(), style_present=style_present.numpy())
+        got = runtime.step(noisy[:, i].numpy(), t, condition)
         np.testing.assert_allclose(got, full.numpy(), atol=1e-4)
-        runtime.commit(clean[:, i].numpy(), windows[:, i], style.numpy(), style_present=style_present.numpy())
+        runtime.commit(clean[:, i].numpy(), condition)
     assert runtime.state.pending is not None
     runtime.flush()
     assert runtime.state.pending is None and list(runtime.state.length) == [TINY.window] * 2
@@ -81,16 +89,17 @@ def test_guidance_rows_in_one_batch_equal_separate_calls(exported):
     styles = rng.standard_normal((3, TINY.style_dim)).astype(np.float32)
     present = np.array([1.0, 1.0, 0.0], np.float32)
     runtime.reset(3)
-    runtime.commit(x, window, styles, style_present=present)
-    batched = runtime.step(x, 50, window, styles, style_present=present)
+    condition = runtime.frame_condition(window, styles, style_present=present)  # (3, Dc)
+    runtime.commit(x, condition)
+    batched = runtime.step(x, 50, condition)
     for row in range(3):
         runtime.reset(1)
-        runtime.commit(
-            x[row : row + 1], window[row : row + 1], styles[row : row + 1], style_present=present[row : row + 1]
+        single_condition = runtime.frame_condition(
+            window[row : row + 1], styles[row : row + 1], style_present=present[row : row + 1]
         )
-        single = runtime.step(
-            x[row : row + 1], 50, window[row : row + 1], styles[row : row + 1], style_present=present[row : row + 1]
-        )
+        np.testing.assert_allclose(condition[row : row + 1], single_condition, atol=1e-5)
+        runtime.commit(x[row : row + 1], single_condition)
+        single = runtime.step(x[row : row + 1], 50, single_condition)
         np.testing.assert_allclose(batched[row : row + 1], single, atol=1e-5)
     assert not np.allclose(batched[0], batched[1])  # the style matters
 
@@ -100,4 +109,11 @@ def test_rejects_an_onnx_file_without_denoiser_metadata(tmp_path):
         MotionPromptEncoder(MotionPromptConfig(feature_dim=4, width=8, embed_dim=4)), tmp_path / "p.onnx"
     )
     with pytest.raises(UserError, match="not a gesturecast denoiser"):
+        DenoiserRuntime(path)
+
+
+def test_a_step_graph_without_its_condition_graph_is_refused(tmp_path):
+    path = export_denoiser(random_model(), tmp_path / "denoiser.onnx")
+    condition_path(path).unlink()
+    with pytest.raises(UserError, match="denoiser_condition.onnx is missing"):
         DenoiserRuntime(path)
