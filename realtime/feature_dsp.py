@@ -86,7 +86,8 @@ def spectral_flux(mel_db_frames: np.ndarray, previous: np.ndarray) -> np.ndarray
 
 def segment_rms_db(samples: np.ndarray, offsets: np.ndarray) -> np.ndarray:
     """RMS in dB of consecutive segments: samples (S,), offsets (T + 1,) into samples → (T,)."""
-    squares = samples.astype(np.float64) ** 2
-    sums = np.array([squares[a:b].sum() for a, b in zip(offsets[:-1], offsets[1:], strict=True)])  # (T,)
+    start = offsets[0]
+    squares = samples[start : offsets[-1]].astype(np.float64) ** 2  # only the segments' samples
+    sums = np.array([squares[a - start : b - start].sum() for a, b in zip(offsets[:-1], offsets[1:], strict=True)])
     rms = np.sqrt(sums / np.diff(offsets))
     return DB_PER_AMPLITUDE_DECADE * np.log10(np.maximum(rms, RMS_FLOOR))

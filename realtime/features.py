@@ -29,6 +29,7 @@ per-frame arithmetic whatever the chunking, so the results are bit-identical.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 
@@ -53,9 +54,9 @@ class FeatureConfig:
     vad: VadConfig = field(default_factory=VadConfig)
     speech_embedding: bool = False
 
-    @property
+    @cached_property
     def layout(self) -> dict[str, slice]:
-        """Column ranges of the feature matrix by name."""
+        """Column ranges of the feature matrix by name (computed once: read on every pushed chunk)."""
         widths = {"mel": self.n_mels, "onset": 1, "energy": 1, "speaking": 1}
         if self.speech_embedding:
             from gesturecast.realtime.speech_embedding import EMBEDDING_DIM
