@@ -22,6 +22,7 @@ from gesturecast.realtime.style_prompts import StylePrompt
 DEFAULT_MODEL_DIR = Path(__file__).resolve().parents[1] / "models" / "weights" / "default"
 DEFAULT_MARGIN_MS = 100.0
 DEFAULT_STEPS = 4
+DEFAULT_AUDIO_GUIDANCE = 1.5  # docs/generator.md "Audio guidance": rests in pauses, follows the speech more
 
 
 def add_generation_arguments(parser: argparse.ArgumentParser) -> None:
@@ -34,6 +35,9 @@ def add_generation_arguments(parser: argparse.ArgumentParser) -> None:
     group.add_argument("--style2", help="second style for γ interpolation/extrapolation")
     group.add_argument("--gamma", type=float, default=SINGLE_STYLE, help="x̂0 = γ·D(style) + (1 − γ)·D(style2)")
     group.add_argument("--guidance", type=float, help="classifier-free guidance scale s (default: the model's)")
+    group.add_argument("--audio-guidance", type=float, default=DEFAULT_AUDIO_GUIDANCE,
+                       help="audio guidance s_a: > 1 makes the motion follow the speech more, 1 turns it off "
+                            "(one batch row less)")
     group.add_argument("--sampler", choices=("ddim", "ddpm"), default="ddim")
     group.add_argument("--steps", type=int, default=DEFAULT_STEPS, help="DDIM steps K per latent frame")
     group.add_argument("--seed", type=int, default=0)
@@ -68,6 +72,7 @@ def generator_settings(args: argparse.Namespace, bundle: ModelBundle) -> Generat
         gamma=args.gamma,
         seed=args.seed,
         threads=args.threads,
+        audio_guidance=args.audio_guidance,
     )
 
 

@@ -5,10 +5,11 @@ numpy + onnxruntime only (no torch). Per step (GestureDiffuCLIP §3.2, run autor
 1. draw x_T ~ N(0, I) for the new latent from the generator's own seeded RNG, and compute the
    rows' condition (audio-window token + style modulations) once — it is the same at every step;
 2. run the sampler (K-step DDIM, or the 1000-step DDPM path) — each step is ONE batched denoiser
-   call whose rows are [style 1, style 2 (only with γ), null style (only with guidance s ≠ 1)],
-   all conditioned on the clean past latents through the KV cache and on that condition;
-   the rows are combined as x̂0 = γ·D(c1) + (1 − γ)·D(c2) (DiffuseStyleGesture) and then
-   x̂0 = D(∅) + s·(x̂0 − D(∅)) (classifier-free guidance, Ho & Salimans 2022 eq. 6);
+   call whose rows are [style 1, style 2 (only with γ), null style (only with guidance s ≠ 1),
+   style 1 without the audio (only with audio guidance s_a ≠ 1)], all conditioned on the clean
+   past latents through the KV cache and on that condition; the rows are combined as
+   x̂0 = γ·D(c1) + (1 − γ)·D(c2) (DiffuseStyleGesture), then x̂0 = D(∅) + s·(x̂0 − D(∅))
+   (classifier-free guidance, Ho & Salimans 2022 eq. 6), then x̂0 += (s_a − 1)·(D(c1) − D(c1, ∅a));
 3. commit the clean latent to the history (folded into the next denoiser call) and decode it with
    the streaming VQ decoder into d motion-feature frames (denormalised, canonical layout).
 
@@ -55,6 +56,7 @@ class GeneratorSettings:
     gamma: float = SINGLE_STYLE
     seed: int = 0
     threads: int = DEFAULT_THREADS
+    audio_guidance: float = NO_GUIDANCE  # s_a: > 1 strengthens the speech's pull on the motion (extra row)
 
 
 @dataclass(frozen=True)
@@ -68,36 +70,57 @@ class HistoryFrame:
 
 @dataclass(frozen=True)
 class RowLayout:
-    """The rows of one batched denoiser call: style embeddings (B, S) and style_present (B,)."""
+    """The rows of one batched denoiser call: style embeddings (B, S), style_present (B,), and hears_audio (B,)
+    (0 on the audio-null row of audio guidance). Row order: c1, [c2], [null style], [c1 without audio]."""
 
     styles: np.ndarray
     style_present: np.ndarray
+    hears_audio: np.ndarray
     has_second: bool
     has_null: bool
+    has_audio_null: bool
 
     @property
     def batch(self) -> int:
         return int(self.styles.shape[0])
 
+    @property
+    def null_row(self) -> int:
+        return self.batch - 1 - int(self.has_audio_null)
+
     def same_rows(self, other: RowLayout) -> bool:
-        return (self.has_second, self.has_null) == (other.has_second, other.has_null)
+        return (self.has_second, self.has_null, self.has_audio_null) == (
+            other.has_second, other.has_null, other.has_audio_null)
 
 
-def row_layout(style: np.ndarray, second: np.ndarray | None, gamma: float, guidance: float) -> RowLayout:
+def row_layout(style: np.ndarray, second: np.ndarray | None, gamma: float, guidance: float,
+               audio_guidance: float = NO_GUIDANCE) -> RowLayout:
     has_second = second is not None and gamma != SINGLE_STYLE
     has_null = guidance != NO_GUIDANCE
+    has_audio_null = audio_guidance != NO_GUIDANCE
     rows = [style] + ([second] if has_second else []) + ([np.zeros_like(style)] if has_null else [])
     present = [1.0] + ([1.0] if has_second else []) + ([0.0] if has_null else [])
-    return RowLayout(np.stack(rows).astype(np.float32), np.asarray(present, np.float32), has_second, has_null)
+    hears = [1.0] * len(rows)
+    if has_audio_null:
+        rows, present, hears = rows + [style], present + [1.0], hears + [0.0]
+    return RowLayout(np.stack(rows).astype(np.float32), np.asarray(present, np.float32), np.asarray(hears, np.float32),
+                     has_second, has_null, has_audio_null)
 
 
-def combine_rows(x0_rows: np.ndarray, layout: RowLayout, gamma: float, guidance: float) -> np.ndarray:
-    """(B, C) per-row x0 predictions → the guided (C,) prediction (γ mix, then CFG)."""
+def combine_rows(x0_rows: np.ndarray, layout: RowLayout, gamma: float, guidance: float,
+                 audio_guidance: float = NO_GUIDANCE) -> np.ndarray:
+    """(B, C) per-row x0 predictions → the guided (C,) prediction: γ mix, then style CFG, then audio guidance
+
+    x̂0 ← x̂0 + (s_a − 1)·(D(c1, a) − D(c1, ∅a)) — a second, additive guidance term in the manner of
+    InstructPix2Pix (Brooks et al. 2023, eq. 3) with the speech as its condition; s_a = 1 adds nothing.
+    """
     x0 = x0_rows.astype(np.float64)
-    conditional = style_interpolation(x0[0], x0[1], gamma) if layout.has_second else x0[0]
-    if not layout.has_null:
-        return conditional
-    return classifier_free_guidance(x0[-1], conditional, guidance)
+    guided = style_interpolation(x0[0], x0[1], gamma) if layout.has_second else x0[0]
+    if layout.has_null:
+        guided = classifier_free_guidance(x0[layout.null_row], guided, guidance)
+    if layout.has_audio_null:
+        guided = guided + (audio_guidance - NO_GUIDANCE) * (x0[0] - x0[-1])
+    return guided
 
 
 class Generator:
@@ -137,7 +160,7 @@ class Generator:
         return self.config.latent_dim
 
     def _make_layout(self) -> RowLayout:
-        return row_layout(self._style, self._second, self.settings.gamma, self.guidance)
+        return row_layout(self._style, self._second, self.settings.gamma, self.guidance, self.settings.audio_guidance)
 
     def reset(self, seed: int | None = None, seed_pose: np.ndarray | None = None) -> None:
         """Start a new stream: fresh RNG (``seed``, default the settings' seed), empty history and decoder
@@ -170,7 +193,7 @@ class Generator:
         length = len(self.history)
         condition = self.denoiser.condition(
             np.broadcast_to(np.stack([h.window for h in self.history]), (batch, length, *self.history[0].window.shape)),
-            np.broadcast_to(np.array([h.audio_present for h in self.history], np.float32), (batch, length)),
+            self.layout.hears_audio[:, None] * np.array([h.audio_present for h in self.history], np.float32),  # (B, M)
             np.repeat(self.layout.styles[:, None], length, axis=1),  # (B, M, S)
             np.repeat(self.layout.style_present[:, None], length, axis=1),  # (B, M)
         )  # (B, M, Dc)
@@ -218,13 +241,13 @@ class Generator:
         """Sample the next clean latent (C,) (normalised) and commit it to the history."""
         layout = self.layout
         windows = np.broadcast_to(np.asarray(audio_window, np.float32), (layout.batch, *np.shape(audio_window)))
-        present = np.full(layout.batch, float(audio_present), np.float32)
+        present = layout.hears_audio * float(audio_present)  # (B,)
         condition = self.denoiser.frame_condition(windows, layout.styles, present, layout.style_present)  # (B, Dc)
         x = self.rng.standard_normal(self.latent_dim)  # (C,) x_T
         for t, t_prev in self._plan:
             rows = np.broadcast_to(x, (layout.batch, self.latent_dim))  # (B, C)
             x0_rows = self.denoiser.step(rows, t, condition)
-            x0 = combine_rows(x0_rows, layout, self.settings.gamma, self.guidance)  # (C,)
+            x0 = combine_rows(x0_rows, layout, self.settings.gamma, self.guidance, self.settings.audio_guidance)  # (C,)
             x = sampler_step(self.schedule, self.settings.sampler, x0, t, t_prev, x, self._noise(t_prev))
         self.denoiser.commit(np.broadcast_to(x, (layout.batch, self.latent_dim)), condition)
         latent = x.astype(np.float32)  # (C,)

@@ -24,6 +24,7 @@ from gesturecast.models.diffusion import SamplerConfig
 from gesturecast.models.motion import MOTION_FPS
 from gesturecast.models.speech_following import FollowingConfig, speech_following
 from gesturecast.realtime.audio_io import SAMPLE_RATE
+from gesturecast.realtime.generator import NO_GUIDANCE
 
 from .data_cli import DEFAULT_CACHE, DEFAULT_SHARED
 from .eval_clips import EvalClip, default_unseen_paths, held_out_clips, unseen_clips
@@ -42,6 +43,7 @@ def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--shared", type=Path, default=DEFAULT_SHARED, help="shared data folder (unseen speech)")
     parser.add_argument("--seeds", default=DEFAULT_SEEDS, help="comma-separated generation seeds")
     parser.add_argument("--steps", type=int, default=4, help="DDIM steps K")
+    parser.add_argument("--audio-guidance", type=float, default=NO_GUIDANCE, help="audio guidance scale s_a")
     parser.add_argument("--json", type=Path, help="also write the result here")
     parser.set_defaults(func=run_bench)
 
@@ -79,7 +81,8 @@ def summarise(rows: list[dict]) -> dict:
                    "files": len({row["file"] for row in g})} for name, g in sorted(groups.items())}
 
 
-def following_report(bundle_dir: Path, cache: Path, shared: Path, seeds: list[int], steps: int) -> dict:
+def following_report(bundle_dir: Path, cache: Path, shared: Path, seeds: list[int], steps: int,
+                     audio_guidance: float = NO_GUIDANCE) -> dict:
     bundle = ModelBundle.load(bundle_dir)
     sampler = SamplerConfig("ddim", steps)
     unseen = unseen_clips(default_unseen_paths(shared), UNSEEN_STYLE, None)
@@ -92,12 +95,13 @@ def following_report(bundle_dir: Path, cache: Path, shared: Path, seeds: list[in
         if clip.positions is not None:
             real.append({"file": clip.name, "group": group_of(clip), **score(clip.positions, clip.audio)})
         for seed in seeds:
-            generated = generate_offline(bundle, sampler, clip, clip.style, seed)
+            generated = generate_offline(bundle, sampler, clip, clip.style, seed, audio_guidance)
             rows.append({"file": clip.name, "group": group_of(clip), "seed": seed,
                          **score(generated.positions, clip.audio)})
     return {
         "bundle": str(bundle_dir),
         "sampler": f"ddim K={steps}",
+        "audio_guidance": audio_guidance,
         "seeds": seeds,
         "metric": "Pearson r of smoothed upper-body joint speed vs frame RMS dB, best lag within ±0.5 s; "
                   "BC = BEAT beat consistency",
@@ -110,7 +114,7 @@ def following_report(bundle_dir: Path, cache: Path, shared: Path, seeds: list[in
 
 def run_bench(args: argparse.Namespace) -> int:
     seeds = [int(value) for value in args.seeds.split(",")]
-    report = following_report(args.bundle, args.cache, args.shared, seeds, args.steps)
+    report = following_report(args.bundle, args.cache, args.shared, seeds, args.steps, args.audio_guidance)
     text = json.dumps(report, indent=1)
     if args.json is not None:
         args.json.write_text(text + "\n")

@@ -22,7 +22,7 @@ from gesturecast.realtime.clock import FakeClock
 from gesturecast.realtime.engine import LiveEngine, run_offline
 from gesturecast.realtime.engine_cli import frames_to_motion
 from gesturecast.realtime.frames import PoseFrame
-from gesturecast.realtime.generator import Generator, GeneratorSettings
+from gesturecast.realtime.generator import NO_GUIDANCE, Generator, GeneratorSettings
 from gesturecast.realtime.latency import LatencyBudget
 from gesturecast.realtime.session import GestureSession
 from gesturecast.realtime.sources import FastFileSource, PacedFileSource
@@ -46,8 +46,10 @@ class Generated:
     compute_s: float  # wall time spent generating
 
 
-def _session(bundle: ModelBundle, sampler: SamplerConfig, style: str, seed: int, clock: FakeClock) -> GestureSession:
-    settings = GeneratorSettings(sampler=sampler, style=StylePrompt("label", style), seed=seed, threads=1)
+def _session(bundle: ModelBundle, sampler: SamplerConfig, style: str, seed: int, clock: FakeClock,
+             audio_guidance: float = NO_GUIDANCE) -> GestureSession:
+    settings = GeneratorSettings(sampler=sampler, style=StylePrompt("label", style), seed=seed, threads=1,
+                                 audio_guidance=audio_guidance)
     budget = LatencyBudget(bundle.frames_per_latent, bundle.audio_lookahead, LATENCY_MARGIN_MS)
     return GestureSession(bundle, Generator(bundle, settings), budget, clock)
 
@@ -64,11 +66,12 @@ def _with_wav(audio: np.ndarray, run):
 
 
 def generate_offline(
-    bundle: ModelBundle, sampler: SamplerConfig, clip: EvalClip, style: str, seed: int = 0
+    bundle: ModelBundle, sampler: SamplerConfig, clip: EvalClip, style: str, seed: int = 0,
+    audio_guidance: float = NO_GUIDANCE,
 ) -> Generated:
     """Motion for the clip's audio in ``style`` through ``run_offline`` (the `generate` path)."""
     start = time.perf_counter()
-    session = _session(bundle, sampler, style, seed, FakeClock())
+    session = _session(bundle, sampler, style, seed, FakeClock(), audio_guidance)
     frames, _ = _with_wav(clip.audio, lambda path: run_offline(session, FastFileSource(path)))
     return Generated(_positions(frames), time.perf_counter() - start)
 

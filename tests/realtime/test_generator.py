@@ -134,3 +134,25 @@ def test_motion_clip_as_style_prompt(tiny_model, bundle, audio):
     assert np.isfinite(run(generator, audio)).all()
     with pytest.raises(UserError, match="not found"):
         make(bundle, style=StylePrompt.parse("motion:/no/such/clip.bvh"))
+
+
+def test_audio_guidance_one_equals_no_audio_null_row(bundle, audio):
+    plain = make(bundle, style=HAPPY, guidance=1.5, seed=6)
+    with_row = make(bundle, style=HAPPY, guidance=1.5, seed=6)
+    with_row.layout = row_layout(with_row.style_embedding, None, 1.0, 1.5, audio_guidance=2.0)  # row computed, s_a = 1
+    with_row.reset(6)
+    assert with_row.layout.batch == 3 and with_row.layout.hears_audio.tolist() == [1.0, 1.0, 0.0]
+    np.testing.assert_allclose(run(with_row, audio), run(plain, audio), atol=1e-5)
+
+
+def test_audio_guidance_scales_the_effect_of_the_speech_exactly_on_a_first_one_step_latent(bundle, audio):
+    """K = 1, no history: the latent is the guided x0 = D(a) + (s_a − 1)(D(a) − D(∅a)), and D(∅a) does not
+    depend on the audio, so the difference between two audio windows grows exactly by s_a."""
+    one_step = SamplerConfig("ddim", 1)
+
+    def first_latent(scale: float, window: np.ndarray) -> np.ndarray:
+        return make(bundle, sampler=one_step, guidance=1.0, audio_guidance=scale, seed=8).denoise(window, True)
+
+    plain = first_latent(1.0, audio[0]) - first_latent(1.0, audio[1])
+    assert np.abs(plain).max() > 1e-3
+    np.testing.assert_allclose(first_latent(3.0, audio[0]) - first_latent(3.0, audio[1]), 3.0 * plain, atol=1e-4)
