@@ -24,7 +24,7 @@ from gesturecast.models.diffusion import SamplerConfig
 from gesturecast.models.motion import MOTION_FPS
 from gesturecast.models.speech_following import FollowingConfig, speech_following
 from gesturecast.realtime.audio_io import SAMPLE_RATE
-from gesturecast.realtime.generator import NO_GUIDANCE
+from gesturecast.realtime.engine_setup import DEFAULT_AUDIO_GUIDANCE
 
 from .data_cli import DEFAULT_CACHE, DEFAULT_SHARED
 from .eval_clips import EvalClip, default_unseen_paths, held_out_clips, unseen_clips
@@ -43,7 +43,8 @@ def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--shared", type=Path, default=DEFAULT_SHARED, help="shared data folder (unseen speech)")
     parser.add_argument("--seeds", default=DEFAULT_SEEDS, help="comma-separated generation seeds")
     parser.add_argument("--steps", type=int, default=4, help="DDIM steps K")
-    parser.add_argument("--audio-guidance", type=float, default=NO_GUIDANCE, help="audio guidance scale s_a")
+    parser.add_argument("--audio-guidance", type=float, default=DEFAULT_AUDIO_GUIDANCE,
+                        help="audio guidance scale s_a (1: off)")
     parser.add_argument("--json", type=Path, help="also write the result here")
     parser.set_defaults(func=run_bench)
 
@@ -82,7 +83,7 @@ def summarise(rows: list[dict]) -> dict:
 
 
 def following_report(bundle_dir: Path, cache: Path, shared: Path, seeds: list[int], steps: int,
-                     audio_guidance: float = NO_GUIDANCE) -> dict:
+                     audio_guidance: float = DEFAULT_AUDIO_GUIDANCE) -> dict:
     bundle = ModelBundle.load(bundle_dir)
     sampler = SamplerConfig("ddim", steps)
     unseen = unseen_clips(default_unseen_paths(shared), UNSEEN_STYLE, None)

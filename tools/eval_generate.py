@@ -21,8 +21,9 @@ from gesturecast.realtime.audio_io import SAMPLE_RATE
 from gesturecast.realtime.clock import FakeClock
 from gesturecast.realtime.engine import LiveEngine, run_offline
 from gesturecast.realtime.engine_cli import frames_to_motion
+from gesturecast.realtime.engine_setup import DEFAULT_AUDIO_GUIDANCE
 from gesturecast.realtime.frames import PoseFrame
-from gesturecast.realtime.generator import NO_GUIDANCE, Generator, GeneratorSettings
+from gesturecast.realtime.generator import Generator, GeneratorSettings
 from gesturecast.realtime.latency import LatencyBudget
 from gesturecast.realtime.session import GestureSession
 from gesturecast.realtime.sources import FastFileSource, PacedFileSource
@@ -47,7 +48,7 @@ class Generated:
 
 
 def _session(bundle: ModelBundle, sampler: SamplerConfig, style: str, seed: int, clock: FakeClock,
-             audio_guidance: float = NO_GUIDANCE) -> GestureSession:
+             audio_guidance: float = DEFAULT_AUDIO_GUIDANCE) -> GestureSession:
     settings = GeneratorSettings(sampler=sampler, style=StylePrompt("label", style), seed=seed, threads=1,
                                  audio_guidance=audio_guidance)
     budget = LatencyBudget(bundle.frames_per_latent, bundle.audio_lookahead, LATENCY_MARGIN_MS)
@@ -67,7 +68,7 @@ def _with_wav(audio: np.ndarray, run):
 
 def generate_offline(
     bundle: ModelBundle, sampler: SamplerConfig, clip: EvalClip, style: str, seed: int = 0,
-    audio_guidance: float = NO_GUIDANCE,
+    audio_guidance: float = DEFAULT_AUDIO_GUIDANCE,
 ) -> Generated:
     """Motion for the clip's audio in ``style`` through ``run_offline`` (the `generate` path)."""
     start = time.perf_counter()
