@@ -220,17 +220,21 @@ def open_checkpoint(path: Path, preset: TrainPreset, feature_config: FeatureConf
     if not resume or not path.is_file():
         return new_checkpoint(preset, feature_config)
     checkpoint = load_checkpoint(path)
-    if not same_training_settings(checkpoint["preset"], preset.to_dict()):
+    same_features = FeatureConfig.from_dict(checkpoint["feature_config"]) == feature_config
+    if not (same_features and same_training_settings(checkpoint["preset"], preset.to_dict())):
         raise UserError(f"{path} was trained with other settings; drop --resume or use another --work-dir")
     logger.info("resuming: stages done %s", list(checkpoint["stages"]))
     return checkpoint
 
 
 def run_training(preset: TrainPreset, cache_dir: Path, work_dir: Path, resume: bool = False,
-                 progress: bool = True) -> dict:
-    """Run every unfinished stage, saving ``work_dir/checkpoint.pt`` after each; returns the checkpoint."""
+                 progress: bool = True, feature_config: FeatureConfig | None = None) -> dict:
+    """Run every unfinished stage, saving ``work_dir/checkpoint.pt`` after each; returns the checkpoint.
+
+    ``feature_config``: the audio features the model listens to (default ``FeatureConfig()``); it is stored in
+    the checkpoint and the bundle, so the live runtime computes the same features."""
     torch.set_num_threads(preset.threads)
-    feature_config = FeatureConfig()
+    feature_config = feature_config or FeatureConfig()
     path = work_dir / CHECKPOINT_FILE
     checkpoint = open_checkpoint(path, preset, feature_config, resume)
     started = time.perf_counter()

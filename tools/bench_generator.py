@@ -2,9 +2,9 @@
 
 For each DDIM step count K (and the full 1000-step DDPM path) a fresh :class:`Generator` streams
 ``--latents`` latent frames (each d motion frames) with classifier-free guidance (a null-style row)
-unless ``--no-guidance`` and audio guidance (an audio-null row) unless ``--audio-guidance 1``. Reported per sampler: p50 / p95 / max milliseconds per
-latent step, the real-time budget of one latent (d / fps seconds) and the real-time factor
-(compute per second of motion). One JSON object; nothing is asserted.
+unless ``--no-guidance`` and audio guidance (an audio-null row) unless ``--audio-guidance 1``.
+Reported per sampler: p50 / p95 / max milliseconds per latent step, the real-time budget of one
+latent (d / fps seconds) and the real-time factor (compute per second of motion). One JSON object; nothing is asserted.
 """
 
 from __future__ import annotations

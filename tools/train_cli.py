@@ -13,6 +13,8 @@ import time
 from pathlib import Path
 
 from gesturecast.models.train_presets import PRESETS, get_preset
+from gesturecast.realtime.features import FeatureConfig
+from gesturecast.realtime.speaker_norm import SpeakerNormConfig
 
 LOGGER = logging.getLogger(__name__)
 DEFAULT_DATA = Path(".cache/dataset")
@@ -31,6 +33,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--threads", type=int, default=None, help="torch CPU threads (default: the preset's)")
     parser.add_argument("--audio-augmentation", action=argparse.BooleanOptionalAction, default=None,
                         help="voice / channel augmentation of the paired audio (default: the preset's)")
+    parser.add_argument("--speaker-norm", action="store_true",
+                        help="listen to speaker-normalised log-mel / energy (docs/generator.md; off in the default)")
     parser.add_argument("--vq-steps", type=int, default=None)
     parser.add_argument("--denoiser-steps", type=int, default=None)
     parser.add_argument("--prompt-steps", type=int, default=None)
@@ -47,7 +51,9 @@ def run_train(args: argparse.Namespace) -> int:
                         denoiser_steps=args.denoiser_steps, prompt_steps=args.prompt_steps)
     work_dir = args.work_dir or DEFAULT_WORK_ROOT / preset.name
     started = time.perf_counter()
-    checkpoint = run_training(preset, args.data, work_dir, resume=args.resume, progress=not args.no_progress)
+    features = FeatureConfig(speaker_norm=SpeakerNormConfig(enabled=args.speaker_norm))
+    checkpoint = run_training(preset, args.data, work_dir, resume=args.resume, progress=not args.no_progress,
+                              feature_config=features)
     if args.out is not None:
         export_bundle(checkpoint, args.out)
         LOGGER.info("bundle written to %s", args.out)

@@ -12,6 +12,8 @@ from gesturecast.models.export_bundle import export_bundle
 from gesturecast.models.train import CHECKPOINT_FILE, load_checkpoint, run_training, save_checkpoint
 from gesturecast.models.train_denoiser import learning_rate_factor
 from gesturecast.models.train_presets import get_preset
+from gesturecast.realtime.features import FeatureConfig
+from gesturecast.realtime.speaker_norm import SpeakerNormConfig
 
 
 def finished_work_dir(tiny_model, folder):
@@ -42,6 +44,10 @@ def test_resume_refuses_other_settings_and_export_refuses_unfinished_runs(tiny_m
     work = finished_work_dir(tiny_model, tmp_path / "work")
     with pytest.raises(UserError, match="other settings"):
         run_training(get_preset("tiny", seed=99), tmp_path / "unused", work, resume=True, progress=False)
+    speaker_normalised = FeatureConfig(speaker_norm=SpeakerNormConfig(enabled=True))
+    with pytest.raises(UserError, match="other settings"):
+        run_training(get_preset("tiny"), tmp_path / "unused", work, resume=True, progress=False,
+                     feature_config=speaker_normalised)
     partial = load_checkpoint(work / CHECKPOINT_FILE)
     del partial["stages"]["motion_prompt"]
     with pytest.raises(UserError, match="missing motion_prompt"):
