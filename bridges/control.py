@@ -72,6 +72,7 @@ CONTROL_FIELDS: dict[str, TextField | NumberField] = {
     "style2": StyleField(MAX_STYLE_CHARS),
     "prompt": TextField(MAX_PROMPT_CHARS),
     "guidance": NumberField(*GUIDANCE_RANGE),
+    "audio_guidance": NumberField(*GUIDANCE_RANGE),  # s_a: how strongly the motion follows the speech
     "gamma": NumberField(*GAMMA_RANGE),
 }
 

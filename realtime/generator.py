@@ -228,6 +228,11 @@ class Generator:
         self.settings = replace(self.settings, guidance=scale)
         self._apply_layout()
 
+    def set_audio_guidance(self, scale: float) -> None:
+        """s_a of x̂0 += (s_a − 1)·(D(c1) − D(c1, ∅a)); 1 drops the audio-null row."""
+        self.settings = replace(self.settings, audio_guidance=scale)
+        self._apply_layout()
+
     def set_sampler(self, sampler: SamplerConfig) -> None:
         self.settings = replace(self.settings, sampler=sampler)
         self._plan = sampling_plan(self.schedule.num_timesteps, sampler)

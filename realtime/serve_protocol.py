@@ -2,11 +2,12 @@
 
 Client → server:
 
-- ``{"type": "start", "style"?, "prompt"?, "style2"?, "gamma"?, "guidance"?, "seed"?, "audio_format"?,
-  "token"?}`` — optional before the first audio (defaults: the server's style, ``f32le``); carries the
+- ``{"type": "start", "style"?, "prompt"?, "style2"?, "gamma"?, "guidance"?, "audio_guidance"?, "seed"?,
+  "audio_format"?, "token"?}`` — optional before the first audio (defaults: the server's style, ``f32le``); carries the
   token when the server requires one.
 - binary messages: raw PCM, 16 kHz mono, ``f32le`` (float32 in [-1, 1]) or ``s16le`` (int16).
-- ``{"type": "control", ...}`` — live style / guidance / γ changes (:mod:`gesturecast.bridges.control`).
+- ``{"type": "control", ...}`` — live style / guidance / audio guidance / γ changes
+  (:mod:`gesturecast.bridges.control`).
 - ``{"type": "end"}`` — no more audio: the rest of the poses, then a ``stats`` message, then close.
 
 Server → client: the JSON hello (the viewer's hello plus ``stream``, ``latency_budget_ms``, ``audio``),
@@ -46,6 +47,7 @@ class StreamOptions:
     second_style: StylePrompt | None = None
     gamma: float | None = None
     guidance: float | None = None
+    audio_guidance: float | None = None
     seed: int | None = None
     audio_format: str = DEFAULT_AUDIO_FORMAT
 
@@ -98,6 +100,7 @@ def parse_start(message: dict) -> StreamOptions:
         second_style=client_style(control["style2"]) if "style2" in control else None,
         gamma=control.get("gamma"),
         guidance=control.get("guidance"),
+        audio_guidance=control.get("audio_guidance"),
         seed=seed,
         audio_format=audio_format,
     )

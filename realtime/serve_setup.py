@@ -36,6 +36,7 @@ class StreamSessions:
             "second_style": options.second_style,
             "gamma": options.gamma,
             "guidance": options.guidance,
+            "audio_guidance": options.audio_guidance,
             "seed": options.seed,
         }
         return replace(self.defaults, **{name: value for name, value in chosen.items() if value is not None})

@@ -1,7 +1,7 @@
-"""Live changes of style, guidance and γ, blended in over a short stream time (no visible pop).
+"""Live changes of style, guidance, audio guidance and γ, blended in over a short stream time (no visible pop).
 
 Controls arrive from any thread (WebSocket clients, the CLI) and are applied by the session
-between latent steps. Numbers (guidance s, γ) move along a smoothstep ramp. A new style with no
+between latent steps. Numbers (guidance s, audio guidance s_a, γ) move along a smoothstep ramp. A new style with no
 second style is blended with DiffuseStyleGesture's own mechanism: the generator runs
 x̂0 = γ·D(new) + (1 − γ)·D(old) while γ ramps 0 → 1, then drops the old style.
 """
@@ -27,11 +27,13 @@ class SessionControls:
         self._inbox: deque[dict] = deque(maxlen=MAX_PENDING_CONTROLS)
         self._lock = threading.Lock()
         self._guidance = Ramp(generator.guidance, fade_s)
+        self._audio_guidance = Ramp(generator.settings.audio_guidance, fade_s)
         self._gamma = Ramp(generator.settings.gamma, fade_s)
         self._blending_from: StylePrompt | None = None  # old style while a style change blends in
 
     def submit(self, control: dict) -> None:
-        """Queue a validated control message (keys: style, prompt, style2, guidance, gamma); thread-safe."""
+        """Queue a validated control message (keys: style, prompt, style2, guidance, audio_guidance, gamma);
+        thread-safe."""
         with self._lock:
             self._inbox.append(dict(control))
 
@@ -46,6 +48,9 @@ class SessionControls:
         guidance = float(self._guidance.value(t))
         if guidance != self.generator.guidance:
             self.generator.set_guidance(guidance)
+        audio_guidance = float(self._audio_guidance.value(t))
+        if audio_guidance != self.generator.settings.audio_guidance:
+            self.generator.set_audio_guidance(audio_guidance)
         if self._blending_from is None and self.generator.settings.second_style is not None:
             self.generator.set_gamma(float(self._gamma.value(t)))
 
@@ -60,6 +65,8 @@ class SessionControls:
     def _apply(self, control: dict, t: float) -> None:
         if "guidance" in control:
             self._guidance.set_target(float(control["guidance"]), t)
+        if "audio_guidance" in control:
+            self._audio_guidance.set_target(float(control["audio_guidance"]), t)
         if "gamma" in control:
             self._gamma.set_target(float(control["gamma"]), t)
         new_style = _style_from_control(control)

@@ -10,10 +10,11 @@ const CAMERA_TARGET = [0, 1.0, 0];
 const DRAG_RADIANS_PER_PIXEL = 0.01;
 const MAX_PITCH = 1.4;
 const FOCAL_FRACTION = 1.6;
+const SLIDERS = ["guidance", "audio_guidance"];  // numeric control fields (ranges from the hello's control_schema)
 
 const state = {
   hello: null, pose: null, frames: 0, latencyMs: null, arrivals: [],
-  camera: { yaw: 0.5, pitch: 0.15, distance: 3.2 },
+  camera: { yaw: 0.5, pitch: 0.15, distance: 3.2 }, touchedSliders: new Set(),
 };
 const el = (id) => document.getElementById(id);
 
@@ -97,8 +98,10 @@ function onHello(hello) {
   el("style").textContent = hello.style || "–";
   const select = el("style-select");
   for (const choice of hello.style_choices) select.add(new Option(choice, choice));
-  const guidance = hello.control_schema.guidance;
-  if (guidance) Object.assign(el("guidance"), { min: guidance.min, max: guidance.max });
+  for (const name of SLIDERS) {
+    const range = hello.control_schema[name];
+    if (range) Object.assign(el(name), { min: range.min, max: range.max });
+  }
 }
 
 function onText(message) {
@@ -121,7 +124,8 @@ function connect() {
   el("controls").addEventListener("submit", (event) => {
     event.preventDefault();
     const style = el("style-text").value.trim() || el("style-select").value;
-    const control = { type: "control", guidance: Number(el("guidance").value) };
+    const control = { type: "control" };
+    for (const name of state.touchedSliders) control[name] = Number(el(name).value);  // only what the user moved
     if (style) control.style = style;
     const token = new URLSearchParams(location.search).get("token");
     if (token) control.token = token;
@@ -205,7 +209,12 @@ function enableOrbit() {
     e.preventDefault();
     state.camera.distance = Math.max(1, state.camera.distance * Math.exp(e.deltaY * 0.001));
   }, { passive: false });
-  el("guidance").addEventListener("input", () => { el("guidance-value").textContent = el("guidance").value; });
+  for (const name of SLIDERS) {
+    el(name).addEventListener("input", () => {
+      el(`${name}-value`).textContent = el(name).value;
+      state.touchedSliders.add(name);
+    });
+  }
 }
 
 enableOrbit();

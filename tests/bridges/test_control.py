@@ -40,5 +40,5 @@ def test_invalid_controls(message, reason):
 
 def test_schema_lists_every_field():
     schema = control_schema()
-    assert set(schema) == {"style", "style2", "prompt", "guidance", "gamma"}
+    assert set(schema) == {"style", "style2", "prompt", "guidance", "audio_guidance", "gamma"}
     assert schema["guidance"] == {"type": "number", "min": 0.0, "max": 10.0}

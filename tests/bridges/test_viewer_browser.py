@@ -100,3 +100,22 @@ def test_viewer_draws_moving_figure_and_latency(driver):
     assert changed.sum() > 50, "the figure did not move between screenshots"
     assert 0.0 < latency_ms < 10_000.0
     assert style == "relaxed"
+
+
+def test_viewer_controls_send_only_the_sliders_the_user_moved(driver):
+    received: list[dict] = []
+    bridge = WebSocketBridge(WebSocketConfig(port=0, style_choices=("relaxed", "happy")), on_control=received.append)
+    bridge.start()
+    try:
+        driver.get(bridge.url)
+        wait_for(lambda: driver.execute_script("return document.getElementById('style-select').options.length") > 1)
+        driver.execute_script(
+            "const s = document.getElementById('audio_guidance'); s.value = '2.5';"
+            "s.dispatchEvent(new Event('input'));"
+        )
+        driver.find_element("id", "style-select").send_keys("happy")
+        driver.find_element("id", "apply").click()
+        wait_for(lambda: len(received) >= 1)
+    finally:
+        bridge.close()
+    assert received[0] == {"audio_guidance": 2.5, "style": "happy"}  # guidance untouched: not sent

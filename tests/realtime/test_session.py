@@ -96,6 +96,24 @@ def test_style_change_blends_in_without_a_pop(bundle, speech):
     assert steps[change - 5 : change + 20].max() < 3.0 * np.percentile(steps[:change], 95) + 1.0
 
 
+def test_audio_guidance_ramps_in_and_out_live_without_a_pop(bundle, speech):
+    session = make_session(bundle, audio_guidance=1.0)
+    frames, rows = [], []
+    for index, chunk in enumerate(FastFileSource(speech, chunk_samples=1600)):
+        if index == 10:  # 1 s in: follow the speech more
+            session.controls.submit({"audio_guidance": 2.0})
+        if index == 25:  # 2.5 s in: back off
+            session.controls.submit({"audio_guidance": 1.0})
+        frames.extend(session.push(chunk))
+        rows.append(session.generator.layout.batch)
+    frames.extend(session.finish())
+    assert rows[5] == 2 and max(rows) == 3  # the audio-null row exists only while s_a ≠ 1
+    assert session.generator.settings.audio_guidance == 1.0 and session.generator.layout.batch == 2
+    unchanged, _ = run_offline(make_session(bundle, audio_guidance=1.0), FastFileSource(speech, chunk_samples=1600))
+    # the changes add no jump beyond what the motion itself does (idle → speech included)
+    assert max_step_degrees(frames).max() < 1.5 * max_step_degrees(unchanged).max() + 1.0
+
+
 def test_silence_gives_calm_idle_motion(bundle, tmp_path):
     path = tmp_path / "silence.wav"
     soundfile.write(path, np.zeros(3 * SAMPLE_RATE, np.float32), SAMPLE_RATE)
