@@ -28,6 +28,8 @@ class TextField:
     def check(self, name: str, value: object) -> str:
         if not isinstance(value, str):
             raise ControlError(f"{name} must be a string")
+        if not value.strip():
+            raise ControlError(f"{name} must not be blank")
         if len(value) > self.max_chars:
             raise ControlError(f"{name} is longer than {self.max_chars} characters")
         return value

@@ -89,14 +89,21 @@ def _check_metadata(session, path: Path) -> DenoiserConfig:
 class DenoiserRuntime:
     def __init__(self, path: Path | str, threads: int = DEFAULT_THREADS):
         path = Path(path)
-        self.session = make_session(path, threads)
-        self.config = _check_metadata(self.session, path)
+        session = make_session(path, threads)
+        config = _check_metadata(session, path)
         conditions = condition_path(path)
         if not conditions.is_file():
             raise UserError(f"{conditions} is missing (a denoiser export has two graphs); re-export the model "
                             "with `gesturecast export`")
-        self.condition_session = make_session(conditions, threads)
-        _check_metadata(self.condition_session, conditions)
+        condition_session = make_session(conditions, threads)
+        _check_metadata(condition_session, conditions)
+        self._attach(session, condition_session, config)
+
+    def _attach(self, session, condition_session, config: DenoiserConfig) -> None:
+        """The graphs to call (anything with ``run(output_names, feeds)``) and a fresh one-row state."""
+        self.session = session
+        self.condition_session = condition_session
+        self.config = config
         self.state = self.empty_state(1)
 
     def empty_state(self, batch: int) -> DenoiserState:

@@ -114,11 +114,9 @@ class BatchPort:
 class StreamDenoiser(DenoiserRuntime):
     """A :class:`DenoiserRuntime` (own state, own cache rows) whose graph calls go through a batcher."""
 
-    def __init__(self, batcher: DenoiserBatcher) -> None:  # no super().__init__: the session is shared
-        self.session = BatchPort(batcher)
-        self.condition_session = batcher.runtime.condition_session  # once per latent: run directly (thread-safe)
-        self.config = batcher.config
-        self.state = self.empty_state(1)
+    def __init__(self, batcher: DenoiserBatcher) -> None:  # no super().__init__: the sessions are shared
+        # the step goes through the batcher; the condition (once per latent) runs directly (thread-safe)
+        self._attach(BatchPort(batcher), batcher.runtime.condition_session, batcher.config)
 
 
 class DenoiserBatcher:
@@ -138,9 +136,6 @@ class DenoiserBatcher:
     def close(self) -> None:
         self._requests.put(None)
         self._thread.join(STOP_TIMEOUT_S)
-
-    def stream_denoiser(self) -> StreamDenoiser:
-        return StreamDenoiser(self)
 
     def submit(self, feeds: Feeds) -> Outputs:
         """Queue one call (blocks while ``max_waiting`` calls wait) and wait for its outputs."""

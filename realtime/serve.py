@@ -71,18 +71,13 @@ class LoopSender:
     def __init__(self, loop: asyncio.AbstractEventLoop, websocket: ServerConnection) -> None:
         self.loop = loop
         self.websocket = websocket
-        self.dropped = 0  # dropped before reaching the loop (outbox full)
-        self.skipped = 0  # pose frames skipped for a slow client
-        self._pending: deque[bytes | str] = deque()
+        self._pending: deque[bytes | str] = deque(maxlen=MAX_OUTGOING_MESSAGES)  # full: the oldest goes
         self._lock = threading.Lock()
         self._drain_scheduled = False
         self._closing: asyncio.Task | None = None
 
     def send(self, message: bytes | str) -> None:
         with self._lock:
-            if len(self._pending) >= MAX_OUTGOING_MESSAGES:
-                self._pending.popleft()
-                self.dropped += 1
             self._pending.append(message)
             schedule, self._drain_scheduled = not self._drain_scheduled, True
         if schedule:
@@ -102,10 +97,8 @@ class LoopSender:
             self._drain_scheduled = False
         for message in messages:
             slow = self.websocket.transport.get_write_buffer_size() > SLOW_CLIENT_BUFFER_BYTES
-            if slow and isinstance(message, bytes):
-                self.skipped += 1
-                continue
-            broadcast([self.websocket], message)
+            if not (slow and isinstance(message, bytes)):  # pose frames are skipped for a slow client
+                broadcast([self.websocket], message)
 
 
 class StreamConnection:

@@ -25,9 +25,9 @@ import numpy as np
 
 from gesturecast.bridges.control import CONTROL_FIELDS, ControlError, validate_control
 from gesturecast.errors import UserError
+from gesturecast.realtime.audio_io import SAMPLE_RATE
 from gesturecast.realtime.style_prompts import StylePrompt
 
-SAMPLE_RATE = 16000
 AUDIO_FORMATS = {"f32le": np.dtype("<f4"), "s16le": np.dtype("<i2")}
 DEFAULT_AUDIO_FORMAT = "f32le"
 INT16_FULL_SCALE = 32768.0

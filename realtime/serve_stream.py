@@ -21,11 +21,12 @@ import numpy as np
 
 from gesturecast.bridges import ws_protocol
 from gesturecast.bridges.coords import CoordinateFrame
+from gesturecast.realtime.audio_io import SAMPLE_RATE
 from gesturecast.realtime.clock import Clock
 from gesturecast.realtime.engine import compute_seconds
 from gesturecast.realtime.frames import PoseFrame
 from gesturecast.realtime.scheduler import STAGE_END_TO_END, FrameScheduler, SchedulerConfig, SchedulerWorker
-from gesturecast.realtime.serve_protocol import SAMPLE_RATE, stats_message
+from gesturecast.realtime.serve_protocol import stats_message
 from gesturecast.realtime.session import GestureSession
 from gesturecast.realtime.sources import AudioChunk
 

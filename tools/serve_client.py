@@ -16,10 +16,9 @@ import numpy as np
 from websockets.asyncio.client import ClientConnection, connect
 
 from gesturecast.bridges.ws_protocol import BINARY_HEADER, FRAME_MAGIC
-from gesturecast.realtime.serve_protocol import SAMPLE_RATE
+from gesturecast.realtime.audio_io import SAMPLE_RATE
 
 QUATERNION = 4
-MOTION_FPS = 30.0
 
 
 @dataclass(frozen=True)
@@ -47,8 +46,10 @@ class ClientResult:
         return np.stack([np.concatenate([f.rotations.ravel(), f.root]) for f in self.frames])
 
     def latencies_s(self) -> np.ndarray:
-        """Client-side end-to-end latency per frame: receipt − capture of its first audio sample."""
-        return np.array([f.received - (self.origin + f.seq / MOTION_FPS) for f in self.frames])
+        """Client-side end-to-end latency per frame: receipt − capture of its first audio sample (seq counts
+        frames at the stream's output rate, 30 or 60 fps, as the hello says)."""
+        fps = float(self.hello["fps"])
+        return np.array([f.received - (self.origin + f.seq / fps) for f in self.frames])
 
 
 def parse_frame(data: bytes, received: float) -> ReceivedFrame:

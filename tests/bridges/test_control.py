@@ -29,6 +29,7 @@ def test_valid_controls(message, expected):
         ({"type": "control", "gamma": -2.5}, "gamma must be within"),
         ({"type": "control", "style": 5}, "style must be a string"),
         ({"type": "control", "prompt": "x" * 501}, "longer than 500"),
+        ({"type": "control", "prompt": "  "}, "prompt must not be blank"),  # used to reach the session and fail there
         ({"type": "control", "style": "motion:/etc/passwd"}, "style: motion prompts name files on the server"),
         ({"type": "control", "style2": " motion:clip.bvh"}, "style2: motion prompts"),
     ],
