@@ -24,12 +24,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from gesturecast.realtime.feature_dsp import spectral_flux
+from gesturecast.realtime.feature_dsp import DB_PER_POWER_DECADE, spectral_flux
 from gesturecast.realtime.feature_stats import FeatureStats
 from gesturecast.realtime.features import FeatureConfig
 
 DB_FLOOR = -100.0  # the features' floor (feature_dsp.POWER_FLOOR / RMS_FLOOR)
-DB_PER_POWER_DECADE = 10.0
 EQ_COMPONENTS = 3  # random cosines over the band axis
 
 

@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from gesturecast.models.beat_consistency import UPPER_BODY_JOINTS, joint_speeds
+from gesturecast.models.metrics import root_relative
 from gesturecast.models.skeleton import CANONICAL, Skeleton
 from gesturecast.realtime.feature_dsp import frame_boundary, segment_rms_db
 
@@ -55,7 +56,7 @@ def frame_energy_db(audio: np.ndarray, sample_rate: int, fps: float, num_frames:
 
 def upper_body_speed(positions: np.ndarray, fps: float, skeleton: Skeleton = CANONICAL) -> np.ndarray:
     """(T, J, 3) → (T,) mean speed of the upper-body joints relative to the root (Hips)."""
-    relative = positions - positions[:, :1]  # (T, J, 3)
+    relative = root_relative(positions)  # (T, J, 3)
     joints = [skeleton.index(name) for name in UPPER_BODY_JOINTS]
     return joint_speeds(relative[:, joints], fps).mean(axis=1)
 

@@ -19,18 +19,16 @@ from pathlib import Path
 import numpy as np
 
 from gesturecast.models.beat_consistency import beat_consistency, speech_onsets
-from gesturecast.models.bundle import ModelBundle
 from gesturecast.models.diffusion import SamplerConfig
 from gesturecast.models.motion import MOTION_FPS
 from gesturecast.models.speech_following import FollowingConfig, speech_following
 from gesturecast.realtime.audio_io import SAMPLE_RATE
-from gesturecast.realtime.engine_setup import DEFAULT_AUDIO_GUIDANCE
+from gesturecast.realtime.engine_setup import DEFAULT_AUDIO_GUIDANCE, DEFAULT_MODEL_DIR, load_bundle
 
 from .data_cli import DEFAULT_CACHE, DEFAULT_SHARED
 from .eval_clips import EvalClip, default_unseen_paths, held_out_clips, unseen_clips
 from .eval_generate import generate_offline
 
-DEFAULT_BUNDLE = Path("models/weights/default")
 UNSEEN_STYLE = "speech"  # the style of the paired ZeroEGGS take: the one that co-occurs with audio
 DEFAULT_SEEDS = "0,1,2"
 JOIN_GAP_S = 1.5  # silence between the espeak sentences of the joined stream
@@ -38,7 +36,7 @@ JOIN_GAP_S = 1.5  # silence between the espeak sentences of the joined stream
 
 def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
     parser = bench_subparsers.add_parser("following", help="speech following on held-out and unseen voices (JSON)")
-    parser.add_argument("--bundle", type=Path, default=DEFAULT_BUNDLE, help="model bundle (default %(default)s)")
+    parser.add_argument("--bundle", type=Path, default=DEFAULT_MODEL_DIR, help="model bundle (default: bundled)")
     parser.add_argument("--cache", type=Path, default=DEFAULT_CACHE, help="dataset cache (held-out segments)")
     parser.add_argument("--shared", type=Path, default=DEFAULT_SHARED, help="shared data folder (unseen speech)")
     parser.add_argument("--seeds", default=DEFAULT_SEEDS, help="comma-separated generation seeds")
@@ -63,9 +61,10 @@ def group_of(clip: EvalClip) -> str:
     return "espeak" if clip.name.startswith("tts_") else Path(clip.name).stem.split("_")[1].lower()
 
 
-def score(positions: np.ndarray, audio: np.ndarray) -> dict:
+def score(positions: np.ndarray, audio: np.ndarray, onsets: np.ndarray) -> dict:
+    """Following and beat consistency of motion for ``audio`` (``onsets``: its speech onsets, seconds)."""
     following = speech_following(positions, audio, SAMPLE_RATE, MOTION_FPS, FollowingConfig())
-    bc = beat_consistency(positions, MOTION_FPS, speech_onsets(audio, SAMPLE_RATE))
+    bc = beat_consistency(positions, MOTION_FPS, onsets)
     return {**following.to_dict(), "bc": None if not np.isfinite(bc) else round(bc, 4)}
 
 
@@ -84,7 +83,7 @@ def summarise(rows: list[dict]) -> dict:
 
 def following_report(bundle_dir: Path, cache: Path, shared: Path, seeds: list[int], steps: int,
                      audio_guidance: float = DEFAULT_AUDIO_GUIDANCE) -> dict:
-    bundle = ModelBundle.load(bundle_dir)
+    bundle = load_bundle(bundle_dir)
     sampler = SamplerConfig("ddim", steps)
     unseen = unseen_clips(default_unseen_paths(shared), UNSEEN_STYLE, None)
     espeak = [clip for clip in unseen if clip.name.startswith("tts_")]
@@ -93,12 +92,13 @@ def following_report(bundle_dir: Path, cache: Path, shared: Path, seeds: list[in
     rows, real = [], []
     started = time.perf_counter()
     for clip in clips:
+        onsets = speech_onsets(clip.audio, SAMPLE_RATE)  # the same for the real motion and every seed
         if clip.positions is not None:
-            real.append({"file": clip.name, "group": group_of(clip), **score(clip.positions, clip.audio)})
+            real.append({"file": clip.name, "group": group_of(clip), **score(clip.positions, clip.audio, onsets)})
         for seed in seeds:
             generated = generate_offline(bundle, sampler, clip, clip.style, seed, audio_guidance)
             rows.append({"file": clip.name, "group": group_of(clip), "seed": seed,
-                         **score(generated.positions, clip.audio)})
+                         **score(generated.positions, clip.audio, onsets)})
     return {
         "bundle": str(bundle_dir),
         "sampler": f"ddim K={steps}",

@@ -15,6 +15,7 @@ import numpy as np
 
 from gesturecast.errors import UserError
 from gesturecast.models.dataset import load_take, read_index
+from gesturecast.models.dataset_augment import audio_samples_for_frames, slice_audio
 from gesturecast.models.motion import MOTION_FPS
 from gesturecast.realtime.audio_io import SAMPLE_RATE, load_audio
 
@@ -38,7 +39,7 @@ class EvalClip:
         if seconds is None or seconds >= self.seconds:
             return self
         frames = int(seconds * MOTION_FPS)
-        samples = int(round(frames * SAMPLE_RATE / MOTION_FPS))
+        samples = audio_samples_for_frames(frames, MOTION_FPS, SAMPLE_RATE)
         positions = None if self.positions is None else self.positions[:frames]
         return replace(self, audio=self.audio[:samples], positions=positions)
 
@@ -54,8 +55,8 @@ def held_out_clips(cache_dir: Path) -> list[EvalClip]:
     for record, segment in _paired_segments(cache_dir, "test"):
         motion, audio = load_take(cache_dir, record)
         start, stop = segment["start"], segment["stop"]
-        samples = slice(int(round(start * SAMPLE_RATE / motion.fps)), int(round(stop * SAMPLE_RATE / motion.fps)))
-        clips.append(EvalClip(f"{record['dataset']}/{record['name']}[test]", audio[samples], record["style"],
+        clips.append(EvalClip(f"{record['dataset']}/{record['name']}[test]",
+                              slice_audio(audio, start, stop, motion.fps, SAMPLE_RATE), record["style"],
                               motion.positions()[start:stop]))
     if not clips:
         raise UserError(f"the dataset cache {cache_dir} has no paired test segments; rebuild it with speech takes")

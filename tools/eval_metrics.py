@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import asdict, dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -22,6 +23,8 @@ from gesturecast.models.fgd_encoder import FGDEncoder
 from gesturecast.models.metrics import (
     acceleration,
     beat_consistency,
+    frechet_distance_from_statistics,
+    gaussian_statistics,
     jerk,
     joint_speeds,
     l1_diversity,
@@ -42,6 +45,16 @@ class EvalNetworks:
     classifier: StyleClassifier
     reference: list[np.ndarray]  # real motion (T, J, 3) clips
 
+    @cached_property
+    def reference_statistics(self) -> tuple[np.ndarray, np.ndarray]:
+        """Mean (D,) and covariance (D, D) of the reference's encoder features: encoded once for every system."""
+        return gaussian_statistics(self.encoder.features(self.reference))
+
+    @cached_property
+    def reference_speeds(self) -> np.ndarray:
+        """All joint speeds of the reference motion, flattened."""
+        return np.concatenate([joint_speeds(p, MOTION_FPS).ravel() for p in self.reference])
+
 
 def _finite_or_none(value: float) -> float | None:
     return None if value is None or not math.isfinite(value) else float(value)
@@ -54,7 +67,8 @@ def _mean(values: list[float]) -> float | None:
 
 def _fgd(networks: EvalNetworks, clips: list[np.ndarray]) -> float | None:
     try:
-        return _finite_or_none(networks.encoder.fgd(networks.reference, clips))
+        generated = gaussian_statistics(networks.encoder.features(clips))
+        return _finite_or_none(frechet_distance_from_statistics(*networks.reference_statistics, *generated))
     except ValueError:  # fewer than two windows: no covariance
         return None
 
@@ -63,14 +77,13 @@ def motion_metrics(clips: list[np.ndarray], audios: list[np.ndarray], networks: 
     """Every metric but style accuracy for a set of clips and their audio (16 kHz)."""
     bc = [beat_consistency(p, MOTION_FPS, speech_onsets(a, SAMPLE_RATE)) for p, a in zip(clips, audios, strict=True)]
     speeds = np.concatenate([joint_speeds(p, MOTION_FPS).ravel() for p in clips])
-    reference = np.concatenate([joint_speeds(p, MOTION_FPS).ravel() for p in networks.reference])
     return {
         "beat_consistency": _mean(bc),
         "fgd": _fgd(networks, clips),
         "diversity": {"l1": _mean([l1_diversity(p) for p in clips]), "seed": None},
         "jerk": _mean([jerk(root_relative(p), MOTION_FPS) for p in clips]),
         "acceleration": _mean([acceleration(root_relative(p), MOTION_FPS) for p in clips]),
-        "liveliness": asdict(liveliness_from_speeds(speeds, reference)),
+        "liveliness": asdict(liveliness_from_speeds(speeds, networks.reference_speeds)),
         "seconds": float(sum(p.shape[0] for p in clips) / MOTION_FPS),
     }
 

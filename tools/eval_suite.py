@@ -16,6 +16,7 @@ import numpy as np
 from tqdm import tqdm
 
 from gesturecast.models.bundle import ModelBundle
+from gesturecast.models.dataset_augment import audio_samples_for_frames
 from gesturecast.models.diffusion import SamplerConfig
 from gesturecast.models.metrics import seed_diversity
 from gesturecast.models.motion import MOTION_FPS
@@ -177,9 +178,8 @@ class SuiteRunner:
 
 def crop_pair(positions: np.ndarray, audio: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Motion and audio cut to the shorter of the two (whole motion frames)."""
-    samples_per_frame = SAMPLE_RATE / MOTION_FPS
-    frames = min(positions.shape[0], int(audio.shape[0] / samples_per_frame))
-    return positions[:frames], audio[: int(round(frames * samples_per_frame))]
+    frames = min(positions.shape[0], int(audio.shape[0] / (SAMPLE_RATE / MOTION_FPS)))
+    return positions[:frames], audio[: audio_samples_for_frames(frames, MOTION_FPS, SAMPLE_RATE)]
 
 
 def seed_pair_diversity(a: np.ndarray, b: np.ndarray) -> float:
