@@ -13,8 +13,6 @@ otherwise; beyond loopback a token is required for control messages.
 
 from __future__ import annotations
 
-import asyncio
-import errno
 import hmac
 import ipaddress
 import json
@@ -25,9 +23,10 @@ from collections import deque
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
-from websockets.asyncio.server import Server, ServerConnection, broadcast, serve
+from websockets.asyncio.server import ServerConnection, broadcast
 from websockets.exceptions import ConnectionClosed
 
+from gesturecast.bridges.ws_listener import ThreadedListener
 from gesturecast.errors import UserError
 from gesturecast.models.skeleton import CANONICAL, Skeleton
 from gesturecast.realtime.frames import PoseFrame
@@ -45,7 +44,6 @@ LOOPBACK_NAMES = frozenset({"localhost"})
 MAX_CLIENT_MESSAGE_BYTES = 64 * 1024
 SLOW_CLIENT_BUFFER_BYTES = 256 * 1024
 MAX_PENDING_FRAMES = 8
-START_TIMEOUT_S = 10.0
 STOP_TIMEOUT_S = 5.0
 
 
@@ -108,42 +106,32 @@ class WebSocketBridge:
         self.on_control = on_control
         self.skeleton = skeleton
         self.coords = coordinate_frame(config.coordinate_frame)
-        self.port = config.port
         self.style = ""
         self.dropped_pending = 0
         self._clients: dict[ServerConnection, ClientState] = {}
         self._pending: deque[PoseFrame] = deque(maxlen=MAX_PENDING_FRAMES)
         self._lock = threading.Lock()
         self._drain_scheduled = False
-        self._loop = asyncio.new_event_loop()
-        self._thread = threading.Thread(target=self._loop.run_forever, name="gesturecast-websocket", daemon=True)
-        self._server: Server | None = None
+        self._listener = ThreadedListener(config.host, config.port, "gesturecast-websocket", STOP_TIMEOUT_S)
         self._control_errors = ErrorThrottle("WebSocket control message rejected")
 
     # ---- lifecycle (caller's thread) ----
     def start(self) -> WebSocketBridge:
-        self._thread.start()
-        future = asyncio.run_coroutine_threadsafe(self._open_server(), self._loop)
-        try:
-            future.result(START_TIMEOUT_S)
-        except OSError as error:
-            self._stop_loop()
-            if error.errno == errno.EADDRINUSE:
-                raise UserError(
-                    f"port {self.config.port} on {self.config.host} is in use; pick another with --port"
-                ) from None
-            raise UserError(f"cannot listen on {self.config.host}:{self.config.port}: {error.strerror}") from None
+        self._listener.start(self._handle, process_request=process_request, max_size=MAX_CLIENT_MESSAGE_BYTES)
         logger.info("WebSocket stream and viewer on %s", self.url)
         return self
+
+    @property
+    def port(self) -> int:
+        """The listening port (the bound one once started, also when ``config.port`` is 0)."""
+        return self._listener.port
 
     @property
     def url(self) -> str:
         return f"http://{self.config.host}:{self.port}/"
 
     def close(self) -> None:
-        if self._server is not None:
-            asyncio.run_coroutine_threadsafe(self._close_server(), self._loop).result(STOP_TIMEOUT_S)
-        self._stop_loop()
+        self._listener.close()
 
     def client_count(self) -> int:
         return len(self._clients)
@@ -157,26 +145,9 @@ class WebSocketBridge:
             schedule = not self._drain_scheduled
             self._drain_scheduled = True
         if schedule:
-            self._loop.call_soon_threadsafe(self._drain)
+            self._listener.loop.call_soon_threadsafe(self._drain)
 
     # ---- event-loop thread ----
-    async def _open_server(self) -> None:
-        self._server = await serve(
-            self._handle,
-            self.config.host,
-            self.config.port,
-            process_request=process_request,
-            max_size=MAX_CLIENT_MESSAGE_BYTES,
-        )
-        self.port = self._server.sockets[0].getsockname()[1]
-
-    async def _close_server(self) -> None:
-        self._server.close()
-        await self._server.wait_closed()
-
-    def _stop_loop(self) -> None:
-        self._loop.call_soon_threadsafe(self._loop.stop)
-        self._thread.join(STOP_TIMEOUT_S)
 
     def _hello(self) -> str:
         return ws_protocol.hello_message(

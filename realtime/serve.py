@@ -10,7 +10,6 @@ docs/serve.md. Listens on 127.0.0.1 unless told otherwise; beyond loopback a tok
 from __future__ import annotations
 
 import asyncio
-import errno
 import hmac
 import itertools
 import json
@@ -19,7 +18,7 @@ import threading
 from collections import deque
 from dataclasses import dataclass, field
 
-from websockets.asyncio.server import Server, ServerConnection, broadcast, serve
+from websockets.asyncio.server import ServerConnection, broadcast
 from websockets.exceptions import ConnectionClosed
 from websockets.frames import CloseCode
 
@@ -28,7 +27,7 @@ from gesturecast.bridges.control import ControlError, control_schema
 from gesturecast.bridges.coords import coordinate_frame
 from gesturecast.bridges.transport import ErrorThrottle
 from gesturecast.bridges.websocket_server import check_exposure, token_required
-from gesturecast.errors import UserError
+from gesturecast.bridges.ws_listener import ThreadedListener
 from gesturecast.models.skeleton import CANONICAL
 from gesturecast.realtime.clock import Clock
 from gesturecast.realtime.serve_protocol import (
@@ -49,7 +48,6 @@ from gesturecast.realtime.serve_stream import ServeStream, StreamConfig
 logger = logging.getLogger(__name__)
 
 SERVE_DEFAULT_PORT = 8766
-START_TIMEOUT_S = 10.0
 STOP_TIMEOUT_S = 10.0
 MAX_OUTGOING_MESSAGES = 64  # per connection, waiting for the event loop (drop-oldest beyond, counted)
 SLOW_CLIENT_BUFFER_BYTES = 256 * 1024  # a client whose socket buffer holds more skips pose frames
@@ -179,27 +177,21 @@ class GestureServer:
         self.coords = coordinate_frame(self.config.coordinate_frame)
         self.token_required = token_required(self.config.host, self.config.token)
         self.errors = ErrorThrottle("serve: client message rejected")
-        self.port = self.config.port
         self.finished: deque[dict] = deque(maxlen=self.config.max_streams)  # stats of recently closed streams
         self._connections: dict[str, StreamConnection] = {}
         self._ids = itertools.count(1)
-        self._loop = asyncio.new_event_loop()
-        self._thread = threading.Thread(target=self._loop.run_forever, name="gesturecast-serve", daemon=True)
-        self._server: Server | None = None
+        self._listener = ThreadedListener(self.config.host, self.config.port, "gesturecast-serve", STOP_TIMEOUT_S)
 
     # ---- lifecycle (caller's thread) ----
     def start(self) -> GestureServer:
-        self._thread.start()
-        try:
-            asyncio.run_coroutine_threadsafe(self._open(), self._loop).result(START_TIMEOUT_S)
-        except OSError as error:
-            self._stop_loop()
-            if error.errno == errno.EADDRINUSE:
-                message = f"port {self.config.port} on {self.config.host} is in use; pick another with --port"
-                raise UserError(message) from None
-            raise UserError(f"cannot listen on {self.config.host}:{self.config.port}: {error.strerror}") from None
+        self._listener.start(self._handle, max_size=MAX_AUDIO_MESSAGE_BYTES)
         logger.info("serving streams on %s (at most %d)", self.url, self.config.max_streams)
         return self
+
+    @property
+    def port(self) -> int:
+        """The listening port (the bound one once started, also when ``config.port`` is 0)."""
+        return self._listener.port
 
     @property
     def url(self) -> str:
@@ -212,24 +204,10 @@ class GestureServer:
         self.finished.append(stats)
 
     def close(self) -> None:
-        if self._server is not None:
-            asyncio.run_coroutine_threadsafe(self._shutdown(), self._loop).result(STOP_TIMEOUT_S)
-        self._stop_loop()
+        self._listener.close()
         self.sessions.close()
 
     # ---- event-loop thread ----
-    async def _open(self) -> None:
-        self._server = await serve(self._handle, self.config.host, self.config.port, max_size=MAX_AUDIO_MESSAGE_BYTES)
-        self.port = self._server.sockets[0].getsockname()[1]
-
-    async def _shutdown(self) -> None:
-        self._server.close()
-        await self._server.wait_closed()
-
-    def _stop_loop(self) -> None:
-        self._loop.call_soon_threadsafe(self._loop.stop)
-        self._thread.join(STOP_TIMEOUT_S)
-
     def _hello(self, stream_id: str) -> str:
         styles = tuple(self.sessions.bundle.styles.labels)
         viewer = ws_protocol.hello_message(CANONICAL, self.coords, self.config.stream.output_fps,
