@@ -115,11 +115,9 @@ class LiveEngine:
         return make_report(self.session, self.source, self.scheduler.stats.to_dict())
 
     def _submit(self, frames: list[PoseFrame], worker: SchedulerWorker) -> None:
-        if worker.error is not None:
-            raise worker.error
-        for frame in frames:
-            self.scheduler.submit(frame)
-            self._last_frame = frame
+        worker.submit(frames)
+        if frames:
+            self._last_frame = frames[-1]
 
     def _drain(self, worker: SchedulerWorker) -> None:
         """Wait until the worker has released every queued frame at its time."""

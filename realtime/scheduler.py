@@ -230,6 +230,13 @@ class SchedulerWorker:
     def running(self) -> bool:
         return self._thread.is_alive()
 
+    def submit(self, frames: list[PoseFrame]) -> None:
+        """Queue generated frames for release; first re-raises the error that stopped the thread, if any."""
+        if self.error is not None:
+            raise self.error
+        for frame in frames:
+            self.scheduler.submit(frame)
+
     def _loop(self) -> None:
         try:
             self._release_until_stopped()

@@ -14,8 +14,6 @@ from gesturecast.realtime.serve import SERVE_DEFAULT_PORT, GestureServer, ServeC
 from gesturecast.realtime.serve_setup import StreamSessions
 from gesturecast.realtime.serve_stream import StreamConfig
 
-DEFAULT_MAX_STREAMS = 16
-
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     parser = subparsers.add_parser("serve", help="many avatars: audio in / poses out over WebSocket, batched")
@@ -29,7 +27,7 @@ def add_serve_arguments(parser: argparse.ArgumentParser) -> None:
     group.add_argument("--host", default="127.0.0.1", help="listen address (beyond loopback needs --token)")
     group.add_argument("--port", type=int, default=SERVE_DEFAULT_PORT, help="WebSocket port (0 = any free port)")
     group.add_argument("--token", help="clients must send it in their start message (required beyond loopback)")
-    group.add_argument("--max-streams", type=int, default=DEFAULT_MAX_STREAMS, help="concurrent streams allowed")
+    group.add_argument("--max-streams", type=int, default=ServeConfig.max_streams, help="concurrent streams allowed")
     group.add_argument("--coordinate-frame", choices=tuple(FRAMES), default="internal", help="frame of sent poses")
     group.add_argument("--fps", type=int, choices=(30, 60), default=30, help="output rate (60 = slerp upsampling)")
 

@@ -125,7 +125,7 @@ class ServeStream:
                     self._finish()
                     return
                 continue
-            self._submit(self.session.push(self._chunk(samples, arrival)))
+            self._releaser.submit(self.session.push(self._chunk(samples, arrival)))
 
     def _chunk(self, samples: np.ndarray, arrival: float) -> AudioChunk:
         duration = len(samples) / SAMPLE_RATE
@@ -135,14 +135,8 @@ class ServeStream:
         self._next_capture = capture + duration
         return chunk
 
-    def _submit(self, frames: list[PoseFrame]) -> None:
-        if self._releaser.error is not None:
-            raise self._releaser.error
-        for frame in frames:
-            self.scheduler.submit(frame)
-
     def _finish(self) -> None:
-        self._submit(self.session.finish())
+        self._releaser.submit(self.session.finish())
         while (due := self.scheduler.next_due()) is not None and self._releaser.running:
             if self._stopped.is_set():
                 return
