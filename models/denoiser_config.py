@@ -7,6 +7,7 @@ ending at motion frame ``(i+1)*d + audio_lookahead - 1`` (``δa`` frames of look
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import asdict, dataclass
 
 import numpy as np
@@ -64,6 +65,20 @@ def audio_window_bounds(latent_index: int, config: DenoiserConfig) -> tuple[int,
 def audio_frames_needed(num_latents: int, config: DenoiserConfig) -> int:
     """Audio feature frames a sequence of ``num_latents`` latents needs: ``N*d + δa``."""
     return audio_window_end(num_latents - 1, config)
+
+
+def sequence_audio(audio: np.ndarray, start_latent: int, num_latents: int, config: DenoiserConfig,
+                   transform: Callable[[np.ndarray], np.ndarray] | None = None) -> np.ndarray:
+    """(T, F) features → the (N·d + δa, F) audio of latents ``[start, start + N)`` (training / evaluation
+    sequences), zero-padded past the end of ``audio``; ``transform`` (augmentation) sees the available part."""
+    needed = audio_frames_needed(num_latents, config)
+    first = start_latent * config.frames_per_latent
+    available = audio[first : first + needed]  # (≤ N·d + δa, F)
+    if transform is not None:
+        available = transform(available)
+    window = np.zeros((needed, audio.shape[1]), np.float32)  # (N·d + δa, F)
+    window[: len(available)] = available
+    return window
 
 
 def audio_window_from_features(features: np.ndarray, latent_index: int, config: DenoiserConfig) -> np.ndarray:

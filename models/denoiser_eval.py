@@ -22,7 +22,7 @@ import torch
 
 from gesturecast.models.bundle import Normalizer, StyleTable
 from gesturecast.models.denoiser import CausalDenoiser
-from gesturecast.models.denoiser_config import DenoiserConfig, audio_frames_needed
+from gesturecast.models.denoiser_config import DenoiserConfig, sequence_audio
 from gesturecast.models.denoiser_training import DenoiserTrainConfig, training_loss
 from gesturecast.models.diffusion import get_schedule
 from gesturecast.models.train import encode_latents
@@ -55,17 +55,13 @@ def held_out_windows(checkpoint: dict, cache_dir: Path, config: HeldOutConfig) -
     styles = StyleTable.from_dict(stages["data"]["styles"])
     clips = load_training_clips(cache_dir, config.split, feature_config, progress=False)
     clips = [clip for clip in clips if clip.audio is not None]
-    needed = audio_frames_needed(config.num_latents, den_config)
     latents, audio, style, take = [], [], [], []
     for index, clip in enumerate(clips):
         clip_latents = latent_stats.normalize(encode_latents(vq, motion_stats.normalize(clip.motion)))  # (L, C)
         clip_audio = audio_stats.apply(clip.audio)  # (T, F)
         for start in range(0, len(clip_latents) - config.num_latents + 1, config.stride):
-            window = np.zeros((needed, den_config.audio_dim), np.float32)  # (N*d + δa, F)
-            available = clip_audio[start * den_config.frames_per_latent :][:needed]
-            window[: len(available)] = available
             latents.append(clip_latents[start : start + config.num_latents])
-            audio.append(window)
+            audio.append(sequence_audio(clip_audio, start, config.num_latents, den_config))  # (N*d + δa, F)
             style.append(styles.embedding(clip.style))
             take.append(index)
     if not latents:

@@ -19,7 +19,7 @@ import torch
 from tqdm import tqdm
 
 from gesturecast.models.denoiser import CausalDenoiser
-from gesturecast.models.denoiser_config import DenoiserConfig, audio_frames_needed
+from gesturecast.models.denoiser_config import DenoiserConfig, audio_frames_needed, sequence_audio
 from gesturecast.models.denoiser_training import training_loss
 from gesturecast.models.diffusion import get_schedule
 
@@ -65,16 +65,11 @@ class LatentBatchSampler:
     def _window(self, clip: LatentClip) -> tuple[np.ndarray, np.ndarray, float]:
         start = int(self.rng.integers(0, len(clip.latents) - self.num_latents + 1))
         latents = clip.latents[start : start + self.num_latents]  # (N, C)
-        needed = audio_frames_needed(self.num_latents, self.config)
-        audio = np.zeros((needed, self.config.audio_dim), np.float32)  # (N*d + δa, F)
         if clip.audio is None:
-            return latents, audio, 0.0
-        first = start * self.config.frames_per_latent
-        available = clip.audio[first : first + needed]
-        if self.augmenter is not None:
-            available = self.augmenter(available, self.rng)
-        audio[: len(available)] = available
-        return latents, audio, 1.0
+            silent = np.zeros((audio_frames_needed(self.num_latents, self.config), self.config.audio_dim), np.float32)
+            return latents, silent, 0.0
+        augment = None if self.augmenter is None else (lambda available: self.augmenter(available, self.rng))
+        return latents, sequence_audio(clip.audio, start, self.num_latents, self.config, augment), 1.0
 
     def sample(self, batch_size: int) -> tuple[torch.Tensor, ...]:
         """latents (B, N, C), audio (B, N*d + δa, F), audio_mask (B,), style (B, S)."""
