@@ -19,7 +19,7 @@ import numpy as np
 from .eval_convnet import ConvNetConfig, EvalConvNet, write_stamp
 from .eval_data import RealClip, real_clips, training_summary
 from .eval_training import EvalTrainConfig, train_fgd_encoder, train_style_classifier
-from .eval_windows import motion_windows
+from .eval_windows import channel_windows
 from .fgd_encoder import FGD_ENCODER_VERSION
 from .frechet import frechet_distance
 from .style_classifier import STYLE_CLASSIFIER_VERSION, classification_report
@@ -29,8 +29,7 @@ LOGGER = logging.getLogger(__name__)
 
 def _windows_of(clips: list[RealClip], net: EvalConvNet) -> list[np.ndarray]:
     """Per clip, its evaluation windows (N_i, frames, C) (clips stored as channels, not positions)."""
-    window = net.config.window
-    return [motion_windows(c.channels.reshape(c.channels.shape[0], -1, 3), window) for c in clips]
+    return [channel_windows(c.channels, net.config.window) for c in clips]
 
 
 def _stamp(

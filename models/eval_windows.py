@@ -30,7 +30,11 @@ def pose_channels(positions: np.ndarray) -> np.ndarray:
 
 def motion_windows(positions: np.ndarray, config: WindowConfig = WindowConfig()) -> np.ndarray:
     """(N, frames, J·3) windows of one clip's positions (T, J, 3); N = 0 when the clip is too short."""
-    channels = pose_channels(positions)  # (T, C)
+    return channel_windows(pose_channels(positions), config)
+
+
+def channel_windows(channels: np.ndarray, config: WindowConfig = WindowConfig()) -> np.ndarray:
+    """(N, frames, C) windows of one clip's root-relative channels (T, C) (:func:`pose_channels`)."""
     if channels.shape[0] < config.frames:
         return np.zeros((0, config.frames, channels.shape[1]), np.float32)
     starts = range(0, channels.shape[0] - config.frames + 1, config.stride)
