@@ -2,8 +2,8 @@
 
 The ``Frames:`` count sits in a fixed-width field that is rewritten after every frame, so a
 recording that is interrupted (crash, Ctrl-C) still leaves a valid BVH of the frames written.
-The hierarchy and number formatting come from :mod:`gesturecast.models.bvh` /
-:mod:`gesturecast.models.canonical_bvh` (the same code as ``motion_to_bvh``).
+The hierarchy and number formatting come from :mod:`gesturecast.models.motion.bvh` /
+:mod:`gesturecast.models.motion.canonical_bvh` (the same code as ``motion_to_bvh``).
 """
 
 from __future__ import annotations
@@ -14,11 +14,11 @@ from pathlib import Path
 import numpy as np
 
 from gesturecast.errors import UserError
-from gesturecast.models.bvh import format_frame_time, format_hierarchy, format_motion_rows
-from gesturecast.models.canonical_bvh import canonical_bvh_data, canonical_frame_values
-from gesturecast.models.motion import MOTION_FPS
-from gesturecast.models.skeleton import CANONICAL, Skeleton
-from gesturecast.realtime.frames import PoseFrame
+from gesturecast.models.motion.bvh import format_frame_time, format_hierarchy, format_motion_rows
+from gesturecast.models.motion.canonical_bvh import canonical_bvh_data, canonical_frame_values
+from gesturecast.models.motion.motion import MOTION_FPS
+from gesturecast.models.motion.skeleton import CANONICAL, Skeleton
+from gesturecast.realtime.timing.frames import PoseFrame
 
 FRAME_COUNT_WIDTH = 12  # digits reserved for the frame count: room for 10^12 frames
 

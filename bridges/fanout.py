@@ -5,9 +5,8 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Protocol
 
-from gesturecast.realtime.frames import PoseFrame
-
-from .transport import ErrorThrottle
+from gesturecast.bridges.transport import ErrorThrottle
+from gesturecast.realtime.timing.frames import PoseFrame
 
 
 class Bridge(Protocol):

@@ -17,12 +17,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from gesturecast.models.skeleton import CANONICAL, Skeleton
-from gesturecast.realtime.frames import PoseFrame
-
-from .coords import coordinate_frame
-from .osc_wire import MAX_DATAGRAM_SIZE, MessageLayout, encode_float_rows, pack_bundles
-from .transport import RateLimiter, UdpSender, UdpTarget
+from gesturecast.bridges.coords import coordinate_frame
+from gesturecast.bridges.osc_wire import MAX_DATAGRAM_SIZE, MessageLayout, encode_float_rows, pack_bundles
+from gesturecast.bridges.transport import RateLimiter, UdpSender, UdpTarget
+from gesturecast.models.motion.skeleton import CANONICAL, Skeleton
+from gesturecast.realtime.timing.frames import PoseFrame
 
 OSC_DEFAULT_PORT = 9000
 ADDRESS_PREFIX = "/gesturecast"

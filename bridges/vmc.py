@@ -18,12 +18,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from gesturecast.models.skeleton import CANONICAL, Skeleton
-from gesturecast.realtime.frames import PoseFrame
-
-from .coords import UNITY
-from .osc_wire import MAX_DATAGRAM_SIZE, MessageLayout, encode_float_rows, pack_bundles
-from .transport import RateLimiter, UdpSender, UdpTarget
+from gesturecast.bridges.coords import UNITY
+from gesturecast.bridges.osc_wire import MAX_DATAGRAM_SIZE, MessageLayout, encode_float_rows, pack_bundles
+from gesturecast.bridges.transport import RateLimiter, UdpSender, UdpTarget
+from gesturecast.models.motion.skeleton import CANONICAL, Skeleton
+from gesturecast.realtime.timing.frames import PoseFrame
 
 VMC_DEFAULT_PORT = 39539
 VMC_ROOT_NAME = "root"

@@ -26,16 +26,15 @@ from dataclasses import dataclass, field
 from websockets.asyncio.server import ServerConnection, broadcast
 from websockets.exceptions import ConnectionClosed
 
+from gesturecast.bridges import ws_protocol
+from gesturecast.bridges.control import ControlError, control_schema, validate_control
+from gesturecast.bridges.coords import coordinate_frame
+from gesturecast.bridges.transport import ErrorThrottle
+from gesturecast.bridges.viewer_http import process_request
 from gesturecast.bridges.ws_listener import ThreadedListener
 from gesturecast.errors import UserError
-from gesturecast.models.skeleton import CANONICAL, Skeleton
-from gesturecast.realtime.frames import PoseFrame
-
-from . import ws_protocol
-from .control import ControlError, control_schema, validate_control
-from .coords import coordinate_frame
-from .transport import ErrorThrottle
-from .viewer_http import process_request
+from gesturecast.models.motion.skeleton import CANONICAL, Skeleton
+from gesturecast.realtime.timing.frames import PoseFrame
 
 logger = logging.getLogger(__name__)
 

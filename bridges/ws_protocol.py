@@ -24,10 +24,9 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from gesturecast.models.skeleton import Skeleton
-from gesturecast.realtime.frames import PoseFrame
-
-from .coords import CoordinateFrame
+from gesturecast.bridges.coords import CoordinateFrame
+from gesturecast.models.motion.skeleton import Skeleton
+from gesturecast.realtime.timing.frames import PoseFrame
 
 FORMAT_VERSION = 1
 FRAME_MAGIC = b"GCPF"

@@ -16,16 +16,17 @@ from gesturecast.errors import UserError
 
 # module paths that provide ``register(subparsers)``; imported lazily so that `--help` is fast
 COMMAND_MODULES: tuple[str, ...] = (
-    "gesturecast.tools.render_cli",
+    "gesturecast.tools.render.cli",
     "gesturecast.tools.data_cli",
-    "gesturecast.realtime.audio_cli",
-    "gesturecast.tools.bench_cli",
+    "gesturecast.realtime.audio.cli",
+    "gesturecast.tools.bench.cli",
     "gesturecast.tools.train_cli",
     "gesturecast.tools.export_cli",
     "gesturecast.realtime.engine_cli",
-    "gesturecast.realtime.serve_cli",
-    "gesturecast.tools.eval_cli",
-    "gesturecast.tools.eval_train_cli",
+    "gesturecast.tools.demo_cli",
+    "gesturecast.realtime.serve.cli",
+    "gesturecast.tools.eval.cli",
+    "gesturecast.tools.eval.train_cli",
 )
 
 

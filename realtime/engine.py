@@ -12,12 +12,12 @@ import logging
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from gesturecast.realtime.clock import Clock
-from gesturecast.realtime.frames import PoseFrame
-from gesturecast.realtime.scheduler import FrameScheduler, SchedulerConfig, SchedulerWorker
+from gesturecast.realtime.audio.sources import AudioSource
 from gesturecast.realtime.session import GestureSession
-from gesturecast.realtime.sources import AudioSource
-from gesturecast.realtime.status import StatusLine, build_snapshot
+from gesturecast.realtime.timing.clock import Clock
+from gesturecast.realtime.timing.frames import PoseFrame
+from gesturecast.realtime.timing.scheduler import FrameScheduler, SchedulerConfig, SchedulerWorker
+from gesturecast.realtime.timing.status import StatusLine, build_snapshot
 
 logger = logging.getLogger(__name__)
 

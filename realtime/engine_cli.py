@@ -1,4 +1,4 @@
-"""``gesturecast live``, ``gesturecast generate`` and ``gesturecast demo``: one session code path for all three."""
+"""``gesturecast live`` and ``gesturecast generate``: one session code path for both (and for ``demo``)."""
 
 from __future__ import annotations
 
@@ -10,14 +10,12 @@ from pathlib import Path
 
 import numpy as np
 
-from gesturecast.bridges.vmc import VMC_DEFAULT_PORT
-from gesturecast.bridges.websocket_server import WS_DEFAULT_PORT
 from gesturecast.errors import UserError
-from gesturecast.models.motion import Motion
-from gesturecast.models.retarget import motion_to_bvh
-from gesturecast.models.skeleton import CANONICAL
-from gesturecast.realtime.audio_cli import add_source_arguments, open_source
-from gesturecast.realtime.clock import MonotonicClock
+from gesturecast.models.motion.motion import Motion
+from gesturecast.models.motion.retarget import motion_to_bvh
+from gesturecast.models.motion.skeleton import CANONICAL
+from gesturecast.realtime.audio.cli import add_source_arguments, open_source
+from gesturecast.realtime.audio.sources import FastFileSource
 from gesturecast.realtime.engine import EngineReport, LiveEngine, run_offline
 from gesturecast.realtime.engine_setup import (
     add_generation_arguments,
@@ -25,15 +23,12 @@ from gesturecast.realtime.engine_setup import (
     build_outputs,
     build_session,
 )
-from gesturecast.realtime.frames import PoseFrame
-from gesturecast.realtime.scheduler import SchedulerConfig
-from gesturecast.realtime.sources import FastFileSource
-from gesturecast.realtime.status import StatusLine
+from gesturecast.realtime.timing.clock import MonotonicClock
+from gesturecast.realtime.timing.frames import PoseFrame
+from gesturecast.realtime.timing.scheduler import SchedulerConfig
+from gesturecast.realtime.timing.status import StatusLine
 
 logger = logging.getLogger(__name__)
-
-SAMPLE_AUDIO = Path(__file__).resolve().parents[1] / "gesturecast" / "samples" / "sample_speech.wav"
-DEMO_OUT = Path("out/demo")
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -49,11 +44,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     generate.add_argument("--json", type=Path, metavar="FILE", help="also write the pose stream as JSON")
     add_generation_arguments(generate)
     generate.set_defaults(func=run_generate)
-
-    demo = subparsers.add_parser("demo", help="the bundled sample through the live engine (no arguments needed)")
-    add_generation_arguments(demo)
-    demo.add_argument("--out", type=Path, default=DEMO_OUT, help="folder for the BVH, preview and latency JSON")
-    demo.set_defaults(func=run_demo)
 
 
 def run_live(args: argparse.Namespace) -> int:
@@ -87,49 +77,6 @@ def run_generate(args: argparse.Namespace) -> int:
         write_pose_json(frames, args.json)
     logger.info("wrote %d frames (%.1f s) to %s; rtf %.3f", len(frames), len(frames) / 30, args.output, report.rtf)
     return 0
-
-
-def run_demo(args: argparse.Namespace) -> int:
-    """Bundled sample at real-time pace → VMC on 127.0.0.1:39539 + WebSocket viewer + BVH + rendered preview."""
-    args.input, args.pace, args.block_size = str(SAMPLE_AUDIO), "realtime", 512
-    args.vmc, args.osc, args.osc_frame = f"127.0.0.1:{VMC_DEFAULT_PORT}", None, "unity"
-    args.ws, args.host, args.token, args.fps = WS_DEFAULT_PORT, "127.0.0.1", None, 30
-    args.bvh = args.out / "demo.bvh"
-    clock = MonotonicClock()
-    session = build_session(args, clock)
-    outputs = _demo_outputs(args, session, clock)
-    sys.stdout.write(session.budget.describe() + "\n")
-    sys.stdout.write(f"streaming VMC to 127.0.0.1:{VMC_DEFAULT_PORT}; viewer at http://127.0.0.1:{args.ws}/\n")
-    engine = LiveEngine(session, open_source(args, clock), outputs.send, clock, SchedulerConfig(), StatusLine(clock))
-    try:
-        report = engine.run()
-    finally:
-        outputs.close()
-    _write_demo_results(args, report)
-    return 0
-
-
-def _demo_outputs(args: argparse.Namespace, session, clock):
-    """The demo's outputs; if the viewer port is taken, the viewer moves to a free port instead of failing."""
-    try:
-        return build_outputs(args, session, clock)
-    except UserError as error:
-        logger.warning("%s; using a free port for the viewer", error)
-        args.ws = 0
-        return build_outputs(args, session, clock)
-
-
-def _write_demo_results(args: argparse.Namespace, report: EngineReport) -> None:
-    from gesturecast.models.retarget import load_motion_file
-    from gesturecast.tools.render import render_positions
-
-    motion = load_motion_file(args.bvh)
-    preview = render_positions(motion.positions(), motion.skeleton.parents, args.out / "demo.gif",
-                               fps=motion.fps, title=f"gesturecast demo - style {args.style}",  # ASCII font
-                               names=motion.skeleton.names)
-    (args.out / "latency.json").write_text(json.dumps(report.to_dict(), indent=2) + "\n")
-    sys.stdout.write(summary_line(report) + "\n")
-    sys.stdout.write(f"wrote {args.bvh}, {preview} and {args.out / 'latency.json'}\n")
 
 
 def summary_line(report: EngineReport) -> str:

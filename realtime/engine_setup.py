@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+from importlib import resources
 from pathlib import Path
 
 from gesturecast.bridges.bvh_recorder import BvhRecorder
@@ -11,15 +12,15 @@ from gesturecast.bridges.osc import OscBridge, OscConfig
 from gesturecast.bridges.vmc import VmcBridge, VmcConfig
 from gesturecast.bridges.websocket_server import WebSocketBridge, WebSocketConfig
 from gesturecast.errors import UserError
-from gesturecast.models.bundle import ModelBundle
-from gesturecast.models.diffusion import SamplerConfig
-from gesturecast.realtime.clock import Clock
+from gesturecast.models.generator.diffusion import SamplerConfig
+from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.realtime.generator import SINGLE_STYLE, Generator, GeneratorSettings
-from gesturecast.realtime.latency import LatencyBudget
 from gesturecast.realtime.session import GestureSession
 from gesturecast.realtime.style_prompts import StylePrompt
+from gesturecast.realtime.timing.clock import Clock
+from gesturecast.realtime.timing.latency import LatencyBudget
 
-DEFAULT_MODEL_DIR = Path(__file__).resolve().parents[1] / "models" / "weights" / "default"
+DEFAULT_MODEL_DIR = Path(str(resources.files("gesturecast.models"))) / "weights" / "default"
 DEFAULT_MARGIN_MS = 100.0
 DEFAULT_STEPS = 4
 DEFAULT_AUDIO_GUIDANCE = 1.5  # docs/generator.md "Audio guidance": rests in pauses, follows the speech more

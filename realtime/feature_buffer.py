@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from gesturecast.models.denoiser_config import DenoiserConfig, audio_window_bounds, audio_window_from_features
+from gesturecast.models.generator.denoiser_config import DenoiserConfig, audio_window_bounds, audio_window_from_features
 
 
 class FeatureBuffer:

@@ -26,8 +26,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from gesturecast.errors import UserError
-from gesturecast.models.bundle import ModelBundle
-from gesturecast.models.diffusion import (
+from gesturecast.models.generator.diffusion import (
     CLEAN_TIMESTEP,
     SamplerConfig,
     classifier_free_guidance,
@@ -36,8 +35,9 @@ from gesturecast.models.diffusion import (
     sampling_plan,
     style_interpolation,
 )
-from gesturecast.models.ort_session import DEFAULT_THREADS
-from gesturecast.models.runtime_denoiser import FrameInputs, roll_cache
+from gesturecast.models.runtime.bundle import ModelBundle
+from gesturecast.models.runtime.denoiser import FrameInputs, roll_cache
+from gesturecast.models.runtime.ort_session import DEFAULT_THREADS
 from gesturecast.realtime.style_prompts import StylePrompt, StyleResolver
 
 logger = logging.getLogger(__name__)

@@ -14,8 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from gesturecast.models.rotations import quat_conj, quat_from_axis_angle, quat_mul
-from gesturecast.models.skeleton import CANONICAL
+from gesturecast.models.motion.rotations import quat_conj, quat_from_axis_angle, quat_mul
+from gesturecast.models.motion.skeleton import CANONICAL
 
 X, Y, Z = 0, 1, 2
 PERIOD_JITTER = 0.1  # each oscillator's period varies by up to ±10 % with the seed

@@ -21,19 +21,19 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from gesturecast.models.bundle import ModelBundle
-from gesturecast.models.denoiser_config import audio_window_bounds, audio_window_end
-from gesturecast.models.motion_features import RootIntegrator, features_to_rotations
-from gesturecast.realtime.clock import Clock
+from gesturecast.models.generator.denoiser_config import audio_window_bounds, audio_window_end
+from gesturecast.models.motion.motion_features import RootIntegrator, features_to_rotations
+from gesturecast.models.runtime.bundle import ModelBundle
+from gesturecast.realtime.audio.sources import AudioChunk
 from gesturecast.realtime.feature_buffer import FeatureBuffer
-from gesturecast.realtime.feature_dsp import frame_boundary
-from gesturecast.realtime.features import StreamingFeatureExtractor, speaking_flags
-from gesturecast.realtime.frames import PoseFrame
+from gesturecast.realtime.features.dsp import frame_boundary
+from gesturecast.realtime.features.streaming import StreamingFeatureExtractor, speaking_flags
 from gesturecast.realtime.generator import Generator
 from gesturecast.realtime.idle import IdleMotion
-from gesturecast.realtime.latency import LatencyBudget, LatencyStats
 from gesturecast.realtime.session_controls import SessionControls
-from gesturecast.realtime.sources import AudioChunk
+from gesturecast.realtime.timing.clock import Clock
+from gesturecast.realtime.timing.frames import PoseFrame
+from gesturecast.realtime.timing.latency import LatencyBudget, LatencyStats
 from gesturecast.realtime.transitions import PoseCrossfade
 
 logger = logging.getLogger(__name__)

@@ -18,8 +18,8 @@ from pathlib import Path
 import numpy as np
 
 from gesturecast.errors import UserError
-from gesturecast.models.bundle import ModelBundle
-from gesturecast.models.ort_session import DEFAULT_THREADS
+from gesturecast.models.runtime.bundle import ModelBundle
+from gesturecast.models.runtime.ort_session import DEFAULT_THREADS
 
 STYLE_KINDS = ("label", "text", "motion")
 KIND_SEPARATOR = ":"
@@ -63,14 +63,14 @@ class StyleResolver:
 
     def _embed_text(self, text: str) -> np.ndarray:
         if self._text_embedder is None:
-            from gesturecast.models.style_text import StyleTextEmbedder
+            from gesturecast.models.generator.style_text import StyleTextEmbedder
 
             self._text_embedder = StyleTextEmbedder()
         return self._text_embedder.embed_labels([text])[0]
 
     def _embed_motion(self, path: Path) -> np.ndarray:
-        from gesturecast.models.motion_features import face_forward, motion_to_features
-        from gesturecast.models.retarget import load_motion_file
+        from gesturecast.models.motion.motion_features import face_forward, motion_to_features
+        from gesturecast.models.motion.retarget import load_motion_file
 
         if not path.is_file():
             raise UserError(f"motion style prompt not found: {path}")

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from gesturecast.models.rotations import quat_slerp
+from gesturecast.models.motion.rotations import quat_slerp
 
 DEFAULT_RAMP_S = 0.5
 

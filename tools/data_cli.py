@@ -15,8 +15,8 @@ from collections.abc import Callable
 from pathlib import Path
 
 from gesturecast.errors import UserError
-from gesturecast.models.dataset import build_dataset, summary_table
-from gesturecast.models.dataset_sources import (
+from gesturecast.models.dataset.cache import build_dataset, summary_table
+from gesturecast.models.dataset.sources import (
     TakeSource,
     bandai_takes,
     beat_takes,

@@ -14,8 +14,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def run_export(args: argparse.Namespace) -> int:
-    from gesturecast.models.export_bundle import export_bundle
-    from gesturecast.models.train import CHECKPOINT_FILE, load_checkpoint
+    from gesturecast.models.export.bundle import export_bundle
+    from gesturecast.models.training.pipeline import CHECKPOINT_FILE, load_checkpoint
 
     path = args.checkpoint / CHECKPOINT_FILE if args.checkpoint.is_dir() else args.checkpoint
     export_bundle(load_checkpoint(path), args.out)

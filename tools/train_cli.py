@@ -12,9 +12,9 @@ import logging
 import time
 from pathlib import Path
 
-from gesturecast.models.train_presets import PRESETS, get_preset
-from gesturecast.realtime.features import FeatureConfig
-from gesturecast.realtime.speaker_norm import SpeakerNormConfig
+from gesturecast.models.training.presets import PRESETS, get_preset
+from gesturecast.realtime.features.speaker_norm import SpeakerNormConfig
+from gesturecast.realtime.features.streaming import FeatureConfig
 
 LOGGER = logging.getLogger(__name__)
 DEFAULT_DATA = Path(".cache/dataset")
@@ -43,8 +43,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def run_train(args: argparse.Namespace) -> int:
-    from gesturecast.models.export_bundle import export_bundle, training_summary
-    from gesturecast.models.train import run_training
+    from gesturecast.models.export.bundle import export_bundle, training_summary
+    from gesturecast.models.training.pipeline import run_training
 
     preset = get_preset(args.preset, seed=args.seed, audio_lookahead=args.lookahead, threads=args.threads,
                         audio_augmentation=args.audio_augmentation, vq_steps=args.vq_steps,

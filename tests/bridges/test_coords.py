@@ -3,7 +3,7 @@ import pytest
 
 from gesturecast.bridges.coords import FRAMES, INTERNAL, UNITY, UNREAL, coordinate_frame
 from gesturecast.errors import UserError
-from gesturecast.models.rotations import quat_from_axis_angle, quat_mul, quat_rotate
+from gesturecast.models.motion.rotations import quat_from_axis_angle, quat_mul, quat_rotate
 
 S = np.sqrt(0.5)
 

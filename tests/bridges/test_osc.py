@@ -7,8 +7,8 @@ from pythonosc.osc_packet import OscPacket
 
 from gesturecast.bridges.coords import FRAMES
 from gesturecast.bridges.osc import OscBridge, OscConfig, OscEncoder
-from gesturecast.models.skeleton import CANONICAL
-from gesturecast.realtime.frames import PoseFrame
+from gesturecast.models.motion.skeleton import CANONICAL
+from gesturecast.realtime.timing.frames import PoseFrame
 
 FLOAT32_TOLERANCE = 1e-4  # centimetre-scaled Unreal positions are ~100x larger
 

@@ -12,9 +12,9 @@ from pythonosc.osc_server import ThreadingOSCUDPServer
 
 from gesturecast.bridges.coords import UNITY
 from gesturecast.bridges.vmc import VmcBridge, VmcConfig, VmcEncoder
-from gesturecast.models.rotations import quat_from_axis_angle
-from gesturecast.models.skeleton import CANONICAL
-from gesturecast.realtime.frames import PoseFrame
+from gesturecast.models.motion.rotations import quat_from_axis_angle
+from gesturecast.models.motion.skeleton import CANONICAL
+from gesturecast.realtime.timing.frames import PoseFrame
 
 RECEIVE_TIMEOUT_S = 5.0
 FLOAT32_TOLERANCE = 1e-6

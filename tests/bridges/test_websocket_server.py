@@ -14,7 +14,7 @@ from gesturecast.bridges.coords import UNREAL
 from gesturecast.bridges.websocket_server import WebSocketBridge, WebSocketConfig
 from gesturecast.bridges.ws_protocol import BINARY_HEADER
 from gesturecast.errors import UserError
-from gesturecast.models.skeleton import CANONICAL
+from gesturecast.models.motion.skeleton import CANONICAL
 
 TIMEOUT_S = 5.0
 J = CANONICAL.num_joints

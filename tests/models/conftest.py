@@ -1,7 +1,14 @@
-"""Fixtures shared by the model tests."""
+"""Fixtures shared by the model tests; the helper modules beside this file are importable from every sub-folder."""
+
+import sys
+from pathlib import Path
 
 import pytest
 import torch
+
+HELPERS = str(Path(__file__).resolve().parent)
+if HELPERS not in sys.path:
+    sys.path.insert(0, HELPERS)
 
 
 @pytest.fixture(autouse=True, scope="module")

@@ -6,11 +6,11 @@ from pathlib import Path
 
 from dataset_fixtures import FIRST_FRAME, TAKE, cut_bvh, make_zeggs_folder
 
-from gesturecast.models.dataset import build_dataset, read_index
-from gesturecast.models.dataset_sources import TakeSource, zeggs_takes
-from gesturecast.models.export_bundle import export_bundle
-from gesturecast.models.train import run_training
-from gesturecast.models.train_presets import get_preset
+from gesturecast.models.dataset.cache import build_dataset, read_index
+from gesturecast.models.dataset.sources import TakeSource, zeggs_takes
+from gesturecast.models.export.bundle import export_bundle
+from gesturecast.models.training.pipeline import run_training
+from gesturecast.models.training.presets import get_preset
 
 PAIRED_FRAMES = 96  # 3.2 s per paired take: its first 75 % (72 frames) trains
 MOTION_ONLY_FRAMES = 72

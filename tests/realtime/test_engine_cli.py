@@ -7,8 +7,8 @@ import pytest
 import soundfile
 
 from gesturecast.cli import main
-from gesturecast.models.bvh import read_bvh
-from gesturecast.realtime.audio_io import SAMPLE_RATE, load_audio
+from gesturecast.models.motion.bvh import read_bvh
+from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio
 
 
 @pytest.fixture(scope="module")

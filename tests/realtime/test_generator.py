@@ -2,9 +2,9 @@ import numpy as np
 import pytest
 
 from gesturecast.errors import UserError
-from gesturecast.models.bundle import ModelBundle
-from gesturecast.models.diffusion import SamplerConfig
-from gesturecast.models.motion_features import FEATURE_DIM
+from gesturecast.models.generator.diffusion import SamplerConfig
+from gesturecast.models.motion.motion_features import FEATURE_DIM
+from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.realtime.generator import Generator, GeneratorSettings, row_layout
 from gesturecast.realtime.style_prompts import StylePrompt
 

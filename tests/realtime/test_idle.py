@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from gesturecast.models.rotations import quat_conj, quat_mul, quat_to_axis_angle
-from gesturecast.models.skeleton import CANONICAL, NUM_JOINTS
+from gesturecast.models.motion.rotations import quat_conj, quat_mul, quat_to_axis_angle
+from gesturecast.models.motion.skeleton import CANONICAL, NUM_JOINTS
 from gesturecast.realtime.idle import IdleConfig, IdleMotion, relaxed_pose
 
 FPS = 30.0

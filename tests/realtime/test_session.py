@@ -4,18 +4,18 @@ import numpy as np
 import pytest
 import soundfile
 
-from gesturecast.models.bundle import ModelBundle
-from gesturecast.models.diffusion import SamplerConfig
-from gesturecast.models.rotations import quat_conj, quat_mul, quat_to_axis_angle
-from gesturecast.realtime.audio_io import SAMPLE_RATE, load_audio
-from gesturecast.realtime.clock import FakeClock, MonotonicClock
+from gesturecast.models.generator.diffusion import SamplerConfig
+from gesturecast.models.motion.rotations import quat_conj, quat_mul, quat_to_axis_angle
+from gesturecast.models.runtime.bundle import ModelBundle
+from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio
+from gesturecast.realtime.audio.sources import FastFileSource, PacedFileSource
 from gesturecast.realtime.engine import LiveEngine, run_offline
-from gesturecast.realtime.feature_dsp import frames_complete
+from gesturecast.realtime.features.dsp import frames_complete
 from gesturecast.realtime.generator import Generator, GeneratorSettings
-from gesturecast.realtime.latency import LatencyBudget
 from gesturecast.realtime.session import GestureSession
-from gesturecast.realtime.sources import FastFileSource, PacedFileSource
 from gesturecast.realtime.style_prompts import StylePrompt
+from gesturecast.realtime.timing.clock import FakeClock, MonotonicClock
+from gesturecast.realtime.timing.latency import LatencyBudget
 
 SECONDS = 4.0
 
@@ -135,7 +135,7 @@ def test_memory_is_bounded_on_a_long_stream(bundle):
 
 
 def _chunk(samples, start):
-    from gesturecast.realtime.sources import AudioChunk
+    from gesturecast.realtime.audio.sources import AudioChunk
 
     return AudioChunk(samples, start, start / SAMPLE_RATE)
 

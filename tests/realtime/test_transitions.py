@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from gesturecast.models.rotations import quat_from_axis_angle, quat_to_axis_angle
-from gesturecast.models.skeleton import NUM_JOINTS
+from gesturecast.models.motion.rotations import quat_from_axis_angle, quat_to_axis_angle
+from gesturecast.models.motion.skeleton import NUM_JOINTS
 from gesturecast.realtime.transitions import PoseCrossfade, Ramp, blend_poses, smoothstep
 
 

@@ -1,0 +1,150 @@
+"""Finding the takes of each supported dataset layout on disk.
+
+Layouts:
+
+- ZeroEGGS: ``info.csv`` (columns ``anim_bvh``, ``audio_filename``, ``style``) with the BVH and
+  WAV files anywhere below the folder. File stems may carry a suffix (``067_Speech_2_x_1_0.bvh``
+  for the row ``067_Speech_2.bvh``). The dataset's own ``*_mirror`` takes are skipped: mirroring
+  is this project's augmentation, applied to every take alike.
+- BEAT: ``*.bvh`` with a ``*.wav`` of the same stem (BEAT's conversation and self-talk takes are
+  both labelled "conversation", i.e. neutral; BEAT's per-sentence emotion labels are not read).
+- SMPL-X NPZ (BEAT2, AMASS, TalkSHOW): ``*.npz`` with ``poses``; a ``*.wav`` of the same stem
+  is its audio when present.
+- Bandai Namco dataset-1/-2: ``dataset-N_{content}_{style}_{id}.bvh`` with a ``.json`` label file
+  beside it; the style is the label index into ``cfg/style_label.txt`` (else the file name's).
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import logging
+import re
+import shutil
+import tarfile
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+
+from gesturecast.errors import UserError
+from gesturecast.models.generator.styles import canonical_style
+
+LOGGER = logging.getLogger(__name__)
+ZEGGS_INFO = "info.csv"
+BEAT_STYLE = "conversation"
+_BANDAI_NAME = re.compile(r"^dataset-(\d+)_(?P<content>[^_]+)_(?P<style>[^_]+)_\d+$")
+
+
+@dataclass(frozen=True)
+class TakeSource:
+    """One take to read: ``name`` is unique within its ``dataset``; ``style`` is canonical."""
+
+    dataset: str
+    name: str
+    motion_path: Path
+    audio_path: Path | None
+    style: str
+
+
+def _files_by_stem(folder: Path, suffix: str) -> dict[str, Path]:
+    return {path.stem: path for path in sorted(folder.rglob(f"*{suffix}"))}
+
+
+def _match_stem(stem: str, files: dict[str, Path]) -> Path | None:
+    """The file named ``stem`` or ``stem_<suffix>`` (not a mirror take)."""
+    if stem in files:
+        return files[stem]
+    candidates = [s for s in files if s.startswith(f"{stem}_") and "mirror" not in s]
+    return files[min(candidates)] if candidates else None
+
+
+def zeggs_takes(folder: Path) -> list[TakeSource]:
+    """Takes of a ZeroEGGS folder (``info.csv`` + BVH + WAV)."""
+    info = folder / ZEGGS_INFO
+    if not info.is_file():
+        raise UserError(f"{folder} is not a ZeroEGGS folder: no {ZEGGS_INFO} (expected info.csv + *.bvh + *.wav)")
+    bvh_files, wav_files = _files_by_stem(folder, ".bvh"), _files_by_stem(folder, ".wav")
+    takes = []
+    with info.open(newline="") as handle:
+        for row in csv.DictReader(handle):
+            stem = Path(row["anim_bvh"]).stem
+            motion_path = None if "mirror" in stem else _match_stem(stem, bvh_files)
+            if motion_path is None:
+                continue
+            audio_path = wav_files.get(motion_path.stem) or _match_stem(Path(row["audio_filename"]).stem, wav_files)
+            takes.append(TakeSource("zeggs", stem, motion_path, audio_path, canonical_style(row["style"])))
+    LOGGER.info("ZeroEGGS %s: %d takes with motion", folder, len(takes))
+    return takes
+
+
+def beat_takes(folder: Path) -> list[TakeSource]:
+    """Takes of a BEAT folder: BVH + WAV pairs with the same stem."""
+    bvh_files, wav_files = _files_by_stem(folder, ".bvh"), _files_by_stem(folder, ".wav")
+    paired = sorted(set(bvh_files) & set(wav_files))
+    if not paired:
+        raise UserError(f"{folder} is not a BEAT folder: no *.bvh with a *.wav of the same name")
+    style = canonical_style(BEAT_STYLE)
+    return [TakeSource("beat", stem, bvh_files[stem], wav_files[stem], style) for stem in paired]
+
+
+def smplx_takes(folder: Path, dataset: str = "smplx") -> list[TakeSource]:
+    """SMPL-X NPZ takes (BEAT2/AMASS layout); a same-stem WAV is the take's audio."""
+    npz_files, wav_files = _files_by_stem(folder, ".npz"), _files_by_stem(folder, ".wav")
+    if not npz_files:
+        raise UserError(f"{folder} is not an SMPL-X folder: no *.npz files (expected BEAT2/AMASS-style NPZ)")
+    style = canonical_style(BEAT_STYLE)
+    return [TakeSource(dataset, stem, path, wav_files.get(stem), style) for stem, path in npz_files.items()]
+
+
+def _bandai_style_labels(bvh_path: Path) -> list[str] | None:
+    for parent in bvh_path.parents:
+        labels = parent / "cfg" / "style_label.txt"
+        if labels.is_file():
+            return [line.strip() for line in labels.read_text().splitlines() if line.strip()]
+    return None
+
+
+def _bandai_style(bvh_path: Path, file_style: str, labels: list[str] | None) -> str:
+    label_file = bvh_path.with_suffix(".json")
+    if labels is not None and label_file.is_file():
+        return canonical_style(labels[json.loads(label_file.read_text())["style"]])
+    return canonical_style(file_style)
+
+
+def bandai_takes(folder: Path) -> list[TakeSource]:
+    """Bandai Namco dataset-1/-2 takes (``dataset-N_{content}_{style}_{id}.bvh`` + ``.json``)."""
+    takes = []
+    labels_by_folder: dict[Path, list[str] | None] = {}
+    for path in sorted(folder.rglob("dataset-*.bvh")):
+        match = _BANDAI_NAME.match(path.stem)
+        if match is None:
+            continue
+        if path.parent not in labels_by_folder:
+            labels_by_folder[path.parent] = _bandai_style_labels(path)
+        style = _bandai_style(path, match["style"], labels_by_folder[path.parent])
+        takes.append(TakeSource(f"bandai-{match[1]}", path.stem, path, None, style))
+    if not takes:
+        raise UserError(f"{folder} is not a Bandai Namco folder: no dataset-N_content_style_id.bvh files")
+    return takes
+
+
+def unpack_archive(archive: Path, raw_cache: Path) -> Path:
+    """Unpack a ``.tar.xz`` once into ``raw_cache/<archive name>/`` (atomically) and return that folder."""
+    target = raw_cache / archive.name.removesuffix(".tar.xz")
+    if target.is_dir():
+        return target
+    if not archive.is_file():
+        raise UserError(f"archive not found: {archive}")
+    raw_cache.mkdir(parents=True, exist_ok=True)
+    staging = Path(tempfile.mkdtemp(dir=raw_cache, prefix=f".{target.name}-"))
+    try:
+        LOGGER.info("unpacking %s into %s", archive, target)
+        with tarfile.open(archive, "r:xz") as tar:
+            tar.extractall(staging, filter="data")
+        staging.rename(target)
+    except OSError:
+        if not target.is_dir():  # else another process unpacked it first
+            raise
+    finally:
+        shutil.rmtree(staging, ignore_errors=True)
+    return target

@@ -1,0 +1,1 @@
+"""Trained torch networks -> ONNX graphs and model bundles (torch)."""

@@ -1,0 +1,3 @@
+"""Motion representation (numpy): canonical skeleton, rotations, BVH, joint maps, rest-pose alignment,
+retargeting, motion features.
+"""

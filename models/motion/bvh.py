@@ -1,0 +1,326 @@
+"""Reading and writing BVH motion-capture files.
+
+A small self-contained reader/writer (numpy only). It accepts any channel order, position
+channels on non-root joints, ``End Site`` blocks, CRLF line endings and any frame rate.
+Rotation channels are intrinsic Euler angles in degrees, applied in channel order:
+``Zrotation Xrotation Yrotation`` means ``R = Rz @ Rx @ Ry``. A joint with position channels
+takes its local translation from them (they replace its OFFSET, as Blender and MotionBuilder
+read them); other joints are translated by their OFFSET.
+
+Bad input raises :class:`~gesturecast.errors.UserError` with one line naming the problem.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from gesturecast.errors import UserError
+from gesturecast.models.motion.rotations import quat_from_euler, quat_identity, quat_to_euler
+
+_AXES = "XYZ"
+_VALID_CHANNELS = tuple(f"{a}{kind}" for kind in ("position", "rotation") for a in _AXES)
+_FLOAT_FORMAT = "%.6f"  # 1e-6 degree / 1e-6 file unit: far below the 1e-4 degree round-trip bound
+_INDENT = "\t"
+
+
+@dataclass
+class BvhData:
+    """The content of one BVH file.
+
+    names: joint names in file order (parents before children).
+    parents: (J,) parent index per joint, -1 for the root.
+    offsets: (J, 3) rest offsets from the parent, in file units.
+    channels: per joint, its channel names in file order (e.g. ``("Zrotation", "Yrotation", "Xrotation")``).
+    end_sites: joint index -> (3,) offset of its ``End Site``.
+    frame_time: seconds per frame.
+    motion: (T, C) channel values per frame (degrees for rotations, file units for positions).
+    """
+
+    names: list[str]
+    parents: np.ndarray
+    offsets: np.ndarray
+    channels: list[tuple[str, ...]]
+    frame_time: float
+    motion: np.ndarray
+    end_sites: dict[int, np.ndarray] = field(default_factory=dict)
+
+    @property
+    def num_joints(self) -> int:
+        return len(self.names)
+
+    @property
+    def num_frames(self) -> int:
+        return self.motion.shape[0]
+
+    @property
+    def fps(self) -> float:
+        return 1.0 / self.frame_time
+
+    def channel_columns(self) -> list[np.ndarray]:
+        """Per joint, the column indices of its channels in :attr:`motion`."""
+        starts = np.cumsum([0] + [len(c) for c in self.channels])
+        return [np.arange(starts[j], starts[j + 1]) for j in range(self.num_joints)]
+
+    def local_rotations(self) -> np.ndarray:
+        """Local joint rotations (T, J, 4) XYZW from the rotation channels (identity where none)."""
+        rotations = quat_identity((self.num_frames, self.num_joints))
+        for j, (names, columns) in enumerate(zip(self.channels, self.channel_columns(), strict=True)):
+            pairs = zip(names, columns, strict=True)
+            rot = [(name[0].upper(), col) for name, col in pairs if name.endswith("rotation")]
+            if rot:
+                order = "".join(axis for axis, _ in rot)
+                angles = np.deg2rad(self.motion[:, [col for _, col in rot]])  # (T, n_rot)
+                rotations[:, j] = quat_from_euler(angles, order)
+        return rotations
+
+    def local_translations(self) -> np.ndarray:
+        """Local joint translations (T, J, 3) in file units: position channels where present, else OFFSET."""
+        translations = np.repeat(self.offsets[None], self.num_frames, axis=0)  # (T, J, 3)
+        for j, (names, columns) in enumerate(zip(self.channels, self.channel_columns(), strict=True)):
+            for name, col in zip(names, columns, strict=True):
+                if name.endswith("position"):
+                    translations[:, j, _AXES.index(name[0].upper())] = self.motion[:, col]
+        return translations
+
+
+def rotation_channel_values(rotations: np.ndarray, order: str) -> np.ndarray:
+    """Euler channel values in degrees for the given channel order. (..., 4) -> (..., 3)."""
+    return np.rad2deg(quat_to_euler(rotations, order))
+
+
+# ----------------------------------------------------------------------------- reading
+
+
+class _Tokens:
+    """A cursor over the whitespace-separated tokens of the hierarchy section."""
+
+    def __init__(self, tokens: list[str], path: Path) -> None:
+        self.tokens = tokens
+        self.pos = 0
+        self.path = path
+
+    def next(self, what: str) -> str:
+        if self.pos >= len(self.tokens):
+            raise UserError(f"{self.path}: truncated BVH file (ended while reading {what})")
+        token = self.tokens[self.pos]
+        self.pos += 1
+        return token
+
+    def expect(self, expected: str) -> None:
+        token = self.next(f"'{expected}'")
+        if token != expected:
+            raise UserError(f"{self.path}: malformed BVH hierarchy: expected '{expected}', found '{token}'")
+
+    def number(self, what: str) -> float:
+        token = self.next(what)
+        try:
+            return float(token)
+        except ValueError:
+            raise UserError(f"{self.path}: malformed BVH {what}: '{token}' is not a number") from None
+
+
+@dataclass
+class _Hierarchy:
+    names: list[str] = field(default_factory=list)
+    parents: list[int] = field(default_factory=list)
+    offsets: list[list[float]] = field(default_factory=list)
+    channels: list[tuple[str, ...]] = field(default_factory=list)
+    end_sites: dict[int, np.ndarray] = field(default_factory=dict)
+
+
+def _read_offset(tokens: _Tokens) -> list[float]:
+    tokens.expect("OFFSET")
+    return [tokens.number("OFFSET value") for _ in range(3)]
+
+
+def _read_channels(tokens: _Tokens) -> tuple[str, ...]:
+    tokens.expect("CHANNELS")
+    count_token = tokens.next("channel count")
+    if not count_token.isdigit():
+        raise UserError(f"{tokens.path}: malformed BVH CHANNELS line: '{count_token}' is not a count")
+    names = []
+    for _ in range(int(count_token)):
+        name = tokens.next("channel name")
+        canonical = name[0].upper() + name[1:].lower()
+        if canonical not in _VALID_CHANNELS:
+            raise UserError(f"{tokens.path}: unknown BVH channel '{name}' (expected e.g. Xposition, Zrotation)")
+        names.append(canonical)
+    return tuple(names)
+
+
+def _read_joint(tokens: _Tokens, hierarchy: _Hierarchy, parent: int) -> None:
+    """Read one ``ROOT``/``JOINT`` block (its keyword already consumed) and its children."""
+    index = len(hierarchy.names)
+    hierarchy.names.append(tokens.next("joint name"))
+    hierarchy.parents.append(parent)
+    tokens.expect("{")
+    hierarchy.offsets.append(_read_offset(tokens))
+    hierarchy.channels.append(_read_channels(tokens))
+    while True:
+        keyword = tokens.next("joint block")
+        if keyword == "}":
+            return
+        if keyword == "JOINT":
+            _read_joint(tokens, hierarchy, index)
+        elif keyword == "End":
+            tokens.expect("Site")
+            tokens.expect("{")
+            hierarchy.end_sites[index] = np.array(_read_offset(tokens))
+            tokens.expect("}")
+        else:
+            raise UserError(f"{tokens.path}: malformed BVH hierarchy: unexpected '{keyword}' in joint block")
+
+
+def _split_sections(text: str, path: Path) -> tuple[str, list[str]]:
+    """The hierarchy text and the lines after ``MOTION``."""
+    stripped = text.lstrip("\ufeff \t\r\n")
+    if not stripped.startswith("HIERARCHY"):
+        raise UserError(f"{path}: not a BVH file (it does not start with HIERARCHY)")
+    head, sep, tail = stripped.partition("MOTION")
+    if not sep:
+        raise UserError(f"{path}: truncated BVH file (no MOTION section)")
+    return head, tail.splitlines()
+
+
+def _parse_header_value(lines: list[str], index: int, label: str, path: Path) -> str:
+    if index >= len(lines) or not lines[index].strip().startswith(label):
+        raise UserError(f"{path}: truncated or malformed BVH MOTION section (missing '{label}')")
+    return lines[index].strip()[len(label):].strip()
+
+
+def _parse_motion(lines: list[str], num_channels: int, path: Path) -> tuple[float, np.ndarray]:
+    lines = [line for line in lines if line.strip()]
+    frames_text = _parse_header_value(lines, 0, "Frames:", path)
+    time_text = _parse_header_value(lines, 1, "Frame Time:", path)
+    try:
+        num_frames, frame_time = int(frames_text), float(time_text)
+    except ValueError:
+        header = f"'Frames: {frames_text}', 'Frame Time: {time_text}'"
+        raise UserError(f"{path}: malformed BVH MOTION header ({header})") from None
+    if num_frames <= 0:
+        raise UserError(f"{path}: BVH file has zero frames")
+    if not frame_time > 0:
+        raise UserError(f"{path}: BVH Frame Time must be positive, got {time_text}")
+    rows = lines[2 : 2 + num_frames]
+    if len(rows) < num_frames:
+        raise UserError(f"{path}: truncated BVH file ({len(rows)} of {num_frames} frames present)")
+    counts = np.array([len(row.split()) for row in rows])
+    bad = np.flatnonzero(counts != num_channels)
+    if bad.size:
+        raise UserError(
+            f"{path}: BVH frame {bad[0]} has {counts[bad[0]]} values, the hierarchy declares {num_channels} channels"
+        )
+    try:
+        motion = np.array(" ".join(rows).split(), dtype=np.float64).reshape(num_frames, num_channels)
+    except ValueError:
+        raise UserError(f"{path}: BVH motion data contains a value that is not a number") from None
+    return frame_time, motion
+
+
+def read_bvh(path: str | Path) -> BvhData:
+    """Parse a BVH file. Raises UserError for missing, truncated or malformed files."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8", errors="replace")
+    except OSError as error:
+        raise UserError(f"cannot read BVH file {path}: {error.strerror}") from None
+    head, motion_lines = _split_sections(text, path)
+    tokens = _Tokens(head.split()[1:], path)
+    tokens.expect("ROOT")
+    hierarchy = _Hierarchy()
+    _read_joint(tokens, hierarchy, -1)
+    num_channels = sum(len(c) for c in hierarchy.channels)
+    frame_time, motion = _parse_motion(motion_lines, num_channels, path)
+    return BvhData(
+        names=hierarchy.names,
+        parents=np.array(hierarchy.parents),
+        offsets=np.array(hierarchy.offsets, dtype=np.float64).reshape(-1, 3),
+        channels=hierarchy.channels,
+        frame_time=frame_time,
+        motion=motion,
+        end_sites=hierarchy.end_sites,
+    )
+
+
+# ----------------------------------------------------------------------------- writing
+
+
+def _format_vector(values: np.ndarray) -> str:
+    return " ".join(_FLOAT_FORMAT % v for v in values)
+
+
+def format_motion_rows(motion: np.ndarray) -> str:
+    """Frame lines of the MOTION section, one per row of ``motion`` (T, C), each ending in a newline."""
+    row_format = " ".join([_FLOAT_FORMAT] * motion.shape[1]) + "\n"
+    return "".join(row_format % tuple(row) for row in motion)
+
+
+def format_hierarchy(data: BvhData) -> str:
+    """The ``HIERARCHY`` section followed by the ``MOTION`` keyword line."""
+    children: dict[int, list[int]] = {j: [] for j in range(data.num_joints)}
+    for j, p in enumerate(data.parents):
+        if p >= 0:
+            children[int(p)].append(j)
+    lines = ["HIERARCHY"]
+
+    def emit(j: int, depth: int) -> None:
+        pad = _INDENT * depth
+        keyword = "ROOT" if data.parents[j] < 0 else "JOINT"
+        lines.append(f"{pad}{keyword} {data.names[j]}")
+        lines.append(f"{pad}{{")
+        lines.append(f"{pad}{_INDENT}OFFSET {_format_vector(data.offsets[j])}")
+        lines.append(f"{pad}{_INDENT}CHANNELS {len(data.channels[j])} {' '.join(data.channels[j])}".rstrip())
+        for child in children[j]:
+            emit(child, depth + 1)
+        if j in data.end_sites:
+            lines.extend([f"{pad}{_INDENT}End Site", f"{pad}{_INDENT}{{",
+                          f"{pad}{_INDENT * 2}OFFSET {_format_vector(data.end_sites[j])}", f"{pad}{_INDENT}}}"])
+        lines.append(f"{pad}}}")
+
+    emit(0, 0)
+    lines.append("MOTION")
+    return "\n".join(lines) + "\n"
+
+
+def format_frame_time(frame_time: float) -> str:
+    return f"Frame Time: {frame_time:.10g}\n"
+
+
+def _check_writable(data: BvhData) -> None:
+    if data.parents[0] != -1 or np.any(data.parents[1:] < 0):
+        raise ValueError("BVH data must have exactly one root, listed first")
+    if np.any(data.parents[1:] >= np.arange(1, data.num_joints)):
+        raise ValueError("BVH joints must be ordered parents-first")
+    expected = sum(len(c) for c in data.channels)
+    if data.motion.ndim != 2 or data.motion.shape[1] != expected:
+        raise ValueError(f"motion must be (T, {expected}), got {data.motion.shape}")
+
+
+def write_bvh(data: BvhData, path: str | Path) -> None:
+    """Write ``data`` to ``path`` atomically (a temporary file in the same folder, then rename)."""
+    _check_writable(data)
+    path = Path(path)
+    text = (format_hierarchy(data) + f"Frames: {data.num_frames}\n" + format_frame_time(data.frame_time)
+            + format_motion_rows(data.motion))
+    write_text_atomic(path, text)
+
+
+def write_text_atomic(path: Path, text: str) -> None:
+    """Write a text file so that readers never see a half-written file."""
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp_name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    except OSError as error:
+        raise UserError(f"cannot write {path}: {error.strerror}") from None
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8", newline="\n") as handle:
+            handle.write(text)
+        os.replace(tmp_name, path)
+    except BaseException:
+        Path(tmp_name).unlink(missing_ok=True)
+        raise

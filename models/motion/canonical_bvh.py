@@ -1,0 +1,46 @@
+"""The canonical skeleton as a BVH hierarchy, shared by :func:`motion_to_bvh` and the BVH recorder.
+
+Units: centimetres (the BVH convention of ZeroEGGS, Mixamo and Bandai Namco; in Blender's
+importer set Scale to 0.01 for a life-size character). Y-up, the character faces +Z. Every
+joint has ``Zrotation Yrotation Xrotation`` channels; the root also has positions first.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from gesturecast.models.motion.bvh import BvhData, rotation_channel_values
+from gesturecast.models.motion.skeleton import CANONICAL, END_SITES, Skeleton
+
+BVH_UNITS_PER_METRE = 100.0
+ROTATION_ORDER = "ZYX"
+_ROTATION_CHANNELS = tuple(f"{axis}rotation" for axis in ROTATION_ORDER)
+_ROOT_CHANNELS = ("Xposition", "Yposition", "Zposition", *_ROTATION_CHANNELS)
+
+
+def canonical_frame_values(rotations: np.ndarray, root_position: np.ndarray) -> np.ndarray:
+    """BVH channel values for canonical poses: (T, J, 4), (T, 3) metres -> (T, 3 + 3 J)."""
+    euler = rotation_channel_values(rotations, ROTATION_ORDER)  # (T, J, 3) degrees
+    flat = euler.reshape(len(euler), 3 * rotations.shape[1])  # (T, 3 J)
+    return np.concatenate([root_position * BVH_UNITS_PER_METRE, flat], axis=1)
+
+
+def canonical_bvh_data(
+    rotations: np.ndarray, root_position: np.ndarray, fps: float, skeleton: Skeleton = CANONICAL
+) -> BvhData:
+    """A BVH document of canonical poses (rotations (T, J, 4), root_position (T, 3) metres)."""
+    channels = [_ROOT_CHANNELS] + [_ROTATION_CHANNELS] * (skeleton.num_joints - 1)
+    end_sites = {
+        skeleton.index(name): np.asarray(offset) * BVH_UNITS_PER_METRE
+        for name, offset in END_SITES.items()
+        if name in skeleton.names
+    }
+    return BvhData(
+        names=list(skeleton.names),
+        parents=np.asarray(skeleton.parents),
+        offsets=skeleton.offsets * BVH_UNITS_PER_METRE,
+        channels=channels,
+        frame_time=1.0 / fps,
+        motion=canonical_frame_values(rotations, root_position),
+        end_sites=end_sites,
+    )

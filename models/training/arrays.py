@@ -1,0 +1,99 @@
+"""Training arrays from the dataset cache: motion features, aligned audio features, style labels.
+
+Paired takes (speech + motion) get mirror + speed augmentation (with their audio); motion-only
+takes (Bandai) get mirroring only — they are 98 % of the frames, and speed variants of them would
+triple memory without teaching the audio link. Audio features come from the same streaming code
+the live engine runs (:func:`gesturecast.realtime.features.streaming.extract_features`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from tqdm import tqdm
+
+from gesturecast.models.dataset.augment import AugmentConfig, augmented_variants, slice_audio
+from gesturecast.models.dataset.cache import load_take, read_index
+from gesturecast.models.generator.styles import canonical_style
+from gesturecast.models.motion.motion_features import motion_to_features
+from gesturecast.realtime.audio.files import SAMPLE_RATE
+from gesturecast.realtime.features.streaming import FeatureConfig, extract_features
+
+
+@dataclass
+class TrainingClip:
+    name: str
+    dataset: str
+    style: str  # canonical style name
+    variant: str
+    motion: np.ndarray  # (T, D) float32 motion features (raw, not normalised)
+    audio: np.ndarray | None  # (T, F) float32 audio features aligned with the motion, None without speech
+
+    @property
+    def num_frames(self) -> int:
+        return int(self.motion.shape[0])
+
+
+def aligned_audio_features(audio: np.ndarray, num_frames: int, config: FeatureConfig) -> np.ndarray:
+    """(N,) 16 kHz samples of ``num_frames`` motion frames → (num_frames, F), the last frame repeated if short."""
+    features = extract_features(audio, config)[:num_frames]  # (≤ T, F)
+    if len(features) == 0:
+        return np.zeros((num_frames, config.num_features), np.float32)
+    missing = num_frames - len(features)
+    return np.concatenate([features, np.repeat(features[-1:], missing, axis=0)]) if missing else features
+
+
+def augmentation(has_audio: bool, split: str, mirror_motion_only: bool, paired_speeds: tuple[float, ...]):
+    if split != "train":
+        return AugmentConfig(mirror=False, speeds=())
+    if has_audio:
+        return AugmentConfig(mirror=True, speeds=paired_speeds)
+    return AugmentConfig(mirror=mirror_motion_only, speeds=())
+
+
+def load_training_clips(
+    cache_dir: Path,
+    split: str,
+    feature_config: FeatureConfig,
+    mirror_motion_only: bool = True,
+    paired_speeds: tuple[float, ...] = (),
+    progress: bool = True,
+) -> list[TrainingClip]:
+    """Every segment of ``split`` in the cache, augmented for training, with audio features."""
+    clips = []
+    records = read_index(cache_dir)["takes"]
+    for record in tqdm(records, desc=f"load {split}", unit="take", disable=not progress):
+        segments = [s for s in record["segments"] if s["split"] == split]
+        if not segments:
+            continue
+        motion, audio = load_take(cache_dir, record)
+        augment = augmentation(audio is not None, split, mirror_motion_only, paired_speeds)
+        for segment in segments:
+            part = motion.slice(segment["start"], segment["stop"])
+            part_audio = None if audio is None else slice_audio(audio, segment["start"], segment["stop"], motion.fps,
+                                                                SAMPLE_RATE)
+            for tag, variant, variant_audio in augmented_variants(part, part_audio, augment, SAMPLE_RATE):
+                features = motion_to_features(variant)  # (T, D)
+                audio_features = (
+                    None if variant_audio is None
+                    else aligned_audio_features(variant_audio, len(features), feature_config)
+                )
+                clips.append(TrainingClip(record["name"], record["dataset"], canonical_style(record["style"]), tag,
+                                          features, audio_features))
+    return clips
+
+
+def dataset_summary(clips: list[TrainingClip], fps: float) -> dict:
+    """Minutes of (augmented) motion per dataset and of paired speech, and the styles seen."""
+    minutes: dict[str, float] = {}
+    for clip in clips:
+        minutes[clip.dataset] = minutes.get(clip.dataset, 0.0) + clip.num_frames / fps / 60.0
+    paired = sum(clip.num_frames for clip in clips if clip.audio is not None) / fps / 60.0
+    return {
+        "clips": len(clips),
+        "minutes_per_dataset": {name: round(value, 2) for name, value in sorted(minutes.items())},
+        "paired_minutes": round(paired, 2),
+        "styles": sorted({clip.style for clip in clips}),
+    }

@@ -1,0 +1,71 @@
+"""Training objective of the causal denoiser: diffusion forcing with x0 prediction and a Huber loss.
+
+- Every latent frame gets its own noise level (diffusion forcing, Chen et al. 2024 §3.1); with
+  probability ``clean_history_prob`` a sequence instead has a clean prefix (``t = CLEAN_TIMESTEP``,
+  no noise at all) followed by noisy frames, which is exactly the autoregressive inference
+  configuration (clean history in the KV cache, a noisy current frame).
+- Frames are noised by q(x_t | x0), Ho et al. 2020 eq. 4; the network predicts x0 and is trained
+  with a Huber loss (DiffuseStyleGesture §3.3, eq. 5) on the noisy frames only.
+- The style is dropped (replaced by the learned null style) with probability ``style_drop_prob``
+  for classifier-free guidance (Ho & Salimans 2022 §3.2; 10% as in DiffuseStyleGesture).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import torch
+import torch.nn.functional as F
+
+from gesturecast.models.generator.diffusion import CLEAN_TIMESTEP, DiffusionSchedule, q_sample
+from gesturecast.models.networks.denoiser import CausalDenoiser
+
+
+@dataclass(frozen=True)
+class DenoiserTrainConfig:
+    style_drop_prob: float = 0.1
+    clean_history_prob: float = 0.5
+    huber_delta: float = 1.0
+
+
+def sample_noise_levels(batch: int, num_latents: int, num_timesteps: int, clean_history_prob: float, generator):
+    """Per-frame timesteps (B, N) int64: independent levels, some sequences with a clean prefix of random length."""
+    t = torch.randint(0, num_timesteps, (batch, num_latents), generator=generator)  # (B, N)
+    with_history = torch.rand(batch, generator=generator) < clean_history_prob  # (B,)
+    history_len = torch.randint(0, num_latents, (batch,), generator=generator)  # (B,) in 0..N-1
+    clean = (torch.arange(num_latents)[None, :] < history_len[:, None]) & with_history[:, None]  # (B, N)
+    return t.masked_fill(clean, CLEAN_TIMESTEP)
+
+
+def noise_frames(schedule: DiffusionSchedule, latents: torch.Tensor, t: torch.Tensor, generator) -> torch.Tensor:
+    """x_t per frame (eq. 4); clean frames (t = CLEAN_TIMESTEP) stay exactly x0. latents (B, N, C)."""
+    noise = torch.randn(latents.shape, generator=generator)  # (B, N, C)
+    noisy = q_sample(schedule, latents, t.clamp(min=0), noise)  # (B, N, C)
+    return torch.where((t == CLEAN_TIMESTEP)[..., None], latents, noisy)
+
+
+def training_loss(
+    model: CausalDenoiser,
+    latents: torch.Tensor,
+    audio: torch.Tensor,
+    audio_mask: torch.Tensor,
+    style: torch.Tensor,
+    schedule: DiffusionSchedule,
+    generator: torch.Generator,
+    config: DenoiserTrainConfig = DenoiserTrainConfig(),  # noqa: B008 (frozen dataclass)
+) -> torch.Tensor:
+    """Huber loss of the x0 prediction on noisy frames.
+
+    latents (B, N, C) clean VQ-VAE latents; audio (B, N*d + δa, F) features aligned with motion frame 0;
+    audio_mask (B,) or (B, N): 1 where real audio accompanies the motion (0 for motion-only data);
+    style (B, S) style embeddings.
+    """
+    batch, num_latents, _ = latents.shape
+    t = sample_noise_levels(batch, num_latents, schedule.num_timesteps, config.clean_history_prob, generator)
+    x_t = noise_frames(schedule, latents, t, generator)  # (B, N, C)
+    audio_present = audio_mask.float().reshape(batch, -1).expand(batch, num_latents)  # (B, N)
+    style_present = (torch.rand(batch, generator=generator) >= config.style_drop_prob).float()  # (B,)
+    x0 = model(x_t, t, audio, audio_present, style, style_present)  # (B, N, C)
+    per_element = F.huber_loss(x0, latents, reduction="none", delta=config.huber_delta)  # (B, N, C)
+    noisy = (t != CLEAN_TIMESTEP).float()[..., None]  # (B, N, 1)
+    return (per_element * noisy).sum() / (noisy.sum() * latents.shape[-1]).clamp(min=1.0)

@@ -1,0 +1,264 @@
+"""The `gesturecast train` pipeline: dataset cache → VQ-VAE → latents → denoiser → motion prompt.
+
+Stages (each saved to the checkpoint when done, so ``resume`` skips finished stages):
+
+1. ``data``: motion-feature and audio-feature normalisation statistics (train split), the style
+   vocabulary's wordllama embeddings (prompt "a person gesturing in a {label} way");
+2. ``vqvae``: the motion VQ-VAE on all train motion (mirrored; paired takes also speed-augmented),
+   with held-out reconstruction error (feature space, cm, degrees) and codebook usage;
+3. ``denoiser``: latents of every clip (normalised by ``latent_stats``), then the causal denoiser
+   with diffusion forcing on latent sequences + aligned audio windows (masked for motion-only
+   takes) + label style embeddings (dropped 10 % for CFG);
+4. ``motion_prompt``: the contrastive motion → style-embedding encoder.
+
+The checkpoint (``checkpoint.pt``) holds plain data only — config dicts, statistics, state dicts —
+and is read back with ``torch.load(weights_only=True)``: nothing is unpickled as code.
+Everything is deterministic under the preset's seed (torch.manual_seed, numpy Generators).
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+import platform
+import subprocess
+import time
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+import numpy as np
+import torch
+
+from gesturecast.errors import UserError
+from gesturecast.models.generator.denoiser_config import DenoiserConfig
+from gesturecast.models.generator.style_text import PROMPT_TEMPLATE, StyleTextEmbedder, vocabulary_embeddings
+from gesturecast.models.networks.motion_prompt import (
+    MotionPromptConfig,
+    MotionPromptEncoder,
+    PromptTrainConfig,
+    train_motion_prompt,
+)
+from gesturecast.models.networks.vqvae import MotionVQVAE, VQVAEConfig, vqvae_checkpoint, vqvae_from_checkpoint
+from gesturecast.models.runtime.bundle import Normalizer, StyleTable
+from gesturecast.models.training.arrays import TrainingClip, dataset_summary, load_training_clips
+from gesturecast.models.training.audio_augment import AudioAugmentConfig, FeatureAugmenter
+from gesturecast.models.training.denoiser import LatentClip, train_denoiser
+from gesturecast.models.training.presets import TrainPreset
+from gesturecast.models.training.reconstruction import joint_errors
+from gesturecast.models.training.vqvae import VQTrainConfig, reconstruct, train_vqvae
+from gesturecast.realtime.features.stats import FeatureStats
+from gesturecast.realtime.features.streaming import FeatureConfig
+
+logger = logging.getLogger(__name__)
+
+CHECKPOINT_FORMAT_VERSION = 1
+CHECKPOINT_FILE = "checkpoint.pt"
+MOTION_STD_FLOOR = 1e-2  # near-constant rotation channels are not amplified into noise
+STAGES = ("data", "vqvae", "denoiser", "motion_prompt")
+MAX_EVAL_CLIPS = 40  # held-out clips decoded for joint-space errors
+
+
+@dataclass
+class TrainInputs:
+    """The loaded clips and the statistics every stage shares."""
+
+    train: list[TrainingClip]
+    val: list[TrainingClip]
+    feature_config: FeatureConfig
+
+
+def save_checkpoint(checkpoint: dict, path: Path) -> None:
+    """Atomic write (temporary file renamed into place)."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    staging = path.with_suffix(".tmp")
+    torch.save(checkpoint, staging)
+    os.replace(staging, path)
+
+
+def load_checkpoint(path: Path) -> dict:
+    """A training checkpoint (plain data only); other format versions raise UserError."""
+    if not Path(path).is_file():
+        raise UserError(f"no training checkpoint at {path}")
+    checkpoint = torch.load(path, map_location="cpu", weights_only=True)
+    if checkpoint.get("format_version") != CHECKPOINT_FORMAT_VERSION:
+        raise UserError(f"{path} has checkpoint format {checkpoint.get('format_version')!r}, "
+                        f"expected {CHECKPOINT_FORMAT_VERSION}; retrain")
+    return checkpoint
+
+
+def git_commit() -> str:
+    try:
+        result = subprocess.run(["git", "rev-parse", "HEAD"], capture_output=True, text=True, check=True,
+                                cwd=Path(__file__).resolve().parent)
+    except (OSError, subprocess.CalledProcessError):
+        return "unknown"
+    return result.stdout.strip()
+
+
+def hardware_summary() -> dict:
+    return {"machine": platform.machine(), "processor": platform.processor() or platform.machine(),
+            "cpu_count": os.cpu_count(), "torch_threads": torch.get_num_threads(), "device": "cpu"}
+
+
+def data_stage(inputs: TrainInputs) -> dict:
+    motion_stats = Normalizer.fit([clip.motion for clip in inputs.train], MOTION_STD_FLOOR)
+    paired = [clip.audio for clip in inputs.train if clip.audio is not None]
+    if not paired:
+        raise UserError("the training split holds no take with speech audio; the model needs paired data")
+    audio_stats = FeatureStats.fit(paired, inputs.feature_config)
+    labels, embeddings = vocabulary_embeddings(StyleTextEmbedder())
+    trained = tuple(sorted({clip.style for clip in inputs.train}))
+    table = StyleTable(labels, embeddings, trained, PROMPT_TEMPLATE)
+    return {"motion_stats": motion_stats.to_dict(), "audio_stats": audio_stats.to_dict(),
+            "styles": table.to_dict(), "summary": dataset_summary(inputs.train, inputs.feature_config.fps)}
+
+
+def vq_config(preset: TrainPreset, feature_dim: int) -> VQVAEConfig:
+    vq = preset.vq
+    return VQVAEConfig(feature_dim=feature_dim, hidden_dim=vq.hidden_dim, latent_dim=vq.latent_dim,
+                       downsample=vq.downsample, res_blocks_per_stage=vq.res_blocks_per_stage,
+                       codebook_size=vq.codebook_size)
+
+
+def vq_joint_errors(model: MotionVQVAE, clips: list[np.ndarray], motion_stats: Normalizer) -> dict[str, float]:
+    """Mean held-out joint errors (cm, degrees) over up to MAX_EVAL_CLIPS clips."""
+    errors = []
+    for clip in clips[:MAX_EVAL_CLIPS]:
+        reconstruction, _ = reconstruct(model, clip)  # (T', D)
+        errors.append(joint_errors(motion_stats.denormalize(clip[: len(reconstruction)]),
+                                   motion_stats.denormalize(reconstruction)))
+    return {key: float(np.mean([e[key] for e in errors])) for key in errors[0]} if errors else {}
+
+
+def vqvae_stage(inputs: TrainInputs, preset: TrainPreset, motion_stats: Normalizer, progress: bool) -> dict:
+    train = [motion_stats.normalize(clip.motion) for clip in inputs.train]
+    val = [motion_stats.normalize(clip.motion) for clip in inputs.val if clip.num_frames >= preset.vq.downsample]
+    config = vq_config(preset, train[0].shape[1])
+    train_config = VQTrainConfig(window=preset.vq.window, batch_size=preset.vq.batch_size)
+    model, metrics = train_vqvae(train, config, preset.vq.steps, preset.seed, progress, val or None, train_config)
+    metrics["val_joint_errors"] = vq_joint_errors(model, val, motion_stats)
+    return {"model": vqvae_checkpoint(model), "metrics": metrics}
+
+
+def encode_latents(model: MotionVQVAE, motion: np.ndarray) -> np.ndarray:
+    """(T, D) normalised features → (T // d, C) quantized latents."""
+    d = model.config.downsample
+    usable = len(motion) - len(motion) % d
+    with torch.no_grad():
+        encoding = model.encode(torch.as_tensor(motion[None, :usable], dtype=torch.float32))
+    return encoding.quantized[0].numpy()
+
+
+def latent_clips(inputs: TrainInputs, model: MotionVQVAE, stats: dict, styles: StyleTable) -> tuple[list, Normalizer]:
+    motion_stats = Normalizer.from_dict(stats["motion_stats"])
+    audio_stats = FeatureStats.from_dict(stats["audio_stats"])
+    encoded = [encode_latents(model, motion_stats.normalize(clip.motion)) for clip in inputs.train]
+    encoded_clips = [(clip, latents) for clip, latents in zip(inputs.train, encoded, strict=True) if len(latents)]
+    latent_stats = Normalizer.fit([latents for _, latents in encoded_clips])
+    clips = [
+        LatentClip(latent_stats.normalize(latents), None if clip.audio is None else audio_stats.apply(clip.audio),
+                   styles.embedding(clip.style))
+        for clip, latents in encoded_clips
+    ]
+    return clips, latent_stats
+
+
+def denoiser_config(preset: TrainPreset, latent_dim: int, audio_dim: int, style_dim: int) -> DenoiserConfig:
+    den = preset.denoiser
+    return DenoiserConfig(latent_dim=latent_dim, audio_dim=audio_dim, style_dim=style_dim, width=den.width,
+                          num_layers=den.num_layers, num_heads=den.num_heads, window=den.window,
+                          frames_per_latent=preset.vq.downsample, audio_lookahead=preset.audio_lookahead,
+                          audio_window=den.audio_window)
+
+
+def denoiser_stage(inputs: TrainInputs, preset: TrainPreset, checkpoint: dict, progress: bool) -> dict:
+    stages = checkpoint["stages"]
+    model = vqvae_from_checkpoint(stages["vqvae"]["model"])
+    styles = StyleTable.from_dict(stages["data"]["styles"])
+    clips, latent_stats = latent_clips(inputs, model, stages["data"], styles)
+    config = denoiser_config(preset, model.config.latent_dim, inputs.feature_config.num_features,
+                             styles.embeddings.shape[1])
+    den = preset.denoiser
+    augmenter = None
+    if preset.audio_augmentation:
+        audio_stats = FeatureStats.from_dict(stages["data"]["audio_stats"])
+        augmenter = FeatureAugmenter(AudioAugmentConfig(), audio_stats, inputs.feature_config)
+    denoiser, metrics = train_denoiser(clips, config, den.steps, den.batch_size, den.sequence_latents,
+                                       den.learning_rate, den.paired_fraction, preset.seed, progress, augmenter)
+    return {"config": config.to_dict(), "state": denoiser.state_dict(), "latent_stats": latent_stats.to_dict(),
+            "metrics": metrics}
+
+
+def prompt_stage(inputs: TrainInputs, preset: TrainPreset, checkpoint: dict) -> dict:
+    styles = StyleTable.from_dict(checkpoint["stages"]["data"]["styles"])
+    usable = [clip for clip in inputs.train if clip.num_frames >= preset.prompt.clip_frames]
+    config = MotionPromptConfig(feature_dim=usable[0].motion.shape[1], width=preset.prompt.width,
+                                embed_dim=styles.embeddings.shape[1])
+    train_config = PromptTrainConfig(clip_frames=preset.prompt.clip_frames, batch_size=preset.prompt.batch_size,
+                                     steps=preset.prompt.steps, seed=preset.seed)
+    torch.manual_seed(preset.seed)
+    encoder = MotionPromptEncoder(config)
+    started = time.perf_counter()
+    losses = train_motion_prompt(encoder, [clip.motion for clip in usable],
+                                 [styles.labels.index(clip.style) for clip in usable], styles.embeddings, train_config)
+    metrics = {"final_loss": float(np.mean(losses[-20:])), "train_seconds": time.perf_counter() - started,
+               "parameters": sum(p.numel() for p in encoder.parameters())}
+    return {"config": asdict(config), "state": encoder.state_dict(), "metrics": metrics}
+
+
+def new_checkpoint(preset: TrainPreset, feature_config: FeatureConfig) -> dict:
+    return {"format_version": CHECKPOINT_FORMAT_VERSION, "preset": preset.to_dict(),
+            "feature_config": feature_config.to_dict(), "stages": {}, "stage_seconds": {}}
+
+
+def same_training_settings(stored: dict, wanted: dict) -> bool:
+    """Equal presets up to settings that do not change the result (thread count)."""
+    return {**stored, "threads": None} == {**wanted, "threads": None}
+
+
+def open_checkpoint(path: Path, preset: TrainPreset, feature_config: FeatureConfig, resume: bool) -> dict:
+    if not resume or not path.is_file():
+        return new_checkpoint(preset, feature_config)
+    checkpoint = load_checkpoint(path)
+    same_features = FeatureConfig.from_dict(checkpoint["feature_config"]) == feature_config
+    if not (same_features and same_training_settings(checkpoint["preset"], preset.to_dict())):
+        raise UserError(f"{path} was trained with other settings; drop --resume or use another --work-dir")
+    logger.info("resuming: stages done %s", list(checkpoint["stages"]))
+    return checkpoint
+
+
+def run_training(preset: TrainPreset, cache_dir: Path, work_dir: Path, resume: bool = False,
+                 progress: bool = True, feature_config: FeatureConfig | None = None) -> dict:
+    """Run every unfinished stage, saving ``work_dir/checkpoint.pt`` after each; returns the checkpoint.
+
+    ``feature_config``: the audio features the model listens to (default ``FeatureConfig()``); it is stored in
+    the checkpoint and the bundle, so the live runtime computes the same features."""
+    torch.set_num_threads(preset.threads)
+    feature_config = feature_config or FeatureConfig()
+    path = work_dir / CHECKPOINT_FILE
+    checkpoint = open_checkpoint(path, preset, feature_config, resume)
+    started = time.perf_counter()
+    kwargs = {"mirror_motion_only": preset.mirror_motion_only, "paired_speeds": preset.paired_speeds,
+              "progress": progress}
+    inputs = TrainInputs(load_training_clips(cache_dir, "train", feature_config, **kwargs),
+                         load_training_clips(cache_dir, "val", feature_config, **kwargs), feature_config)
+    checkpoint["stage_seconds"]["load"] = time.perf_counter() - started
+    stage_functions = {
+        "data": lambda: data_stage(inputs),
+        "vqvae": lambda: vqvae_stage(inputs, preset, Normalizer.from_dict(checkpoint["stages"]["data"]["motion_stats"]),
+                                     progress),
+        "denoiser": lambda: denoiser_stage(inputs, preset, checkpoint, progress),
+        "motion_prompt": lambda: prompt_stage(inputs, preset, checkpoint),
+    }
+    for stage in STAGES:
+        if stage in checkpoint["stages"]:
+            continue
+        stage_started = time.perf_counter()
+        checkpoint["stages"][stage] = stage_functions[stage]()
+        checkpoint["stage_seconds"][stage] = time.perf_counter() - stage_started
+        save_checkpoint(checkpoint, path)
+        logger.info("stage %s done in %.1f s", stage, checkpoint["stage_seconds"][stage])
+    checkpoint["summary"] = {"git_commit": git_commit(), "hardware": hardware_summary(),
+                             "total_seconds": sum(checkpoint["stage_seconds"].values())}
+    save_checkpoint(checkpoint, path)
+    return checkpoint

@@ -1,0 +1,206 @@
+"""Audio sources: one interface, three implementations (microphone, paced file, fast file).
+
+Every source yields :class:`AudioChunk` s of 16 kHz mono float32 with the stream index of their
+first sample and its capture time on the injected :class:`Clock`. Time of sample i of a chunk
+is ``capture_time + i / 16000``.
+
+- :class:`MicSource`: sounddevice callback ``InputStream``; the callback only copies into a
+  bounded :class:`RingBuffer` (drop-oldest on overrun, counted); the consumer thread resamples
+  from the device rate to 16 kHz (soxr, streaming).
+- :class:`PacedFileSource`: a file replayed at real-time pace (each chunk released when its last
+  sample would have been captured); repeatable.
+- :class:`FastFileSource`: a file as fast as possible (offline generation); capture times are
+  the stream times (``start / 16000``).
+"""
+
+from __future__ import annotations
+
+import threading
+from abc import ABC, abstractmethod
+from collections.abc import Iterator
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import soxr
+
+from gesturecast.realtime.audio.files import RESAMPLE_QUALITY, SAMPLE_RATE, AudioFileReader
+from gesturecast.realtime.audio.portaudio import (
+    check_input_rate,
+    import_sounddevice,
+    list_input_devices,
+    resolve_input_device,
+    translate_stream_error,
+)
+from gesturecast.realtime.audio.ring_buffer import RingBuffer
+from gesturecast.realtime.timing.clock import Clock, MonotonicClock
+
+DEFAULT_CHUNK = 512  # 16 kHz samples per yielded chunk (32 ms)
+
+
+@dataclass(frozen=True)
+class AudioChunk:
+    samples: np.ndarray  # (n,) float32, 16 kHz mono
+    start_sample: int  # stream index of samples[0]
+    capture_time: float  # clock time at which samples[0] was captured
+
+
+@dataclass(frozen=True)
+class SourceStats:
+    chunks: int = 0
+    samples: int = 0  # 16 kHz samples delivered
+    dropped_samples: int = 0  # lost to ring-buffer overruns (device-rate samples)
+    overruns: int = 0  # ring-buffer writes that had to drop audio
+    device_overflows: int = 0  # callbacks where PortAudio itself reported input overflow
+
+
+class AudioSource(ABC):
+    """Iterate to receive chunks; ``close()`` ends the iteration (also as a context manager)."""
+
+    sample_rate = SAMPLE_RATE
+
+    def __init__(self) -> None:
+        self._chunks = 0
+        self._samples = 0
+        self._stop = threading.Event()
+
+    @abstractmethod
+    def __iter__(self) -> Iterator[AudioChunk]: ...
+
+    def close(self) -> None:
+        """End the iteration after the current chunk (thread-safe)."""
+        self._stop.set()
+
+    def stats(self) -> SourceStats:
+        return SourceStats(chunks=self._chunks, samples=self._samples)
+
+    def _count(self, chunk: AudioChunk) -> AudioChunk:
+        self._chunks += 1
+        self._samples += chunk.samples.shape[0]
+        return chunk
+
+    def __enter__(self) -> AudioSource:
+        return self
+
+    def __exit__(self, *exc_info: object) -> None:
+        self.close()
+
+
+def rechunk(blocks: Iterator[np.ndarray], size: int) -> Iterator[tuple[int, np.ndarray]]:
+    """Blocks of any length → (start index, exactly ``size`` samples) pairs; the last may be shorter."""
+    pending = np.zeros(0, np.float32)
+    start = 0
+    for block in blocks:
+        pending = np.concatenate([pending, block])
+        whole = pending.shape[0] // size * size
+        for offset in range(0, whole, size):
+            yield start + offset, pending[offset : offset + size]
+        start += whole
+        pending = pending[whole:]
+    if pending.shape[0]:
+        yield start, pending
+
+
+class FastFileSource(AudioSource):
+    """A file as fast as possible; memory bounded by the reader's block size."""
+
+    def __init__(self, path: str | Path, chunk_samples: int = DEFAULT_CHUNK) -> None:
+        super().__init__()
+        self.reader = AudioFileReader(path)
+        self.chunk_samples = chunk_samples
+
+    def __iter__(self) -> Iterator[AudioChunk]:
+        for start, samples in rechunk(iter(self.reader), self.chunk_samples):
+            if self._stop.is_set():
+                return
+            yield self._count(AudioChunk(samples, start, start / SAMPLE_RATE))
+
+
+class PacedFileSource(AudioSource):
+    """A file at real-time pace on an injected clock: chunk [s, e) is released at t0 + e / 16000."""
+
+    def __init__(self, path: str | Path, chunk_samples: int = DEFAULT_CHUNK, clock: Clock | None = None) -> None:
+        super().__init__()
+        self.reader = AudioFileReader(path)
+        self.chunk_samples = chunk_samples
+        self.clock = clock or MonotonicClock()
+
+    def __iter__(self) -> Iterator[AudioChunk]:
+        origin = self.clock.now()
+        for start, samples in rechunk(iter(self.reader), self.chunk_samples):
+            if self._stop.is_set():
+                return
+            self.clock.sleep_until(origin + (start + samples.shape[0]) / SAMPLE_RATE)
+            yield self._count(AudioChunk(samples, start, origin + start / SAMPLE_RATE))
+
+
+@dataclass(frozen=True)
+class MicConfig:
+    device: str | None = None  # index or name substring; None = first input device
+    sample_rate: int | None = None  # device rate; None = the device's default
+    block_size: int = 512  # device frames per callback
+    chunk_samples: int = DEFAULT_CHUNK  # device frames read per yielded chunk (before resampling)
+    ring_seconds: float = 2.0  # ring-buffer capacity: older audio is dropped beyond this
+    read_timeout_s: float = 0.1  # consumer wait per read, so close() is noticed promptly
+
+
+class MicSource(AudioSource):
+    """Live microphone through a sounddevice callback stream (mono: the device's first channel)."""
+
+    def __init__(self, config: MicConfig | None = None, clock: Clock | None = None) -> None:
+        super().__init__()
+        self.config = config or MicConfig()
+        self.clock = clock or MonotonicClock()
+        self._sd = import_sounddevice()
+        self.device = resolve_input_device(self.config.device, list_input_devices())
+        self.device_rate = int(self.config.sample_rate or self.device.default_rate)
+        check_input_rate(self.device, self.device_rate)
+        self.ring = RingBuffer(int(self.config.ring_seconds * self.device_rate))
+        self._device_overflows = 0
+
+    def _callback(self, indata: np.ndarray, frames: int, time_info: object, status: object) -> None:
+        """PortAudio thread: copy only (plus a timestamp and an overflow count)."""
+        self.ring.write(indata[:, 0], self.clock.now() - frames / self.device_rate)
+        if status:
+            self._device_overflows += 1
+
+    def __iter__(self) -> Iterator[AudioChunk]:
+        resampler = None
+        if self.device_rate != SAMPLE_RATE:
+            resampler = soxr.ResampleStream(self.device_rate, SAMPLE_RATE, 1, dtype="float32", quality=RESAMPLE_QUALITY)
+        self._stop.clear()
+        try:
+            stream = self._sd.InputStream(
+                device=self.device.index,
+                channels=1,
+                samplerate=self.device_rate,
+                blocksize=self.config.block_size,
+                dtype="float32",
+                callback=self._callback,
+            )
+        except self._sd.PortAudioError as error:
+            raise translate_stream_error(error, self.device, self.device_rate) from error
+        with stream:
+            yield from self._consume(resampler)
+
+    def _consume(self, resampler: soxr.ResampleStream | None) -> Iterator[AudioChunk]:
+        produced = 0
+        while not self._stop.is_set():
+            read = self.ring.read(self.config.chunk_samples, timeout=self.config.read_timeout_s)
+            if not read.samples.shape[0]:
+                continue
+            samples = read.samples if resampler is None else resampler.resample_chunk(read.samples)
+            capture = read.write_time + (read.start_index - read.time_index) / self.device_rate
+            if samples.shape[0]:
+                yield self._count(AudioChunk(samples, produced, capture))
+                produced += samples.shape[0]
+
+    def stats(self) -> SourceStats:
+        ring = self.ring.stats()
+        return SourceStats(
+            chunks=self._chunks,
+            samples=self._samples,
+            dropped_samples=ring.dropped_samples,
+            overruns=ring.overruns,
+            device_overflows=self._device_overflows,
+        )

@@ -1,0 +1,1 @@
+"""``gesturecast serve``: many concurrent streams over WebSocket with one batched denoiser session."""

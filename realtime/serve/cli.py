@@ -1,0 +1,62 @@
+"""``gesturecast serve``: N concurrent streams over WebSocket with batched inference (docs/serve.md)."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import threading
+
+from gesturecast.bridges.coords import FRAMES
+from gesturecast.errors import UserError
+from gesturecast.realtime.engine_setup import add_generation_arguments, build_session
+from gesturecast.realtime.serve.server import SERVE_DEFAULT_PORT, GestureServer, ServeConfig
+from gesturecast.realtime.serve.setup import StreamSessions
+from gesturecast.realtime.serve.stream import StreamConfig
+from gesturecast.realtime.timing.clock import Clock, MonotonicClock
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    parser = subparsers.add_parser("serve", help="many avatars: audio in / poses out over WebSocket, batched")
+    add_serve_arguments(parser)
+    parser.set_defaults(func=run_serve)
+
+
+def add_serve_arguments(parser: argparse.ArgumentParser) -> None:
+    add_generation_arguments(parser)
+    group = parser.add_argument_group("server")
+    group.add_argument("--host", default="127.0.0.1", help="listen address (beyond loopback needs --token)")
+    group.add_argument("--port", type=int, default=SERVE_DEFAULT_PORT, help="WebSocket port (0 = any free port)")
+    group.add_argument("--token", help="clients must send it in their start message (required beyond loopback)")
+    group.add_argument("--max-streams", type=int, default=ServeConfig.max_streams, help="concurrent streams allowed")
+    group.add_argument("--coordinate-frame", choices=tuple(FRAMES), default="internal", help="frame of sent poses")
+    group.add_argument("--fps", type=int, choices=(30, 60), default=30, help="output rate (60 = slerp upsampling)")
+
+
+def build_server(args: argparse.Namespace, clock: Clock) -> GestureServer:
+    """The server for these flags (the defaults are validated by building one session up front)."""
+    if args.max_streams < 1:
+        raise UserError(f"--max-streams must be at least 1, got {args.max_streams}")
+    probe = build_session(args, clock)  # checks the model, look-ahead and default style before listening
+    sessions = StreamSessions(probe.bundle, probe.generator.settings, probe.budget, clock, args.max_streams)
+    config = ServeConfig(host=args.host, port=args.port, token=args.token, max_streams=args.max_streams,
+                         coordinate_frame=args.coordinate_frame, stream=StreamConfig(output_fps=float(args.fps)))
+    try:
+        return GestureServer(sessions, clock, config).start()
+    except UserError:
+        sessions.close()
+        raise
+
+
+def run_serve(args: argparse.Namespace) -> int:
+    clock = MonotonicClock()
+    server = build_server(args, clock)
+    sys.stdout.write(f"{server.sessions.budget.describe()}\nstreams: {server.url}<id> (at most {args.max_streams}); "
+                     "Ctrl-C stops\n")
+    sys.stdout.flush()
+    try:
+        threading.Event().wait()
+    except KeyboardInterrupt:
+        return 130
+    finally:
+        server.close()
+    return 0

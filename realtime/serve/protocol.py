@@ -1,0 +1,166 @@
+"""Messages of ``gesturecast serve``: one WebSocket per stream, audio in, poses out (docs/serve.md).
+
+Client → server:
+
+- ``{"type": "start", "style"?, "prompt"?, "style2"?, "gamma"?, "guidance"?, "audio_guidance"?, "seed"?,
+  "audio_format"?, "token"?}`` — optional before the first audio (defaults: the server's style, ``f32le``); carries the
+  token when the server requires one.
+- binary messages: raw PCM, 16 kHz mono, ``f32le`` (float32 in [-1, 1]) or ``s16le`` (int16).
+- ``{"type": "control", ...}`` — live style / guidance / audio guidance / γ changes
+  (:mod:`gesturecast.bridges.control`).
+- ``{"type": "end"}`` — no more audio: the rest of the poses, then a ``stats`` message, then close.
+
+Server → client: the JSON hello (the viewer's hello plus ``stream``, ``latency_budget_ms``, ``audio``),
+``started``, binary pose frames (:func:`gesturecast.bridges.ws_protocol.binary_frame`), ``ack``,
+``error`` (one line; the connection stays open) and ``stats``.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from gesturecast.bridges.control import CONTROL_FIELDS, ControlError, validate_control
+from gesturecast.errors import UserError
+from gesturecast.realtime.audio.files import SAMPLE_RATE
+from gesturecast.realtime.style_prompts import StylePrompt
+
+AUDIO_FORMATS = {"f32le": np.dtype("<f4"), "s16le": np.dtype("<i2")}
+DEFAULT_AUDIO_FORMAT = "f32le"
+INT16_FULL_SCALE = 32768.0
+MAX_AUDIO_MESSAGE_BYTES = 64 * 1024  # 1 s of float32 audio fits
+MAX_SEED = 2**31 - 1
+START_FIELDS = frozenset({"type", "token", "seed", "audio_format", *CONTROL_FIELDS})
+STREAM_ID_CHARS = frozenset("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-_.")
+MAX_STREAM_ID_CHARS = 64
+STREAM_PATH_PREFIX = "/stream/"
+
+
+@dataclass(frozen=True)
+class StreamOptions:
+    """What a ``start`` message chose (None = the server's default)."""
+
+    style: StylePrompt | None = None
+    second_style: StylePrompt | None = None
+    gamma: float | None = None
+    guidance: float | None = None
+    audio_guidance: float | None = None
+    seed: int | None = None
+    audio_format: str = DEFAULT_AUDIO_FORMAT
+
+
+def parse_json_message(text: str) -> dict:
+    """A text message → a JSON object with a ``type``; ControlError (one line) otherwise."""
+    try:
+        decoded = json.loads(text)
+    except json.JSONDecodeError as error:
+        raise ControlError(f"not JSON ({error.msg})") from None
+    if not isinstance(decoded, dict) or not isinstance(decoded.get("type"), str):
+        raise ControlError('a message must be a JSON object with a "type"')
+    return decoded
+
+
+def client_style(spec: str) -> StylePrompt:
+    """A style from a client (``motion:`` styles are already refused by the control schema)."""
+    try:
+        return StylePrompt.parse(spec)
+    except UserError as error:
+        raise ControlError(str(error)) from None
+
+
+def check_control(message: dict) -> dict:
+    """A validated control message for the session (``motion:`` styles refused by the schema)."""
+    control = validate_control(message)
+    for name in ("style", "style2"):
+        if name in control:
+            client_style(control[name])
+    return control
+
+
+def parse_start(message: dict) -> StreamOptions:
+    unknown = sorted(set(message) - START_FIELDS)
+    if unknown:
+        raise ControlError(f"unknown start field(s): {', '.join(unknown)}; known: {', '.join(sorted(START_FIELDS))}")
+    styles = {k: v for k, v in message.items() if k in CONTROL_FIELDS}
+    control = check_control(styles) if styles else {}
+    audio_format = message.get("audio_format", DEFAULT_AUDIO_FORMAT)
+    if audio_format not in AUDIO_FORMATS:
+        raise ControlError(f"audio_format must be one of {', '.join(AUDIO_FORMATS)}, got {audio_format!r}")
+    seed = message.get("seed")
+    if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed <= MAX_SEED):
+        raise ControlError(f"seed must be an integer in [0, {MAX_SEED}]")
+    style = StylePrompt("text", control["prompt"]) if "prompt" in control else None
+    if style is None and "style" in control:
+        style = client_style(control["style"])
+    return StreamOptions(
+        style=style,
+        second_style=client_style(control["style2"]) if "style2" in control else None,
+        gamma=control.get("gamma"),
+        guidance=control.get("guidance"),
+        audio_guidance=control.get("audio_guidance"),
+        seed=seed,
+        audio_format=audio_format,
+    )
+
+
+def decode_audio(data: bytes, audio_format: str) -> np.ndarray:
+    """One binary message → (n,) float32 samples; ControlError for a torn sample or non-finite values."""
+    dtype = AUDIO_FORMATS[audio_format]
+    if not data or len(data) % dtype.itemsize:
+        raise ControlError(f"{audio_format} audio must be a non-empty multiple of {dtype.itemsize} bytes, "
+                           f"got {len(data)}")
+    samples = np.frombuffer(data, dtype=dtype)  # (n,)
+    if dtype.kind == "i":
+        return (samples / INT16_FULL_SCALE).astype(np.float32)
+    if not np.isfinite(samples).all():
+        raise ControlError("audio contains NaN or infinite samples")
+    return samples.astype(np.float32)
+
+
+def stream_id_from_path(path: str, fallback: str) -> str:
+    """``/stream/<id>`` → id; ``/`` or ``/stream`` → ``fallback``; ControlError for any other path."""
+    route = path.split("?", 1)[0].rstrip("/")
+    if route in ("", STREAM_PATH_PREFIX.rstrip("/")):
+        return fallback
+    if not route.startswith(STREAM_PATH_PREFIX):
+        raise ControlError(f"unknown path {route!r}; connect to {STREAM_PATH_PREFIX}<id>")
+    stream_id = route[len(STREAM_PATH_PREFIX):]
+    if not stream_id or len(stream_id) > MAX_STREAM_ID_CHARS or not set(stream_id) <= STREAM_ID_CHARS:
+        raise ControlError(f"a stream id is 1-{MAX_STREAM_ID_CHARS} characters of A-Z a-z 0-9 - _ .")
+    return stream_id
+
+
+def hello(viewer_hello: str, stream_id: str, latency_budget_ms: float) -> str:
+    """The viewer hello (bones, offsets, coordinate frame, control schema, token_required) plus stream fields."""
+    message = json.loads(viewer_hello)
+    message.update(
+        stream=stream_id,
+        latency_budget_ms=latency_budget_ms,
+        audio={"sample_rate": SAMPLE_RATE, "channels": 1, "formats": list(AUDIO_FORMATS),
+               "default_format": DEFAULT_AUDIO_FORMAT, "max_message_bytes": MAX_AUDIO_MESSAGE_BYTES},
+    )
+    return json.dumps(message)
+
+
+def started(stream_id: str, style: str, audio_format: str) -> str:
+    return json.dumps({"type": "started", "stream": stream_id, "style": style, "audio_format": audio_format})
+
+
+def ack(control: dict) -> str:
+    return json.dumps({"type": "ack", "applied": control})
+
+
+def stats_message(stats: dict) -> str:
+    return json.dumps({"type": "stats", **_finite(stats)})
+
+
+def _finite(value):
+    """NaN/inf → None so the stats are strict JSON."""
+    if isinstance(value, dict):
+        return {k: _finite(v) for k, v in value.items()}
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value

@@ -1,0 +1,250 @@
+"""``gesturecast serve``: many concurrent streams in one process, audio in and poses out over WebSocket.
+
+Each WebSocket connection (``/stream/<id>``) is one stream with its own :class:`ServeStream`; all
+streams' denoiser calls are batched through one shared session (:mod:`batched_denoiser`). The
+asyncio server runs in its own thread (start / close); the protocol is in :mod:`serve_protocol` and
+docs/serve.md. Listens on 127.0.0.1 unless told otherwise; beyond loopback a token is required
+(``check_exposure``) and a stream starts only after a ``start`` message carrying it.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import hmac
+import itertools
+import json
+import logging
+import threading
+from collections import deque
+from dataclasses import dataclass, field
+
+from websockets.asyncio.server import ServerConnection, broadcast
+from websockets.exceptions import ConnectionClosed
+from websockets.frames import CloseCode
+
+from gesturecast.bridges import ws_protocol
+from gesturecast.bridges.control import ControlError, control_schema
+from gesturecast.bridges.coords import coordinate_frame
+from gesturecast.bridges.transport import ErrorThrottle
+from gesturecast.bridges.websocket_server import check_exposure, token_required
+from gesturecast.bridges.ws_listener import ThreadedListener
+from gesturecast.models.motion.skeleton import CANONICAL
+from gesturecast.realtime.serve.protocol import (
+    DEFAULT_AUDIO_FORMAT,
+    MAX_AUDIO_MESSAGE_BYTES,
+    ack,
+    check_control,
+    decode_audio,
+    hello,
+    parse_json_message,
+    parse_start,
+    started,
+    stream_id_from_path,
+)
+from gesturecast.realtime.serve.setup import StreamSessions
+from gesturecast.realtime.serve.stream import ServeStream, StreamConfig
+from gesturecast.realtime.timing.clock import Clock
+
+logger = logging.getLogger(__name__)
+
+SERVE_DEFAULT_PORT = 8766
+STOP_TIMEOUT_S = 10.0
+MAX_OUTGOING_MESSAGES = 64  # per connection, waiting for the event loop (drop-oldest beyond, counted)
+SLOW_CLIENT_BUFFER_BYTES = 256 * 1024  # a client whose socket buffer holds more skips pose frames
+
+
+@dataclass(frozen=True)
+class ServeConfig:
+    host: str = "127.0.0.1"
+    port: int = SERVE_DEFAULT_PORT
+    token: str | None = None
+    max_streams: int = 16
+    coordinate_frame: str = "internal"
+    stream: StreamConfig = field(default_factory=StreamConfig)
+
+
+class LoopSender:
+    """Thread-safe, bounded hand-off of outgoing messages to one connection on the event loop."""
+
+    def __init__(self, loop: asyncio.AbstractEventLoop, websocket: ServerConnection) -> None:
+        self.loop = loop
+        self.websocket = websocket
+        self._pending: deque[bytes | str] = deque(maxlen=MAX_OUTGOING_MESSAGES)  # full: the oldest goes
+        self._lock = threading.Lock()
+        self._drain_scheduled = False
+        self._closing: asyncio.Task | None = None
+
+    def send(self, message: bytes | str) -> None:
+        with self._lock:
+            self._pending.append(message)
+            schedule, self._drain_scheduled = not self._drain_scheduled, True
+        if schedule:
+            self.loop.call_soon_threadsafe(self._drain)
+
+    def close_when_sent(self) -> None:
+        """Close the connection after everything sent so far (callbacks run in FIFO order)."""
+        self.loop.call_soon_threadsafe(self._close)
+
+    def _close(self) -> None:
+        self._closing = self.loop.create_task(self.websocket.close())
+
+    def _drain(self) -> None:
+        with self._lock:
+            messages = list(self._pending)
+            self._pending.clear()
+            self._drain_scheduled = False
+        for message in messages:
+            slow = self.websocket.transport.get_write_buffer_size() > SLOW_CLIENT_BUFFER_BYTES
+            if not (slow and isinstance(message, bytes)):  # pose frames are skipped for a slow client
+                broadcast([self.websocket], message)
+
+
+class StreamConnection:
+    """One client's protocol state (event-loop thread): start, audio, control, end."""
+
+    def __init__(self, server: GestureServer, websocket: ServerConnection, stream_id: str) -> None:
+        self.server = server
+        self.stream_id = stream_id
+        self.sender = LoopSender(asyncio.get_running_loop(), websocket)
+        self.stream: ServeStream | None = None
+        self.audio_format = DEFAULT_AUDIO_FORMAT
+
+    async def reply_to(self, message: bytes | str) -> str | None:
+        try:
+            if isinstance(message, bytes):
+                return await self._audio(message)
+            return await self._command(parse_json_message(message))
+        except ControlError as error:
+            self.server.errors.report(ControlError(f"stream {self.stream_id}: {error}"))
+            return ws_protocol.error_message(str(error))
+
+    async def _command(self, message: dict) -> str | None:
+        kind = message["type"]
+        if kind == "start":
+            return await self._start(message)
+        if self.stream is None:
+            raise ControlError(f"no stream yet: send audio or a start message before {kind!r}")
+        if kind == "control":
+            control = check_control(message)
+            self.stream.session.controls.submit(control)
+            return ack(control)
+        if kind == "end":
+            self.stream.end()
+            return None
+        raise ControlError(f"unknown message type {kind!r}; use start, control or end (audio: binary)")
+
+    async def _start(self, message: dict) -> str:
+        if self.stream is not None:
+            raise ControlError("the stream has already started")
+        if self.server.token_required:
+            given = message.get("token")
+            if not isinstance(given, str) or not hmac.compare_digest(given, self.server.config.token or ""):
+                raise ControlError("missing or wrong token")
+        options = parse_start(message)
+        session = await asyncio.to_thread(self.server.sessions.session, options)
+        self.audio_format = options.audio_format
+        self.stream = ServeStream(self.stream_id, session, self.server.clock, self.sender.send, self.server.coords,
+                                  self.server.config.stream, on_finished=self.sender.close_when_sent).start()
+        logger.info("stream %s started (%s)", self.stream_id, session.controls.describe())
+        return started(self.stream_id, session.controls.describe(), self.audio_format)
+
+    async def _audio(self, data: bytes) -> str | None:
+        reply = None
+        if self.stream is None:
+            if self.server.token_required:
+                raise ControlError("this server needs a token: send {\"type\": \"start\", \"token\": ...} first")
+            reply = await self._start({"type": "start"})
+        samples = decode_audio(data, self.audio_format)
+        self.stream.feed(samples, self.server.clock.now())
+        return reply
+
+    async def close(self) -> None:
+        if self.stream is not None:
+            await asyncio.to_thread(self.stream.stop)
+            stats = self.stream.stats()
+            logger.info("stream %s closed: %s", self.stream_id, json.dumps(stats))
+            self.server.remember(stats)
+
+
+class GestureServer:
+    """Owns the WebSocket server thread and the stream sessions (closed together by :meth:`close`)."""
+
+    def __init__(self, sessions: StreamSessions, clock: Clock, config: ServeConfig | None = None) -> None:
+        self.config = config or ServeConfig()
+        check_exposure(self.config.host, self.config.token)
+        self.sessions = sessions
+        self.clock = clock
+        self.coords = coordinate_frame(self.config.coordinate_frame)
+        self.token_required = token_required(self.config.host, self.config.token)
+        self.errors = ErrorThrottle("serve: client message rejected")
+        self.finished: deque[dict] = deque(maxlen=self.config.max_streams)  # stats of recently closed streams
+        self._connections: dict[str, StreamConnection] = {}
+        self._ids = itertools.count(1)
+        self._listener = ThreadedListener(self.config.host, self.config.port, "gesturecast-serve", STOP_TIMEOUT_S)
+
+    # ---- lifecycle (caller's thread) ----
+    def start(self) -> GestureServer:
+        self._listener.start(self._handle, max_size=MAX_AUDIO_MESSAGE_BYTES)
+        logger.info("serving streams on %s (at most %d)", self.url, self.config.max_streams)
+        return self
+
+    @property
+    def port(self) -> int:
+        """The listening port (the bound one once started, also when ``config.port`` is 0)."""
+        return self._listener.port
+
+    @property
+    def url(self) -> str:
+        return f"ws://{self.config.host}:{self.port}/stream/"
+
+    def active_streams(self) -> int:
+        return len(self._connections)
+
+    def remember(self, stats: dict) -> None:
+        self.finished.append(stats)
+
+    def close(self) -> None:
+        self._listener.close()
+        self.sessions.close()
+
+    # ---- event-loop thread ----
+    def _hello(self, stream_id: str) -> str:
+        styles = tuple(self.sessions.bundle.styles.labels)
+        viewer = ws_protocol.hello_message(CANONICAL, self.coords, self.config.stream.output_fps,
+                                           self.sessions.defaults.style.value, styles, control_schema(),
+                                           self.token_required)
+        return hello(viewer, stream_id, self.sessions.budget.total_ms)
+
+    async def _refuse(self, websocket: ServerConnection, reason: str, code: CloseCode) -> None:
+        await websocket.send(ws_protocol.error_message(reason))
+        await websocket.close(code, reason[:100])
+
+    async def _handle(self, websocket: ServerConnection) -> None:
+        try:
+            stream_id = stream_id_from_path(websocket.request.path, f"stream-{next(self._ids)}")
+        except ControlError as error:
+            await self._refuse(websocket, str(error), CloseCode.POLICY_VIOLATION)
+            return
+        if len(self._connections) >= self.config.max_streams:
+            await self._refuse(websocket, f"server full ({self.config.max_streams} streams)", CloseCode.TRY_AGAIN_LATER)
+            return
+        if stream_id in self._connections:
+            await self._refuse(websocket, f"stream id {stream_id!r} is in use", CloseCode.POLICY_VIOLATION)
+            return
+        await self._serve_stream(websocket, stream_id)
+
+    async def _serve_stream(self, websocket: ServerConnection, stream_id: str) -> None:
+        connection = self._connections[stream_id] = StreamConnection(self, websocket, stream_id)
+        try:
+            await websocket.send(self._hello(stream_id))
+            async for message in websocket:
+                reply = await connection.reply_to(message)
+                if reply is not None:
+                    await websocket.send(reply)
+        except ConnectionClosed:
+            logger.debug("stream %s: client went away", stream_id)
+        finally:
+            try:
+                await connection.close()  # records the stream's stats before it stops counting as active
+            finally:
+                del self._connections[stream_id]

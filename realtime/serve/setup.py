@@ -1,0 +1,53 @@
+"""Sessions for ``gesturecast serve``: every stream's generator shares one batched denoiser session."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+from gesturecast.bridges.control import ControlError
+from gesturecast.errors import UserError
+from gesturecast.models.runtime.bundle import ModelBundle
+from gesturecast.realtime.generator import Generator, GeneratorSettings
+from gesturecast.realtime.serve.batched_denoiser import DenoiserBatcher, SharedDenoiserBundle
+from gesturecast.realtime.serve.protocol import StreamOptions
+from gesturecast.realtime.session import GestureSession
+from gesturecast.realtime.timing.clock import Clock
+from gesturecast.realtime.timing.latency import LatencyBudget
+
+
+class StreamSessions:
+    """Builds one :class:`GestureSession` per stream from a ``start`` message over the server's defaults.
+
+    All sessions share the budget L (same model, same margin) and one :class:`DenoiserBatcher`;
+    each has its own generator state (KV cache rows, RNG, decoder, features). Close with :meth:`close`.
+    """
+
+    def __init__(self, bundle: ModelBundle, defaults: GeneratorSettings, budget: LatencyBudget, clock: Clock,
+                 max_streams: int) -> None:
+        self.defaults = defaults
+        self.budget = budget
+        self.clock = clock
+        self.batcher = DenoiserBatcher(bundle.path("denoiser"), defaults.threads, max_waiting=max_streams).start()
+        self.bundle = SharedDenoiserBundle.wrap(bundle, self.batcher)
+
+    def settings(self, options: StreamOptions) -> GeneratorSettings:
+        chosen = {
+            "style": options.style,
+            "second_style": options.second_style,
+            "gamma": options.gamma,
+            "guidance": options.guidance,
+            "audio_guidance": options.audio_guidance,
+            "seed": options.seed,
+        }
+        return replace(self.defaults, **{name: value for name, value in chosen.items() if value is not None})
+
+    def session(self, options: StreamOptions) -> GestureSession:
+        """A fresh session; ControlError (sent to the client) for a style the model does not know."""
+        try:
+            generator = Generator(self.bundle, self.settings(options))
+        except UserError as error:
+            raise ControlError(str(error)) from None
+        return GestureSession(self.bundle, generator, self.budget, self.clock)
+
+    def close(self) -> None:
+        self.batcher.close()

@@ -1,0 +1,115 @@
+"""BVH reading/writing: round trips, odd layouts, bad input."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from gesturecast.errors import UserError
+from gesturecast.models.motion.bvh import read_bvh, write_bvh
+from gesturecast.models.motion.rotations import quat_from_euler, quat_mul
+
+ODD_BVH = """HIERARCHY
+ROOT Root
+{
+  OFFSET 1 2 3
+  CHANNELS 6 Yrotation Xposition Zrotation Yposition Xrotation Zposition
+  JOINT Mid
+  {
+    OFFSET 0 10 0
+    CHANNELS 6 Xposition Yposition Zposition Xrotation Yrotation Zrotation
+    JOINT Tip
+    {
+      OFFSET 0 5 0
+      CHANNELS 3 Yrotation Zrotation Xrotation
+      End Site
+      {
+        OFFSET 0 2.5 0
+      }
+    }
+  }
+}
+MOTION
+Frames: 2
+Frame Time: .0083333
+10 1 20 2 30 3 0 10 0 5 6 7 -40 50 60
+-10 4 -20 5 -30 6 0 11 0 1 2 3 0 0 0
+"""
+
+
+@pytest.fixture()
+def odd_file(tmp_path: Path) -> Path:
+    path = tmp_path / "odd.bvh"
+    path.write_text(ODD_BVH)
+    return path
+
+
+def test_reads_odd_channel_orders_and_end_sites(odd_file: Path) -> None:
+    data = read_bvh(odd_file)
+    assert data.names == ["Root", "Mid", "Tip"]
+    assert list(data.parents) == [-1, 0, 1]
+    assert data.fps == pytest.approx(1 / 0.0083333)
+    np.testing.assert_allclose(data.end_sites[2], [0, 2.5, 0])
+    translations = data.local_translations()
+    np.testing.assert_allclose(translations[0, 0], [1, 2, 3])  # root position channels, interleaved
+    np.testing.assert_allclose(translations[1, 1], [0, 11, 0])  # 6-channel joint: channels replace OFFSET
+    np.testing.assert_allclose(translations[0, 2], [0, 5, 0])  # 3-channel joint: OFFSET
+    rotations = data.local_rotations()
+    # root "Yrotation ... Zrotation ... Xrotation": R = Ry(10) Rz(20) Rx(30), intrinsic as in BVH
+    ry, rz, rx = (quat_from_euler(np.deg2rad([[a]]), axis)[0] for a, axis in ((10, "Y"), (20, "Z"), (30, "X")))
+    np.testing.assert_allclose(rotations[0, 0], quat_mul(quat_mul(ry, rz), rx), atol=1e-12)
+    np.testing.assert_allclose(rotations[0, 2], quat_from_euler(np.deg2rad([-40.0, 50, 60]), "YZX"), atol=1e-12)
+
+
+def test_round_trip_preserves_rotations(odd_file: Path, tmp_path: Path) -> None:
+    data = read_bvh(odd_file)
+    out = tmp_path / "out.bvh"
+    write_bvh(data, out)
+    again = read_bvh(out)
+    assert again.names == data.names and again.channels == data.channels
+    np.testing.assert_allclose(again.frame_time, data.frame_time, rtol=1e-9)
+    dots = np.abs(np.sum(again.local_rotations() * data.local_rotations(), axis=-1))
+    angle_error_deg = np.degrees(2 * np.arccos(np.clip(dots, -1, 1)))
+    assert angle_error_deg.max() < 1e-4
+    np.testing.assert_allclose(again.end_sites[2], data.end_sites[2])
+
+
+def test_crlf_line_endings(odd_file: Path, tmp_path: Path) -> None:
+    crlf = tmp_path / "crlf.bvh"
+    crlf.write_bytes(ODD_BVH.replace("\n", "\r\n").encode())
+    np.testing.assert_array_equal(read_bvh(crlf).motion, read_bvh(odd_file).motion)
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        (ODD_BVH.replace("Frames: 2", "Frames: 0"), "zero frames"),
+        (ODD_BVH.rsplit("\n", 2)[0], "truncated"),
+        (ODD_BVH.split("MOTION")[0][:120], "truncated"),
+        ("just some notes\nnot motion\n", "not a BVH file"),
+        (ODD_BVH.replace("-10 4 -20", "-10 4"), "frame 1 has 14 values"),
+        (ODD_BVH.replace("Xrotation Yrotation Zrotation", "Xrotation Yrotation Wrotation"), "unknown BVH channel"),
+    ],
+)
+def test_bad_input_is_one_line_user_error(tmp_path: Path, text: str, message: str) -> None:
+    path = tmp_path / "bad.bvh"
+    path.write_text(text)
+    with pytest.raises(UserError, match=message) as info:
+        read_bvh(path)
+    assert "\n" not in str(info.value)
+
+
+def test_missing_file_is_user_error(tmp_path: Path) -> None:
+    with pytest.raises(UserError, match="cannot read"):
+        read_bvh(tmp_path / "nope.bvh")
+
+
+def test_failed_write_leaves_no_file(odd_file: Path, tmp_path: Path) -> None:
+    data = read_bvh(odd_file)
+    data.motion = np.array([["not", "numbers", *["x"] * 13]], dtype=object)
+    out = tmp_path / "half.bvh"
+    with pytest.raises(TypeError):
+        write_bvh(data, out)
+    assert list(tmp_path.iterdir()) == [odd_file]

@@ -1,0 +1,56 @@
+import torch
+from denoiser_helpers import TINY
+
+from gesturecast.models.generator.denoiser_config import audio_frames_needed
+from gesturecast.models.generator.diffusion import CLEAN_TIMESTEP, get_schedule
+from gesturecast.models.networks.denoiser import CausalDenoiser
+from gesturecast.models.training.denoiser_objective import (
+    DenoiserTrainConfig,
+    noise_frames,
+    sample_noise_levels,
+    training_loss,
+)
+
+
+def test_noise_levels_have_clean_prefixes_and_independent_levels():
+    gen = torch.Generator().manual_seed(0)
+    t = sample_noise_levels(2000, 8, 1000, 0.5, gen)
+    clean = t == CLEAN_TIMESTEP
+    # clean frames only ever form a prefix: once noisy, never clean again
+    assert not torch.any(clean[:, 1:] & ~clean[:, :-1])
+    assert 0.3 < clean.any(dim=1).float().mean() < 0.5  # ≈ 0.5 · (7/8) of sequences have history
+    noisy = t[~clean]
+    assert noisy.min() >= 0 and noisy.max() < 1000
+    assert len(torch.unique(t[:, -1])) > 500  # levels vary per frame
+
+
+def test_clean_frames_are_not_noised():
+    schedule = get_schedule()
+    latents = torch.randn(2, 4, 3)
+    t = torch.tensor([[CLEAN_TIMESTEP, CLEAN_TIMESTEP, 999, 999], [CLEAN_TIMESTEP, 0, 500, 999]])
+    x_t = noise_frames(schedule, latents, t, torch.Generator().manual_seed(0))
+    assert torch.equal(x_t[:, 0], latents[:, 0]) and torch.equal(x_t[0, 1], latents[0, 1])
+    assert not torch.allclose(x_t[0, 2], latents[0, 2])
+
+
+def test_training_loss_decreases_on_a_tiny_problem():
+    torch.manual_seed(0)
+    model = CausalDenoiser(TINY)
+    schedule = get_schedule()
+    gen = torch.Generator().manual_seed(0)
+    num_latents = 6
+    latents = torch.randn(4, num_latents, TINY.latent_dim)
+    audio = torch.randn(4, audio_frames_needed(num_latents, TINY), TINY.audio_dim)
+    audio_mask = torch.tensor([1.0, 0.0, 1.0, 0.0])
+    style = torch.randn(4, TINY.style_dim)
+    optimizer = torch.optim.Adam(model.parameters(), lr=3e-3)
+    config = DenoiserTrainConfig()
+    losses = []
+    for _ in range(60):
+        loss = training_loss(model, latents, audio, audio_mask, style, schedule, gen, config)
+        optimizer.zero_grad()
+        loss.backward()
+        optimizer.step()
+        losses.append(loss.item())
+    assert sum(losses[-10:]) / 10 < 0.7 * sum(losses[:10]) / 10
+    assert model.style.null_style.abs().sum() > 0  # style dropout trained the null embedding

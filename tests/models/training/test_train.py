@@ -1,0 +1,80 @@
+import json
+import shutil
+
+import numpy as np
+import pytest
+import torch
+
+from gesturecast.cli import main
+from gesturecast.errors import UserError
+from gesturecast.models.export.bundle import export_bundle
+from gesturecast.models.runtime.bundle import ModelBundle
+from gesturecast.models.training.denoiser import learning_rate_factor
+from gesturecast.models.training.pipeline import CHECKPOINT_FILE, load_checkpoint, run_training, save_checkpoint
+from gesturecast.models.training.presets import get_preset
+from gesturecast.realtime.features.speaker_norm import SpeakerNormConfig
+from gesturecast.realtime.features.streaming import FeatureConfig
+
+
+def finished_work_dir(tiny_model, folder):
+    """A copy of the tiny run's checkpoint folder."""
+    checkpoint_path = tiny_model[1].parent / "work" / CHECKPOINT_FILE
+    folder.mkdir(parents=True)
+    shutil.copy(checkpoint_path, folder / CHECKPOINT_FILE)
+    return folder
+
+
+def test_resumed_stages_are_retrained_identically_under_the_seed(tiny_model, tmp_path):
+    checkpoint = tiny_model[0]
+    work = finished_work_dir(tiny_model, tmp_path / "work")
+    partial = load_checkpoint(work / CHECKPOINT_FILE)
+    del partial["stages"]["denoiser"], partial["stages"]["motion_prompt"]
+    save_checkpoint(partial, work / CHECKPOINT_FILE)
+    cache = tiny_model[1].parent / "dataset"
+    resumed = run_training(get_preset("tiny"), cache, work, resume=True, progress=False)
+    for stage in ("denoiser", "motion_prompt"):
+        retrained = resumed["stages"][stage]["state"]
+        for key, value in checkpoint["stages"][stage]["state"].items():
+            torch.testing.assert_close(retrained[key], value, rtol=0, atol=0)
+    assert resumed["stages"]["denoiser"]["metrics"]["final_loss"] == checkpoint["stages"]["denoiser"]["metrics"][
+        "final_loss"]
+
+
+def test_resume_refuses_other_settings_and_export_refuses_unfinished_runs(tiny_model, tmp_path):
+    work = finished_work_dir(tiny_model, tmp_path / "work")
+    with pytest.raises(UserError, match="other settings"):
+        run_training(get_preset("tiny", seed=99), tmp_path / "unused", work, resume=True, progress=False)
+    speaker_normalised = FeatureConfig(speaker_norm=SpeakerNormConfig(enabled=True))
+    with pytest.raises(UserError, match="other settings"):
+        run_training(get_preset("tiny"), tmp_path / "unused", work, resume=True, progress=False,
+                     feature_config=speaker_normalised)
+    partial = load_checkpoint(work / CHECKPOINT_FILE)
+    del partial["stages"]["motion_prompt"]
+    with pytest.raises(UserError, match="missing motion_prompt"):
+        export_bundle(partial, tmp_path / "bundle")
+
+
+def test_train_and_export_commands(tiny_model, tmp_path, capsys):
+    work = finished_work_dir(tiny_model, tmp_path / "work")
+    cache = tiny_model[1].parent / "dataset"
+    args = ["train", "--preset", "tiny", "--data", str(cache), "--work-dir", str(work), "--resume", "--no-progress",
+            "--out", str(tmp_path / "trained")]
+    assert main(args) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["preset"] == "tiny" and summary["parameters"]["vqvae"] > 0
+    assert main(["export", str(work), "-o", str(tmp_path / "exported")]) == 0
+    exported, trained = ModelBundle.load(tmp_path / "exported"), ModelBundle.load(tmp_path / "trained")
+    np.testing.assert_array_equal(exported.latent_stats.mean, trained.latent_stats.mean)
+    assert main(["export", str(tmp_path / "nothing"), "-o", str(tmp_path / "x")]) == 2
+    assert "no training checkpoint" in capsys.readouterr().err
+
+
+def test_unknown_preset_is_a_user_error():
+    with pytest.raises(UserError, match="known presets: tiny, default"):
+        get_preset("huge")
+
+
+def test_learning_rate_warms_up_then_decays_to_a_tenth():
+    factors = [learning_rate_factor(step, 1000) for step in range(1000)]
+    assert factors[0] < factors[50] < factors[99] == pytest.approx(1.0)
+    assert factors[-1] == pytest.approx(0.1, abs=1e-4) and max(factors) <= 1.0

@@ -1,0 +1,176 @@
+"""gesturecast serve: batched streams equal solo runs, disconnects are isolated, token rules, bad input replies."""
+
+import asyncio
+import json
+import time
+from contextlib import contextmanager
+
+import numpy as np
+import pytest
+from websockets.asyncio.client import connect
+
+from gesturecast.errors import UserError
+from gesturecast.models.generator.diffusion import SamplerConfig
+from gesturecast.models.runtime.bundle import ModelBundle
+from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio
+from gesturecast.realtime.audio.sources import AudioChunk
+from gesturecast.realtime.generator import Generator, GeneratorSettings
+from gesturecast.realtime.serve.server import GestureServer, ServeConfig
+from gesturecast.realtime.serve.setup import StreamSessions
+from gesturecast.realtime.session import GestureSession
+from gesturecast.realtime.style_prompts import StylePrompt
+from gesturecast.realtime.timing.clock import FakeClock, MonotonicClock
+from gesturecast.realtime.timing.latency import LatencyBudget
+from gesturecast.tools.bench.serve_client import stream_audio
+
+SECONDS = 2.0
+CHUNK = 8000  # 0.5 s per message: few messages, sent as fast as possible
+DEFAULTS = GeneratorSettings(SamplerConfig("ddim", 2), guidance=1.5, seed=0)
+TIMEOUT_S = 60.0  # a broken server fails the test instead of hanging it
+
+
+def run(coroutine):
+    return asyncio.run(asyncio.wait_for(coroutine, TIMEOUT_S))
+
+
+@pytest.fixture(scope="module")
+def bundle(tiny_model):
+    return ModelBundle.load(tiny_model[1])
+
+
+@pytest.fixture(scope="module")
+def speech(shared_data):
+    audio = load_audio(shared_data / "zeggs" / "067_Speech_2_x_1_0.wav")
+    return [audio[(3 + 5 * i) * SAMPLE_RATE :][: int(SECONDS * SAMPLE_RATE)] for i in range(3)]
+
+
+def budget(bundle) -> LatencyBudget:
+    return LatencyBudget(bundle.frames_per_latent, bundle.audio_lookahead, 100.0)
+
+
+@contextmanager
+def running_server(bundle, **config):
+    clock = MonotonicClock()
+    sessions = StreamSessions(bundle, DEFAULTS, budget(bundle), clock, max_streams=4)
+    server = GestureServer(sessions, clock, ServeConfig(port=0, max_streams=4, **config)).start()
+    try:
+        yield server
+    finally:
+        server.close()
+
+
+def solo_poses(bundle, audio, style="neutral", guidance=1.5, seed=0) -> np.ndarray:
+    """The same stream through one session alone, as the float32 the wire carries."""
+    settings = GeneratorSettings(SamplerConfig("ddim", 2), guidance, StylePrompt("label", style), seed=seed)
+    session = GestureSession(bundle, Generator(bundle, settings), budget(bundle), FakeClock())
+    frames = session.push(AudioChunk(audio, 0, 0.0)) + session.finish()
+    return np.stack([np.concatenate([f.rotations.ravel(), f.root_position]) for f in frames]).astype(np.float32)
+
+
+def test_concurrent_streams_equal_each_stream_served_alone(bundle, speech):
+    starts = [{"seed": 1}, {"seed": 2, "style": "old"}, {"seed": 3, "guidance": 1.0}]
+
+    async def clients(url):
+        return await asyncio.gather(*[stream_audio(f"{url}s{i}", audio, CHUNK, paced=False, start=start)
+                                      for i, (audio, start) in enumerate(zip(speech, starts, strict=True))])
+
+    with running_server(bundle) as server:
+        results = run(clients(server.url))
+        calls = server.sessions.batcher.stats.calls
+    assert calls > 0
+    for result, audio, start in zip(results, speech, starts, strict=True):
+        assert result.errors == [] and result.stats["error"] is None
+        assert result.hello["stream"] == result.stats["stream"]
+        np.testing.assert_array_equal(result.poses(), solo_poses(bundle, audio, **start))
+        assert [f.seq for f in result.frames] == list(range(len(result.frames)))
+
+
+def wait_until(predicate, limit_s: float = 30.0) -> bool:
+    """Poll ``predicate`` until it holds or ``limit_s`` passes (a bound on hanging, not a speed assertion)."""
+    deadline = time.monotonic() + limit_s
+    while not predicate() and time.monotonic() < deadline:
+        time.sleep(0.01)
+    return predicate()
+
+
+def test_a_client_leaving_mid_stream_does_not_disturb_another(bundle, speech):
+    async def leaver(url):
+        async with connect(f"{url}leaver") as websocket:
+            await websocket.recv()  # hello
+            await websocket.send(speech[1][:CHUNK].astype("<f4").tobytes())
+            await websocket.send(speech[1][CHUNK : 2 * CHUNK].astype("<f4").tobytes())
+        # closed without "end": the server must free the stream
+
+    async def both(url):
+        return await asyncio.gather(stream_audio(f"{url}stayer", speech[0], CHUNK, paced=False), leaver(url))
+
+    with running_server(bundle) as server:
+        stayer, _ = run(both(server.url))
+        # the server notices the leaver's dropped connection on its own thread, maybe after the clients return
+        assert wait_until(lambda: server.active_streams() == 0)
+        finished = {s["stream"]: s for s in server.finished}
+    np.testing.assert_array_equal(stayer.poses(), solo_poses(bundle, speech[0]))
+    assert set(finished) == {"stayer", "leaver"}
+    assert finished["leaver"]["audio_seconds"] <= 2 * CHUNK / SAMPLE_RATE
+
+
+async def exchange(websocket, message) -> dict:
+    await websocket.send(message)
+    return json.loads(await websocket.recv())
+
+
+def test_token_is_required_when_set_and_exposure_needs_one(bundle, speech):
+    with pytest.raises(UserError, match="token"):
+        GestureServer(None, MonotonicClock(), ServeConfig(host="0.0.0.0", port=0))
+
+    async def session(url):
+        async with connect(f"{url}guarded") as websocket:
+            hello = json.loads(await websocket.recv())
+            audio_first = await exchange(websocket, speech[0][:CHUNK].astype("<f4").tobytes())
+            wrong = await exchange(websocket, json.dumps({"type": "start", "token": "guess"}))
+            right = await exchange(websocket, json.dumps({"type": "start", "token": "s3cret"}))
+            return hello, audio_first, wrong, right
+
+    with running_server(bundle, token="s3cret") as server:
+        hello, audio_first, wrong, right = run(session(server.url))
+    assert hello["token_required"] is True
+    assert audio_first["type"] == "error" and "token" in audio_first["message"]
+    assert wrong == {"type": "error", "message": "missing or wrong token"}
+    assert right["type"] == "started" and right["stream"] == "guarded"
+
+
+BAD_MESSAGES = [
+    (np.zeros(3, np.uint8).tobytes(), "multiple of 4 bytes"),
+    (np.array([0.1, np.nan], "<f4").tobytes(), "NaN"),
+    ("not json", "not JSON"),
+    (json.dumps({"type": "dance"}), "unknown message type"),
+    (json.dumps({"type": "control", "style": "motion:/etc/passwd"}), "motion prompts"),
+    (json.dumps({"type": "control", "guidance": "loud"}), "finite number"),
+    (json.dumps({"type": "start"}), "already started"),
+]
+
+
+def test_bad_messages_get_a_one_line_error_and_the_stream_goes_on(bundle, speech):
+    async def session(url):
+        async with connect(f"{url}messy") as websocket:
+            await websocket.recv()  # hello
+            started = await exchange(websocket, json.dumps({"type": "start", "style": "old"}))
+            replies = [await exchange(websocket, message) for message, _ in BAD_MESSAGES]
+            for start in range(0, len(speech[0]), CHUNK):
+                await websocket.send(speech[0][start : start + CHUNK].astype("<f4").tobytes())
+            await websocket.send(json.dumps({"type": "end"}))
+            frames = [m async for m in websocket if isinstance(m, bytes)]
+            return started, replies, frames
+
+    async def unknown_path(url):
+        async with connect(url.replace("/stream/", "/elsewhere")) as websocket:
+            return json.loads(await websocket.recv())
+
+    with running_server(bundle) as server:
+        started, replies, frames = run(session(server.url))
+        refused = run(unknown_path(server.url))
+    assert started["type"] == "started" and started["style"] == "old"
+    for reply, (_, expected) in zip(replies, BAD_MESSAGES, strict=True):
+        assert reply["type"] == "error" and expected in reply["message"] and "\n" not in reply["message"]
+    assert len(frames) == int(SECONDS * 30)
+    assert refused["type"] == "error" and "unknown path" in refused["message"]

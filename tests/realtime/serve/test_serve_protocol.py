@@ -1,0 +1,48 @@
+"""serve protocol: audio decoding, start options, stream paths (pure functions, no server)."""
+
+import numpy as np
+import pytest
+
+from gesturecast.bridges.control import ControlError
+from gesturecast.realtime.serve.protocol import decode_audio, parse_start, stream_id_from_path
+from gesturecast.realtime.style_prompts import StylePrompt
+
+
+def test_int16_and_float32_audio_decode_to_the_same_float_samples():
+    pcm = np.array([-32768, -16384, 0, 16384, 32767], "<i2")
+    from_int = decode_audio(pcm.tobytes(), "s16le")
+    from_float = decode_audio((pcm / 32768.0).astype("<f4").tobytes(), "f32le")
+    assert from_int.dtype == np.float32
+    np.testing.assert_array_equal(from_int, from_float)
+    assert from_int[0] == -1.0
+
+
+@pytest.mark.parametrize(
+    ("data", "audio_format", "reason"),
+    [(b"", "f32le", "non-empty"), (b"\x00" * 3, "s16le", "multiple of 2"),
+     (np.array([np.inf], "<f4").tobytes(), "f32le", "infinite")],
+)
+def test_bad_audio_is_refused_with_a_reason(data, audio_format, reason):
+    with pytest.raises(ControlError, match=reason):
+        decode_audio(data, audio_format)
+
+
+def test_start_options_and_their_validation():
+    options = parse_start({"type": "start", "prompt": "calm and slow", "style2": "old", "gamma": 0.5, "seed": 7,
+                           "audio_format": "s16le", "token": "x"})
+    assert options.style == StylePrompt("text", "calm and slow")
+    assert options.second_style == StylePrompt("label", "old") and options.gamma == 0.5
+    assert (options.seed, options.audio_format, options.guidance) == (7, "s16le", None)
+    for bad, reason in [({"seed": -1}, "seed"), ({"seed": True}, "seed"), ({"audio_format": "mp3"}, "audio_format"),
+                        ({"volume": 1}, "unknown start field"), ({"style": "motion:x.bvh"}, "motion prompts")]:
+        with pytest.raises(ControlError, match=reason):
+            parse_start({"type": "start", **bad})
+
+
+def test_stream_ids_come_from_the_path():
+    assert stream_id_from_path("/stream/avatar-1", "auto") == "avatar-1"
+    assert stream_id_from_path("/stream/a.b_c?x=1", "auto") == "a.b_c"
+    assert stream_id_from_path("/", "auto") == stream_id_from_path("/stream", "auto") == "auto"
+    for bad in ("/viewer", "/stream/../x", "/stream/" + "a" * 65):
+        with pytest.raises(ControlError):
+            stream_id_from_path(bad, "auto")

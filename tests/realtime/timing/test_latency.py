@@ -1,0 +1,96 @@
+"""Latency budget arithmetic and bounded rolling statistics."""
+
+import json
+
+import numpy as np
+import pytest
+
+from gesturecast.errors import UserError
+from gesturecast.realtime.timing.clock import FakeClock
+from gesturecast.realtime.timing.latency import LatencyBudget, LatencyStats
+
+
+def test_budget_d4_lookahead8_is_400ms_algorithmic():
+    budget = LatencyBudget(latent_frames=4, lookahead_frames=8, compute_margin_ms=75.0)
+    assert budget.algorithmic_ms == pytest.approx(400.0)
+    assert budget.total_ms == pytest.approx(475.0)
+    assert budget.total_s == pytest.approx(0.475)
+
+
+def test_budget_scales_with_frame_rate_and_zero_lookahead():
+    budget = LatencyBudget(latent_frames=6, lookahead_frames=0, compute_margin_ms=0.0, fps=60.0)
+    assert budget.algorithmic_ms == pytest.approx(100.0)
+    assert budget.total_ms == pytest.approx(100.0)
+
+
+def test_describe_names_the_audio_delay():
+    line = LatencyBudget(latent_frames=4, lookahead_frames=8, compute_margin_ms=100.0).describe()
+    assert "delay your audio by 500 ms to stay in sync" in line
+    assert "400 ms" in line
+
+
+@pytest.mark.parametrize(
+    "kwargs", [{"latent_frames": 0}, {"lookahead_frames": -1}, {"compute_margin_ms": -5.0}, {"fps": 0.0}]
+)
+def test_budget_rejects_impossible_settings(kwargs):
+    with pytest.raises(UserError):
+        LatencyBudget(**kwargs)
+
+
+def test_budget_dict_is_json_and_reports_l():
+    data = json.loads(json.dumps(LatencyBudget(4, 8, 100.0).to_dict()))
+    assert data["latency_budget_ms"] == pytest.approx(500.0)
+
+
+def test_percentiles_match_numpy_within_the_window():
+    stats = LatencyStats(FakeClock(), window=1000)
+    values = np.random.default_rng(0).uniform(0.0, 0.2, size=500)
+    for v in values:
+        stats.record("denoiser", v)
+    summary = stats.stage_summary("denoiser")
+    assert summary["count"] == 500
+    assert summary["p50"] == pytest.approx(np.percentile(values, 50) * 1000)
+    assert summary["p99"] == pytest.approx(np.percentile(values, 99) * 1000)
+    assert summary["max"] == pytest.approx(values.max() * 1000)
+    assert summary["mean"] == pytest.approx(values.mean() * 1000)
+
+
+def test_memory_stays_bounded_after_1e5_samples_and_window_rolls():
+    window = 256
+    stats = LatencyStats(FakeClock(), window=window)
+    n = 100_000
+    for i in range(n):
+        stats.record("end_to_end", i * 1e-6)
+    ring = stats._rings["end_to_end"]
+    assert ring.samples.size == window
+    assert ring.recent().size == window
+    assert stats.count("end_to_end") == n
+    summary = stats.stage_summary("end_to_end")
+    newest = np.arange(n - window, n) * 1e-3  # ms
+    assert summary["p50"] == pytest.approx(np.percentile(newest, 50))
+    assert summary["max"] == pytest.approx((n - 1) * 1e-3)
+    assert summary["mean"] == pytest.approx((n - 1) / 2 * 1e-3)
+
+
+def test_last_n_percentiles_use_only_the_newest_samples():
+    stats = LatencyStats(FakeClock(), window=100)
+    for v in [1.0] * 150 + [0.002] * 10:
+        stats.record("bridge", v)
+    (p95,) = stats.percentiles_ms("bridge", (95.0,), last=10)
+    assert p95 == pytest.approx(2.0)
+
+
+def test_time_context_uses_the_injected_clock():
+    clock = FakeClock()
+    stats = LatencyStats(clock)
+    with stats.time("features"):
+        clock.advance(0.012)
+    assert stats.stage_summary("features")["max"] == pytest.approx(12.0)
+
+
+def test_summary_is_json_serialisable_and_unknown_stage_is_nan():
+    stats = LatencyStats(FakeClock())
+    stats.record("decoder", 0.003)
+    json.dumps(stats.summary())
+    assert set(stats.summary()) == {"decoder"}
+    assert np.isnan(stats.percentiles_ms("missing")[0])

@@ -1,0 +1,75 @@
+"""`gesturecast render` glue: raw BVH forward kinematics, time selection, errors, a real take."""
+
+import argparse
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from gesturecast.errors import UserError
+from gesturecast.models.motion.rotations import quat_from_axis_angle
+from gesturecast.models.motion.skeleton import CANONICAL
+from gesturecast.tools.render import cli as render_cli
+
+
+def parse(argv: list[str]) -> argparse.Namespace:
+    parser = argparse.ArgumentParser()
+    render_cli.register(parser.add_subparsers())
+    return parser.parse_args(["render", *argv])
+
+
+def test_bvh_forward_kinematics_matches_the_skeleton_when_translations_are_the_offsets():
+    rng = np.random.default_rng(2)
+    rotations = quat_from_axis_angle(rng.normal(size=(4, CANONICAL.num_joints, 3)))  # (T, J, 4)
+    translations = np.repeat(CANONICAL.offsets[None], 4, axis=0)  # (T, J, 3)
+    translations[:, 0] = rng.normal(size=(4, 3))  # root position channels
+    expected = CANONICAL.forward_kinematics(rotations, translations[:, 0])[1]
+    got = render_cli.bvh_positions(rotations, translations, np.array(CANONICAL.parents))
+    assert np.allclose(got, expected, atol=1e-12)
+
+
+def test_time_range_and_stride_selection():
+    positions = np.zeros((300, 2, 3))
+    assert len(render_cli.select_time_range(positions, 30.0, 2.0, 3.0)) == 90
+    assert len(render_cli.select_time_range(positions, 30.0, 9.0, None)) == 30
+    with pytest.raises(UserError, match="select no frames"):
+        render_cli.select_time_range(positions, 30.0, 10.0, None)
+    assert render_cli.auto_stride(2065, parse(["x.bvh", "-o", "a.gif"]).output) == 3
+    assert render_cli.auto_stride(2065, parse(["x.bvh", "-o", "a.png"]).output) == 1
+
+
+def test_bad_inputs_are_one_line_user_errors(tmp_path):
+    npz = tmp_path / "take.npz"
+    npz.write_bytes(b"")
+    with pytest.raises(UserError, match="does not exist"):
+        render_cli.run_render(parse([str(tmp_path / "missing.bvh"), "-o", str(tmp_path / "a.gif")]))
+    with pytest.raises(UserError, match="BVH files only"):
+        render_cli.run_render(parse([str(npz), "-o", str(tmp_path / "a.gif"), "--raw"]))
+
+
+def test_raw_render_of_the_real_zeroeggs_take(shared_data, tmp_path):
+    take = shared_data / "zeggs" / "067_Speech_2_x_1_0.bvh"
+    out = tmp_path / "zeggs.gif"
+    assert render_cli.run_render(parse([str(take), "-o", str(out), "--raw", "--start", "10", "--seconds", "1"])) == 0
+    with Image.open(out) as gif:
+        assert gif.n_frames == 30
+
+
+def test_joint_map_file_renders_a_skeleton_that_is_not_detected(tmp_path):
+    import json
+    import re
+
+    from gesturecast.models.motion.motion import Motion
+    from gesturecast.models.motion.retarget import motion_to_bvh
+
+    rotations = quat_from_axis_angle(np.random.default_rng(3).normal(0, 0.3, size=(6, CANONICAL.num_joints, 3)))
+    canonical = tmp_path / "canonical.bvh"
+    motion_to_bvh(Motion(rotations, np.tile(CANONICAL.offsets[0], (6, 1))), canonical)
+    custom = tmp_path / "custom.bvh"
+    custom.write_text(re.sub(r"(ROOT|JOINT) (\w+)", r"\1 rig_\2", canonical.read_text()))
+    with pytest.raises(UserError, match="unknown skeleton layout"):
+        render_cli.run_render(parse([str(custom), "-o", str(tmp_path / "x.png")]))
+    joint_map = tmp_path / "map.json"
+    joint_map.write_text(json.dumps({name: [f"rig_{name}"] for name in CANONICAL.names}))
+    render_cli.run_render(parse([str(custom), "-o", str(tmp_path / "ok.png"), "--joint-map", str(joint_map)]))
+    assert Image.open(tmp_path / "ok.png").size[0] > 0

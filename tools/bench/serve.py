@@ -1,0 +1,125 @@
+"""``gesturecast bench serve --streams N [N ...] --seconds S --json``: how many live avatars one process carries.
+
+For each N: a fresh ``serve`` server on loopback (in this process) and N clients, each streaming its
+own slice of real speech at real-time pace in 512-sample float32 chunks, starting at staggered times.
+Reports per-stream server-side end-to-end latency (capture → handed to the socket), client-side
+end-to-end latency (client capture → frame received), deadline misses, audio drops, real-time factor
+(process CPU seconds per second of audio, clients included) and how the batcher grouped calls; then
+the largest N with zero deadline misses and that per CPU core.
+"""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import json
+import os
+import platform
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio
+from gesturecast.realtime.serve.cli import add_serve_arguments, build_server
+from gesturecast.realtime.timing.clock import MonotonicClock
+from gesturecast.realtime.timing.latency import MS_PER_S
+from gesturecast.tools.bench.serve_client import ClientResult, stream_audio
+
+DEFAULT_AUDIO = Path(__file__).resolve().parents[3] / "shared" / "data" / "zeggs" / "067_Speech_2_x_1_0.wav"
+DEFAULT_STREAMS = (1, 2, 4)
+DEFAULT_SECONDS = 20.0
+MAX_SECONDS = 60.0
+CHUNK_SAMPLES = 512  # 32 ms, what a microphone client sends
+MAX_STAGGER_S = 1.0  # clients start spread over this long, as independent users would
+STAGGER_SEED = 0
+
+
+def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
+    parser = bench_subparsers.add_parser("serve", help="streams per core of `gesturecast serve` (JSON)")
+    parser.add_argument("--audio", type=Path, default=DEFAULT_AUDIO, help="speech file the clients replay")
+    parser.add_argument("--streams", type=int, nargs="+", default=list(DEFAULT_STREAMS), help="stream counts N")
+    parser.add_argument("--seconds", type=float, default=DEFAULT_SECONDS, help=f"audio per stream (≤ {MAX_SECONDS:g})")
+    parser.add_argument("--json", action="store_true", help="print one JSON object on one line")
+    add_serve_arguments(parser)
+    parser.set_defaults(func=run_bench_serve)
+
+
+def run_bench_serve(args: argparse.Namespace) -> int:
+    seconds = min(args.seconds, MAX_SECONDS)
+    speech = load_audio(args.audio)
+    runs = [measure_streams(args, n, speech, seconds) for n in args.streams]
+    cores = len(os.sched_getaffinity(0))
+    clean = [r["streams"] for r in runs if r["deadline_misses"] == 0 and not r["errors"] and not r["audio_drops"]]
+    best = max(clean, default=0)
+    result = {
+        "runs": runs,
+        "max_streams_zero_misses": best,
+        "cpu_cores": cores,
+        "streams_per_core": best / cores,
+        "settings": {"steps": args.steps, "guidance": runs[0]["guidance"], "threads": args.threads,
+                     "model": str(args.model), "seconds": seconds, "chunk_samples": CHUNK_SAMPLES},
+        "machine": {"platform": platform.platform(), "python": platform.python_version()},
+    }
+    sys.stdout.write(json.dumps(result, indent=None if args.json else 2) + "\n")
+    return 0
+
+
+def stream_slices(speech: np.ndarray, streams: int, seconds: float) -> list[np.ndarray]:
+    """Each stream its own part of the speech (tiled when the file is short)."""
+    length = int(seconds * SAMPLE_RATE)
+    stride = max(len(speech) // streams, 1)
+    tiled = np.tile(speech, int(np.ceil((stride * streams + length) / len(speech))))
+    return [tiled[i * stride : i * stride + length] for i in range(streams)]
+
+
+async def _clients(url: str, slices: list[np.ndarray]) -> list[ClientResult]:
+    delays = np.random.default_rng(STAGGER_SEED).uniform(0.0, MAX_STAGGER_S, len(slices))
+
+    async def one(index: int) -> ClientResult:
+        await asyncio.sleep(float(delays[index]))
+        return await stream_audio(f"{url}bench-{index}", slices[index], CHUNK_SAMPLES, paced=True)
+
+    return await asyncio.gather(*(one(i) for i in range(len(slices))))
+
+
+def measure_streams(args: argparse.Namespace, streams: int, speech: np.ndarray, seconds: float) -> dict:
+    server_args = argparse.Namespace(**{**vars(args), "host": "127.0.0.1", "port": 0, "token": None,
+                                        "max_streams": streams})
+    server = build_server(server_args, MonotonicClock())
+    try:
+        cpu_start, wall_start = time.process_time(), time.monotonic()
+        results = asyncio.run(_clients(server.url, stream_slices(speech, streams, seconds)))
+        cpu, wall = time.process_time() - cpu_start, time.monotonic() - wall_start
+        batching = server.sessions.batcher.stats.to_dict()
+        guidance = server.sessions.defaults.guidance
+        guidance = server.sessions.bundle.default_guidance if guidance is None else guidance
+    finally:
+        server.close()
+    return run_summary(results, streams, seconds, cpu, wall, batching, guidance)
+
+
+def run_summary(results: list[ClientResult], streams: int, seconds: float, cpu: float, wall: float,
+                batching: dict, guidance: float | None) -> dict:
+    stats = [r.stats or {} for r in results]
+    client_ms = np.concatenate([r.latencies_s() for r in results]) * MS_PER_S
+    server_p95 = [p for s in stats if (p := s.get("end_to_end_ms", {}).get("p95")) is not None] or [float("nan")]
+    return {
+        "streams": streams,
+        "deadline_misses": int(sum(s.get("deadline_misses", 0) for s in stats)),
+        "misses_per_stream": [s.get("deadline_misses") for s in stats],
+        "audio_drops": int(sum(s.get("audio_dropped_samples", 0) for s in stats)),
+        "frames": int(sum(len(r.frames) for r in results)),
+        "latency_budget_ms": stats[0].get("latency_budget_ms"),
+        "server_end_to_end_p95_ms": {"median_stream": float(np.median(server_p95)), "worst_stream": max(server_p95)},
+        "client_end_to_end_ms": {p: float(np.percentile(client_ms, q)) for p, q in (("p50", 50), ("p95", 95))}
+        | {"max": float(client_ms.max())},
+        "rtf": cpu / (streams * seconds),
+        "rtf_per_core": cpu / (streams * seconds) / len(os.sched_getaffinity(0)),
+        "wall_seconds": wall,
+        "batching": batching,
+        "errors": [e for r in results for e in r.errors] + [s["error"] for s in stats if s.get("error")],
+        "missing_stats": sum(1 for r in results if r.stats is None),
+        "guidance": guidance,
+    }

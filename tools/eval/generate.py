@@ -1,0 +1,93 @@
+"""Generated motion for evaluation, through the product's own session (the `generate` / `live` paths).
+
+Offline: the session fed by :class:`FastFileSource` (``run_offline``), exactly as ``gesturecast generate``.
+Live: the same audio replayed at real-time pace in microphone-sized chunks by :class:`LiveEngine`,
+its frames released by the scheduler — on a :class:`FakeClock`, so the pacing costs no wall time.
+"""
+
+from __future__ import annotations
+
+import tempfile
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import soundfile
+
+from gesturecast.models.generator.diffusion import SamplerConfig
+from gesturecast.models.runtime.bundle import ModelBundle
+from gesturecast.realtime.audio.files import SAMPLE_RATE
+from gesturecast.realtime.audio.sources import FastFileSource, PacedFileSource
+from gesturecast.realtime.engine import LiveEngine, run_offline
+from gesturecast.realtime.engine_cli import frames_to_motion
+from gesturecast.realtime.engine_setup import DEFAULT_AUDIO_GUIDANCE
+from gesturecast.realtime.generator import Generator, GeneratorSettings
+from gesturecast.realtime.session import GestureSession
+from gesturecast.realtime.style_prompts import StylePrompt
+from gesturecast.realtime.timing.clock import FakeClock
+from gesturecast.realtime.timing.frames import PoseFrame
+from gesturecast.realtime.timing.latency import LatencyBudget
+from gesturecast.tools.eval.clips import EvalClip
+
+LIVE_CHUNK_SAMPLES = 160  # 10 ms, a typical microphone callback (the offline path reads 512)
+LATENCY_MARGIN_MS = 100.0
+
+
+@dataclass(frozen=True)
+class SystemSpec:
+    name: str
+    sampler: SamplerConfig
+
+
+@dataclass(frozen=True)
+class Generated:
+    positions: np.ndarray  # (T, J, 3)
+    compute_s: float  # wall time spent generating
+
+
+def _session(bundle: ModelBundle, sampler: SamplerConfig, style: str, seed: int, clock: FakeClock,
+             audio_guidance: float = DEFAULT_AUDIO_GUIDANCE) -> GestureSession:
+    settings = GeneratorSettings(sampler=sampler, style=StylePrompt("label", style), seed=seed, threads=1,
+                                 audio_guidance=audio_guidance)
+    budget = LatencyBudget(bundle.frames_per_latent, bundle.audio_lookahead, LATENCY_MARGIN_MS)
+    return GestureSession(bundle, Generator(bundle, settings), budget, clock)
+
+
+def _positions(frames: list[PoseFrame]) -> np.ndarray:
+    return frames_to_motion(sorted(frames, key=lambda f: f.seq)).positions()  # (T, J, 3)
+
+
+def _with_wav(audio: np.ndarray, run):
+    with tempfile.TemporaryDirectory(prefix="gesturecast-eval-") as folder:
+        path = Path(folder) / "speech.wav"
+        soundfile.write(path, audio, SAMPLE_RATE, subtype="FLOAT")
+        return run(path)
+
+
+def generate_offline(
+    bundle: ModelBundle, sampler: SamplerConfig, clip: EvalClip, style: str, seed: int = 0,
+    audio_guidance: float = DEFAULT_AUDIO_GUIDANCE,
+) -> Generated:
+    """Motion for the clip's audio in ``style`` through ``run_offline`` (the `generate` path)."""
+    start = time.perf_counter()
+    session = _session(bundle, sampler, style, seed, FakeClock(), audio_guidance)
+    frames, _ = _with_wav(clip.audio, lambda path: run_offline(session, FastFileSource(path)))
+    return Generated(_positions(frames), time.perf_counter() - start)
+
+
+def generate_live(
+    bundle: ModelBundle, sampler: SamplerConfig, clip: EvalClip, style: str, seed: int = 0
+) -> Generated:
+    """Motion for the clip's audio through :class:`LiveEngine` (paced source, scheduler, sink)."""
+    start = time.perf_counter()
+    clock = FakeClock()
+    session = _session(bundle, sampler, style, seed, clock)
+    received: list[PoseFrame] = []
+
+    def run(path: Path) -> None:
+        source = PacedFileSource(path, chunk_samples=LIVE_CHUNK_SAMPLES, clock=clock)
+        LiveEngine(session, source, received.append, clock).run()
+
+    _with_wav(clip.audio, run)
+    return Generated(_positions(received), time.perf_counter() - start)

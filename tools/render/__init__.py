@@ -1,0 +1,1 @@
+"""Pictures: stick-figure GIF/MP4/PNG rendering (``gesturecast render``) and feature plots."""

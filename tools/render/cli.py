@@ -1,0 +1,112 @@
+"""`gesturecast render IN -o OUT.gif|.mp4|.png`: look at a motion file as a stick figure.
+
+By default the file is retargeted onto the canonical skeleton (what the model sees); ``--raw``
+draws the BVH's own skeleton instead, in its file units.
+"""
+
+from __future__ import annotations
+
+import argparse
+import logging
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from gesturecast.errors import UserError
+from gesturecast.models.motion.rotations import quat_identity, quat_mul, quat_rotate
+from gesturecast.tools.render.animation import RenderConfig, render_positions
+
+log = logging.getLogger(__name__)
+
+MAX_AUTO_FRAMES = 900  # without --stride, longer GIF/MP4 clips are thinned to about this many frames
+
+
+@dataclass(frozen=True)
+class LoadedClip:
+    positions: np.ndarray  # (T, J, 3)
+    parents: tuple[int, ...]
+    names: tuple[str, ...]
+    fps: float
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    parser = subparsers.add_parser("render", help="draw a .bvh or SMPL-X .npz as a stick figure (front + side)")
+    parser.add_argument("input", type=Path, help="motion file: .bvh (any supported skeleton) or SMPL-X .npz")
+    parser.add_argument("-o", "--output", type=Path, required=True, help="OUT.gif, OUT.mp4 (needs ffmpeg) or OUT.png")
+    parser.add_argument("--start", type=float, default=0.0, help="first second to draw (default 0)")
+    parser.add_argument("--seconds", type=float, default=None, help="how many seconds to draw (default: all)")
+    parser.add_argument("--stride", type=int, default=None, help="draw every K-th frame (default: 1, thinned if long)")
+    parser.add_argument("--sheet-frames", type=int, default=RenderConfig.sheet_frames, help="frames on a PNG sheet")
+    parser.add_argument("--raw", action="store_true", help="draw the BVH's own skeleton, without retargeting")
+    parser.add_argument("--joint-map", type=Path, help="JSON joint map for a skeleton that is not detected "
+                        "automatically (docs/retargeting.md)")
+    parser.set_defaults(func=run_render)
+
+
+def run_render(args: argparse.Namespace) -> int:
+    if not args.input.is_file():
+        raise UserError(f"motion file {args.input} does not exist")
+    clip = load_raw_bvh(args.input) if args.raw else load_canonical(args.input, args.joint_map)
+    positions = select_time_range(clip.positions, clip.fps, args.start, args.seconds)
+    stride = args.stride if args.stride is not None else auto_stride(len(positions), args.output)
+    if stride < 1 or args.sheet_frames < 1:
+        raise UserError("--stride and --sheet-frames must be at least 1")
+    config = RenderConfig(stride=stride, sheet_frames=args.sheet_frames)
+    title = f"{args.input.name}  ({'raw' if args.raw else 'canonical'}, {clip.fps:g} fps)"
+    out = render_positions(positions, clip.parents, args.output, clip.fps, title, clip.names, config)
+    log.info("wrote %s (%d frames, stride %d)", out, len(positions), stride)
+    return 0
+
+
+def load_canonical(path: Path, joint_map: Path | None = None) -> LoadedClip:
+    from gesturecast.models.motion.retarget import load_motion_file
+
+    motion = load_motion_file(path, joint_map)
+    return LoadedClip(motion.positions(), motion.skeleton.parents, motion.skeleton.names, motion.fps)
+
+
+def load_raw_bvh(path: Path) -> LoadedClip:
+    from gesturecast.models.motion.bvh import read_bvh
+
+    if path.suffix.lower() != ".bvh":
+        raise UserError(f"--raw draws BVH files only, not '{path.suffix}': drop --raw to retarget {path.name}")
+    data = read_bvh(path)
+    positions = bvh_positions(data.local_rotations(), data.local_translations(), data.parents)
+    return LoadedClip(positions, tuple(int(p) for p in data.parents), tuple(data.names), data.fps)
+
+
+def bvh_positions(local_rotations: np.ndarray, local_translations: np.ndarray, parents: np.ndarray) -> np.ndarray:
+    """Forward kinematics with per-frame local translations (BVH position channels).
+
+    local_rotations: (T, J, 4) XYZW; local_translations: (T, J, 3); returns world positions (T, J, 3).
+    """
+    num_frames, num_joints = local_rotations.shape[:2]
+    global_rot = quat_identity((num_frames, num_joints))  # (T, J, 4)
+    positions = np.zeros((num_frames, num_joints, 3))  # (T, J, 3)
+    for j, parent in enumerate(parents):
+        if parent < 0:
+            global_rot[:, j] = local_rotations[:, j]
+            positions[:, j] = local_translations[:, j]
+            continue
+        global_rot[:, j] = quat_mul(global_rot[:, parent], local_rotations[:, j])
+        positions[:, j] = positions[:, parent] + quat_rotate(global_rot[:, parent], local_translations[:, j])
+    return positions
+
+
+def select_time_range(positions: np.ndarray, fps: float, start: float, seconds: float | None) -> np.ndarray:
+    first = int(round(start * fps))
+    last = len(positions) if seconds is None else first + int(round(seconds * fps))
+    if start < 0 or (seconds is not None and seconds <= 0) or first >= len(positions):
+        raise UserError(f"--start/--seconds select no frames of a {len(positions) / fps:.2f} s clip")
+    return positions[first:last]
+
+
+def auto_stride(num_frames: int, output: Path) -> int:
+    """1, or enough to keep a long GIF/MP4 near MAX_AUTO_FRAMES frames (a PNG sheet needs none)."""
+    if output.suffix == ".png" or num_frames <= MAX_AUTO_FRAMES:
+        return 1
+    stride = math.ceil(num_frames / MAX_AUTO_FRAMES)
+    log.info("%d frames: drawing with stride %d (pass --stride 1 or --seconds to change)", num_frames, stride)
+    return stride
