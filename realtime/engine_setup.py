@@ -15,7 +15,8 @@ from gesturecast.errors import UserError
 from gesturecast.models.generator.diffusion import SamplerConfig
 from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.realtime.generator import SINGLE_STYLE, Generator, GeneratorSettings
-from gesturecast.realtime.session import GestureSession
+from gesturecast.realtime.root_anchor import ROOT_MODES, RootMode
+from gesturecast.realtime.session import GestureSession, SessionConfig
 from gesturecast.realtime.style_prompts import StylePrompt
 from gesturecast.realtime.timing.clock import Clock
 from gesturecast.realtime.timing.latency import LatencyBudget
@@ -45,6 +46,9 @@ def add_generation_arguments(parser: argparse.ArgumentParser) -> None:
     group.add_argument("--lookahead", type=int, help="audio look-ahead δa in frames (must match the model)")
     group.add_argument("--margin-ms", type=float, default=DEFAULT_MARGIN_MS, help="compute margin in the latency L")
     group.add_argument("--threads", type=int, default=1, help="onnxruntime intra-op threads")
+    group.add_argument("--root", choices=ROOT_MODES, default=RootMode.BOUNDED.value,
+                       help="bounded: stays within 0.15 m / 30° of where it started (default); "
+                            "free: the generated root motion; locked: pinned in place")
 
 
 def load_bundle(path: Path) -> ModelBundle:
@@ -86,7 +90,7 @@ def build_session(args: argparse.Namespace, clock: Clock) -> GestureSession:
         )
     budget = LatencyBudget(bundle.frames_per_latent, bundle.audio_lookahead, args.margin_ms)
     generator = Generator(bundle, generator_settings(args, bundle))
-    return GestureSession(bundle, generator, budget, clock)
+    return GestureSession(bundle, generator, budget, clock, SessionConfig(root_mode=RootMode(args.root)))
 
 
 def add_output_arguments(parser: argparse.ArgumentParser) -> None:

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from gesturecast.models.generator.denoiser_config import audio_window_bounds, audio_window_end
-from gesturecast.models.motion.motion_features import RootIntegrator, features_to_rotations
+from gesturecast.models.motion.motion_features import features_to_rotations
 from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.realtime.audio.sources import AudioChunk
 from gesturecast.realtime.feature_buffer import FeatureBuffer
@@ -30,6 +30,7 @@ from gesturecast.realtime.features.dsp import frame_boundary
 from gesturecast.realtime.features.streaming import StreamingFeatureExtractor, speaking_flags
 from gesturecast.realtime.generator import Generator
 from gesturecast.realtime.idle import IdleMotion
+from gesturecast.realtime.root_anchor import RootAnchor, RootMode
 from gesturecast.realtime.session_controls import SessionControls
 from gesturecast.realtime.timing.clock import Clock
 from gesturecast.realtime.timing.frames import PoseFrame
@@ -49,6 +50,7 @@ IDLE = 0.0
 class SessionConfig:
     idle_fade_s: float = 0.6  # cross-fade duration between idle motion and speech gestures
     silence_hold_s: float = 1.0  # silence this long after the last speech frame fades to idle
+    root_mode: RootMode = RootMode.BOUNDED  # in place by default (realtime/root_anchor.py)
 
 
 class GestureSession:
@@ -75,14 +77,15 @@ class GestureSession:
         self.extractor = StreamingFeatureExtractor(bundle.feature_config)
         self.idle = IdleMotion(seed=generator.settings.seed)
         self._hold_frames = round(self.config.silence_hold_s * self.fps)
+        self.root = RootAnchor(self.config.root_mode, fps=self.fps)
         self.reset()
 
     def reset(self) -> None:
-        """Forget the stream (features, generator history, root, idle fade): the next chunk is sample 0."""
+        """Forget the stream (features, generator history, root anchor, idle fade): the next chunk is sample 0."""
         self.extractor.reset()
         self.features = FeatureBuffer(self.extractor.num_features)
         self.generator.reset()
-        self.root = RootIntegrator()
+        self.root.reset()
         self.crossfade = PoseCrossfade(self.config.idle_fade_s, initial_weight_b=IDLE)
         self.next_latent = 0
         self.frames_out = 0

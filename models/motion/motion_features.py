@@ -65,7 +65,7 @@ def wrap_angle(angle: np.ndarray) -> np.ndarray:
     return (angle + np.pi) % (2.0 * np.pi) - np.pi
 
 
-def _rotate_planar(vectors_xz: np.ndarray, yaw: np.ndarray) -> np.ndarray:
+def rotate_planar(vectors_xz: np.ndarray, yaw: np.ndarray) -> np.ndarray:
     """Rotate (..., 2) ground-plane (x, z) vectors about +Y by ``yaw`` (...)."""
     cos, sin = np.cos(yaw), np.sin(yaw)
     x, z = vectors_xz[..., 0], vectors_xz[..., 1]
@@ -79,7 +79,7 @@ def motion_to_features(motion: Motion) -> np.ndarray:
     yaw = facing_yaw(rotations[:, 0])  # (T,)
     planar = motion.root_position[:, [0, 2]]  # (T, 2)
     velocity = np.zeros((num_frames, 2))
-    velocity[1:] = _rotate_planar(planar[1:] - planar[:-1], -yaw[:-1])  # (T-1, 2) in facing frame of t-1
+    velocity[1:] = rotate_planar(planar[1:] - planar[:-1], -yaw[:-1])  # (T-1, 2) in facing frame of t-1
     yaw_rate = np.zeros(num_frames)
     yaw_rate[1:] = wrap_angle(np.diff(yaw))
     local = rotations.copy()
@@ -113,7 +113,7 @@ class RootIntegrator:
             self.position_xz = np.array(self.start_position_xz, dtype=np.float64)
             self.yaw = float(self.start_yaw)
         else:
-            displacement = _rotate_planar(frame_features[ROOT_VELOCITY], np.float64(self.yaw))
+            displacement = rotate_planar(frame_features[ROOT_VELOCITY], np.float64(self.yaw))
             self.position_xz = self.position_xz + displacement
             self.yaw = float(wrap_angle(self.yaw + frame_features[ROOT_YAW_RATE][0]))
         position = np.array([self.position_xz[0], frame_features[ROOT_HEIGHT][0], self.position_xz[1]])
@@ -155,7 +155,7 @@ def face_forward(motion: Motion) -> Motion:
     rotations[:, 0] = quat_mul(np.broadcast_to(turn, rotations[:, 0].shape), rotations[:, 0])
     planar = motion.root_position[:, [0, 2]] - motion.root_position[0, [0, 2]]  # (T, 2)
     root = motion.root_position.copy()
-    root[:, [0, 2]] = _rotate_planar(planar, -yaw0)
+    root[:, [0, 2]] = rotate_planar(planar, -yaw0)
     return Motion(rotations, root, motion.fps, motion.skeleton)
 
 

@@ -21,6 +21,7 @@ BENCH_MODULES: tuple[str, ...] = (
     "gesturecast.tools.bench.memory",
     "gesturecast.tools.bench.following",
     "gesturecast.tools.bench.denoising",
+    "gesturecast.tools.bench.root",
 )
 
 
