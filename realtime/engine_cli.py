@@ -113,4 +113,4 @@ def write_pose_json(frames: list[PoseFrame], path: Path) -> None:
         ],
     }
     path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(json.dumps(payload) + "\n")
+    path.write_text(json.dumps(payload, allow_nan=False) + "\n")  # strict JSON: the session never emits NaN

@@ -170,5 +170,6 @@ class ServeStream:
             "deadline_misses": self.scheduler.stats.deadline_misses,
             "scheduler_overflow_drops": self.scheduler.stats.overflow_drops,
             "audio_dropped_samples": self.dropped_samples,
+            "nonfinite_poses": self.session.nonfinite_poses,
             "error": self.error,
         }
