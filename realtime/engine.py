@@ -126,8 +126,9 @@ class LiveEngine:
 
     def _drain(self, worker: SchedulerWorker) -> None:
         """Wait until the worker has released every queued frame at its time."""
+        poll = self.scheduler.config.poll_interval_s
         while (due := self.scheduler.next_due()) is not None and worker.running:
-            self.clock.sleep_until(due)
+            self.clock.sleep_until(max(due, self.clock.now() + poll))  # unpaced frames are due at once: no spin
             self._show_status()
         if worker.error is not None:
             raise worker.error
@@ -140,6 +141,7 @@ class LiveEngine:
             self.session.budget,
             self.session.stats,
             self.scheduler.stats,
+            self.scheduler.config.output_fps,
             self.source.stats().dropped_samples,
             last.style if last else "",
             bool(last and last.speaking),
