@@ -32,6 +32,10 @@ class BridgeFanout:
             except Exception as error:  # isolation boundary: any bridge failure stays inside that bridge
                 self._errors[id(bridge)].report(error)
 
+    def counters(self) -> dict[str, dict[str, int]]:
+        """Per bridge that keeps delivery counters (``counters()``, e.g. WebSocket drops and skips): those counters."""
+        return {bridge.name: bridge.counters() for bridge in self.bridges if hasattr(bridge, "counters")}
+
     def failures(self) -> dict[str, int]:
         return {bridge.name: self._errors[id(bridge)].count for bridge in self.bridges}
 

@@ -2,7 +2,8 @@
 
 Address scheme (all arguments float32 ``f`` or int32 ``i``), per frame, in this order:
 
-- ``/gesturecast/frame``        i seq, f capture_time (s, engine clock)
+- ``/gesturecast/frame``        i seq, f time (s of capture time since the stream's first frame; float32 keeps
+  1 ms steps for the first 2.3 hours, where seconds since boot step 15.6 ms after 2 days of uptime)
 - ``/gesturecast/root``         f x y z   Hips position, in the selected coordinate frame
 - ``/gesturecast/bone/<Name>``  f qx qy qz qw   local rotation of each canonical bone
   (Unity HumanBodyBones names: Hips, Spine, ..., RightToes), in the selected frame
@@ -52,9 +53,10 @@ class OscEncoder:
         self._root = MessageLayout(f"{ADDRESS_PREFIX}/root", (), "fff")
         self._bones = [MessageLayout(bone_address(name), (), "ffff") for name in skeleton.names]
 
-    def encode(self, frame: PoseFrame) -> list[bytes]:
+    def encode(self, frame: PoseFrame, stream_time: float) -> list[bytes]:
+        """Datagrams for one frame; ``stream_time`` (s since the first frame) goes to ``/gesturecast/frame``."""
         messages = [
-            self._frame_number.encode(int(frame.seq), float(frame.capture_time)),
+            self._frame_number.encode(int(frame.seq), float(stream_time)),
             self._root.encode_floats(self.frame.position(frame.root_position)),
         ]
         messages += encode_float_rows(self._bones, self.frame.rotation(frame.rotations))
@@ -71,10 +73,14 @@ class OscBridge:
         self.encoder = OscEncoder(config, skeleton)
         self.limiter = RateLimiter(config.send_rate)
         self.sender = UdpSender(UdpTarget(config.host, config.port), "OSC")
+        self._start_time: float | None = None  # capture time of the first frame sent
 
     def send(self, frame: PoseFrame) -> None:
-        if self.limiter.admit(frame.presentation_time):
-            self.sender.send_all(self.encoder.encode(frame))
+        if not self.limiter.admit(frame.presentation_time):
+            return
+        if self._start_time is None:
+            self._start_time = frame.capture_time
+        self.sender.send_all(self.encoder.encode(frame, frame.capture_time - self._start_time))
 
     def close(self) -> None:
         self.sender.close()

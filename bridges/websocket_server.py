@@ -106,7 +106,8 @@ class WebSocketBridge:
         self.skeleton = skeleton
         self.coords = coordinate_frame(config.coordinate_frame)
         self.style = ""
-        self.dropped_pending = 0
+        self.dropped_pending = 0  # outbox: frames dropped (oldest first) before the event loop took them
+        self.slow_client_skips = 0  # frames not sent to a client whose socket buffer was full (all clients)
         self._clients: dict[ServerConnection, ClientState] = {}
         self._pending: deque[PoseFrame] = deque(maxlen=MAX_PENDING_FRAMES)
         self._lock = threading.Lock()
@@ -134,6 +135,10 @@ class WebSocketBridge:
 
     def client_count(self) -> int:
         return len(self._clients)
+
+    def counters(self) -> dict[str, int]:
+        """Frames this bridge did not deliver: outbox drop-oldest and slow-client skips (summed over clients)."""
+        return {"outbox_drops": self.dropped_pending, "slow_client_skips": self.slow_client_skips}
 
     # ---- frames (engine thread) ----
     def send(self, frame: PoseFrame) -> None:
@@ -243,6 +248,7 @@ class WebSocketBridge:
         for connection, state in self._clients.items():
             if connection.transport.get_write_buffer_size() > self.config.slow_client_buffer_bytes:
                 state.skipped_frames += 1
+                self.slow_client_skips += 1
                 if state.skipped_frames == 1:
                     logger.warning("client %s is too slow; skipping frames for it", state.address)
             else:

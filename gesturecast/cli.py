@@ -12,7 +12,11 @@ import importlib
 import logging
 import sys
 
-from gesturecast.errors import UserError
+from gesturecast.arguments import OneLineParser
+from gesturecast.errors import USER_ERROR_EXIT_CODE, UserError
+
+DESCRIPTION = ("Real-time avatar driver: speech from a microphone or a recording in, stylized full-body gestures "
+               "out over VMC, OSC, WebSocket and BVH.")
 
 # module paths that provide ``register(subparsers)``; imported lazily so that `--help` is fast
 COMMAND_MODULES: tuple[str, ...] = (
@@ -31,7 +35,7 @@ COMMAND_MODULES: tuple[str, ...] = (
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="gesturecast", description=__doc__.splitlines()[0])
+    parser = OneLineParser(prog="gesturecast", description=DESCRIPTION)
     parser.add_argument("-v", "--verbose", action="store_true", help="debug logging")
     sub = parser.add_subparsers(dest="command", required=True)
     for module_name in COMMAND_MODULES:
@@ -48,7 +52,7 @@ def main(argv: list[str] | None = None) -> int:
         return int(args.func(args) or 0)
     except UserError as error:
         print(f"gesturecast {args.command}: error: {error}", file=sys.stderr)
-        return 2
+        return USER_ERROR_EXIT_CODE
     except KeyboardInterrupt:
         return 130
 

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import logging
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from gesturecast.realtime.audio.sources import AudioSource
 from gesturecast.realtime.session import GestureSession
@@ -35,6 +35,8 @@ class EngineReport:
     scheduler: dict
     audio: dict
     budget: dict
+    nonfinite_poses: int = 0  # generated poses with NaN/inf, replaced by the last good pose
+    outputs: dict = field(default_factory=dict)  # per bridge counters (e.g. WebSocket drops and skips)
 
     @property
     def rtf(self) -> float:
@@ -50,6 +52,8 @@ class EngineReport:
             "stages_ms": self.latency,
             "scheduler": self.scheduler,
             "audio": self.audio,
+            "nonfinite_poses": self.nonfinite_poses,
+            "outputs": self.outputs,
         }
 
 
@@ -73,6 +77,7 @@ def make_report(session: GestureSession, source: AudioSource, scheduler_stats: d
         audio={"dropped_samples": audio.dropped_samples, "overruns": audio.overruns,
                "device_overflows": audio.device_overflows},
         budget=session.budget.to_dict(),
+        nonfinite_poses=session.nonfinite_poses,
     )
 
 
@@ -121,8 +126,9 @@ class LiveEngine:
 
     def _drain(self, worker: SchedulerWorker) -> None:
         """Wait until the worker has released every queued frame at its time."""
+        poll = self.scheduler.config.poll_interval_s
         while (due := self.scheduler.next_due()) is not None and worker.running:
-            self.clock.sleep_until(due)
+            self.clock.sleep_until(max(due, self.clock.now() + poll))  # unpaced frames are due at once: no spin
             self._show_status()
         if worker.error is not None:
             raise worker.error
@@ -135,6 +141,7 @@ class LiveEngine:
             self.session.budget,
             self.session.stats,
             self.scheduler.stats,
+            self.scheduler.config.output_fps,
             self.source.stats().dropped_samples,
             last.style if last else "",
             bool(last and last.speaking),

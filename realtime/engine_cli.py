@@ -25,7 +25,7 @@ from gesturecast.realtime.engine_setup import (
 )
 from gesturecast.realtime.timing.clock import MonotonicClock
 from gesturecast.realtime.timing.frames import PoseFrame
-from gesturecast.realtime.timing.scheduler import SchedulerConfig
+from gesturecast.realtime.timing.scheduler import STAGE_END_TO_END, SchedulerConfig
 from gesturecast.realtime.timing.status import StatusLine
 
 logger = logging.getLogger(__name__)
@@ -54,8 +54,7 @@ def run_live(args: argparse.Namespace) -> int:
         raise UserError("no output chosen: add --vmc HOST:PORT, --osc HOST:PORT, --ws PORT and/or --bvh FILE")
     sys.stdout.write(session.budget.describe() + "\n")
     source = open_source(args, clock)
-    engine = LiveEngine(session, source, outputs.send, clock, SchedulerConfig(output_fps=float(args.fps)),
-                        StatusLine(clock))
+    engine = LiveEngine(session, source, outputs.send, clock, scheduler_config(args), StatusLine(clock))
     try:
         report = engine.run()
     except KeyboardInterrupt:
@@ -63,6 +62,7 @@ def run_live(args: argparse.Namespace) -> int:
         return 130
     finally:
         outputs.close()
+    report.outputs = outputs.counters()
     sys.stdout.write(summary_line(report) + "\n")
     return 0
 
@@ -79,15 +79,31 @@ def run_generate(args: argparse.Namespace) -> int:
     return 0
 
 
+def scheduler_config(args: argparse.Namespace) -> SchedulerConfig:
+    """Release at presentation times, or at once for a file read as fast as possible (``--pace fast``)."""
+    unpaced = bool(args.input) and args.pace == "fast"
+    return SchedulerConfig(output_fps=float(args.fps), paced=not unpaced)
+
+
 def summary_line(report: EngineReport) -> str:
-    e2e = report.latency.get("end_to_end", {})
+    """The final one-line summary; counters that are zero in a healthy run appear only when non-zero."""
+    e2e = report.latency.get(STAGE_END_TO_END)
     sched = report.scheduler
-    return (
-        f"{report.frames} frames from {report.audio_seconds:.1f} s of audio | rtf {report.rtf:.3f} | "
-        f"end-to-end p50 {e2e.get('p50', float('nan')):.0f} p95 {e2e.get('p95', float('nan')):.0f} "
-        f"p99 {e2e.get('p99', float('nan')):.0f} ms (L {report.budget['latency_budget_ms']:.0f} ms) | "
-        f"deadline misses {sched.get('deadline_misses', 0)} | audio drops {report.audio['dropped_samples']}"
-    )
+    latency = (f"end-to-end p50 {e2e['p50']:.0f} p95 {e2e['p95']:.0f} p99 {e2e['p99']:.0f} ms" if e2e
+               else "end-to-end n/a (unpaced)")
+    parts = [
+        f"{report.frames} frames from {report.audio_seconds:.1f} s of audio",
+        f"rtf {report.rtf:.3f}",
+        f"{latency} (L {report.budget['latency_budget_ms']:.0f} ms)",
+        f"deadline misses {sched.get('deadline_misses', 0)}",
+        f"late releases {sched.get('late_releases', 0)}",
+        f"audio drops {report.audio['dropped_samples']}",
+    ]
+    if report.nonfinite_poses:
+        parts.append(f"non-finite poses held {report.nonfinite_poses}")
+    dropped = {name: n for bridge in report.outputs.values() for name, n in bridge.items() if n}
+    parts.extend(f"{name.replace('_', ' ')} {n}" for name, n in dropped.items())
+    return " | ".join(parts)
 
 
 def frames_to_motion(frames: list[PoseFrame]) -> Motion:
@@ -113,4 +129,4 @@ def write_pose_json(frames: list[PoseFrame], path: Path) -> None:
         ],
     }
     path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(json.dumps(payload) + "\n")
+    path.write_text(json.dumps(payload, allow_nan=False) + "\n")  # strict JSON: the session never emits NaN

@@ -6,6 +6,7 @@ import argparse
 from importlib import resources
 from pathlib import Path
 
+from gesturecast.arguments import finite_float, int_at_least, port_number
 from gesturecast.bridges.bvh_recorder import BvhRecorder
 from gesturecast.bridges.fanout import BridgeFanout
 from gesturecast.bridges.osc import OscBridge, OscConfig
@@ -35,17 +36,20 @@ def add_generation_arguments(parser: argparse.ArgumentParser) -> None:
     group.add_argument("--prompt", help="free-text style prompt (same as --style text:...)")
     group.add_argument("--motion-prompt", type=Path, help="a BVH/NPZ clip whose style to imitate")
     group.add_argument("--style2", help="second style for γ interpolation/extrapolation")
-    group.add_argument("--gamma", type=float, default=SINGLE_STYLE, help="x̂0 = γ·D(style) + (1 − γ)·D(style2)")
-    group.add_argument("--guidance", type=float, help="classifier-free guidance scale s (default: the model's)")
-    group.add_argument("--audio-guidance", type=float, default=DEFAULT_AUDIO_GUIDANCE,
+    group.add_argument("--gamma", type=finite_float(), default=SINGLE_STYLE,
+                       help="x̂0 = γ·D(style) + (1 − γ)·D(style2)")
+    group.add_argument("--guidance", type=finite_float(),
+                       help="classifier-free guidance scale s (default: the model's)")
+    group.add_argument("--audio-guidance", type=finite_float(), default=DEFAULT_AUDIO_GUIDANCE,
                        help="audio guidance s_a: > 1 makes the motion follow the speech more, 1 turns it off "
                             "(one batch row less)")
     group.add_argument("--sampler", choices=("ddim", "ddpm"), default="ddim")
-    group.add_argument("--steps", type=int, default=DEFAULT_STEPS, help="DDIM steps K per latent frame")
-    group.add_argument("--seed", type=int, default=0)
-    group.add_argument("--lookahead", type=int, help="audio look-ahead δa in frames (must match the model)")
-    group.add_argument("--margin-ms", type=float, default=DEFAULT_MARGIN_MS, help="compute margin in the latency L")
-    group.add_argument("--threads", type=int, default=1, help="onnxruntime intra-op threads")
+    group.add_argument("--steps", type=int_at_least(1), default=DEFAULT_STEPS, help="DDIM steps K per latent frame")
+    group.add_argument("--seed", type=int_at_least(0), default=0)
+    group.add_argument("--lookahead", type=int_at_least(0), help="audio look-ahead δa in frames (must match the model)")
+    group.add_argument("--margin-ms", type=finite_float(minimum=0.0), default=DEFAULT_MARGIN_MS,
+                       help="compute margin in the latency L")
+    group.add_argument("--threads", type=int_at_least(1), default=1, help="onnxruntime intra-op threads")
     group.add_argument("--root", choices=ROOT_MODES, default=RootMode.BOUNDED.value,
                        help="bounded: stays within 0.15 m / 30° of where it started (default); "
                             "free: the generated root motion; locked: pinned in place")
@@ -98,7 +102,8 @@ def add_output_arguments(parser: argparse.ArgumentParser) -> None:
     group.add_argument("--vmc", metavar="HOST:PORT", help="VMC over OSC/UDP (VSeeFace, Warudo, EVMC4U, VMC4UE)")
     group.add_argument("--osc", metavar="HOST:PORT", help="plain OSC (Unreal OSC plugin, TouchDesigner)")
     group.add_argument("--osc-frame", choices=("unity", "unreal", "internal"), default="unity")
-    group.add_argument("--ws", metavar="PORT", type=int, help="WebSocket stream + browser viewer on this port")
+    group.add_argument("--ws", metavar="PORT", type=port_number(allow_any=True),
+                       help="WebSocket stream + browser viewer on this port")
     group.add_argument("--host", default="127.0.0.1", help="listen address of the WebSocket server")
     group.add_argument("--token", help="required from clients for control messages when --host is not loopback")
     group.add_argument("--bvh", type=Path, metavar="FILE", help="record the stream as BVH")

@@ -94,6 +94,8 @@ class GestureSession:
         self._anchor = (0, 0.0)  # (stream sample, capture time) of the newest chunk
         self._last_speech_frame = -math.inf
         self._frame_limit: int | None = None
+        self.nonfinite_poses = 0  # generated poses with NaN/inf, replaced by the last good pose
+        self._last_good: tuple[np.ndarray, np.ndarray] | None = None  # (J, 4) rotations, (3,) root
 
     # ---- audio in ----
     def push(self, chunk: AudioChunk) -> list[PoseFrame]:
@@ -166,14 +168,9 @@ class GestureSession:
         return self._frame_limit is None or frame < self._frame_limit
 
     def _pose_frame(self, frame: int, features: np.ndarray, speaking: bool) -> PoseFrame:
-        position, yaw = self.root.step(features)  # (3,), facing yaw
-        rotations = features_to_rotations(features, np.asarray(yaw))  # (J, 4)
         t = frame / self.fps
         self.crossfade.fade_to(SPEECH if speaking else IDLE, t)
-        root = position
-        if self.crossfade.weight(t) < SPEECH:  # idle visible: blend (skipped while fully in speech: hot path)
-            idle_root = np.array([position[0], self.idle.base_root[1], position[2]])  # idle in place
-            rotations, root = self.crossfade.mix(t, self.idle.rotations(t), idle_root, rotations, position)
+        rotations, root = self._finite_pose(frame, features, t)  # (J, 4), (3,)
         capture = self._capture_time(frame)
         self.frames_out += 1
         return PoseFrame(
@@ -185,6 +182,32 @@ class GestureSession:
             style=self.controls.describe(),
             speaking=speaking,
         )
+
+    def _pose(self, features: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:
+        """(J, 4) rotations and (3,) root of one motion-feature row (D,), cross-faded with idle motion."""
+        position, yaw = self.root.step(features)  # (3,), facing yaw
+        rotations = features_to_rotations(features, np.asarray(yaw))  # (J, 4)
+        root = position
+        if self.crossfade.weight(t) < SPEECH:  # idle visible: blend (skipped while fully in speech: hot path)
+            idle_root = np.array([position[0], self.idle.base_root[1], position[2]])  # idle in place
+            rotations, root = self.crossfade.mix(t, self.idle.rotations(t), idle_root, rotations, position)
+        return rotations, root
+
+    def _finite_pose(self, frame: int, features: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:
+        """The pose of a (D,) feature row when finite; else the last good pose (the idle pose before any),
+        counted and warned about once. No bridge, recorder or JSON writer ever receives a NaN or inf."""
+        if np.isfinite(features).all():  # a NaN row never reaches the root integrator (it would stay NaN)
+            rotations, root = self._pose(features, t)  # (J, 4), (3,)
+            if np.isfinite(rotations).all() and np.isfinite(root).all():
+                self._last_good = (rotations, root)
+                return rotations, root
+        self.nonfinite_poses += 1
+        if self.nonfinite_poses == 1:
+            logger.warning("pose %d came out NaN or infinite; holding the last good pose instead "
+                           "(counted as nonfinite_poses; later ones are not logged)", frame)
+        if self._last_good is None:
+            return self.idle.rotations(t), self.idle.base_root.copy()
+        return self._last_good
 
     def _capture_time(self, frame: int) -> float:
         """Capture time of the first audio sample of ``frame``, from the newest chunk's timestamp."""

@@ -19,6 +19,7 @@ SOURCE_ROOTS = {"gesturecast": "gesturecast", "models": "gesturecast.models", "r
 # package -> floor: a module imports only its own package and packages on lower floors
 FLOORS = {
     "gesturecast.errors": 0,
+    "gesturecast.arguments": 1,
     "gesturecast.models.motion": 1,
     "gesturecast.models.generator": 1,
     "gesturecast.realtime.timing": 2,

@@ -12,6 +12,7 @@ Bad input raises :class:`~gesturecast.errors.UserError` with one line naming the
 
 from __future__ import annotations
 
+import math
 import os
 import tempfile
 from dataclasses import dataclass, field
@@ -26,6 +27,7 @@ _AXES = "XYZ"
 _VALID_CHANNELS = tuple(f"{a}{kind}" for kind in ("position", "rotation") for a in _AXES)
 _FLOAT_FORMAT = "%.6f"  # 1e-6 degree / 1e-6 file unit: far below the 1e-4 degree round-trip bound
 _INDENT = "\t"
+MAX_JOINT_DEPTH = 256  # deeper nesting is no skeleton (and would exhaust the recursion limit)
 
 
 @dataclass
@@ -153,8 +155,10 @@ def _read_channels(tokens: _Tokens) -> tuple[str, ...]:
     return tuple(names)
 
 
-def _read_joint(tokens: _Tokens, hierarchy: _Hierarchy, parent: int) -> None:
+def _read_joint(tokens: _Tokens, hierarchy: _Hierarchy, parent: int, depth: int = 0) -> None:
     """Read one ``ROOT``/``JOINT`` block (its keyword already consumed) and its children."""
+    if depth >= MAX_JOINT_DEPTH:
+        raise UserError(f"{tokens.path}: BVH joints nested more than {MAX_JOINT_DEPTH} deep; not a skeleton")
     index = len(hierarchy.names)
     hierarchy.names.append(tokens.next("joint name"))
     hierarchy.parents.append(parent)
@@ -166,7 +170,7 @@ def _read_joint(tokens: _Tokens, hierarchy: _Hierarchy, parent: int) -> None:
         if keyword == "}":
             return
         if keyword == "JOINT":
-            _read_joint(tokens, hierarchy, index)
+            _read_joint(tokens, hierarchy, index, depth + 1)
         elif keyword == "End":
             tokens.expect("Site")
             tokens.expect("{")
@@ -204,8 +208,8 @@ def _parse_motion(lines: list[str], num_channels: int, path: Path) -> tuple[floa
         raise UserError(f"{path}: malformed BVH MOTION header ({header})") from None
     if num_frames <= 0:
         raise UserError(f"{path}: BVH file has zero frames")
-    if not frame_time > 0:
-        raise UserError(f"{path}: BVH Frame Time must be positive, got {time_text}")
+    if not (math.isfinite(frame_time) and frame_time > 0):
+        raise UserError(f"{path}: BVH Frame Time must be a positive finite number, got {time_text}")
     rows = lines[2 : 2 + num_frames]
     if len(rows) < num_frames:
         raise UserError(f"{path}: truncated BVH file ({len(rows)} of {num_frames} frames present)")
@@ -219,6 +223,9 @@ def _parse_motion(lines: list[str], num_channels: int, path: Path) -> tuple[floa
         motion = np.array(" ".join(rows).split(), dtype=np.float64).reshape(num_frames, num_channels)
     except ValueError:
         raise UserError(f"{path}: BVH motion data contains a value that is not a number") from None
+    if not np.isfinite(motion).all():
+        frame = int(np.argmax(~np.isfinite(motion).all(axis=1)))
+        raise UserError(f"{path}: BVH frame {frame} holds NaN or infinite values")
     return frame_time, motion
 
 

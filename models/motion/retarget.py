@@ -11,6 +11,7 @@ Facing is left as recorded.
 from __future__ import annotations
 
 import logging
+import math
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -207,7 +208,7 @@ def _read_smplx_npz(path: Path) -> Motion:
                 raise UserError(f"{path}: not an SMPL-X motion file (missing {', '.join(missing)} arrays)")
             poses = np.asarray(archive["poses"], dtype=np.float64)
             trans = np.asarray(archive["trans"], dtype=np.float64)
-            fps = float(archive["mocap_frame_rate"]) if "mocap_frame_rate" in archive.files else MOTION_FPS
+            fps = _npz_frame_rate(archive, path)
     except (OSError, ValueError) as error:
         raise UserError(f"cannot read {path} as an SMPL-X .npz file: {error}") from None
     if poses.ndim != 2 or poses.shape[1] != SMPLX_AXIS_ANGLE_DIM or trans.shape != (len(poses), 3):
@@ -215,7 +216,22 @@ def _read_smplx_npz(path: Path) -> Motion:
                         f"got {poses.shape} and {trans.shape}")
     if len(poses) == 0:
         raise UserError(f"{path}: SMPL-X file has zero frames")
+    if not (np.isfinite(poses).all() and np.isfinite(trans).all()):
+        raise UserError(f"{path}: SMPL-X poses or trans hold NaN or infinite values")
     return retarget_smplx(poses, trans, fps)
+
+
+def _npz_frame_rate(archive: np.lib.npyio.NpzFile, path: Path) -> float:
+    """``mocap_frame_rate`` (one positive finite number), or 30 fps when the file has none."""
+    if "mocap_frame_rate" not in archive.files:
+        return MOTION_FPS
+    value = np.asarray(archive["mocap_frame_rate"])
+    if value.size != 1 or not np.issubdtype(value.dtype, np.number):
+        raise UserError(f"{path}: mocap_frame_rate must be one number, got an array of shape {value.shape}")
+    fps = float(value.reshape(()))
+    if not (math.isfinite(fps) and fps > 0):
+        raise UserError(f"{path}: mocap_frame_rate must be a positive finite number, got {fps:g}")
+    return fps
 
 
 def load_motion_file(path: str | Path, joint_map: Path | None = None) -> Motion:

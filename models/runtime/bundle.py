@@ -133,7 +133,12 @@ def read_manifest(directory: Path) -> dict:
     path = Path(directory) / MANIFEST_FILE
     if not path.is_file():
         raise UserError(f"no model bundle at {directory} (missing {MANIFEST_FILE}); train and export one first")
-    manifest = json.loads(path.read_text())
+    try:
+        manifest = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError) as error:  # JSONDecodeError and UnicodeDecodeError are ValueErrors
+        raise UserError(f"{path} is not a readable model manifest ({error}); re-export the bundle") from None
+    if not isinstance(manifest, dict):
+        raise UserError(f"{path} is not a model manifest (a JSON object is expected); re-export the bundle")
     version = manifest.get("format_version")
     if version != BUNDLE_FORMAT_VERSION:
         raise UserError(f"{path} has format version {version!r}; this gesturecast reads {BUNDLE_FORMAT_VERSION}")
@@ -160,8 +165,19 @@ class ModelBundle:
 
     @classmethod
     def load(cls, directory: Path | str) -> ModelBundle:
+        """Read a bundle; a missing, malformed or non-finite part raises UserError naming the manifest."""
         directory = Path(directory)
         manifest = read_manifest(directory)
+        try:
+            bundle = cls._from_manifest(directory, manifest)
+        except (KeyError, TypeError, ValueError, AttributeError) as error:
+            raise UserError(f"{directory / MANIFEST_FILE} is malformed ({type(error).__name__}: {error}); "
+                            "re-export the bundle") from None
+        bundle.check_finite()
+        return bundle
+
+    @classmethod
+    def _from_manifest(cls, directory: Path, manifest: dict) -> ModelBundle:
         return cls(
             directory=directory,
             manifest=manifest,
@@ -174,6 +190,21 @@ class ModelBundle:
             default_guidance=float(manifest["guidance"]["default_scale"]),
             schedule_name=manifest["diffusion"]["schedule"],
         )
+
+    def check_finite(self) -> None:
+        """UserError if any statistic, style embedding or the default guidance is NaN or infinite
+        (one such number would turn every generated pose into NaN)."""
+        arrays = {
+            "motion_stats": (self.motion_stats.mean, self.motion_stats.std),
+            "latent_stats": (self.latent_stats.mean, self.latent_stats.std),
+            "audio_stats": (self.audio_stats.mean, self.audio_stats.std),
+            "styles.embeddings": (self.styles.embeddings,),
+            "guidance.default_scale": (np.asarray(self.default_guidance),),
+        }
+        bad = [name for name, values in arrays.items() if not all(np.isfinite(v).all() for v in values)]
+        if bad:
+            raise UserError(f"{self.directory / MANIFEST_FILE} holds NaN or infinite numbers in {', '.join(bad)}; "
+                            "re-export the bundle from a healthy checkpoint")
 
     @property
     def frames_per_latent(self) -> int:

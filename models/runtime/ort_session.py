@@ -10,9 +10,13 @@ from __future__ import annotations
 from pathlib import Path
 
 import onnxruntime as ort
+from onnxruntime.capi.onnxruntime_pybind11_state import Fail, InvalidArgument, InvalidGraph, InvalidProtobuf
+
+from gesturecast.errors import UserError
 
 DEFAULT_THREADS = 1
 NO_SPINNING = "0"
+ORT_LOAD_ERRORS = (Fail, InvalidArgument, InvalidGraph, InvalidProtobuf)  # what a bad model file raises
 
 
 def make_session_options(threads: int = DEFAULT_THREADS) -> ort.SessionOptions:
@@ -30,6 +34,15 @@ def make_session_options(threads: int = DEFAULT_THREADS) -> ort.SessionOptions:
 
 
 def make_session(path_or_bytes: str | Path | bytes, threads: int = DEFAULT_THREADS) -> ort.InferenceSession:
-    """A CPU InferenceSession for an ONNX file path or serialized model bytes."""
+    """A CPU InferenceSession for an ONNX file path or serialized model bytes.
+
+    A file that onnxruntime cannot load (truncated, not ONNX) raises UserError naming it.
+    """
     model = path_or_bytes if isinstance(path_or_bytes, bytes) else str(path_or_bytes)
-    return ort.InferenceSession(model, sess_options=make_session_options(threads), providers=["CPUExecutionProvider"])
+    options = make_session_options(threads)
+    try:
+        return ort.InferenceSession(model, sess_options=options, providers=["CPUExecutionProvider"])
+    except ORT_LOAD_ERRORS as error:
+        source = "the ONNX model bytes" if isinstance(path_or_bytes, bytes) else str(path_or_bytes)
+        first_line = str(error).strip().splitlines()[0] if str(error).strip() else type(error).__name__
+        raise UserError(f"cannot load {source}: not a valid ONNX model ({first_line}); re-export the bundle") from None

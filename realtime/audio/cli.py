@@ -10,6 +10,7 @@ from __future__ import annotations
 import argparse
 import sys
 
+from gesturecast.arguments import int_at_least
 from gesturecast.realtime.audio.portaudio import NO_DEVICE_HINT, list_input_devices
 from gesturecast.realtime.audio.sources import (
     DEFAULT_CHUNK,
@@ -49,8 +50,8 @@ def add_source_arguments(parser: argparse.ArgumentParser) -> None:
         "--pace", choices=PACES, default="realtime", help="with --input: real-time pace or as fast as possible"
     )
     group.add_argument("--device", help="microphone: index or name substring (see `gesturecast devices`)")
-    group.add_argument("--sample-rate", type=int, help="microphone rate in Hz (default: the device's own)")
-    group.add_argument("--block-size", type=int, default=DEFAULT_CHUNK, help="samples per audio chunk")
+    group.add_argument("--sample-rate", type=int_at_least(1), help="microphone rate in Hz (default: the device's own)")
+    group.add_argument("--block-size", type=int_at_least(1), default=DEFAULT_CHUNK, help="samples per audio chunk")
 
 
 def open_source(args: argparse.Namespace, clock: Clock | None = None) -> AudioSource:

@@ -6,6 +6,7 @@ import argparse
 import sys
 import threading
 
+from gesturecast.arguments import port_number
 from gesturecast.bridges.coords import FRAMES
 from gesturecast.errors import UserError
 from gesturecast.realtime.engine_setup import add_generation_arguments, build_session
@@ -25,7 +26,8 @@ def add_serve_arguments(parser: argparse.ArgumentParser) -> None:
     add_generation_arguments(parser)
     group = parser.add_argument_group("server")
     group.add_argument("--host", default="127.0.0.1", help="listen address (beyond loopback needs --token)")
-    group.add_argument("--port", type=int, default=SERVE_DEFAULT_PORT, help="WebSocket port (0 = any free port)")
+    group.add_argument("--port", type=port_number(allow_any=True), default=SERVE_DEFAULT_PORT,
+                       help="WebSocket port (0 = any free port)")
     group.add_argument("--token", help="clients must send it in their start message (required beyond loopback)")
     group.add_argument("--max-streams", type=int, default=ServeConfig.max_streams, help="concurrent streams allowed")
     group.add_argument("--coordinate-frame", choices=tuple(FRAMES), default="internal", help="frame of sent poses")

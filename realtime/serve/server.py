@@ -73,9 +73,17 @@ class LoopSender:
         self._lock = threading.Lock()
         self._drain_scheduled = False
         self._closing: asyncio.Task | None = None
+        self.outbox_drops = 0  # messages dropped (oldest first) while the event loop was behind
+        self.slow_client_skips = 0  # pose frames not sent because the client's socket buffer was full
+
+    def counters(self) -> dict[str, int]:
+        """Messages this connection did not deliver (in the stream's stats)."""
+        return {"outbox_drops": self.outbox_drops, "slow_client_skips": self.slow_client_skips}
 
     def send(self, message: bytes | str) -> None:
         with self._lock:
+            if len(self._pending) == MAX_OUTGOING_MESSAGES:
+                self.outbox_drops += 1
             self._pending.append(message)
             schedule, self._drain_scheduled = not self._drain_scheduled, True
         if schedule:
@@ -95,7 +103,9 @@ class LoopSender:
             self._drain_scheduled = False
         for message in messages:
             slow = self.websocket.transport.get_write_buffer_size() > SLOW_CLIENT_BUFFER_BYTES
-            if not (slow and isinstance(message, bytes)):  # pose frames are skipped for a slow client
+            if slow and isinstance(message, bytes):  # pose frames are skipped for a slow client
+                self.slow_client_skips += 1
+            else:
                 broadcast([self.websocket], message)
 
 
@@ -144,7 +154,8 @@ class StreamConnection:
         session = await asyncio.to_thread(self.server.sessions.session, options)
         self.audio_format = options.audio_format
         self.stream = ServeStream(self.stream_id, session, self.server.clock, self.sender.send, self.server.coords,
-                                  self.server.config.stream, on_finished=self.sender.close_when_sent).start()
+                                  self.server.config.stream, on_finished=self.sender.close_when_sent,
+                                  delivery_counters=self.sender.counters).start()
         logger.info("stream %s started (%s)", self.stream_id, session.controls.describe())
         return started(self.stream_id, session.controls.describe(), self.audio_format)
 

@@ -61,6 +61,7 @@ class ServeStream:
         coords: CoordinateFrame,
         config: StreamConfig | None = None,
         on_finished: Callable[[], None] | None = None,
+        delivery_counters: Callable[[], dict[str, int]] | None = None,
     ) -> None:
         self.stream_id = stream_id
         self.session = session
@@ -69,6 +70,7 @@ class ServeStream:
         self.coords = coords
         self.config = config or StreamConfig()
         self.on_finished = on_finished
+        self.delivery_counters = delivery_counters  # the connection's outbox drops and slow-client skips
         self.dropped_samples = 0
         self.error: str | None = None
         self._inbox: queue.Queue[tuple[np.ndarray, float]] = queue.Queue(maxsize=self.config.max_queued_messages)
@@ -168,7 +170,10 @@ class ServeStream:
             "stages_ms": {name: {"p50": s["p50"], "p95": s["p95"]} for name, s in summary.items()},
             "stream_rtf": compute_seconds(self.session) / audio_seconds if audio_seconds else None,
             "deadline_misses": self.scheduler.stats.deadline_misses,
+            "late_releases": self.scheduler.stats.late_releases,
             "scheduler_overflow_drops": self.scheduler.stats.overflow_drops,
             "audio_dropped_samples": self.dropped_samples,
+            "nonfinite_poses": self.session.nonfinite_poses,
+            **(self.delivery_counters() if self.delivery_counters is not None else {}),
             "error": self.error,
         }

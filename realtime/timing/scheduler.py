@@ -5,10 +5,15 @@ presentation_time = capture_time + L. The scheduler hands it to the sink (the br
 time on the one injected clock. The engine either calls :meth:`FrameScheduler.pump` /
 :meth:`FrameScheduler.run_until` itself, or runs a :class:`SchedulerWorker` thread.
 
-Deadline policy: a frame submitted after its presentation time is a *deadline miss*. It is counted and
-still sent at once, never dropped, so recorders receive every frame and the avatar never holds a stale
-pose longer than necessary. Release lateness (release time - presentation time) is tracked for every
-frame. The pending queue is bounded; on overflow the oldest pending frame is dropped and counted
+Deadline policy: a frame submitted after its presentation time is a *deadline miss* (late computation).
+It is counted and still sent at once, never dropped, so recorders receive every frame and the avatar
+never holds a stale pose longer than necessary. Release lateness (release time - presentation time) is
+tracked for every frame; a frame released more than half an output frame after its presentation time
+is a *late release*, counted whatever made it late (late computation, a slow bridge, a starved thread).
+Unpaced (``paced=False``, ``live --pace fast``): frames are released as soon as they are queued; their
+presentation times are not on the clock, so no deadline, lateness or end-to-end time is recorded.
+
+The pending queue is bounded; on overflow the oldest pending frame is dropped and counted
 (in live use at most L * fps frames are ever pending, so this only guards a runaway producer).
 """
 
@@ -44,11 +49,20 @@ class SchedulerConfig:
     """output_fps: 30 (as generated) or 60 (a slerped midpoint between consecutive frames).
     max_pending: bound on queued frames (drop-oldest with a counter beyond it).
     poll_interval_s: longest a :class:`SchedulerWorker` sleeps before looking for new frames.
+    late_release_frames: release lateness, in output frames, beyond which a release counts as late.
+    paced: release at presentation times (True) or as soon as queued (False: a file read as fast as possible).
     """
 
     output_fps: float = BASE_FPS
     max_pending: int = 512
     poll_interval_s: float = 0.005
+    late_release_frames: float = HALF
+    paced: bool = True
+
+    @property
+    def late_release_s(self) -> float:
+        """Release lateness in seconds beyond which a release counts as late."""
+        return self.late_release_frames / self.output_fps
 
     def __post_init__(self) -> None:
         if self.output_fps not in (BASE_FPS, UPSAMPLED_FPS):
@@ -64,6 +78,7 @@ class SchedulerStats:
     submitted: int = 0
     released: int = 0
     deadline_misses: int = 0
+    late_releases: int = 0
     overflow_drops: int = 0
     max_lateness_s: float = 0.0
 
@@ -72,6 +87,7 @@ class SchedulerStats:
             "submitted": self.submitted,
             "released": self.released,
             "deadline_misses": self.deadline_misses,
+            "late_releases": self.late_releases,
             "overflow_drops": self.overflow_drops,
             "max_lateness_ms": self.max_lateness_s * MS_PER_S,
         }
@@ -140,7 +156,7 @@ class FrameScheduler:
                 f"frame {frame.seq} is due at {frame.presentation_time:.4f} s, before the frame queued ahead of it"
             )
         self.stats.submitted += 1
-        if now > frame.presentation_time:
+        if self.config.paced and now > frame.presentation_time:
             self.stats.deadline_misses += 1
             late_ms = (now - frame.presentation_time) * MS_PER_S
             logger.debug("frame %d missed its deadline by %.1f ms", frame.seq, late_ms)
@@ -170,7 +186,7 @@ class FrameScheduler:
     def _pop_due(self) -> PoseFrame | None:
         now = self.clock.now()
         with self._lock:
-            if self._pending and self._pending[0].presentation_time <= now:
+            if self._pending and (not self.config.paced or self._pending[0].presentation_time <= now):
                 return self._pending.popleft()
         return None
 
@@ -178,10 +194,15 @@ class FrameScheduler:
         start = self.clock.now()
         self.sink(frame)
         end = self.clock.now()
-        lateness = start - frame.presentation_time
         with self._lock:
             self.stats.released += 1
+        if not self.config.paced:
+            return
+        lateness = start - frame.presentation_time
+        with self._lock:
             self.stats.max_lateness_s = max(self.stats.max_lateness_s, lateness)
+            if lateness > self.config.late_release_s:
+                self.stats.late_releases += 1
         if self.latency_stats is not None:
             self.latency_stats.record(STAGE_LATENESS, lateness)
             self.latency_stats.record(STAGE_SINK, end - start)

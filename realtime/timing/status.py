@@ -16,7 +16,7 @@ from gesturecast.realtime.timing.latency import LatencyBudget, LatencyStats
 from gesturecast.realtime.timing.scheduler import STAGE_END_TO_END, SchedulerStats
 
 DEFAULT_UPDATE_INTERVAL_S = 0.25
-RECENT_FRAMES = 300  # the status line's percentiles cover the last ~10 s at 30 fps
+RECENT_SECONDS = 10.0  # the status line's percentiles cover the frames sent in about the last 10 s
 MAX_STYLE_CHARS = 24
 
 
@@ -29,6 +29,7 @@ class StatusSnapshot:
     end_to_end_p95_ms: float
     deadline_misses: int
     audio_drops: int
+    late_releases: int = 0
     style: str = ""
     speaking: bool = False
 
@@ -37,13 +38,17 @@ def build_snapshot(
     budget: LatencyBudget,
     stats: LatencyStats,
     scheduler_stats: SchedulerStats,
+    output_fps: float,
     audio_drops: int,
     style: str = "",
     speaking: bool = False,
 ) -> StatusSnapshot:
-    """The current status: end-to-end percentiles over the last :data:`RECENT_FRAMES` frames."""
-    p50, p95 = stats.percentiles_ms(STAGE_END_TO_END, (50.0, 95.0), last=RECENT_FRAMES)
-    return StatusSnapshot(budget.total_ms, p50, p95, scheduler_stats.deadline_misses, audio_drops, style, speaking)
+    """The current status: end-to-end percentiles over the output frames of the last :data:`RECENT_SECONDS`
+    (at ``output_fps``: 60 fps sends twice as many frames per second as 30 fps)."""
+    recent_frames = round(RECENT_SECONDS * output_fps)
+    p50, p95 = stats.percentiles_ms(STAGE_END_TO_END, (50.0, 95.0), last=recent_frames)
+    return StatusSnapshot(budget.total_ms, p50, p95, scheduler_stats.deadline_misses, audio_drops,
+                          scheduler_stats.late_releases, style, speaking)
 
 
 def _ms(value: float) -> str:
@@ -51,12 +56,13 @@ def _ms(value: float) -> str:
 
 
 def format_status(snapshot: StatusSnapshot) -> str:
-    """One line, e.g. ``L 500 ms | e2e p50 480 p95 495 ms | misses 0 | audio drops 0 | style happy | speaking``."""
+    """One line, e.g. ``L 500 ms | e2e p50 480 p95 495 ms | misses 0 late 0 | audio drops 0 | style happy | speaking``
+    (misses: late computation; late: frames released more than half a frame after their time)."""
     style = snapshot.style if len(snapshot.style) <= MAX_STYLE_CHARS else snapshot.style[: MAX_STYLE_CHARS - 1] + "…"
     parts = [
         f"L {snapshot.latency_budget_ms:.0f} ms",
         f"e2e p50 {_ms(snapshot.end_to_end_p50_ms)} p95 {_ms(snapshot.end_to_end_p95_ms)} ms",
-        f"misses {snapshot.deadline_misses}",
+        f"misses {snapshot.deadline_misses} late {snapshot.late_releases}",
         f"audio drops {snapshot.audio_drops}",
         f"style {style or '-'}",
         "speaking" if snapshot.speaking else "silent",

@@ -19,7 +19,7 @@ def decode(datagrams: list[bytes]) -> dict[str, list]:
 
 def test_frame_message_bytes():
     frame = PoseFrame(42, 1.5, 1.6, CANONICAL.offsets[0], np.tile([0.0, 0.0, 0.0, 1.0], (CANONICAL.num_joints, 1)))
-    datagrams = OscEncoder(OscConfig(bundled=False)).encode(frame)
+    datagrams = OscEncoder(OscConfig(bundled=False)).encode(frame, 1.5)
     assert datagrams[0] == b"/gesturecast/frame\0\0,if\0" + struct.pack(">if", 42, 1.5)
     assert datagrams[2] == b"/gesturecast/bone/Hips\0\0,ffff\0\0\0" + struct.pack(">4f", 0, 0, 0, 1)
 
@@ -28,7 +28,7 @@ def test_frame_message_bytes():
 def test_address_scheme_and_values_per_coordinate_frame(frame_name):
     frame = moving_frame(9)
     coords = FRAMES[frame_name]
-    values = decode(OscEncoder(OscConfig(coordinate_frame=frame_name)).encode(frame))
+    values = decode(OscEncoder(OscConfig(coordinate_frame=frame_name)).encode(frame, 0.0))
     bones = [f"/gesturecast/bone/{n}" for n in CANONICAL.names]
     assert list(values) == ["/gesturecast/frame", "/gesturecast/root", *bones]
     assert values["/gesturecast/frame"][0] == 9
@@ -41,8 +41,8 @@ def test_address_scheme_and_values_per_coordinate_frame(frame_name):
 
 def test_bundled_and_unbundled_carry_the_same_messages():
     frame = moving_frame(3)
-    bundled = OscEncoder(OscConfig(bundled=True)).encode(frame)
-    single = OscEncoder(OscConfig(bundled=False)).encode(frame)
+    bundled = OscEncoder(OscConfig(bundled=True)).encode(frame, 0.0)
+    single = OscEncoder(OscConfig(bundled=False)).encode(frame, 0.0)
     assert all(len(d) <= 1500 for d in bundled)
     assert len(single) == 2 + CANONICAL.num_joints
     assert decode(bundled) == decode(single)
@@ -54,3 +54,31 @@ def test_receiver_not_running_is_survivable():
         bridge.send(moving_frame(seq, fps=60.0, clock_now=seq / 60.0))
     bridge.close()
     assert bridge.sender.sent_datagrams + bridge.sender.errors.count == 5
+
+
+TWO_DAYS_S = 2 * 24 * 3600.0
+
+
+def test_frame_time_keeps_frame_steps_after_two_days_of_uptime():
+    """Over real UDP on loopback: the float32 frame time counts from the stream's first frame, so 30 fps frames
+    stay 33.3 ms apart; as seconds since boot they would step 0 or 31.25 ms after 2 days of uptime."""
+    import socket
+
+    receiver = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+    receiver.bind(("127.0.0.1", 0))
+    receiver.settimeout(5.0)
+    bridge = OscBridge(OscConfig(port=receiver.getsockname()[1], send_rate=30.0))
+    frames = 10
+    try:
+        for seq in range(frames):
+            bridge.send(moving_frame(seq, clock_now=TWO_DAYS_S + seq / 30.0))
+        times = []
+        while len(times) < frames:
+            values = decode([receiver.recv(65536)])
+            if "/gesturecast/frame" in values:
+                times.append(values["/gesturecast/frame"][1])
+    finally:
+        bridge.close()
+        receiver.close()
+    np.testing.assert_allclose(np.diff(times), 1 / 30.0, atol=1e-6)
+    assert times[0] == 0.0

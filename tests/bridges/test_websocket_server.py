@@ -184,6 +184,7 @@ def test_slow_client_is_skipped_not_buffered():
     finally:
         bridge.close()
     assert state.skipped_frames > 0
+    assert bridge.counters()["slow_client_skips"] == state.skipped_frames  # reported beyond the client's life
     assert buffered <= 4096 + BINARY_HEADER.size + 16 * J + 64
 
 

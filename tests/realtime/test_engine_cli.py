@@ -83,3 +83,15 @@ def test_the_cli_and_generate_run_without_training_packages(tiny_model, speech, 
                                 text=True, timeout=300)
         assert result.returncode == 0, result.stderr[-2000:]
     assert read_bvh(out).motion.shape[0] == 60
+
+
+def test_live_fast_pace_reports_no_uptime_as_latency_and_no_false_misses(tiny_model, speech, tmp_path, capsys):
+    """`live --pace fast` sends each frame as soon as it exists: its stream-time presentation times are not on
+    the clock, so the summary shows no end-to-end time (it was the machine's uptime) and no deadline misses."""
+    out = tmp_path / "fast.bvh"
+    assert main(["live", "--input", str(speech), "--pace", "fast", "--bvh", str(out), "--model", str(tiny_model[1]),
+                 "--steps", "2"]) == 0
+    summary = capsys.readouterr().out.strip().splitlines()[-1]
+    assert "end-to-end n/a (unpaced)" in summary
+    assert "deadline misses 0 | late releases 0" in summary
+    assert read_bvh(out).motion.shape[0] == 60

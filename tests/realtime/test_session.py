@@ -151,3 +151,40 @@ def test_live_engine_releases_every_frame_in_order_at_real_time(bundle, speech, 
     np.testing.assert_array_equal(poses(received), poses(offline))
     assert report.frames == len(received) == 30
     assert report.latency["end_to_end"]["count"] == 30
+
+
+POISONED_LATENTS = (0, 3, 4)  # the generator's output for these latent frames is NaN
+
+
+def test_nonfinite_generator_output_never_reaches_a_bridge_bvh_or_json(bundle, speech, tmp_path, caplog):
+    """NaN motion at the generator seam: each such pose is replaced by the last good one (idle before any),
+    counted in the report, warned about once; the BVH recorder and the JSON stream stay finite and valid."""
+    import json
+
+    from gesturecast.bridges.bvh_recorder import BvhRecorder
+    from gesturecast.models.motion.bvh import read_bvh
+    from gesturecast.realtime.engine_cli import write_pose_json
+
+    session = make_session(bundle)
+    decode, latents = session.generator.decode, iter(range(1 << 20))
+
+    def poisoned_decode(latent: np.ndarray) -> np.ndarray:
+        motion = decode(latent)  # (d, D)
+        return np.full_like(motion, np.nan) if next(latents) in POISONED_LATENTS else motion
+
+    session.generator.decode = poisoned_decode
+    frames, report = run_offline(session, FastFileSource(speech))
+    d = bundle.frames_per_latent
+    assert report.nonfinite_poses == report.to_dict()["nonfinite_poses"] == len(POISONED_LATENTS) * d
+    assert all(np.isfinite(f.rotations).all() and np.isfinite(f.root_position).all() for f in frames)
+    np.testing.assert_array_equal(frames[0].rotations, session.idle.rotations(0.0))  # no good pose yet: idle
+    for held in range(3 * d, 5 * d):  # latents 3 and 4 hold the last pose of latent 2
+        np.testing.assert_array_equal(frames[held].rotations, frames[3 * d - 1].rotations)
+        np.testing.assert_array_equal(frames[held].root_position, frames[3 * d - 1].root_position)
+    assert sum("NaN or infinite" in r.getMessage() for r in caplog.records) == 1
+    with BvhRecorder(tmp_path / "take.bvh") as recorder:
+        for frame in frames:
+            recorder.send(frame)
+    assert np.isfinite(read_bvh(tmp_path / "take.bvh").motion).all()
+    write_pose_json(frames, tmp_path / "take.json")
+    json.loads((tmp_path / "take.json").read_text(), parse_constant=lambda name: pytest.fail(f"bare {name}"))

@@ -53,7 +53,7 @@ def bench_udp(bridge, frames: list[PoseFrame]) -> dict:
     encode_ns, send_ns, sizes = [], [], []
     for frame in frames:
         start = time.perf_counter_ns()
-        datagrams = bridge.encoder.encode(frame, 0.0) if bridge.name == "vmc" else bridge.encoder.encode(frame)
+        datagrams = bridge.encoder.encode(frame, 0.0)
         encode_ns.append(time.perf_counter_ns() - start)
         sizes.append([len(d) for d in datagrams])
         start = time.perf_counter_ns()

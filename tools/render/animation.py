@@ -42,6 +42,7 @@ class RenderConfig:
     stride: int = 1  # draw every stride-th frame (GIF / MP4)
     sheet_frames: int = 12  # frames on a PNG contact sheet
     sheet_columns: int = 4
+    start_s: float = 0.0  # clip time of the first frame (the captions show clip time)
 
 
 def render_positions(
@@ -71,7 +72,7 @@ def render_positions(
     num_frames = positions.shape[0]
 
     def caption(t: int) -> str:
-        return f"frame {t + 1}/{num_frames}   {t / fps:6.2f} s"
+        return frame_caption(t, num_frames, fps, config.start_s)
 
     if out_path.suffix == ".png":
         indices = sheet_indices(num_frames, config.sheet_frames)
@@ -86,6 +87,11 @@ def render_positions(
     else:
         write_mp4(frames, out_path, frame_fps, config.figure.image_size)
     return out_path
+
+
+def frame_caption(index: int, num_frames: int, fps: float, start_s: float = 0.0) -> str:
+    """The caption under drawn frame ``index``: its number in the drawn range and its time in the clip."""
+    return f"frame {index + 1}/{num_frames}   {start_s + index / fps:6.2f} s"
 
 
 def _check_inputs(positions: np.ndarray, parents: Sequence[int], out_path: Path, config: RenderConfig) -> None:

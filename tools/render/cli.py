@@ -14,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
+from gesturecast.arguments import finite_float, int_at_least
 from gesturecast.errors import UserError
 from gesturecast.models.motion.rotations import quat_identity, quat_mul, quat_rotate
 from gesturecast.tools.render.animation import RenderConfig, render_positions
@@ -35,10 +36,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser = subparsers.add_parser("render", help="draw a .bvh or SMPL-X .npz as a stick figure (front + side)")
     parser.add_argument("input", type=Path, help="motion file: .bvh (any supported skeleton) or SMPL-X .npz")
     parser.add_argument("-o", "--output", type=Path, required=True, help="OUT.gif, OUT.mp4 (needs ffmpeg) or OUT.png")
-    parser.add_argument("--start", type=float, default=0.0, help="first second to draw (default 0)")
-    parser.add_argument("--seconds", type=float, default=None, help="how many seconds to draw (default: all)")
-    parser.add_argument("--stride", type=int, default=None, help="draw every K-th frame (default: 1, thinned if long)")
-    parser.add_argument("--sheet-frames", type=int, default=RenderConfig.sheet_frames, help="frames on a PNG sheet")
+    parser.add_argument("--start", type=finite_float(minimum=0.0), default=0.0, help="first second to draw (default 0)")
+    parser.add_argument("--seconds", type=finite_float(minimum=0.0, exclusive_minimum=True), default=None,
+                        help="how many seconds to draw (default: all)")
+    parser.add_argument("--stride", type=int_at_least(1), default=None,
+                        help="draw every K-th frame (default: 1, thinned if long)")
+    parser.add_argument("--sheet-frames", type=int_at_least(1), default=RenderConfig.sheet_frames,
+                        help="frames on a PNG sheet")
     parser.add_argument("--raw", action="store_true", help="draw the BVH's own skeleton, without retargeting")
     parser.add_argument("--joint-map", type=Path, help="JSON joint map for a skeleton that is not detected "
                         "automatically (docs/retargeting.md)")
@@ -49,11 +53,9 @@ def run_render(args: argparse.Namespace) -> int:
     if not args.input.is_file():
         raise UserError(f"motion file {args.input} does not exist")
     clip = load_raw_bvh(args.input) if args.raw else load_canonical(args.input, args.joint_map)
-    positions = select_time_range(clip.positions, clip.fps, args.start, args.seconds)
+    first, positions = select_time_range(clip.positions, clip.fps, args.start, args.seconds)
     stride = args.stride if args.stride is not None else auto_stride(len(positions), args.output)
-    if stride < 1 or args.sheet_frames < 1:
-        raise UserError("--stride and --sheet-frames must be at least 1")
-    config = RenderConfig(stride=stride, sheet_frames=args.sheet_frames)
+    config = RenderConfig(stride=stride, sheet_frames=args.sheet_frames, start_s=first / clip.fps)
     title = f"{args.input.name}  ({'raw' if args.raw else 'canonical'}, {clip.fps:g} fps)"
     out = render_positions(positions, clip.parents, args.output, clip.fps, title, clip.names, config)
     log.info("wrote %s (%d frames, stride %d)", out, len(positions), stride)
@@ -95,12 +97,15 @@ def bvh_positions(local_rotations: np.ndarray, local_translations: np.ndarray, p
     return positions
 
 
-def select_time_range(positions: np.ndarray, fps: float, start: float, seconds: float | None) -> np.ndarray:
+def select_time_range(
+    positions: np.ndarray, fps: float, start: float, seconds: float | None
+) -> tuple[int, np.ndarray]:
+    """(index of the first frame, the positions (T', J, 3) from ``start`` for ``seconds``) of a (T, J, 3) clip."""
     first = int(round(start * fps))
     last = len(positions) if seconds is None else first + int(round(seconds * fps))
     if start < 0 or (seconds is not None and seconds <= 0) or first >= len(positions):
         raise UserError(f"--start/--seconds select no frames of a {len(positions) / fps:.2f} s clip")
-    return positions[first:last]
+    return first, positions[first:last]
 
 
 def auto_stride(num_frames: int, output: Path) -> int:

@@ -46,3 +46,27 @@ def test_stream_ids_come_from_the_path():
     for bad in ("/viewer", "/stream/../x", "/stream/" + "a" * 65):
         with pytest.raises(ControlError):
             stream_id_from_path(bad, "auto")
+
+
+def test_connection_outbox_drops_the_oldest_and_counts_them():
+    """A real event loop that is busy (then stopped before it drains): 3x the outbox bound is sent, the oldest
+    beyond MAX_OUTGOING_MESSAGES are dropped and counted for the stream's stats."""
+    import asyncio
+    import threading
+    import time
+
+    from gesturecast.realtime.serve.server import MAX_OUTGOING_MESSAGES, LoopSender
+
+    loop = asyncio.new_event_loop()
+    thread = threading.Thread(target=loop.run_forever, daemon=True)
+    thread.start()
+    busy_s = 0.3
+    loop.call_soon_threadsafe(time.sleep, busy_s)  # the loop is behind
+    loop.call_soon_threadsafe(loop.stop)  # ... and stops before the drain queued below runs
+    sender = LoopSender(loop, websocket=None)  # never written to: the loop stops first
+    sent = 3 * MAX_OUTGOING_MESSAGES
+    for index in range(sent):
+        sender.send(f"message {index}")
+    thread.join()
+    loop.close()
+    assert sender.counters() == {"outbox_drops": sent - MAX_OUTGOING_MESSAGES, "slow_client_skips": 0}

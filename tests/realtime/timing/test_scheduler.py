@@ -190,3 +190,30 @@ def test_worker_keeps_a_sink_error_for_the_engine():
     worker.stop(timeout_s=10.0)  # joins the thread, which ends on the error
     assert not worker.running
     assert isinstance(worker.error, OSError)
+
+
+def test_a_frame_released_late_is_counted_even_when_computed_on_time():
+    """Submitted before its deadline (no deadline miss) but released 200 ms late (a starved releaser or a
+    blocking bridge): a late release. Within half a frame of its time: on time."""
+    clock, _, scheduler = setup(stats=LatencyStats(FakeClock()))
+    scheduler.submit(make_frame(0))
+    scheduler.submit(make_frame(1))
+    clock.advance(LATENCY_S + 0.010)  # frame 0 is 10 ms late: within half a frame
+    assert scheduler.pump() == 1
+    clock.advance(0.200)
+    assert scheduler.pump() == 1
+    counters = scheduler.stats.to_dict()
+    assert (counters["deadline_misses"], counters["late_releases"]) == (0, 1)
+
+
+def test_unpaced_frames_are_released_at_once_without_deadline_or_latency_records():
+    """`live --pace fast`: presentation times are stream times, not clock times; nothing waits, nothing is
+    a deadline miss and no end-to-end time (which would be the clock's uptime) is recorded."""
+    stats = LatencyStats(FakeClock())
+    clock, sink, scheduler = setup(SchedulerConfig(paced=False), stats)
+    clock.advance(3600.0)  # an uptime far past every presentation time
+    for seq in range(4):
+        scheduler.submit(make_frame(seq))
+    assert scheduler.pump() == 4 and [f.seq for f in sink.frames] == [0, 1, 2, 3]
+    assert scheduler.stats.deadline_misses == scheduler.stats.late_releases == 0
+    assert stats.count("end_to_end") == 0

@@ -7,7 +7,7 @@ import pytest
 from gesturecast.realtime.timing.clock import FakeClock
 from gesturecast.realtime.timing.latency import LatencyBudget, LatencyStats
 from gesturecast.realtime.timing.scheduler import STAGE_END_TO_END, SchedulerStats
-from gesturecast.realtime.timing.status import RECENT_FRAMES, StatusLine, StatusSnapshot, build_snapshot, format_status
+from gesturecast.realtime.timing.status import RECENT_SECONDS, StatusLine, StatusSnapshot, build_snapshot, format_status
 
 
 class FakeTty(io.StringIO):
@@ -15,12 +15,12 @@ class FakeTty(io.StringIO):
         return True
 
 
-SNAPSHOT = StatusSnapshot(500.0, 481.4, 497.6, 2, 1, style="happy", speaking=True)
+SNAPSHOT = StatusSnapshot(500.0, 481.4, 497.6, 2, 1, late_releases=5, style="happy", speaking=True)
 
 
 def test_format_shows_every_field():
     line = format_status(SNAPSHOT)
-    assert line == "L 500 ms | e2e p50 481 p95 498 ms | misses 2 | audio drops 1 | style happy | speaking"
+    assert line == "L 500 ms | e2e p50 481 p95 498 ms | misses 2 late 5 | audio drops 1 | style happy | speaking"
 
 
 def test_unmeasured_latency_and_long_style_are_readable():
@@ -53,13 +53,19 @@ def test_non_tty_writes_nothing():
     assert stream.getvalue() == ""
 
 
-def test_snapshot_uses_recent_end_to_end_samples_and_scheduler_counters():
+@pytest.mark.parametrize("output_fps", [30.0, 60.0])
+def test_snapshot_uses_recent_end_to_end_samples_and_scheduler_counters(output_fps):
+    """The percentiles cover the last RECENT_SECONDS of *output* frames: at 60 fps that is twice the frames."""
     stats = LatencyStats(FakeClock())
+    recent = round(RECENT_SECONDS * output_fps)
     for _ in range(1000):
         stats.record(STAGE_END_TO_END, 2.0)  # an old bad patch
-    for _ in range(RECENT_FRAMES):
+    for _ in range(recent - 1):
         stats.record(STAGE_END_TO_END, 0.5)
-    snapshot = build_snapshot(LatencyBudget(4, 8, 100.0), stats, SchedulerStats(deadline_misses=3), 4, "calm")
+    stats.record(STAGE_END_TO_END, 2.0)  # one bad frame within the window is the p100 only, never the p95
+    counters = SchedulerStats(deadline_misses=3, late_releases=7)
+    snapshot = build_snapshot(LatencyBudget(4, 8, 100.0), stats, counters, output_fps, 4, "calm")
     assert snapshot.end_to_end_p95_ms == pytest.approx(500.0)
     assert (snapshot.latency_budget_ms, snapshot.deadline_misses, snapshot.audio_drops) == (500.0, 3, 4)
+    assert snapshot.late_releases == 7
     assert "style calm" in format_status(snapshot)

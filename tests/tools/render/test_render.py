@@ -120,3 +120,11 @@ def test_a_floor_level_root_above_the_hips_is_left_out(tmp_path):
     plain = render_positions(body, CANONICAL.parents, tmp_path / "plain.png", names=CANONICAL.names, config=config)
     rooted = render_positions(with_floor_root, parents, tmp_path / "rooted.png", names=names, config=config)
     assert (np.asarray(Image.open(plain)) == np.asarray(Image.open(rooted))).all()
+
+
+def test_captions_show_clip_time_from_the_selected_start():
+    """`render --start 10` labels its first drawn frame 10.00 s, not 0.00 s."""
+    from gesturecast.tools.render.animation import frame_caption
+
+    assert frame_caption(0, 30, 30.0, start_s=10.0) == "frame 1/30    10.00 s"
+    assert frame_caption(15, 30, 30.0, start_s=10.0).endswith("10.50 s")

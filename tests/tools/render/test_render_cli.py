@@ -30,8 +30,9 @@ def test_bvh_forward_kinematics_matches_the_skeleton_when_translations_are_the_o
 
 def test_time_range_and_stride_selection():
     positions = np.zeros((300, 2, 3))
-    assert len(render_cli.select_time_range(positions, 30.0, 2.0, 3.0)) == 90
-    assert len(render_cli.select_time_range(positions, 30.0, 9.0, None)) == 30
+    assert len(render_cli.select_time_range(positions, 30.0, 2.0, 3.0)[1]) == 90
+    assert render_cli.select_time_range(positions, 30.0, 9.0, None)[0] == 270
+    assert len(render_cli.select_time_range(positions, 30.0, 9.0, None)[1]) == 30
     with pytest.raises(UserError, match="select no frames"):
         render_cli.select_time_range(positions, 30.0, 10.0, None)
     assert render_cli.auto_stride(2065, parse(["x.bvh", "-o", "a.gif"]).output) == 3

@@ -1,0 +1,73 @@
+"""Number types for command-line flags: a value outside its range is one line from argparse, never a traceback.
+
+``parser.add_argument("--steps", type=int_at_least(1))`` refuses ``--steps 0`` with
+``argument --steps: must be an integer ≥ 1, got '0'``; :func:`finite_float` refuses ``nan``, ``inf``
+and values outside its bounds (non-finite numbers would otherwise turn every pose into NaN).
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+from collections.abc import Callable
+
+from gesturecast.errors import USER_ERROR_EXIT_CODE
+
+MAX_PORT = 65535
+
+
+def int_at_least(minimum: int, maximum: int | None = None) -> Callable[[str], int]:
+    """An argparse type: an integer in ``[minimum, maximum]`` (no upper bound when ``maximum`` is None)."""
+    wanted = f"an integer ≥ {minimum}" if maximum is None else f"an integer from {minimum} to {maximum}"
+
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"must be {wanted}, got {text!r}") from None
+        if value < minimum or (maximum is not None and value > maximum):
+            raise argparse.ArgumentTypeError(f"must be {wanted}, got {text!r}")
+        return value
+
+    return parse
+
+
+def finite_float(minimum: float | None = None, maximum: float | None = None,
+                 exclusive_minimum: bool = False) -> Callable[[str], float]:
+    """An argparse type: a finite float, optionally bounded (``exclusive_minimum``: strictly above ``minimum``)."""
+    wanted = _float_range(minimum, maximum, exclusive_minimum)
+
+    def parse(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"must be {wanted}, got {text!r}") from None
+        below = minimum is not None and (value <= minimum if exclusive_minimum else value < minimum)
+        above = maximum is not None and value > maximum
+        if not math.isfinite(value) or below or above:
+            raise argparse.ArgumentTypeError(f"must be {wanted}, got {text!r}")
+        return value
+
+    return parse
+
+
+def _float_range(minimum: float | None, maximum: float | None, exclusive_minimum: bool) -> str:
+    """Words for a finite-float range, e.g. ``a finite number > 0``."""
+    parts = []
+    if minimum is not None:
+        parts.append(f"{'>' if exclusive_minimum else '≥'} {minimum:g}")
+    if maximum is not None:
+        parts.append(f"≤ {maximum:g}")
+    return "a finite number" + (" " + " and ".join(parts) if parts else "")
+
+
+def port_number(allow_any: bool = False) -> Callable[[str], int]:
+    """An argparse type: a TCP/UDP port 1..65535 (0 too with ``allow_any``: the system picks a free one)."""
+    return int_at_least(0 if allow_any else 1, MAX_PORT)
+
+
+class OneLineParser(argparse.ArgumentParser):
+    """An ArgumentParser whose errors are one line on stderr (``gesturecast live: error: ...``), exit code 2."""
+
+    def error(self, message: str) -> None:  # type: ignore[override]  # argparse's contract: never returns
+        self.exit(USER_ERROR_EXIT_CODE, f"{self.prog}: error: {message} (see `{self.prog} --help`)\n")
