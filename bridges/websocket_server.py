@@ -25,7 +25,6 @@ from dataclasses import dataclass, field
 
 from websockets.asyncio.server import ServerConnection, broadcast
 from websockets.exceptions import ConnectionClosed
-from websockets.frames import CloseCode
 from websockets.http11 import Request, Response
 
 from gesturecast.bridges import ws_protocol
@@ -33,7 +32,7 @@ from gesturecast.bridges.control import ControlError, control_schema, decode_cli
 from gesturecast.bridges.coords import coordinate_frame
 from gesturecast.bridges.transport import ErrorThrottle
 from gesturecast.bridges.viewer_http import is_websocket_upgrade, static_response
-from gesturecast.bridges.ws_access import AccessPolicy, WrongToken
+from gesturecast.bridges.ws_access import AccessPolicy, send_refusal
 from gesturecast.bridges.ws_listener import ThreadedListener
 from gesturecast.errors import UserError
 from gesturecast.models.motion.skeleton import CANONICAL, Skeleton
@@ -169,9 +168,7 @@ class WebSocketBridge:
             reply = await self._apply(connection, client, message)
         except ControlError as error:
             self._control_errors.report(ControlError(f"from {client.address}: {error}"))
-            await connection.send(ws_protocol.error_message(str(error)))
-            if isinstance(error, WrongToken):
-                await connection.close(CloseCode.POLICY_VIOLATION, str(error))
+            await send_refusal(connection, error)
             return
         if reply is not None:
             await connection.send(reply)

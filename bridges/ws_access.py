@@ -28,9 +28,11 @@ from urllib.parse import urlsplit
 
 from websockets.asyncio.server import ServerConnection
 from websockets.datastructures import Headers
+from websockets.frames import CloseCode
 from websockets.http11 import Request, Response
 
 from gesturecast.bridges.control import ControlError
+from gesturecast.bridges.ws_protocol import error_message
 from gesturecast.errors import UserError
 
 LOOPBACK_NAMES = frozenset({"localhost"})
@@ -203,6 +205,13 @@ class AccessPolicy:
         if not tokens_match(given, self.token or ""):
             self.failures.record(client_address(connection))
             raise WrongToken("wrong token; closing the connection")
+
+
+async def send_refusal(connection: ServerConnection, error: ControlError) -> None:
+    """Answer a refused message with one ``error`` line; a wrong token also closes the connection (1008)."""
+    await connection.send(error_message(str(error)))
+    if isinstance(error, WrongToken):
+        await connection.close(CloseCode.POLICY_VIOLATION, str(error))
 
 
 def client_address(connection: ServerConnection) -> str:

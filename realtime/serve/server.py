@@ -26,7 +26,7 @@ from gesturecast.bridges import ws_protocol
 from gesturecast.bridges.control import ControlError, control_schema, decode_client_message
 from gesturecast.bridges.coords import coordinate_frame
 from gesturecast.bridges.transport import ErrorThrottle
-from gesturecast.bridges.ws_access import AccessPolicy, WrongToken
+from gesturecast.bridges.ws_access import AccessPolicy, send_refusal
 from gesturecast.bridges.ws_listener import ThreadedListener
 from gesturecast.errors import UserError
 from gesturecast.models.motion.skeleton import CANONICAL
@@ -118,9 +118,7 @@ class StreamConnection:
             reply = await self._reply_to(message)
         except ControlError as error:
             self.server.errors.report(ControlError(f"stream {self.stream_id}: {error}"))
-            await self.websocket.send(ws_protocol.error_message(str(error)))
-            if isinstance(error, WrongToken):
-                await self.websocket.close(CloseCode.POLICY_VIOLATION, str(error))
+            await send_refusal(self.websocket, error)
             return
         if reply is not None:
             await self.websocket.send(reply)
