@@ -7,6 +7,7 @@ range are rejected with a one-line reason; nothing invalid reaches the engine.
 
 from __future__ import annotations
 
+import json
 import math
 from dataclasses import dataclass
 
@@ -32,6 +33,10 @@ class TextField:
             raise ControlError(f"{name} must not be blank")
         if len(value) > self.max_chars:
             raise ControlError(f"{name} is longer than {self.max_chars} characters")
+        try:
+            value.encode("utf-8")
+        except UnicodeEncodeError:  # JSON's "\ud800" escapes decode to lone surrogates no text model reads
+            raise ControlError(f"{name} is not valid Unicode text (lone surrogate)") from None
         return value
 
     def describe(self) -> dict:
@@ -59,11 +64,17 @@ class NumberField:
     high: float
 
     def check(self, name: str, value: object) -> float:
-        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
             raise ControlError(f"{name} must be a finite number")
-        if not self.low <= value <= self.high:
-            raise ControlError(f"{name} must be within [{self.low:g}, {self.high:g}], got {value:g}")
-        return float(value)
+        try:
+            number = float(value)  # an int beyond float range overflows
+        except OverflowError:
+            number = math.inf
+        if not math.isfinite(number):
+            raise ControlError(f"{name} must be a finite number")
+        if not self.low <= number <= self.high:
+            raise ControlError(f"{name} must be within [{self.low:g}, {self.high:g}], got {number:g}")
+        return number
 
     def describe(self) -> dict:
         return {"type": "number", "min": self.low, "max": self.high}
@@ -77,6 +88,25 @@ CONTROL_FIELDS: dict[str, TextField | NumberField] = {
     "audio_guidance": NumberField(*GUIDANCE_RANGE),  # s_a: how strongly the motion follows the speech
     "gamma": NumberField(*GAMMA_RANGE),
 }
+
+
+def decode_client_message(text: str) -> dict:
+    """A client's text message → a JSON object with a string ``type``; ControlError (one line) otherwise.
+
+    Python's parser raises more than JSONDecodeError on hostile input: RecursionError for deeply
+    nested arrays, ValueError for integers beyond its digit limit; all of them are one-line refusals.
+    """
+    try:
+        decoded = json.loads(text)
+    except RecursionError:
+        raise ControlError("not JSON (nested too deeply)") from None
+    except json.JSONDecodeError as error:
+        raise ControlError(f"not JSON ({error.msg})") from None
+    except ValueError:  # an integer beyond sys.get_int_max_str_digits()
+        raise ControlError("not JSON (a number has too many digits)") from None
+    if not isinstance(decoded, dict) or not isinstance(decoded.get("type"), str):
+        raise ControlError('a message must be a JSON object with a "type"')
+    return decoded
 
 
 def control_schema() -> dict:

@@ -5,7 +5,6 @@ from __future__ import annotations
 from http import HTTPStatus
 from importlib import resources
 
-from websockets.asyncio.server import ServerConnection
 from websockets.datastructures import Headers
 from websockets.http11 import Request, Response
 
@@ -37,8 +36,3 @@ def static_response(path: str) -> Response:
          ("Connection", "close")]
     )
     return Response(status.value, status.phrase, headers, body)
-
-
-def process_request(connection: ServerConnection, request: Request) -> Response | None:
-    """websockets ``process_request`` hook: upgrades go on to the handshake, plain GETs get files."""
-    return None if is_websocket_upgrade(request) else static_response(request.path)

@@ -8,13 +8,13 @@ skipped for that frame (counted), so nothing is buffered without bound.
 
 Clients may send control messages (:mod:`control`); valid ones go to ``on_control(dict)``,
 invalid ones get ``{"type": "error"}`` back and one log line. Listens on 127.0.0.1 unless told
-otherwise; beyond loopback a token is required for control messages.
+otherwise; beyond loopback a token is required for control messages. Who may connect (browser
+origins, wrong-token limit) is :mod:`ws_access`.
 """
 
 from __future__ import annotations
 
-import hmac
-import ipaddress
+import asyncio
 import json
 import logging
 import threading
@@ -25,12 +25,14 @@ from dataclasses import dataclass, field
 
 from websockets.asyncio.server import ServerConnection, broadcast
 from websockets.exceptions import ConnectionClosed
+from websockets.http11 import Request, Response
 
 from gesturecast.bridges import ws_protocol
-from gesturecast.bridges.control import ControlError, control_schema, validate_control
+from gesturecast.bridges.control import ControlError, control_schema, decode_client_message, validate_control
 from gesturecast.bridges.coords import coordinate_frame
 from gesturecast.bridges.transport import ErrorThrottle
-from gesturecast.bridges.viewer_http import process_request
+from gesturecast.bridges.viewer_http import is_websocket_upgrade, static_response
+from gesturecast.bridges.ws_access import AccessPolicy, send_refusal
 from gesturecast.bridges.ws_listener import ThreadedListener
 from gesturecast.errors import UserError
 from gesturecast.models.motion.skeleton import CANONICAL, Skeleton
@@ -39,31 +41,11 @@ from gesturecast.realtime.timing.frames import PoseFrame
 logger = logging.getLogger(__name__)
 
 WS_DEFAULT_PORT = 8765
-LOOPBACK_NAMES = frozenset({"localhost"})
+WS_PORT_FLAG = "--ws"  # the flag of `gesturecast live` that chooses this port
 MAX_CLIENT_MESSAGE_BYTES = 64 * 1024
 SLOW_CLIENT_BUFFER_BYTES = 256 * 1024
 MAX_PENDING_FRAMES = 8
 STOP_TIMEOUT_S = 5.0
-
-
-def is_loopback(host: str) -> bool:
-    if host in LOOPBACK_NAMES:
-        return True
-    try:
-        return ipaddress.ip_address(host).is_loopback
-    except ValueError:
-        return False
-
-
-def token_required(host: str, token: str | None) -> bool:
-    """A token, once given, is always checked; beyond loopback one must be given (see check_exposure)."""
-    return token is not None or not is_loopback(host)
-
-
-def check_exposure(host: str, token: str | None) -> None:
-    """UserError when a server would listen beyond loopback without a token."""
-    if not is_loopback(host) and not token:
-        raise UserError(f"listening on {host} exposes the server beyond this machine; give a --token too")
 
 
 @dataclass(frozen=True)
@@ -73,7 +55,9 @@ class WebSocketConfig:
     token: str | None = None
     coordinate_frame: str = "internal"
     fps: float = 30.0
+    style: str = ""  # the style in effect at start (the hello's ``style`` until the first frame)
     style_choices: tuple[str, ...] = ()
+    allow_origins: tuple[str, ...] = ()  # browser origins besides the viewer's own (ws_access)
     slow_client_buffer_bytes: int = SLOW_CLIENT_BUFFER_BYTES
     clock: Callable[[], float] = field(default=time.monotonic, compare=False)  # the engine's clock
 
@@ -100,24 +84,25 @@ class WebSocketBridge:
         on_control: Callable[[dict], None] = _ignore_control,
         skeleton: Skeleton = CANONICAL,
     ) -> None:
-        check_exposure(config.host, config.token)
+        self.access = AccessPolicy(config.host, config.token, config.allow_origins, config.clock)
         self.config = config
         self.on_control = on_control
         self.skeleton = skeleton
         self.coords = coordinate_frame(config.coordinate_frame)
-        self.style = ""
+        self.style = config.style
         self.dropped_pending = 0  # outbox: frames dropped (oldest first) before the event loop took them
         self.slow_client_skips = 0  # frames not sent to a client whose socket buffer was full (all clients)
         self._clients: dict[ServerConnection, ClientState] = {}
         self._pending: deque[PoseFrame] = deque(maxlen=MAX_PENDING_FRAMES)
         self._lock = threading.Lock()
         self._drain_scheduled = False
-        self._listener = ThreadedListener(config.host, config.port, "gesturecast-websocket", STOP_TIMEOUT_S)
+        self._listener = ThreadedListener(config.host, config.port, "gesturecast-websocket", STOP_TIMEOUT_S,
+                                          port_flag=WS_PORT_FLAG)
         self._control_errors = ErrorThrottle("WebSocket control message rejected")
 
     # ---- lifecycle (caller's thread) ----
     def start(self) -> WebSocketBridge:
-        self._listener.start(self._handle, process_request=process_request, max_size=MAX_CLIENT_MESSAGE_BYTES)
+        self._listener.start(self._handle, process_request=self._process_request, max_size=MAX_CLIENT_MESSAGE_BYTES)
         logger.info("WebSocket stream and viewer on %s", self.url)
         return self
 
@@ -161,8 +146,14 @@ class WebSocketBridge:
             self.style,
             self.config.style_choices,
             control_schema(),
-            token_required(self.config.host, self.config.token),
+            self.access.token_required,
         )
+
+    def _process_request(self, connection: ServerConnection, request: Request) -> Response | None:
+        """Upgrades pass the access policy (origin, wrong-token limit); plain GETs get the viewer files."""
+        if is_websocket_upgrade(request):
+            return self.access.process_request(connection, request)
+        return static_response(request.path)
 
     async def _handle(self, connection: ServerConnection) -> None:
         client = ClientState(address=str(connection.remote_address))
@@ -170,35 +161,33 @@ class WebSocketBridge:
             await connection.send(self._hello())
             self._clients[connection] = client
             async for message in connection:
-                reply = self._reply_to(client, message)
-                if reply is not None:
-                    await connection.send(reply)
+                await self._answer(connection, client, message)
         except ConnectionClosed:
             logger.debug("client %s went away", client.address)
         finally:
             self._clients.pop(connection, None)
 
-    def _reply_to(self, client: ClientState, message: str | bytes) -> str | None:
+    async def _answer(self, connection: ServerConnection, client: ClientState, message: str | bytes) -> None:
+        """Reply to one message; a refused one gets an ``error`` (and a wrong token also a close)."""
         try:
-            return self._apply(client, message)
+            reply = await self._apply(connection, client, message)
         except ControlError as error:
             self._control_errors.report(ControlError(f"from {client.address}: {error}"))
-            return ws_protocol.error_message(str(error))
+            await send_refusal(connection, error)
+            return
+        if reply is not None:
+            await connection.send(reply)
 
-    def _apply(self, client: ClientState, message: str | bytes) -> str | None:
+    async def _apply(self, connection: ServerConnection, client: ClientState, message: str | bytes) -> str | None:
         if isinstance(message, bytes):
             raise ControlError("binary messages are not accepted; send JSON text")
-        try:
-            decoded = json.loads(message)
-        except json.JSONDecodeError as error:
-            raise ControlError(f"not JSON ({error.msg})") from None
-        if not isinstance(decoded, dict):
-            raise ControlError("a message must be a JSON object")
-        kind = decoded.get("type")
+        decoded = decode_client_message(message)
+        kind = decoded["type"]
         if kind == "subscribe":
             return self._subscribe(client, decoded)
         if kind == "control":
-            return self._control(decoded)
+            self.access.verify_token(connection, decoded)
+            return await self._control(decoded)
         raise ControlError(f"unknown message type {kind!r}; use 'subscribe' or 'control'")
 
     def _subscribe(self, client: ClientState, message: dict) -> str:
@@ -208,14 +197,11 @@ class WebSocketBridge:
         client.wants_json = wire_format == "json"
         return json.dumps({"type": "subscribed", "format": wire_format})
 
-    def _control(self, message: dict) -> str:
-        if token_required(self.config.host, self.config.token):
-            given = message.get("token")
-            if not isinstance(given, str) or not hmac.compare_digest(given, self.config.token or ""):
-                raise ControlError("missing or wrong token")
+    async def _control(self, message: dict) -> str:
+        """Validate, hand to the engine (which resolves the styles, off the event loop), then ack."""
         control = validate_control(message)
         try:
-            self.on_control(control)
+            await asyncio.to_thread(self.on_control, control)
         except (ValueError, UserError) as error:
             raise ControlError(f"the engine refused it: {error}") from None
         return json.dumps({"type": "ack", "applied": control})

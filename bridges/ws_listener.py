@@ -21,9 +21,10 @@ START_TIMEOUT_S = 10.0
 class ThreadedListener:
     """Listens on ``host:port`` (0 = any free port; :attr:`port` is the bound one after :meth:`start`)."""
 
-    def __init__(self, host: str, port: int, thread_name: str, stop_timeout_s: float) -> None:
+    def __init__(self, host: str, port: int, thread_name: str, stop_timeout_s: float, port_flag: str) -> None:
         self.host = host
         self.port = port
+        self.port_flag = port_flag  # the command-line flag that picks this port, named in the busy-port error
         self.stop_timeout_s = stop_timeout_s
         self.loop = asyncio.new_event_loop()
         self._thread = threading.Thread(target=self.loop.run_forever, name=thread_name, daemon=True)
@@ -36,7 +37,8 @@ class ThreadedListener:
         except OSError as error:
             self._stop_loop()
             if error.errno == errno.EADDRINUSE:
-                raise UserError(f"port {self.port} on {self.host} is in use; pick another with --port") from None
+                raise UserError(f"port {self.port} on {self.host} is in use; "
+                                f"pick another with {self.port_flag}") from None
             raise UserError(f"cannot listen on {self.host}:{self.port}: {error.strerror}") from None
 
     def close(self) -> None:

@@ -12,6 +12,7 @@ from gesturecast.bridges.fanout import BridgeFanout
 from gesturecast.bridges.osc import OscBridge, OscConfig
 from gesturecast.bridges.vmc import VmcBridge, VmcConfig
 from gesturecast.bridges.websocket_server import WebSocketBridge, WebSocketConfig
+from gesturecast.bridges.ws_access import MIN_TOKEN_CHARS, TOKEN_ENV_VAR, token_from_sources
 from gesturecast.errors import UserError
 from gesturecast.models.generator.diffusion import SamplerConfig
 from gesturecast.models.runtime.bundle import ModelBundle
@@ -105,9 +106,23 @@ def add_output_arguments(parser: argparse.ArgumentParser) -> None:
     group.add_argument("--ws", metavar="PORT", type=port_number(allow_any=True),
                        help="WebSocket stream + browser viewer on this port")
     group.add_argument("--host", default="127.0.0.1", help="listen address of the WebSocket server")
-    group.add_argument("--token", help="required from clients for control messages when --host is not loopback")
+    add_access_arguments(group)
     group.add_argument("--bvh", type=Path, metavar="FILE", help="record the stream as BVH")
     group.add_argument("--fps", type=int, choices=(30, 60), default=30, help="output rate (60 = slerp upsampling)")
+
+
+def add_access_arguments(group: argparse._ArgumentGroup) -> None:
+    """--token / --token-file / --allow-origin of a WebSocket server (live --ws, serve); docs/bridges.md."""
+    group.add_argument("--token", help=f"shared secret clients must send (>= {MIN_TOKEN_CHARS} characters; needed "
+                       f"beyond loopback). `ps` shows it: prefer --token-file or ${TOKEN_ENV_VAR}")
+    group.add_argument("--token-file", type=Path, metavar="FILE", help="read the token from this file")
+    group.add_argument("--allow-origin", action="append", default=[], metavar="ORIGIN",
+                       help="also accept browser pages from this origin (e.g. http://localhost:3000); repeatable")
+
+
+def server_token(args: argparse.Namespace) -> str | None:
+    """The token from --token, --token-file or the environment (ws_access.token_from_sources)."""
+    return token_from_sources(args.token, args.token_file)
 
 
 def parse_host_port(value: str, flag: str) -> tuple[str, int]:
@@ -127,8 +142,9 @@ def build_outputs(args: argparse.Namespace, session: GestureSession, clock: Cloc
         host, port = parse_host_port(args.osc, "--osc")
         bridges.append(OscBridge(OscConfig(host, port, send_rate=float(args.fps), coordinate_frame=args.osc_frame)))
     if args.ws is not None:
-        config = WebSocketConfig(host=args.host, port=args.ws, token=args.token, fps=float(args.fps),
-                                 style_choices=tuple(session.bundle.styles.labels), clock=clock.now)
+        config = WebSocketConfig(host=args.host, port=args.ws, token=server_token(args), fps=float(args.fps),
+                                 style=session.controls.describe(), style_choices=tuple(session.bundle.styles.labels),
+                                 allow_origins=tuple(args.allow_origin), clock=clock.now)
         bridges.append(WebSocketBridge(config, on_control=session.controls.submit).start())
     if args.bvh is not None:
         bridges.append(BvhRecorder(args.bvh))

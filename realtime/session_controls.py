@@ -32,8 +32,11 @@ class SessionControls:
         self._blending_from: StylePrompt | None = None  # old style while a style change blends in
 
     def submit(self, control: dict) -> None:
-        """Queue a validated control message (keys: style, prompt, style2, guidance, audio_guidance, gamma);
-        thread-safe."""
+        """Queue a schema-checked control message (keys: style, prompt, style2, guidance, audio_guidance,
+        gamma); thread-safe. Its styles are resolved first, so one the model cannot embed raises
+        UserError here (the caller answers the client) instead of failing the stream when applied."""
+        for prompt in _prompts_of(control):
+            self.generator.styles.embed(prompt)
         with self._lock:
             self._inbox.append(dict(control))
 
@@ -103,6 +106,13 @@ def _style_from_control(control: dict) -> StylePrompt | None:
     if "style" in control:
         return StylePrompt.parse(control["style"])
     return None
+
+
+def _prompts_of(control: dict) -> list[StylePrompt]:
+    """Every style prompt a control message names (first style, then second)."""
+    first = _style_from_control(control)
+    second = StylePrompt.parse(control["style2"]) if "style2" in control else None
+    return [prompt for prompt in (first, second) if prompt is not None]
 
 
 def _prompt_name(prompt: StylePrompt) -> str:

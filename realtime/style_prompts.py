@@ -12,6 +12,7 @@ On the command line: ``happy``, ``text:calm and slow``, ``motion:clip.bvh``.
 
 from __future__ import annotations
 
+import threading
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -46,20 +47,26 @@ class StylePrompt:
 
 
 class StyleResolver:
-    """Turns :class:`StylePrompt` objects into (S,) float32 embeddings; loads wordllama / ONNX lazily."""
+    """Turns :class:`StylePrompt` objects into (S,) float32 embeddings; loads wordllama / ONNX lazily.
+
+    Thread-safe: a control is resolved on the server thread (to refuse it before acknowledging) while
+    the session thread resolves the styles it applies."""
 
     def __init__(self, bundle: ModelBundle, threads: int = DEFAULT_THREADS):
         self.bundle = bundle
         self.threads = threads
         self._text_embedder = None
         self._motion_prompt = None
+        self._lock = threading.Lock()
 
     def embed(self, prompt: StylePrompt) -> np.ndarray:
-        if prompt.kind == "label":
-            return self.bundle.styles.embedding(prompt.value)
-        if prompt.kind == "text":
-            return self._embed_text(prompt.value)
-        return self._embed_motion(Path(prompt.value))
+        """(S,) embedding; UserError for an unknown label, a text with nothing to embed, or a bad clip."""
+        with self._lock:
+            if prompt.kind == "label":
+                return self.bundle.styles.embedding(prompt.value)
+            if prompt.kind == "text":
+                return self._embed_text(prompt.value)
+            return self._embed_motion(Path(prompt.value))
 
     def _embed_text(self, text: str) -> np.ndarray:
         if self._text_embedder is None:

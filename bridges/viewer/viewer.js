@@ -14,7 +14,7 @@ const SLIDERS = ["guidance", "audio_guidance"];  // numeric control fields (rang
 
 const state = {
   hello: null, pose: null, frames: 0, latencyMs: null, arrivals: [],
-  camera: { yaw: 0.5, pitch: 0.15, distance: 3.2 }, touchedSliders: new Set(),
+  camera: { yaw: 0.5, pitch: 0.15, distance: 3.2 }, touchedSliders: new Set(), styleTouched: false,
 };
 const el = (id) => document.getElementById(id);
 
@@ -98,16 +98,24 @@ function onHello(hello) {
   el("style").textContent = hello.style || "–";
   const select = el("style-select");
   for (const choice of hello.style_choices) select.add(new Option(choice, choice));
+  showStyle(hello.style);
   for (const name of SLIDERS) {
     const range = hello.control_schema[name];
     if (range) Object.assign(el(name), { min: range.min, max: range.max });
   }
 }
 
+// The style in effect: shown as text, and picked in the dropdown when it is one of the labels.
+function showStyle(style) {
+  el("style").textContent = style || "–";
+  const select = el("style-select");
+  if (!state.styleTouched && [...select.options].some((option) => option.value === style)) select.value = style;
+}
+
 function onText(message) {
   if (message.type === "hello") onHello(message);
   else if (message.type === "frame") onFrame({ ...message, captureTime: message.capture_time });
-  else if (message.type === "style") el("style").textContent = message.style || "–";
+  else if (message.type === "style") showStyle(message.style);
   else if (message.type === "ack") el("message").textContent = "applied " + JSON.stringify(message.applied);
   else if (message.type === "error") el("message").textContent = "error: " + message.message;
 }
@@ -123,10 +131,11 @@ function connect() {
   };
   el("controls").addEventListener("submit", (event) => {
     event.preventDefault();
-    const style = el("style-text").value.trim() || el("style-select").value;
     const control = { type: "control" };
     for (const name of state.touchedSliders) control[name] = Number(el(name).value);  // only what the user moved
-    if (style) control.style = style;
+    const text = el("style-text").value.trim();  // free text is a prompt, not a label
+    if (text) control.prompt = text;
+    else if (state.styleTouched && el("style-select").value) control.style = el("style-select").value;
     const token = new URLSearchParams(location.search).get("token");
     if (token) control.token = token;
     socket.send(JSON.stringify(control));
@@ -209,6 +218,7 @@ function enableOrbit() {
     e.preventDefault();
     state.camera.distance = Math.max(1, state.camera.distance * Math.exp(e.deltaY * 0.001));
   }, { passive: false });
+  el("style-select").addEventListener("change", () => { state.styleTouched = true; });
   for (const name of SLIDERS) {
     el(name).addEventListener("input", () => {
       el(`${name}-value`).textContent = el(name).value;

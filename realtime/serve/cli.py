@@ -9,7 +9,12 @@ import threading
 from gesturecast.arguments import port_number
 from gesturecast.bridges.coords import FRAMES
 from gesturecast.errors import UserError
-from gesturecast.realtime.engine_setup import add_generation_arguments, build_session
+from gesturecast.realtime.engine_setup import (
+    add_access_arguments,
+    add_generation_arguments,
+    build_session,
+    server_token,
+)
 from gesturecast.realtime.serve.server import SERVE_DEFAULT_PORT, GestureServer, ServeConfig
 from gesturecast.realtime.serve.setup import StreamSessions
 from gesturecast.realtime.serve.stream import StreamConfig
@@ -28,7 +33,7 @@ def add_serve_arguments(parser: argparse.ArgumentParser) -> None:
     group.add_argument("--host", default="127.0.0.1", help="listen address (beyond loopback needs --token)")
     group.add_argument("--port", type=port_number(allow_any=True), default=SERVE_DEFAULT_PORT,
                        help="WebSocket port (0 = any free port)")
-    group.add_argument("--token", help="clients must send it in their start message (required beyond loopback)")
+    add_access_arguments(group)
     group.add_argument("--max-streams", type=int, default=ServeConfig.max_streams, help="concurrent streams allowed")
     group.add_argument("--coordinate-frame", choices=tuple(FRAMES), default="internal", help="frame of sent poses")
     group.add_argument("--fps", type=int, choices=(30, 60), default=30, help="output rate (60 = slerp upsampling)")
@@ -38,10 +43,12 @@ def build_server(args: argparse.Namespace, clock: Clock) -> GestureServer:
     """The server for these flags (the defaults are validated by building one session up front)."""
     if args.max_streams < 1:
         raise UserError(f"--max-streams must be at least 1, got {args.max_streams}")
+    token = server_token(args)  # a missing token file fails before the model loads
     probe = build_session(args, clock)  # checks the model, look-ahead and default style before listening
     sessions = StreamSessions(probe.bundle, probe.generator.settings, probe.budget, clock, args.max_streams)
-    config = ServeConfig(host=args.host, port=args.port, token=args.token, max_streams=args.max_streams,
-                         coordinate_frame=args.coordinate_frame, stream=StreamConfig(output_fps=float(args.fps)))
+    config = ServeConfig(host=args.host, port=args.port, token=token, max_streams=args.max_streams,
+                         coordinate_frame=args.coordinate_frame, stream=StreamConfig(output_fps=float(args.fps)),
+                         allow_origins=tuple(args.allow_origin))
     try:
         return GestureServer(sessions, clock, config).start()
     except UserError:

@@ -52,17 +52,6 @@ class StreamOptions:
     audio_format: str = DEFAULT_AUDIO_FORMAT
 
 
-def parse_json_message(text: str) -> dict:
-    """A text message → a JSON object with a ``type``; ControlError (one line) otherwise."""
-    try:
-        decoded = json.loads(text)
-    except json.JSONDecodeError as error:
-        raise ControlError(f"not JSON ({error.msg})") from None
-    if not isinstance(decoded, dict) or not isinstance(decoded.get("type"), str):
-        raise ControlError('a message must be a JSON object with a "type"')
-    return decoded
-
-
 def client_style(spec: str) -> StylePrompt:
     """A style from a client (``motion:`` styles are already refused by the control schema)."""
     try:

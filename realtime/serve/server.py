@@ -4,13 +4,13 @@ Each WebSocket connection (``/stream/<id>``) is one stream with its own :class:`
 streams' denoiser calls are batched through one shared session (:mod:`batched_denoiser`). The
 asyncio server runs in its own thread (start / close); the protocol is in :mod:`serve_protocol` and
 docs/serve.md. Listens on 127.0.0.1 unless told otherwise; beyond loopback a token is required
-(``check_exposure``) and a stream starts only after a ``start`` message carrying it.
+(``check_exposure``) and a stream starts only after a ``start`` message carrying it. Browser origins and
+the wrong-token limit: :mod:`gesturecast.bridges.ws_access`.
 """
 
 from __future__ import annotations
 
 import asyncio
-import hmac
 import itertools
 import json
 import logging
@@ -23,11 +23,12 @@ from websockets.exceptions import ConnectionClosed
 from websockets.frames import CloseCode
 
 from gesturecast.bridges import ws_protocol
-from gesturecast.bridges.control import ControlError, control_schema
+from gesturecast.bridges.control import ControlError, control_schema, decode_client_message
 from gesturecast.bridges.coords import coordinate_frame
 from gesturecast.bridges.transport import ErrorThrottle
-from gesturecast.bridges.websocket_server import check_exposure, token_required
+from gesturecast.bridges.ws_access import AccessPolicy, send_refusal
 from gesturecast.bridges.ws_listener import ThreadedListener
+from gesturecast.errors import UserError
 from gesturecast.models.motion.skeleton import CANONICAL
 from gesturecast.realtime.serve.protocol import (
     DEFAULT_AUDIO_FORMAT,
@@ -36,7 +37,6 @@ from gesturecast.realtime.serve.protocol import (
     check_control,
     decode_audio,
     hello,
-    parse_json_message,
     parse_start,
     started,
     stream_id_from_path,
@@ -48,6 +48,7 @@ from gesturecast.realtime.timing.clock import Clock
 logger = logging.getLogger(__name__)
 
 SERVE_DEFAULT_PORT = 8766
+SERVE_PORT_FLAG = "--port"
 STOP_TIMEOUT_S = 10.0
 MAX_OUTGOING_MESSAGES = 64  # per connection, waiting for the event loop (drop-oldest beyond, counted)
 SLOW_CLIENT_BUFFER_BYTES = 256 * 1024  # a client whose socket buffer holds more skips pose frames
@@ -61,6 +62,7 @@ class ServeConfig:
     max_streams: int = 16
     coordinate_frame: str = "internal"
     stream: StreamConfig = field(default_factory=StreamConfig)
+    allow_origins: tuple[str, ...] = ()  # browser origins allowed to connect (ws_access)
 
 
 class LoopSender:
@@ -115,18 +117,26 @@ class StreamConnection:
     def __init__(self, server: GestureServer, websocket: ServerConnection, stream_id: str) -> None:
         self.server = server
         self.stream_id = stream_id
+        self.websocket = websocket
         self.sender = LoopSender(asyncio.get_running_loop(), websocket)
         self.stream: ServeStream | None = None
         self.audio_format = DEFAULT_AUDIO_FORMAT
 
-    async def reply_to(self, message: bytes | str) -> str | None:
+    async def answer(self, message: bytes | str) -> None:
+        """Reply to one message; a refused one gets an ``error`` (and a wrong token also a close)."""
         try:
-            if isinstance(message, bytes):
-                return await self._audio(message)
-            return await self._command(parse_json_message(message))
+            reply = await self._reply_to(message)
         except ControlError as error:
             self.server.errors.report(ControlError(f"stream {self.stream_id}: {error}"))
-            return ws_protocol.error_message(str(error))
+            await send_refusal(self.websocket, error)
+            return
+        if reply is not None:
+            await self.websocket.send(reply)
+
+    async def _reply_to(self, message: bytes | str) -> str | None:
+        if isinstance(message, bytes):
+            return await self._audio(message)
+        return await self._command(decode_client_message(message))
 
     async def _command(self, message: dict) -> str | None:
         kind = message["type"]
@@ -135,21 +145,25 @@ class StreamConnection:
         if self.stream is None:
             raise ControlError(f"no stream yet: send audio or a start message before {kind!r}")
         if kind == "control":
-            control = check_control(message)
-            self.stream.session.controls.submit(control)
-            return ack(control)
+            return await self._control(message)
         if kind == "end":
             self.stream.end()
             return None
         raise ControlError(f"unknown message type {kind!r}; use start, control or end (audio: binary)")
 
+    async def _control(self, message: dict) -> str:
+        """Acknowledged only once the session has resolved its styles (off the event loop)."""
+        control = check_control(message)
+        try:
+            await asyncio.to_thread(self.stream.session.controls.submit, control)
+        except UserError as error:
+            raise ControlError(str(error)) from None
+        return ack(control)
+
     async def _start(self, message: dict) -> str:
         if self.stream is not None:
             raise ControlError("the stream has already started")
-        if self.server.token_required:
-            given = message.get("token")
-            if not isinstance(given, str) or not hmac.compare_digest(given, self.server.config.token or ""):
-                raise ControlError("missing or wrong token")
+        self.server.access.verify_token(self.websocket, message)
         options = parse_start(message)
         session = await asyncio.to_thread(self.server.sessions.session, options)
         self.audio_format = options.audio_format
@@ -162,7 +176,7 @@ class StreamConnection:
     async def _audio(self, data: bytes) -> str | None:
         reply = None
         if self.stream is None:
-            if self.server.token_required:
+            if self.server.access.token_required:
                 raise ControlError("this server needs a token: send {\"type\": \"start\", \"token\": ...} first")
             reply = await self._start({"type": "start"})
         samples = decode_audio(data, self.audio_format)
@@ -182,20 +196,21 @@ class GestureServer:
 
     def __init__(self, sessions: StreamSessions, clock: Clock, config: ServeConfig | None = None) -> None:
         self.config = config or ServeConfig()
-        check_exposure(self.config.host, self.config.token)
+        self.access = AccessPolicy(self.config.host, self.config.token, self.config.allow_origins, clock.now)
         self.sessions = sessions
         self.clock = clock
         self.coords = coordinate_frame(self.config.coordinate_frame)
-        self.token_required = token_required(self.config.host, self.config.token)
         self.errors = ErrorThrottle("serve: client message rejected")
         self.finished: deque[dict] = deque(maxlen=self.config.max_streams)  # stats of recently closed streams
         self._connections: dict[str, StreamConnection] = {}
         self._ids = itertools.count(1)
-        self._listener = ThreadedListener(self.config.host, self.config.port, "gesturecast-serve", STOP_TIMEOUT_S)
+        self._listener = ThreadedListener(self.config.host, self.config.port, "gesturecast-serve", STOP_TIMEOUT_S,
+                                          port_flag=SERVE_PORT_FLAG)
 
     # ---- lifecycle (caller's thread) ----
     def start(self) -> GestureServer:
-        self._listener.start(self._handle, max_size=MAX_AUDIO_MESSAGE_BYTES)
+        self._listener.start(self._handle, process_request=self.access.process_request,
+                             max_size=MAX_AUDIO_MESSAGE_BYTES)
         logger.info("serving streams on %s (at most %d)", self.url, self.config.max_streams)
         return self
 
@@ -223,7 +238,7 @@ class GestureServer:
         styles = tuple(self.sessions.bundle.styles.labels)
         viewer = ws_protocol.hello_message(CANONICAL, self.coords, self.config.stream.output_fps,
                                            self.sessions.defaults.style.value, styles, control_schema(),
-                                           self.token_required)
+                                           self.access.token_required)
         return hello(viewer, stream_id, self.sessions.budget.total_ms)
 
     async def _refuse(self, websocket: ServerConnection, reason: str, code: CloseCode) -> None:
@@ -249,9 +264,7 @@ class GestureServer:
         try:
             await websocket.send(self._hello(stream_id))
             async for message in websocket:
-                reply = await connection.reply_to(message)
-                if reply is not None:
-                    await websocket.send(reply)
+                await connection.answer(message)
         except ConnectionClosed:
             logger.debug("stream %s: client went away", stream_id)
         finally:

@@ -119,3 +119,20 @@ def test_viewer_controls_send_only_the_sliders_the_user_moved(driver):
     finally:
         bridge.close()
     assert received[0] == {"audio_guidance": 2.5, "style": "happy"}  # guidance untouched: not sent
+
+
+def test_viewer_preselects_the_style_and_sends_free_text_as_a_prompt(driver):
+    received: list[dict] = []
+    config = WebSocketConfig(port=0, style="relaxed", style_choices=("happy", "relaxed"))
+    bridge = WebSocketBridge(config, on_control=received.append).start()
+    try:
+        driver.get(bridge.url)
+        wait_for(lambda: driver.find_element("id", "style").text == "relaxed")
+        selected = driver.execute_script("return document.getElementById('style-select').value")
+        driver.find_element("id", "style-text").send_keys("happy, sweeping gestures")
+        driver.find_element("id", "apply").click()
+        wait_for(lambda: len(received) >= 1)
+    finally:
+        bridge.close()
+    assert selected == "relaxed"
+    assert received[0] == {"prompt": "happy, sweeping gestures"}

@@ -8,6 +8,7 @@ import urllib.request
 import numpy as np
 import pytest
 from bridge_test_frames import CAPTURE_AGE_S, moving_frame
+from websockets.exceptions import ConnectionClosed, InvalidStatus
 from websockets.sync.client import connect
 
 from gesturecast.bridges.coords import UNREAL
@@ -119,31 +120,81 @@ def test_control_reaches_engine_and_garbage_is_answered(bridge, controls, caplog
     assert len(rejected) == 1  # one clear line, not one per garbage message
 
 
+TOKEN = "correct-horse-battery-staple"
+
+
 def test_token_is_required_when_configured_or_exposed(controls):
-    with pytest.raises(UserError, match="--token"):
+    with pytest.raises(UserError, match="give a token"):
         WebSocketBridge(WebSocketConfig(host="0.0.0.0", port=0))
-    bridge = WebSocketBridge(WebSocketConfig(port=0, token="s3cret"), on_control=controls.append).start()
+    with pytest.raises(UserError, match="too weak"):
+        WebSocketBridge(WebSocketConfig(port=0, token="s3cret"))
+    bridge = WebSocketBridge(WebSocketConfig(port=0, token=TOKEN), on_control=controls.append).start()
     try:
         with connect(ws_url(bridge)) as client:
             assert hello_of(client)["token_required"] is True
             client.send(json.dumps({"type": "control", "style": "sad"}))
-            denied = json.loads(client.recv(TIMEOUT_S))
-            client.send(json.dumps({"type": "control", "style": "sad", "token": "s3cret"}))
+            missing = json.loads(client.recv(TIMEOUT_S))
+            client.send(json.dumps({"type": "control", "style": "sad", "token": TOKEN}))
             accepted = json.loads(client.recv(TIMEOUT_S))
+        with connect(ws_url(bridge)) as guesser:
+            hello_of(guesser)
+            guesser.send(json.dumps({"type": "control", "style": "sad", "token": "guess"}))
+            wrong = json.loads(guesser.recv(TIMEOUT_S))
+            with pytest.raises(ConnectionClosed) as closed:
+                guesser.recv(TIMEOUT_S)
     finally:
         bridge.close()
-    assert denied == {"type": "error", "message": "missing or wrong token"}
+    assert missing["type"] == "error" and "needs a token" in missing["message"]
     assert accepted["type"] == "ack" and controls == [{"style": "sad"}]
+    assert wrong == {"type": "error", "message": "wrong token; closing the connection"}
+    assert closed.value.rcvd.code == 1008
 
 
-def test_port_in_use_is_one_line_user_error():
+def test_port_in_use_is_one_line_user_error_naming_the_live_flag():
     with socket.socket() as holder:
         holder.bind(("127.0.0.1", 0))
         holder.listen()
         port = holder.getsockname()[1]
         with pytest.raises(UserError) as error:
             WebSocketBridge(WebSocketConfig(port=port)).start()
-    assert str(error.value) == f"port {port} on 127.0.0.1 is in use; pick another with --port"
+    assert str(error.value) == f"port {port} on 127.0.0.1 is in use; pick another with --ws"
+
+
+def test_only_the_viewers_own_origin_may_connect(bridge):
+    own = [None, f"http://127.0.0.1:{bridge.port}", f"http://localhost:{bridge.port}"]
+    hellos = []
+    for origin in own:
+        with connect(ws_url(bridge), origin=origin) as client:
+            hellos.append(hello_of(client)["type"])
+    with pytest.raises(InvalidStatus) as refused:
+        connect(ws_url(bridge), origin="https://evil.example")
+    assert hellos == ["hello"] * len(own)
+    assert refused.value.response.status_code == 403
+
+
+def test_hello_names_the_style_before_the_first_frame():
+    bridge = WebSocketBridge(WebSocketConfig(port=0, style="happy")).start()
+    try:
+        with connect(ws_url(bridge)) as client:
+            style = hello_of(client)["style"]
+    finally:
+        bridge.close()
+    assert style == "happy"
+
+
+def test_hostile_json_is_answered_and_the_connection_stays(bridge, controls):
+    hostile = ["[" * 30000 + "]" * 30000, '{"type": "control", "guidance": ' + "9" * 5000 + "}"]
+    with connect(ws_url(bridge)) as client:
+        hello_of(client)
+        replies = []
+        for message in hostile:
+            client.send(message)
+            replies.append(json.loads(client.recv(TIMEOUT_S)))
+        client.send(json.dumps({"type": "control", "guidance": 2.0}))
+        ack = json.loads(client.recv(TIMEOUT_S))
+    assert [r["type"] for r in replies] == ["error", "error"]
+    assert "nested too deeply" in replies[0]["message"] and "too many digits" in replies[1]["message"]
+    assert ack["type"] == "ack" and controls == [{"guidance": 2.0}]
 
 
 def test_client_vanishing_mid_stream_leaves_stream_running(bridge):

@@ -121,6 +121,9 @@ async def exchange(websocket, message) -> dict:
     return json.loads(await websocket.recv())
 
 
+TOKEN = "correct-horse-battery-staple"  # wrong, weak and non-ASCII tokens: test_serve_access.py
+
+
 def test_token_is_required_when_set_and_exposure_needs_one(bundle, speech):
     with pytest.raises(UserError, match="token"):
         GestureServer(None, MonotonicClock(), ServeConfig(host="0.0.0.0", port=0))
@@ -129,15 +132,13 @@ def test_token_is_required_when_set_and_exposure_needs_one(bundle, speech):
         async with connect(f"{url}guarded") as websocket:
             hello = json.loads(await websocket.recv())
             audio_first = await exchange(websocket, speech[0][:CHUNK].astype("<f4").tobytes())
-            wrong = await exchange(websocket, json.dumps({"type": "start", "token": "guess"}))
-            right = await exchange(websocket, json.dumps({"type": "start", "token": "s3cret"}))
-            return hello, audio_first, wrong, right
+            right = await exchange(websocket, json.dumps({"type": "start", "token": TOKEN}))
+            return hello, audio_first, right
 
-    with running_server(bundle, token="s3cret") as server:
-        hello, audio_first, wrong, right = run(session(server.url))
+    with running_server(bundle, token=TOKEN) as server:
+        hello, audio_first, right = run(session(server.url))
     assert hello["token_required"] is True
     assert audio_first["type"] == "error" and "token" in audio_first["message"]
-    assert wrong == {"type": "error", "message": "missing or wrong token"}
     assert right["type"] == "started" and right["stream"] == "guarded"
 
 
