@@ -8,7 +8,7 @@ import pytest
 from bridge_test_frames import moving_frame
 from pythonosc.dispatcher import Dispatcher
 from pythonosc.osc_packet import OscPacket
-from pythonosc.osc_server import ThreadingOSCUDPServer
+from pythonosc.osc_server import BlockingOSCUDPServer
 
 from gesturecast.bridges.coords import UNITY
 from gesturecast.bridges.vmc import VmcBridge, VmcConfig, VmcEncoder
@@ -89,14 +89,14 @@ def test_root_carries_hips_displacement():
 
 
 class Collector:
-    """python-osc's own threaded UDP server + dispatcher, collecting what arrives."""
+    """python-osc's own UDP server + dispatcher on one thread, collecting datagrams in arrival order."""
 
     def __init__(self) -> None:
         self.messages: list[tuple[str, tuple]] = []
         self.done = threading.Event()
         dispatcher = Dispatcher()
         dispatcher.set_default_handler(self.handle)
-        self.server = ThreadingOSCUDPServer(("127.0.0.1", 0), dispatcher)
+        self.server = BlockingOSCUDPServer(("127.0.0.1", 0), dispatcher)
         self.port = self.server.server_address[1]
         self.thread = threading.Thread(target=self.server.serve_forever, daemon=True)
 
