@@ -25,6 +25,7 @@ from gesturecast.realtime.timing.latency import LatencyBudget
 
 DEFAULT_MODEL_DIR = Path(str(resources.files("gesturecast.models"))) / "weights" / "default"
 DEFAULT_MARGIN_MS = 100.0
+DEFAULT_SMOOTHING_FRAMES = 1  # centred 3-frame window: jerk ≈ real motion's (docs/generator.md "Smoothing")
 DEFAULT_STEPS = 4
 DEFAULT_AUDIO_GUIDANCE = 1.5  # docs/generator.md "Audio guidance": rests in pauses, follows the speech more
 
@@ -48,6 +49,9 @@ def add_generation_arguments(parser: argparse.ArgumentParser) -> None:
     group.add_argument("--steps", type=int_at_least(1), default=DEFAULT_STEPS, help="DDIM steps K per latent frame")
     group.add_argument("--seed", type=int_at_least(0), default=0)
     group.add_argument("--lookahead", type=int_at_least(0), help="audio look-ahead δa in frames (must match the model)")
+    group.add_argument("--smoothing", type=int_at_least(0), default=DEFAULT_SMOOTHING_FRAMES,
+                       help="half-width k of the centred motion smoothing window in frames (adds k frames to L; "
+                            "0: off)")
     group.add_argument("--margin-ms", type=finite_float(minimum=0.0), default=DEFAULT_MARGIN_MS,
                        help="compute margin in the latency L")
     group.add_argument("--threads", type=int_at_least(1), default=1, help="onnxruntime intra-op threads")
@@ -93,7 +97,8 @@ def build_session(args: argparse.Namespace, clock: Clock) -> GestureSession:
             f"this model was trained with look-ahead δa = {bundle.audio_lookahead} frames, not {args.lookahead}; "
             f"train one with `gesturecast train --lookahead {args.lookahead}` and pass it with --model"
         )
-    budget = LatencyBudget(bundle.frames_per_latent, bundle.audio_lookahead, args.margin_ms)
+    budget = LatencyBudget(bundle.frames_per_latent, bundle.audio_lookahead, args.margin_ms,
+                           smoothing_frames=args.smoothing)
     generator = Generator(bundle, generator_settings(args, bundle))
     return GestureSession(bundle, generator, budget, clock, SessionConfig(root_mode=RootMode(args.root)))
 

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import logging
 import math
+from collections import deque
 from dataclasses import dataclass
 
 import numpy as np
@@ -30,6 +31,7 @@ from gesturecast.realtime.features.dsp import frame_boundary
 from gesturecast.realtime.features.streaming import StreamingFeatureExtractor, speaking_flags
 from gesturecast.realtime.generator import Generator
 from gesturecast.realtime.idle import IdleMotion
+from gesturecast.realtime.motion_smoother import MotionSmoother
 from gesturecast.realtime.root_anchor import RootAnchor, RootMode
 from gesturecast.realtime.session_controls import SessionControls
 from gesturecast.realtime.timing.clock import Clock
@@ -78,6 +80,7 @@ class GestureSession:
         self.idle = IdleMotion(seed=generator.settings.seed)
         self._hold_frames = round(self.config.silence_hold_s * self.fps)
         self.root = RootAnchor(self.config.root_mode, fps=self.fps)
+        self.smoother = MotionSmoother(budget.smoothing_frames)
         self.reset()
 
     def reset(self) -> None:
@@ -86,6 +89,8 @@ class GestureSession:
         self.features = FeatureBuffer(self.extractor.num_features)
         self.generator.reset()
         self.root.reset()
+        self.smoother.reset()
+        self._unsmoothed: deque[tuple[int, bool]] = deque()  # (frame, speaking) of frames inside the smoother
         self.crossfade = PoseCrossfade(self.config.idle_fade_s, initial_weight_b=IDLE)
         self.next_latent = 0
         self.frames_out = 0
@@ -133,7 +138,8 @@ class GestureSession:
         self._frame_limit = audio_frames
         start, time = self._anchor
         pad_time = time + (self.samples_in - start) / self.sample_rate
-        return self.push(AudioChunk(np.zeros(padding, np.float32), self.samples_in, pad_time))
+        frames = self.push(AudioChunk(np.zeros(padding, np.float32), self.samples_in, pad_time))
+        return frames + self._pose_frames(self.smoother.flush(self.bundle.motion_feature_dim))
 
     # ---- generation ----
     def _generate_ready(self) -> list[PoseFrame]:
@@ -153,8 +159,17 @@ class GestureSession:
         with self.stats.time(STAGE_DECODER):
             motion = self.generator.decode(latent)  # (d, D)
         speaking = self._is_speaking(index)
-        first = index * d
-        return [self._pose_frame(first + j, motion[j], speaking) for j in range(d) if self._wanted(first + j)]
+        self._unsmoothed.extend((index * d + j, speaking) for j in range(d))
+        return self._pose_frames(self.smoother.push(motion))
+
+    def _pose_frames(self, smoothed: np.ndarray) -> list[PoseFrame]:
+        """Pose frames of the rows (m, D) that left the smoother, the oldest frames inside it, in order."""
+        frames = []
+        for row in smoothed:
+            frame, speaking = self._unsmoothed.popleft()
+            if self._wanted(frame):
+                frames.append(self._pose_frame(frame, row, speaking))
+        return frames
 
     def _is_speaking(self, index: int) -> bool:
         """Speech within the hold time before this latent or in its look-ahead (only audio it may see)."""

@@ -3,11 +3,12 @@
 L is what the user sets their audio delay to. A pose frame answering audio captured at time c is
 presented at c + L, where (GestureDiffuCLIP streaming, one step per latent frame):
 
-    L = (d + δa) / fps  +  compute margin
+    L = (d + δa + k) / fps  +  compute margin
 
 d motion frames make one latent frame: its first pose frame can be generated only once the audio up to
-the end of the latent frame (d frames) plus δa look-ahead frames has arrived; the margin covers compute,
-audio block size and sending.
+the end of the latent frame (d frames) plus δa look-ahead frames has arrived; a pose frame then waits
+for the k motion frames after it (the centred smoothing window, realtime/motion_smoother.py); the
+margin covers compute, audio block size and sending.
 """
 
 from __future__ import annotations
@@ -36,12 +37,14 @@ class LatencyBudget:
     lookahead_frames: δa, audio feature frames of look-ahead past the latent frame.
     compute_margin_ms: headroom for compute, audio blocks and sending.
     fps: motion (and audio feature) frame rate.
+    smoothing_frames: k, motion frames a pose waits for its centred smoothing window.
     """
 
     latent_frames: int = 4
     lookahead_frames: int = 8
     compute_margin_ms: float = 100.0
     fps: float = MOTION_FPS
+    smoothing_frames: int = 0
 
     def __post_init__(self) -> None:
         if self.latent_frames < 1:
@@ -52,11 +55,13 @@ class LatencyBudget:
             raise UserError(f"compute margin must be 0 ms or more, got {self.compute_margin_ms}")
         if self.fps <= 0:
             raise UserError(f"frame rate must be positive, got {self.fps}")
+        if self.smoothing_frames < 0:
+            raise UserError(f"smoothing must be 0 or more frames, got {self.smoothing_frames}")
 
     @property
     def algorithmic_ms(self) -> float:
-        """Wait for audio alone: (d + δa) frames."""
-        return (self.latent_frames + self.lookahead_frames) * MS_PER_S / self.fps
+        """Wait for audio and the smoothing window: (d + δa + k) frames."""
+        return (self.latent_frames + self.lookahead_frames + self.smoothing_frames) * MS_PER_S / self.fps
 
     @property
     def total_ms(self) -> float:
@@ -72,7 +77,8 @@ class LatencyBudget:
         """The start-up line the CLI prints."""
         return (
             f"latency L = {self.total_ms:.0f} ms (latent frame {self.latent_frames} + look-ahead "
-            f"{self.lookahead_frames} frames at {self.fps:g} fps = {self.algorithmic_ms:.0f} ms, "
+            f"{self.lookahead_frames} + smoothing {self.smoothing_frames} frames at {self.fps:g} fps = "
+            f"{self.algorithmic_ms:.0f} ms, "
             f"compute margin {self.compute_margin_ms:.0f} ms): delay your audio by {self.total_ms:.0f} ms "
             "to stay in sync"
         )
@@ -81,6 +87,7 @@ class LatencyBudget:
         return {
             "latent_frames": self.latent_frames,
             "lookahead_frames": self.lookahead_frames,
+            "smoothing_frames": self.smoothing_frames,
             "compute_margin_ms": self.compute_margin_ms,
             "fps": self.fps,
             "algorithmic_ms": self.algorithmic_ms,

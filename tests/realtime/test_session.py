@@ -35,10 +35,10 @@ def speech(tmp_path_factory, shared_data):
     return path
 
 
-def make_session(bundle, clock=None, **settings) -> GestureSession:
+def make_session(bundle, clock=None, smoothing_frames=0, **settings) -> GestureSession:
     settings = {"sampler": SamplerConfig("ddim", 2), "guidance": 1.5, "seed": 1, **settings}
     generator = Generator(bundle, GeneratorSettings(**settings))
-    budget = LatencyBudget(bundle.frames_per_latent, bundle.audio_lookahead, 100.0)
+    budget = LatencyBudget(bundle.frames_per_latent, bundle.audio_lookahead, 100.0, smoothing_frames=smoothing_frames)
     return GestureSession(bundle, generator, budget, clock or FakeClock())
 
 
@@ -46,23 +46,29 @@ def poses(frames) -> np.ndarray:
     return np.stack([np.concatenate([f.rotations.ravel(), f.root_position]) for f in frames])
 
 
-def test_offline_equals_paced_live_and_any_chunk_size(bundle, speech):
-    offline, _ = run_offline(make_session(bundle), FastFileSource(speech, chunk_samples=16000))
+@pytest.mark.parametrize("smoothing", [0, 2])
+def test_offline_equals_paced_live_and_any_chunk_size(bundle, speech, smoothing):
+    offline, _ = run_offline(make_session(bundle, smoothing_frames=smoothing),
+                             FastFileSource(speech, chunk_samples=16000))
     clock = FakeClock(100.0)
-    paced, _ = run_offline(make_session(bundle, clock), PacedFileSource(speech, chunk_samples=512, clock=clock))
-    odd_chunks, _ = run_offline(make_session(bundle), FastFileSource(speech, chunk_samples=333))
+    paced, _ = run_offline(make_session(bundle, clock, smoothing),
+                           PacedFileSource(speech, chunk_samples=512, clock=clock))
+    odd_chunks, _ = run_offline(make_session(bundle, smoothing_frames=smoothing),
+                                FastFileSource(speech, chunk_samples=333))
     np.testing.assert_array_equal(poses(offline), poses(paced))
     np.testing.assert_array_equal(poses(offline), poses(odd_chunks))
     assert [f.seq for f in offline] == list(range(len(offline)))
 
 
-def test_every_complete_audio_frame_gets_one_pose_with_fixed_latency(bundle, speech):
+@pytest.mark.parametrize("smoothing", [0, 1])
+def test_every_complete_audio_frame_gets_one_pose_with_fixed_latency(bundle, speech, smoothing):
     clock = FakeClock(50.0)
-    session = make_session(bundle, clock)
+    session = make_session(bundle, clock, smoothing)
     frames, _ = run_offline(session, PacedFileSource(speech, chunk_samples=512, clock=clock))
     assert len(frames) == frames_complete(int(SECONDS * SAMPLE_RATE), SAMPLE_RATE, 30)
     latency = np.array([f.presentation_time - f.capture_time for f in frames])
     np.testing.assert_allclose(latency, session.budget.total_s, atol=1e-9)
+    assert session.budget.total_ms == pytest.approx(500.0 + smoothing * 1000 / 30)
     np.testing.assert_allclose(np.diff([f.capture_time for f in frames]), 1 / 30, atol=1 / SAMPLE_RATE)
     assert frames[0].capture_time == pytest.approx(50.0)
 

@@ -21,7 +21,7 @@ from gesturecast.realtime.audio.files import SAMPLE_RATE
 from gesturecast.realtime.audio.sources import FastFileSource, PacedFileSource
 from gesturecast.realtime.engine import LiveEngine, run_offline
 from gesturecast.realtime.engine_cli import frames_to_motion
-from gesturecast.realtime.engine_setup import DEFAULT_AUDIO_GUIDANCE
+from gesturecast.realtime.engine_setup import DEFAULT_AUDIO_GUIDANCE, DEFAULT_SMOOTHING_FRAMES
 from gesturecast.realtime.generator import Generator, GeneratorSettings
 from gesturecast.realtime.session import GestureSession
 from gesturecast.realtime.style_prompts import StylePrompt
@@ -50,7 +50,8 @@ def _session(bundle: ModelBundle, sampler: SamplerConfig, style: str, seed: int,
              audio_guidance: float = DEFAULT_AUDIO_GUIDANCE) -> GestureSession:
     settings = GeneratorSettings(sampler=sampler, style=StylePrompt("label", style), seed=seed, threads=1,
                                  audio_guidance=audio_guidance)
-    budget = LatencyBudget(bundle.frames_per_latent, bundle.audio_lookahead, LATENCY_MARGIN_MS)
+    budget = LatencyBudget(bundle.frames_per_latent, bundle.audio_lookahead, LATENCY_MARGIN_MS,
+                           smoothing_frames=DEFAULT_SMOOTHING_FRAMES)
     return GestureSession(bundle, Generator(bundle, settings), budget, clock)
 
 
