@@ -11,6 +11,8 @@ import json
 import math
 from dataclasses import dataclass
 
+from gesturecast.models.motion.root_anchor import ROOT_MODES
+
 MAX_STYLE_CHARS = 200
 MAX_PROMPT_CHARS = 500
 GUIDANCE_RANGE = (0.0, 10.0)  # classifier-free guidance scale s
@@ -80,13 +82,27 @@ class NumberField:
         return {"type": "number", "min": self.low, "max": self.high}
 
 
-CONTROL_FIELDS: dict[str, TextField | NumberField] = {
+@dataclass(frozen=True)
+class ChoiceField:
+    choices: tuple[str, ...]
+
+    def check(self, name: str, value: object) -> str:
+        if value not in self.choices:
+            raise ControlError(f"{name} must be one of {', '.join(self.choices)}")
+        return str(value)
+
+    def describe(self) -> dict:
+        return {"type": "choice", "choices": list(self.choices)}
+
+
+CONTROL_FIELDS: dict[str, TextField | NumberField | ChoiceField] = {
     "style": StyleField(MAX_STYLE_CHARS),
     "style2": StyleField(MAX_STYLE_CHARS),
     "prompt": TextField(MAX_PROMPT_CHARS),
     "guidance": NumberField(*GUIDANCE_RANGE),
     "audio_guidance": NumberField(*GUIDANCE_RANGE),  # s_a: how strongly the motion follows the speech
     "gamma": NumberField(*GAMMA_RANGE),
+    "root": ChoiceField(ROOT_MODES),  # bounded (in place), free or locked root motion
 }
 
 

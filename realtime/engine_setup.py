@@ -15,9 +15,9 @@ from gesturecast.bridges.websocket_server import WebSocketBridge, WebSocketConfi
 from gesturecast.bridges.ws_access import MIN_TOKEN_CHARS, TOKEN_ENV_VAR, token_from_sources
 from gesturecast.errors import UserError
 from gesturecast.models.generator.diffusion import SamplerConfig
+from gesturecast.models.motion.root_anchor import ROOT_MODES, RootMode
 from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.realtime.generator import SINGLE_STYLE, Generator, GeneratorSettings
-from gesturecast.realtime.root_anchor import ROOT_MODES, RootMode
 from gesturecast.realtime.session import GestureSession, SessionConfig
 from gesturecast.realtime.style_prompts import StylePrompt
 from gesturecast.realtime.timing.clock import Clock

@@ -24,6 +24,7 @@ import numpy as np
 
 from gesturecast.models.generator.denoiser_config import audio_window_bounds, audio_window_end
 from gesturecast.models.motion.motion_features import features_to_rotations
+from gesturecast.models.motion.root_anchor import RootAnchor, RootMode
 from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.realtime.audio.sources import AudioChunk
 from gesturecast.realtime.feature_buffer import FeatureBuffer
@@ -32,7 +33,6 @@ from gesturecast.realtime.features.streaming import StreamingFeatureExtractor, s
 from gesturecast.realtime.generator import Generator
 from gesturecast.realtime.idle import IdleMotion
 from gesturecast.realtime.motion_smoother import MotionSmoother
-from gesturecast.realtime.root_anchor import RootAnchor, RootMode
 from gesturecast.realtime.session_controls import SessionControls
 from gesturecast.realtime.timing.clock import Clock
 from gesturecast.realtime.timing.frames import PoseFrame
@@ -52,7 +52,7 @@ IDLE = 0.0
 class SessionConfig:
     idle_fade_s: float = 0.6  # cross-fade duration between idle motion and speech gestures
     silence_hold_s: float = 1.0  # silence this long after the last speech frame fades to idle
-    root_mode: RootMode = RootMode.BOUNDED  # in place by default (realtime/root_anchor.py)
+    root_mode: RootMode = RootMode.BOUNDED  # in place by default (models/motion/root_anchor.py)
 
 
 class GestureSession:
@@ -72,7 +72,6 @@ class GestureSession:
         self.budget = budget
         self.config = config or SessionConfig()
         self.stats = stats or LatencyStats(clock)
-        self.controls = SessionControls(generator)
         self.denoiser_config = bundle.denoiser_config
         self.fps = bundle.feature_config.fps
         self.sample_rate = bundle.feature_config.sample_rate
@@ -80,6 +79,7 @@ class GestureSession:
         self.idle = IdleMotion(seed=generator.settings.seed)
         self._hold_frames = round(self.config.silence_hold_s * self.fps)
         self.root = RootAnchor(self.config.root_mode, fps=self.fps)
+        self.controls = SessionControls(generator, self.root)
         self.smoother = MotionSmoother(budget.smoothing_frames)
         self.reset()
 

@@ -1,4 +1,4 @@
-"""Live changes of style, guidance, audio guidance and γ, blended in over a short stream time (no visible pop).
+"""Live changes of style, guidance, audio guidance, γ and root mode, blended in over a short stream time (no pop).
 
 Controls arrive from any thread (WebSocket clients, the CLI) and are applied by the session
 between latent steps. Numbers (guidance s, audio guidance s_a, γ) move along a smoothstep ramp. A new style with no
@@ -11,6 +11,7 @@ from __future__ import annotations
 import threading
 from collections import deque
 
+from gesturecast.models.motion.root_anchor import RootAnchor, RootMode
 from gesturecast.realtime.generator import SINGLE_STYLE, Generator
 from gesturecast.realtime.style_prompts import StylePrompt
 from gesturecast.realtime.transitions import DEFAULT_RAMP_S, Ramp
@@ -21,8 +22,9 @@ MAX_PENDING_CONTROLS = 32  # bounded inbox: the oldest unapplied control is drop
 class SessionControls:
     """Holds the control inbox and the ramps; :meth:`advance` applies them at stream time ``t``."""
 
-    def __init__(self, generator: Generator, fade_s: float = DEFAULT_RAMP_S) -> None:
+    def __init__(self, generator: Generator, root: RootAnchor, fade_s: float = DEFAULT_RAMP_S) -> None:
         self.generator = generator
+        self.root = root
         self.fade_s = fade_s
         self._inbox: deque[dict] = deque(maxlen=MAX_PENDING_CONTROLS)
         self._lock = threading.Lock()
@@ -33,7 +35,7 @@ class SessionControls:
 
     def submit(self, control: dict) -> None:
         """Queue a schema-checked control message (keys: style, prompt, style2, guidance, audio_guidance,
-        gamma); thread-safe. Its styles are resolved first, so one the model cannot embed raises
+        gamma, root); thread-safe. Its styles are resolved first, so one the model cannot embed raises
         UserError here (the caller answers the client) instead of failing the stream when applied."""
         for prompt in _prompts_of(control):
             self.generator.styles.embed(prompt)
@@ -66,6 +68,8 @@ class SessionControls:
         return f"{name}→{_prompt_name(settings.second_style)} γ={settings.gamma:.2f}"
 
     def _apply(self, control: dict, t: float) -> None:
+        if "root" in control:
+            self.root.set_mode(RootMode(control["root"]))  # re-anchored where the avatar stands: no jump
         if "guidance" in control:
             self._guidance.set_target(float(control["guidance"]), t)
         if "audio_guidance" in control:

@@ -103,6 +103,8 @@ function onHello(hello) {
     const range = hello.control_schema[name];
     if (range) Object.assign(el(name), { min: range.min, max: range.max });
   }
+  const root = hello.control_schema.root;  // bounded (in place), free or locked
+  if (root) for (const choice of root.choices) el("root").add(new Option(choice, choice));
 }
 
 // The style in effect: shown as text, and picked in the dropdown when it is one of the labels.
@@ -136,6 +138,7 @@ function connect() {
     const text = el("style-text").value.trim();  // free text is a prompt, not a label
     if (text) control.prompt = text;
     else if (state.styleTouched && el("style-select").value) control.style = el("style-select").value;
+    if (el("root").value) control.root = el("root").value;
     const token = new URLSearchParams(location.search).get("token");
     if (token) control.token = token;
     socket.send(JSON.stringify(control));

@@ -45,7 +45,8 @@ def build_server(args: argparse.Namespace, clock: Clock) -> GestureServer:
         raise UserError(f"--max-streams must be at least 1, got {args.max_streams}")
     token = server_token(args)  # a missing token file fails before the model loads
     probe = build_session(args, clock)  # checks the model, look-ahead and default style before listening
-    sessions = StreamSessions(probe.bundle, probe.generator.settings, probe.budget, clock, args.max_streams)
+    sessions = StreamSessions(probe.bundle, probe.generator.settings, probe.budget, clock, args.max_streams,
+                              probe.config)
     config = ServeConfig(host=args.host, port=args.port, token=token, max_streams=args.max_streams,
                          coordinate_frame=args.coordinate_frame, stream=StreamConfig(output_fps=float(args.fps)),
                          allow_origins=tuple(args.allow_origin))

@@ -48,6 +48,7 @@ class StreamOptions:
     gamma: float | None = None
     guidance: float | None = None
     audio_guidance: float | None = None
+    root: str | None = None
     seed: int | None = None
     audio_format: str = DEFAULT_AUDIO_FORMAT
 
@@ -90,6 +91,7 @@ def parse_start(message: dict) -> StreamOptions:
         gamma=control.get("gamma"),
         guidance=control.get("guidance"),
         audio_guidance=control.get("audio_guidance"),
+        root=control.get("root"),
         seed=seed,
         audio_format=audio_format,
     )

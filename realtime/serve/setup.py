@@ -6,11 +6,12 @@ from dataclasses import replace
 
 from gesturecast.bridges.control import ControlError
 from gesturecast.errors import UserError
+from gesturecast.models.motion.root_anchor import RootMode
 from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.realtime.generator import Generator, GeneratorSettings
 from gesturecast.realtime.serve.batched_denoiser import DenoiserBatcher, SharedDenoiserBundle
 from gesturecast.realtime.serve.protocol import StreamOptions
-from gesturecast.realtime.session import GestureSession
+from gesturecast.realtime.session import GestureSession, SessionConfig
 from gesturecast.realtime.timing.clock import Clock
 from gesturecast.realtime.timing.latency import LatencyBudget
 
@@ -23,8 +24,9 @@ class StreamSessions:
     """
 
     def __init__(self, bundle: ModelBundle, defaults: GeneratorSettings, budget: LatencyBudget, clock: Clock,
-                 max_streams: int) -> None:
+                 max_streams: int, session_defaults: SessionConfig | None = None) -> None:
         self.defaults = defaults
+        self.session_defaults = session_defaults or SessionConfig()
         self.budget = budget
         self.clock = clock
         self.batcher = DenoiserBatcher(bundle.path("denoiser"), defaults.threads, max_waiting=max_streams).start()
@@ -47,7 +49,10 @@ class StreamSessions:
             generator = Generator(self.bundle, self.settings(options))
         except UserError as error:
             raise ControlError(str(error)) from None
-        return GestureSession(self.bundle, generator, self.budget, self.clock)
+        config = self.session_defaults
+        if options.root is not None:
+            config = replace(config, root_mode=RootMode(options.root))
+        return GestureSession(self.bundle, generator, self.budget, self.clock, config)
 
     def close(self) -> None:
         self.batcher.close()

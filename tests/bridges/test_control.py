@@ -11,6 +11,7 @@ from gesturecast.bridges.control import ControlError, control_schema, validate_c
         ({"type": "control", "style": "a", "style2": "b", "gamma": 1.5, "token": "x"},
          {"style": "a", "style2": "b", "gamma": 1.5}),
         ({"type": "control", "prompt": "sweeping arms", "gamma": -2.0}, {"prompt": "sweeping arms", "gamma": -2.0}),
+        ({"type": "control", "root": "locked"}, {"root": "locked"}),
     ],
 )
 def test_valid_controls(message, expected):
@@ -32,6 +33,8 @@ def test_valid_controls(message, expected):
         ({"type": "control", "prompt": "  "}, "prompt must not be blank"),  # used to reach the session and fail there
         ({"type": "control", "style": "motion:/etc/passwd"}, "style: motion prompts name files on the server"),
         ({"type": "control", "style2": " motion:clip.bvh"}, "style2: motion prompts"),
+        ({"type": "control", "root": "pinned"}, "root must be one of bounded, free, locked"),
+        ({"type": "control", "root": 1}, "root must be one of"),
     ],
 )
 def test_invalid_controls(message, reason):
@@ -41,5 +44,6 @@ def test_invalid_controls(message, reason):
 
 def test_schema_lists_every_field():
     schema = control_schema()
-    assert set(schema) == {"style", "style2", "prompt", "guidance", "audio_guidance", "gamma"}
+    assert set(schema) == {"style", "style2", "prompt", "guidance", "audio_guidance", "gamma", "root"}
+    assert schema["root"] == {"type": "choice", "choices": ["bounded", "free", "locked"]}
     assert schema["guidance"] == {"type": "number", "min": 0.0, "max": 10.0}

@@ -136,3 +136,17 @@ def test_viewer_preselects_the_style_and_sends_free_text_as_a_prompt(driver):
         bridge.close()
     assert selected == "relaxed"
     assert received[0] == {"prompt": "happy, sweeping gestures"}
+
+
+def test_viewer_root_selector_sends_the_chosen_root_mode(driver):
+    received: list[dict] = []
+    bridge = WebSocketBridge(WebSocketConfig(port=0, style_choices=("relaxed",)), on_control=received.append).start()
+    try:
+        driver.get(bridge.url)
+        wait_for(lambda: driver.execute_script("return document.getElementById('root').options.length") == 4)
+        driver.find_element("id", "root").send_keys("locked")
+        driver.find_element("id", "apply").click()
+        wait_for(lambda: len(received) >= 1)
+    finally:
+        bridge.close()
+    assert received[0] == {"root": "locked"}

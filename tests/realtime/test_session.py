@@ -5,6 +5,7 @@ import pytest
 import soundfile
 
 from gesturecast.models.generator.diffusion import SamplerConfig
+from gesturecast.models.motion.root_anchor import RootMode
 from gesturecast.models.motion.rotations import quat_conj, quat_mul, quat_to_axis_angle
 from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio
@@ -12,7 +13,7 @@ from gesturecast.realtime.audio.sources import FastFileSource, PacedFileSource
 from gesturecast.realtime.engine import LiveEngine, run_offline
 from gesturecast.realtime.features.dsp import frames_complete
 from gesturecast.realtime.generator import Generator, GeneratorSettings
-from gesturecast.realtime.session import GestureSession
+from gesturecast.realtime.session import GestureSession, SessionConfig
 from gesturecast.realtime.style_prompts import StylePrompt
 from gesturecast.realtime.timing.clock import FakeClock, MonotonicClock
 from gesturecast.realtime.timing.latency import LatencyBudget
@@ -35,11 +36,11 @@ def speech(tmp_path_factory, shared_data):
     return path
 
 
-def make_session(bundle, clock=None, smoothing_frames=0, **settings) -> GestureSession:
+def make_session(bundle, clock=None, smoothing_frames=0, root_mode=RootMode.BOUNDED, **settings) -> GestureSession:
     settings = {"sampler": SamplerConfig("ddim", 2), "guidance": 1.5, "seed": 1, **settings}
     generator = Generator(bundle, GeneratorSettings(**settings))
     budget = LatencyBudget(bundle.frames_per_latent, bundle.audio_lookahead, 100.0, smoothing_frames=smoothing_frames)
-    return GestureSession(bundle, generator, budget, clock or FakeClock())
+    return GestureSession(bundle, generator, budget, clock or FakeClock(), SessionConfig(root_mode=root_mode))
 
 
 def poses(frames) -> np.ndarray:
@@ -194,3 +195,23 @@ def test_nonfinite_generator_output_never_reaches_a_bridge_bvh_or_json(bundle, s
     assert np.isfinite(read_bvh(tmp_path / "take.bvh").motion).all()
     write_pose_json(frames, tmp_path / "take.json")
     json.loads((tmp_path / "take.json").read_text(), parse_constant=lambda name: pytest.fail(f"bare {name}"))
+
+
+def test_root_modes_and_a_live_root_change_without_a_jump(bundle, speech):
+    def planar(frames) -> np.ndarray:
+        return np.stack([f.root_position[[0, 2]] for f in frames])  # (T, 2)
+
+    locked, _ = run_offline(make_session(bundle, root_mode=RootMode.LOCKED), FastFileSource(speech))
+    assert np.abs(planar(locked)).max() == 0.0
+    session = make_session(bundle, root_mode=RootMode.FREE)
+    source = FastFileSource(speech, chunk_samples=SAMPLE_RATE)
+    frames = []
+    for index, chunk in enumerate(source):
+        if index == 2:
+            session.controls.submit({"root": "locked"})
+        frames.extend(session.push(chunk))
+    frames.extend(session.finish())
+    path = planar(frames)
+    after = path[-int(30 * 1.0):]  # the last second: pinned where the change found the avatar
+    assert np.ptp(after, axis=0).max() == 0.0
+    assert np.linalg.norm(np.diff(path, axis=0), axis=1).max() < 0.05  # no jump at the change

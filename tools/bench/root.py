@@ -16,10 +16,10 @@ from pathlib import Path
 import numpy as np
 
 from gesturecast.models.motion.motion_features import facing_yaw
+from gesturecast.models.motion.root_anchor import ROOT_MODES
 from gesturecast.realtime.audio.sources import FastFileSource
 from gesturecast.realtime.engine import run_offline
 from gesturecast.realtime.engine_setup import add_generation_arguments, build_session
-from gesturecast.realtime.root_anchor import ROOT_MODES
 from gesturecast.realtime.timing.clock import MonotonicClock
 
 DEFAULT_STYLES = ("neutral", "happy", "old", "angry")

@@ -11,13 +11,14 @@ from websockets.asyncio.client import connect
 
 from gesturecast.errors import UserError
 from gesturecast.models.generator.diffusion import SamplerConfig
+from gesturecast.models.motion.root_anchor import RootMode
 from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio
 from gesturecast.realtime.audio.sources import AudioChunk
 from gesturecast.realtime.generator import Generator, GeneratorSettings
 from gesturecast.realtime.serve.server import GestureServer, ServeConfig
 from gesturecast.realtime.serve.setup import StreamSessions
-from gesturecast.realtime.session import GestureSession
+from gesturecast.realtime.session import GestureSession, SessionConfig
 from gesturecast.realtime.style_prompts import StylePrompt
 from gesturecast.realtime.timing.clock import FakeClock, MonotonicClock
 from gesturecast.realtime.timing.latency import LatencyBudget
@@ -59,16 +60,17 @@ def running_server(bundle, **config):
         server.close()
 
 
-def solo_poses(bundle, audio, style="neutral", guidance=1.5, seed=0) -> np.ndarray:
+def solo_poses(bundle, audio, style="neutral", guidance=1.5, seed=0, root="bounded") -> np.ndarray:
     """The same stream through one session alone, as the float32 the wire carries."""
     settings = GeneratorSettings(SamplerConfig("ddim", 2), guidance, StylePrompt("label", style), seed=seed)
-    session = GestureSession(bundle, Generator(bundle, settings), budget(bundle), FakeClock())
+    session = GestureSession(bundle, Generator(bundle, settings), budget(bundle), FakeClock(),
+                             SessionConfig(root_mode=RootMode(root)))
     frames = session.push(AudioChunk(audio, 0, 0.0)) + session.finish()
     return np.stack([np.concatenate([f.rotations.ravel(), f.root_position]) for f in frames]).astype(np.float32)
 
 
 def test_concurrent_streams_equal_each_stream_served_alone(bundle, speech):
-    starts = [{"seed": 1}, {"seed": 2, "style": "old"}, {"seed": 3, "guidance": 1.0}]
+    starts = [{"seed": 1}, {"seed": 2, "style": "old", "root": "free"}, {"seed": 3, "guidance": 1.0, "root": "locked"}]
 
     async def clients(url):
         return await asyncio.gather(*[stream_audio(f"{url}s{i}", audio, CHUNK, paced=False, start=start)

@@ -32,9 +32,11 @@ def test_start_options_and_their_validation():
                            "audio_format": "s16le", "token": "x"})
     assert options.style == StylePrompt("text", "calm and slow")
     assert options.second_style == StylePrompt("label", "old") and options.gamma == 0.5
-    assert (options.seed, options.audio_format, options.guidance) == (7, "s16le", None)
+    assert (options.seed, options.audio_format, options.guidance, options.root) == (7, "s16le", None, None)
+    assert parse_start({"type": "start", "root": "free"}).root == "free"
     for bad, reason in [({"seed": -1}, "seed"), ({"seed": True}, "seed"), ({"audio_format": "mp3"}, "audio_format"),
-                        ({"volume": 1}, "unknown start field"), ({"style": "motion:x.bvh"}, "motion prompts")]:
+                        ({"volume": 1}, "unknown start field"), ({"style": "motion:x.bvh"}, "motion prompts"),
+                        ({"root": "walk"}, "root must be one of")]:
         with pytest.raises(ControlError, match=reason):
             parse_start({"type": "start", **bad})
 

@@ -12,7 +12,7 @@ from gesturecast.models.motion.motion_features import (
     ROOT_YAW_RATE,
     RootIntegrator,
 )
-from gesturecast.realtime.root_anchor import RootAnchor, RootBounds, RootMode, parse_root_mode, saturate
+from gesturecast.models.motion.root_anchor import RootAnchor, RootBounds, RootMode, parse_root_mode, saturate
 
 FPS = 30.0
 
