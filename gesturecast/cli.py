@@ -12,7 +12,7 @@ import importlib
 import logging
 import sys
 
-from gesturecast.errors import UserError
+from gesturecast.errors import INTERRUPTED_EXIT, UserError
 
 # module paths that provide ``register(subparsers)``; imported lazily so that `--help` is fast
 COMMAND_MODULES: tuple[str, ...] = (
@@ -50,7 +50,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"gesturecast {args.command}: error: {error}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
-        return 130
+        return INTERRUPTED_EXIT
 
 
 if __name__ == "__main__":

@@ -3,3 +3,6 @@
 
 class UserError(Exception):
     """Bad input or environment: the message names the problem and what to do about it."""
+
+
+INTERRUPTED_EXIT = 130  # exit status of a command ended by Ctrl-C (128 + SIGINT, as shells report it)

@@ -35,6 +35,7 @@ class EngineReport:
     scheduler: dict
     audio: dict
     budget: dict
+    interrupted: bool = False  # ended by Ctrl-C (KeyboardInterrupt) before the source ran out
 
     @property
     def rtf(self) -> float:
@@ -50,6 +51,7 @@ class EngineReport:
             "stages_ms": self.latency,
             "scheduler": self.scheduler,
             "audio": self.audio,
+            "interrupted": self.interrupted,
         }
 
 
@@ -62,7 +64,8 @@ def compute_seconds(session: GestureSession) -> float:
     return sum(s["mean"] * s["count"] for name, s in summary.items() if name in COMPUTE_STAGES) / 1000.0
 
 
-def make_report(session: GestureSession, source: AudioSource, scheduler_stats: dict) -> EngineReport:
+def make_report(session: GestureSession, source: AudioSource, scheduler_stats: dict,
+                interrupted: bool = False) -> EngineReport:
     audio = source.stats()
     return EngineReport(
         audio_seconds=audio.samples / session.sample_rate,
@@ -71,13 +74,19 @@ def make_report(session: GestureSession, source: AudioSource, scheduler_stats: d
         latency=session.stats.summary(),
         scheduler=scheduler_stats,
         audio={"dropped_samples": audio.dropped_samples, "overruns": audio.overruns,
-               "device_overflows": audio.device_overflows},
+               "device_overflows": audio.device_overflows, "untimed_blocks": audio.untimed_blocks},
         budget=session.budget.to_dict(),
+        interrupted=interrupted,
     )
 
 
 class LiveEngine:
-    """Runs one stream in real time until the source ends (or :meth:`stop` is called)."""
+    """Runs one stream in real time until the source ends, :meth:`stop` is called, or Ctrl-C.
+
+    Ctrl-C (KeyboardInterrupt on the caller's thread) ends the run at once: the source is closed
+    (a microphone within a bounded time), frames not yet due are dropped, and :meth:`run` returns
+    the report of what was sent, with ``interrupted`` set; the caller decides the exit status.
+    """
 
     def __init__(
         self,
@@ -102,17 +111,22 @@ class LiveEngine:
     def run(self) -> EngineReport:
         worker = SchedulerWorker(self.scheduler)
         worker.start()
+        chunks = iter(self.source)
+        interrupted = False
         try:
-            for chunk in self.source:
+            for chunk in chunks:
                 self._submit(self.session.push(chunk), worker)
                 self._show_status()
             self._submit(self.session.finish(), worker)
             self._drain(worker)
+        except KeyboardInterrupt:
+            interrupted = True
         finally:
+            chunks.close()  # a microphone stream is closed here, also when the loop body raised
             worker.stop()
             if self.status is not None:
                 self.status.close()
-        return make_report(self.session, self.source, self.scheduler.stats.to_dict())
+        return make_report(self.session, self.source, self.scheduler.stats.to_dict(), interrupted)
 
     def _submit(self, frames: list[PoseFrame], worker: SchedulerWorker) -> None:
         worker.submit(frames)

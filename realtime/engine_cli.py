@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from gesturecast.errors import UserError
+from gesturecast.errors import INTERRUPTED_EXIT, UserError
 from gesturecast.models.motion.motion import Motion
 from gesturecast.models.motion.retarget import motion_to_bvh
 from gesturecast.models.motion.skeleton import CANONICAL
@@ -58,13 +58,10 @@ def run_live(args: argparse.Namespace) -> int:
                         StatusLine(clock))
     try:
         report = engine.run()
-    except KeyboardInterrupt:
-        engine.stop()
-        return 130
     finally:
         outputs.close()
     sys.stdout.write(summary_line(report) + "\n")
-    return 0
+    return exit_status(report)
 
 
 def run_generate(args: argparse.Namespace) -> int:
@@ -79,11 +76,17 @@ def run_generate(args: argparse.Namespace) -> int:
     return 0
 
 
+def exit_status(report: EngineReport) -> int:
+    """0 when the source ran out, the shell's Ctrl-C status when the run was interrupted."""
+    return INTERRUPTED_EXIT if report.interrupted else 0
+
+
 def summary_line(report: EngineReport) -> str:
     e2e = report.latency.get("end_to_end", {})
     sched = report.scheduler
+    prefix = "stopped by Ctrl-C: " if report.interrupted else ""
     return (
-        f"{report.frames} frames from {report.audio_seconds:.1f} s of audio | rtf {report.rtf:.3f} | "
+        f"{prefix}{report.frames} frames from {report.audio_seconds:.1f} s of audio | rtf {report.rtf:.3f} | "
         f"end-to-end p50 {e2e.get('p50', float('nan')):.0f} p95 {e2e.get('p95', float('nan')):.0f} "
         f"p99 {e2e.get('p99', float('nan')):.0f} ms (L {report.budget['latency_budget_ms']:.0f} ms) | "
         f"deadline misses {sched.get('deadline_misses', 0)} | audio drops {report.audio['dropped_samples']}"
