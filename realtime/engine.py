@@ -12,10 +12,13 @@ import logging
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from gesturecast.realtime.audio.sources import AudioSource
+import numpy as np
+
+from gesturecast.realtime.audio.sources import DEFAULT_CHUNK, AudioChunk, AudioSource
 from gesturecast.realtime.session import GestureSession
 from gesturecast.realtime.timing.clock import Clock
 from gesturecast.realtime.timing.frames import PoseFrame
+from gesturecast.realtime.timing.latency import MS_PER_S, LatencyStats
 from gesturecast.realtime.timing.scheduler import FrameScheduler, SchedulerConfig, SchedulerWorker
 from gesturecast.realtime.timing.status import StatusLine, build_snapshot
 
@@ -36,6 +39,7 @@ class EngineReport:
     audio: dict
     budget: dict
     interrupted: bool = False  # ended by Ctrl-C (KeyboardInterrupt) before the source ran out
+    warm_up_s: float = 0.0  # spent warming the stages up before the source opened
 
     @property
     def rtf(self) -> float:
@@ -52,10 +56,41 @@ class EngineReport:
             "scheduler": self.scheduler,
             "audio": self.audio,
             "interrupted": self.interrupted,
+            "warm_up_ms": self.warm_up_s * MS_PER_S,
         }
 
 
 COMPUTE_STAGES = ("features", "denoiser", "decoder")
+WARM_UP_S = 1.5  # throwaway audio run through every stage before a live source opens (half silence, half noise)
+WARM_UP_NOISE_RMS = 0.1  # -20 dBFS white noise: the VAD calls it speech, so the speaking path runs too
+WARM_UP_SEED = 0
+
+
+def warm_up_chunks(sample_rate: int, seconds: float = WARM_UP_S) -> list[AudioChunk]:
+    """Silence then white noise, in the live chunk size, with capture times from 0."""
+    half = int(seconds * sample_rate / 2)
+    noise = np.random.default_rng(WARM_UP_SEED).normal(0.0, WARM_UP_NOISE_RMS, half).astype(np.float32)  # (n,)
+    audio = np.concatenate([np.zeros(half, np.float32), noise])  # (2n,)
+    return [AudioChunk(audio[start : start + DEFAULT_CHUNK], start, start / sample_rate)
+            for start in range(0, audio.shape[0], DEFAULT_CHUNK)]
+
+
+def warm_up(session: GestureSession, clock: Clock) -> float:
+    """Run features, denoiser and decoder on throwaway audio, then reset the stream; returns the seconds spent.
+
+    The first calls of an ONNX session and of the feature code allocate and pick kernels; done while a
+    microphone is already open, they delay the first frames past their deadlines. The session's
+    statistics do not see the warm-up, and after it the session starts from sample 0 with its seed.
+    """
+    kept, session.stats = session.stats, LatencyStats(clock)
+    start = clock.now()
+    try:
+        for chunk in warm_up_chunks(session.sample_rate):
+            session.push(chunk)
+    finally:
+        session.stats = kept
+        session.reset()
+    return clock.now() - start
 
 
 def compute_seconds(session: GestureSession) -> float:
@@ -65,7 +100,7 @@ def compute_seconds(session: GestureSession) -> float:
 
 
 def make_report(session: GestureSession, source: AudioSource, scheduler_stats: dict,
-                interrupted: bool = False) -> EngineReport:
+                interrupted: bool = False, warm_up_s: float = 0.0) -> EngineReport:
     audio = source.stats()
     return EngineReport(
         audio_seconds=audio.samples / session.sample_rate,
@@ -77,15 +112,18 @@ def make_report(session: GestureSession, source: AudioSource, scheduler_stats: d
                "device_overflows": audio.device_overflows, "untimed_blocks": audio.untimed_blocks},
         budget=session.budget.to_dict(),
         interrupted=interrupted,
+        warm_up_s=warm_up_s,
     )
 
 
 class LiveEngine:
     """Runs one stream in real time until the source ends, :meth:`stop` is called, or Ctrl-C.
 
-    Ctrl-C (KeyboardInterrupt on the caller's thread) ends the run at once: the source is closed
-    (a microphone within a bounded time), frames not yet due are dropped, and :meth:`run` returns
-    the report of what was sent, with ``interrupted`` set; the caller decides the exit status.
+    Before the source opens, :func:`warm_up` runs every stage once on throwaway audio (``warm=False``
+    skips it, for measuring what it saves). Ctrl-C (KeyboardInterrupt on the caller's thread) ends the
+    run at once: the source is closed (a microphone within a bounded time), frames not yet due are
+    dropped, and :meth:`run` returns the report of what was sent, with ``interrupted`` set; the caller
+    decides the exit status.
     """
 
     def __init__(
@@ -96,8 +134,10 @@ class LiveEngine:
         clock: Clock,
         scheduler_config: SchedulerConfig | None = None,
         status: StatusLine | None = None,
+        warm: bool = True,
     ) -> None:
         self.session = session
+        self.warm = warm
         self.source = source
         self.clock = clock
         self.scheduler = FrameScheduler(clock, sink, scheduler_config, stats=session.stats)
@@ -109,6 +149,7 @@ class LiveEngine:
         self.source.close()
 
     def run(self) -> EngineReport:
+        warm_up_s = warm_up(self.session, self.clock) if self.warm else 0.0
         worker = SchedulerWorker(self.scheduler)
         worker.start()
         chunks = iter(self.source)
@@ -126,7 +167,7 @@ class LiveEngine:
             worker.stop()
             if self.status is not None:
                 self.status.close()
-        return make_report(self.session, self.source, self.scheduler.stats.to_dict(), interrupted)
+        return make_report(self.session, self.source, self.scheduler.stats.to_dict(), interrupted, warm_up_s)
 
     def _submit(self, frames: list[PoseFrame], worker: SchedulerWorker) -> None:
         worker.submit(frames)
