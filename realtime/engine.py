@@ -149,12 +149,13 @@ class LiveEngine:
         self.source.close()
 
     def run(self) -> EngineReport:
-        warm_up_s = warm_up(self.session, self.clock) if self.warm else 0.0
         worker = SchedulerWorker(self.scheduler)
         worker.start()
         chunks = iter(self.source)
-        interrupted = False
+        interrupted, warm_up_s = False, 0.0
         try:
+            if self.warm:
+                warm_up_s = warm_up(self.session, self.clock)
             for chunk in chunks:
                 self._submit(self.session.push(chunk), worker)
                 self._show_status()

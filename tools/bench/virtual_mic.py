@@ -26,7 +26,9 @@ import sys
 import tempfile
 import threading
 import time
+from collections.abc import Iterator
 from pathlib import Path
+from typing import BinaryIO
 
 import numpy as np
 
@@ -100,8 +102,8 @@ class PacedFeeder:
     def finished(self) -> bool:
         return not self._thread.is_alive()
 
-    def _blocks(self):
-        """(block samples,) arrays of FEED_BLOCK_S each, once or forever."""
+    def _blocks(self) -> Iterator[np.ndarray]:
+        """(FEED_BLOCK_S * 16000,) float32 blocks of the samples (the last may be shorter), once or forever."""
         step = int(FEED_BLOCK_S * SAMPLE_RATE)
         while True:
             for start in range(0, self.samples.shape[0], step):
@@ -124,7 +126,7 @@ class PacedFeeder:
                 due += block.shape[0] / SAMPLE_RATE
                 time.sleep(max(0.0, due - time.monotonic()))
 
-    def _write(self, pipe, block: np.ndarray) -> None:
+    def _write(self, pipe: BinaryIO, block: np.ndarray) -> None:
         try:
             pipe.write(to_pcm16(block))
         except BrokenPipeError:  # the source was unloaded: nobody reads any more
