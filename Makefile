@@ -21,14 +21,18 @@ $(STAMP_DEV): pyproject.toml | $(BIN)/python
 	$(BIN)/pip install --quiet -e ".[train,dev]"
 	touch $@ $(STAMP_RUN)
 
-# Debian packages the tests need: PortAudio for sounddevice, Chromium for the viewer test.
+# Debian packages the tests need: PortAudio for sounddevice, Chromium for the viewer test, PulseAudio and
+# ALSA's pulse plugin for the virtual microphone (tests/conftest.py, tools/bench/virtual_mic.py).
+SYSTEM_PACKAGES := libportaudio2 chromium chromium-driver pulseaudio pulseaudio-utils libasound2-plugins
 system-deps:
-	@if ! ldconfig -p | grep -q libportaudio.so.2 || ! command -v chromedriver >/dev/null; then \
+	@if ! ldconfig -p | grep -q libportaudio.so.2 || ! command -v chromedriver >/dev/null \
+		|| ! command -v pulseaudio >/dev/null || ! command -v pactl >/dev/null \
+		|| ! ls /usr/lib/*/alsa-lib/libasound_module_pcm_pulse.so >/dev/null 2>&1; then \
 		if [ "$$(id -u)" = 0 ]; then \
 			apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq \
-				libportaudio2 chromium chromium-driver >/dev/null; \
+				$(SYSTEM_PACKAGES) >/dev/null; \
 		else \
-			echo "install libportaudio2 chromium chromium-driver (Debian packages) first"; \
+			echo "install $(SYSTEM_PACKAGES) (Debian packages) first"; \
 		fi; \
 	fi
 

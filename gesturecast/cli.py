@@ -13,7 +13,7 @@ import logging
 import sys
 
 from gesturecast.arguments import OneLineParser
-from gesturecast.errors import USER_ERROR_EXIT_CODE, UserError
+from gesturecast.errors import INTERRUPTED_EXIT, USER_ERROR_EXIT_CODE, UserError
 
 DESCRIPTION = ("Real-time avatar driver: speech from a microphone or a recording in, stylized full-body gestures "
                "out over VMC, OSC, WebSocket and BVH.")
@@ -54,7 +54,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"gesturecast {args.command}: error: {error}", file=sys.stderr)
         return USER_ERROR_EXIT_CODE
     except KeyboardInterrupt:
-        return 130
+        return INTERRUPTED_EXIT
 
 
 if __name__ == "__main__":

@@ -12,10 +12,13 @@ import logging
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
-from gesturecast.realtime.audio.sources import AudioSource
+import numpy as np
+
+from gesturecast.realtime.audio.sources import DEFAULT_CHUNK, AudioChunk, AudioSource
 from gesturecast.realtime.session import GestureSession
 from gesturecast.realtime.timing.clock import Clock
 from gesturecast.realtime.timing.frames import PoseFrame
+from gesturecast.realtime.timing.latency import MS_PER_S, LatencyStats
 from gesturecast.realtime.timing.scheduler import FrameScheduler, SchedulerConfig, SchedulerWorker
 from gesturecast.realtime.timing.status import StatusLine, build_snapshot
 
@@ -37,6 +40,8 @@ class EngineReport:
     budget: dict
     nonfinite_poses: int = 0  # generated poses with NaN/inf, replaced by the last good pose
     outputs: dict = field(default_factory=dict)  # per bridge counters (e.g. WebSocket drops and skips)
+    interrupted: bool = False  # ended by Ctrl-C (KeyboardInterrupt) before the source ran out
+    warm_up_s: float = 0.0  # spent warming the stages up before the source opened
 
     @property
     def rtf(self) -> float:
@@ -54,10 +59,42 @@ class EngineReport:
             "audio": self.audio,
             "nonfinite_poses": self.nonfinite_poses,
             "outputs": self.outputs,
+            "interrupted": self.interrupted,
+            "warm_up_ms": self.warm_up_s * MS_PER_S,
         }
 
 
 COMPUTE_STAGES = ("features", "denoiser", "decoder")
+WARM_UP_S = 1.5  # throwaway audio run through every stage before a live source opens (half silence, half noise)
+WARM_UP_NOISE_RMS = 0.1  # -20 dBFS white noise: the VAD calls it speech, so the speaking path runs too
+WARM_UP_SEED = 0
+
+
+def warm_up_chunks(sample_rate: int, seconds: float = WARM_UP_S) -> list[AudioChunk]:
+    """Silence then white noise, in the live chunk size, with capture times from 0."""
+    half = int(seconds * sample_rate / 2)
+    noise = np.random.default_rng(WARM_UP_SEED).normal(0.0, WARM_UP_NOISE_RMS, half).astype(np.float32)  # (n,)
+    audio = np.concatenate([np.zeros(half, np.float32), noise])  # (2n,)
+    return [AudioChunk(audio[start : start + DEFAULT_CHUNK], start, start / sample_rate)
+            for start in range(0, audio.shape[0], DEFAULT_CHUNK)]
+
+
+def warm_up(session: GestureSession, clock: Clock) -> float:
+    """Run features, denoiser and decoder on throwaway audio, then reset the stream; returns the seconds spent.
+
+    The first calls of an ONNX session and of the feature code allocate and pick kernels; done while a
+    microphone is already open, they delay the first frames past their deadlines. The session's
+    statistics do not see the warm-up, and after it the session starts from sample 0 with its seed.
+    """
+    kept, session.stats = session.stats, LatencyStats(clock)
+    start = clock.now()
+    try:
+        for chunk in warm_up_chunks(session.sample_rate):
+            session.push(chunk)
+    finally:
+        session.stats = kept
+        session.reset()
+    return clock.now() - start
 
 
 def compute_seconds(session: GestureSession) -> float:
@@ -66,7 +103,8 @@ def compute_seconds(session: GestureSession) -> float:
     return sum(s["mean"] * s["count"] for name, s in summary.items() if name in COMPUTE_STAGES) / 1000.0
 
 
-def make_report(session: GestureSession, source: AudioSource, scheduler_stats: dict) -> EngineReport:
+def make_report(session: GestureSession, source: AudioSource, scheduler_stats: dict,
+                interrupted: bool = False, warm_up_s: float = 0.0) -> EngineReport:
     audio = source.stats()
     return EngineReport(
         audio_seconds=audio.samples / session.sample_rate,
@@ -75,14 +113,23 @@ def make_report(session: GestureSession, source: AudioSource, scheduler_stats: d
         latency=session.stats.summary(),
         scheduler=scheduler_stats,
         audio={"dropped_samples": audio.dropped_samples, "overruns": audio.overruns,
-               "device_overflows": audio.device_overflows},
+               "device_overflows": audio.device_overflows, "untimed_blocks": audio.untimed_blocks},
         budget=session.budget.to_dict(),
         nonfinite_poses=session.nonfinite_poses,
+        interrupted=interrupted,
+        warm_up_s=warm_up_s,
     )
 
 
 class LiveEngine:
-    """Runs one stream in real time until the source ends (or :meth:`stop` is called)."""
+    """Runs one stream in real time until the source ends, :meth:`stop` is called, or Ctrl-C.
+
+    Before the source opens, :func:`warm_up` runs every stage once on throwaway audio (``warm=False``
+    skips it, for measuring what it saves). Ctrl-C (KeyboardInterrupt on the caller's thread) ends the
+    run at once: the source is closed (a microphone within a bounded time), frames not yet due are
+    dropped, and :meth:`run` returns the report of what was sent, with ``interrupted`` set; the caller
+    decides the exit status.
+    """
 
     def __init__(
         self,
@@ -92,8 +139,10 @@ class LiveEngine:
         clock: Clock,
         scheduler_config: SchedulerConfig | None = None,
         status: StatusLine | None = None,
+        warm: bool = True,
     ) -> None:
         self.session = session
+        self.warm = warm
         self.source = source
         self.clock = clock
         self.scheduler = FrameScheduler(clock, sink, scheduler_config, stats=session.stats)
@@ -107,17 +156,24 @@ class LiveEngine:
     def run(self) -> EngineReport:
         worker = SchedulerWorker(self.scheduler)
         worker.start()
+        chunks = iter(self.source)
+        interrupted, warm_up_s = False, 0.0
         try:
-            for chunk in self.source:
+            if self.warm:
+                warm_up_s = warm_up(self.session, self.clock)
+            for chunk in chunks:
                 self._submit(self.session.push(chunk), worker)
                 self._show_status()
             self._submit(self.session.finish(), worker)
             self._drain(worker)
+        except KeyboardInterrupt:
+            interrupted = True
         finally:
+            chunks.close()  # a microphone stream is closed here, also when the loop body raised
             worker.stop()
             if self.status is not None:
                 self.status.close()
-        return make_report(self.session, self.source, self.scheduler.stats.to_dict())
+        return make_report(self.session, self.source, self.scheduler.stats.to_dict(), interrupted, warm_up_s)
 
     def _submit(self, frames: list[PoseFrame], worker: SchedulerWorker) -> None:
         worker.submit(frames)

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from gesturecast.errors import UserError
+from gesturecast.errors import INTERRUPTED_EXIT, UserError
 from gesturecast.models.motion.motion import Motion
 from gesturecast.models.motion.retarget import motion_to_bvh
 from gesturecast.models.motion.skeleton import CANONICAL
@@ -57,14 +57,11 @@ def run_live(args: argparse.Namespace) -> int:
     engine = LiveEngine(session, source, outputs.send, clock, scheduler_config(args), StatusLine(clock))
     try:
         report = engine.run()
-    except KeyboardInterrupt:
-        engine.stop()
-        return 130
     finally:
         outputs.close()
     report.outputs = outputs.counters()
     sys.stdout.write(summary_line(report) + "\n")
-    return 0
+    return exit_status(report)
 
 
 def run_generate(args: argparse.Namespace) -> int:
@@ -85,14 +82,20 @@ def scheduler_config(args: argparse.Namespace) -> SchedulerConfig:
     return SchedulerConfig(output_fps=float(args.fps), paced=not unpaced)
 
 
+def exit_status(report: EngineReport) -> int:
+    """0 when the source ran out, the shell's Ctrl-C status when the run was interrupted."""
+    return INTERRUPTED_EXIT if report.interrupted else 0
+
+
 def summary_line(report: EngineReport) -> str:
     """The final one-line summary; counters that are zero in a healthy run appear only when non-zero."""
     e2e = report.latency.get(STAGE_END_TO_END)
     sched = report.scheduler
     latency = (f"end-to-end p50 {e2e['p50']:.0f} p95 {e2e['p95']:.0f} p99 {e2e['p99']:.0f} ms" if e2e
                else "end-to-end n/a (unpaced)")
+    prefix = "stopped by Ctrl-C: " if report.interrupted else ""
     parts = [
-        f"{report.frames} frames from {report.audio_seconds:.1f} s of audio",
+        f"{prefix}{report.frames} frames from {report.audio_seconds:.1f} s of audio",
         f"rtf {report.rtf:.3f}",
         f"{latency} (L {report.budget['latency_budget_ms']:.0f} ms)",
         f"deadline misses {sched.get('deadline_misses', 0)}",

@@ -97,6 +97,7 @@ class GestureSession:
         self.samples_in = 0
         self._pending_audio: list[np.ndarray] = []  # chunks since the last feature burst (< one latent of audio)
         self._anchor = (0, 0.0)  # (stream sample, capture time) of the newest chunk
+        self._last_capture = -math.inf  # capture time given to the newest frame (frame times never go back)
         self._last_speech_frame = -math.inf
         self._frame_limit: int | None = None
         self.nonfinite_poses = 0  # generated poses with NaN/inf, replaced by the last good pose
@@ -225,6 +226,12 @@ class GestureSession:
         return self._last_good
 
     def _capture_time(self, frame: int) -> float:
-        """Capture time of the first audio sample of ``frame``, from the newest chunk's timestamp."""
+        """Capture time of the first audio sample of ``frame``, from the newest chunk's timestamp.
+
+        A microphone's chunk times are estimates that jitter (PortAudio's ADC times through PulseAudio
+        moved by tens of ms); a frame is never given a time before the previous frame's, so presentation
+        times stay in order for the scheduler."""
         start, time = self._anchor
-        return time + (int(frame_boundary(frame, self.sample_rate, self.fps)) - start) / self.sample_rate
+        estimate = time + (int(frame_boundary(frame, self.sample_rate, self.fps)) - start) / self.sample_rate
+        self._last_capture = max(estimate, self._last_capture)
+        return self._last_capture

@@ -1,6 +1,12 @@
 """Shared fixtures: where the real data lives (../shared/data beside the repository)."""
 
+import shutil
+import signal
+import subprocess
 import sys
+import tempfile
+import threading
+import time
 from pathlib import Path
 
 import pytest
@@ -27,3 +33,96 @@ def tiny_model(tmp_path_factory, shared_data):
     from train_fixtures import train_tiny_bundle
 
     return train_tiny_bundle(tmp_path_factory.mktemp("tiny_model"), shared_data / "zeggs")
+
+
+@pytest.fixture
+def virtual_mic():
+    """A running private PulseAudio whose default source is a FIFO (tools/bench/virtual_mic.py), torn down
+    after the test; skipped with the reason where its Debian packages are missing (`make test` installs them)."""
+    from gesturecast.tools.bench.virtual_mic import VirtualMicrophone, missing_requirements
+
+    reason = missing_requirements()
+    if reason is not None:
+        pytest.skip(reason)
+    folder = Path(tempfile.mkdtemp(prefix="gc-mic-"))  # short: the daemon's socket path must fit in 108 bytes
+    try:
+        with VirtualMicrophone(folder) as mic:
+            yield mic
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)
+
+
+@pytest.fixture(scope="session")
+def speech_16k(shared_data):
+    """(n,) float32: 8 s of real ZeroEGGS speech at 16 kHz."""
+    from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio
+
+    return load_audio(shared_data / "zeggs" / "067_Speech_2_x_1_0.wav")[: 8 * SAMPLE_RATE]
+
+
+POLL_S = 0.05  # how often CliProcess looks at the stderr lines collected so far
+
+
+class CliProcess:
+    """``gesturecast ARGS`` as a real subprocess; stderr lines are collected on a thread as they come."""
+
+    def __init__(self, args: list[str], env: dict[str, str] | None = None) -> None:
+        self.process = subprocess.Popen([sys.executable, "-m", "gesturecast.cli", *args], env=env,
+                                        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        self.stderr_lines: list[str] = []
+        self._reader = threading.Thread(target=self._read_stderr, daemon=True)
+        self._reader.start()
+
+    def _read_stderr(self) -> None:
+        for line in self.process.stderr:
+            self.stderr_lines.append(line.rstrip("\n"))
+
+    def wait_for_stderr(self, text: str, timeout_s: float, count: int = 1) -> str:
+        """The ``count``-th stderr line containing ``text``; fails the test after ``timeout_s``."""
+        deadline = time.monotonic() + timeout_s
+        while time.monotonic() < deadline:
+            found = [line for line in self.stderr_lines if text in line]
+            if len(found) >= count:
+                return found[count - 1]
+            if self.process.poll() is not None and not self._reader.is_alive():
+                break
+            time.sleep(POLL_S)
+        self.kill()
+        pytest.fail(f"no stderr line with {text!r} within {timeout_s} s; stderr: {self.stderr_lines}")
+
+    def interrupt(self, bound_s: float) -> tuple[int, float, str]:
+        """Send SIGINT; (exit status, seconds until exit, stdout). Fails if it is still running after ``bound_s``."""
+        self.process.send_signal(signal.SIGINT)
+        return self.wait(bound_s, since=time.monotonic())
+
+    def wait(self, bound_s: float, since: float | None = None) -> tuple[int, float, str]:
+        """(exit status, seconds from ``since`` until exit, stdout); fails if still running after ``bound_s``.
+        stdout is read after the exit (the commands print a few lines); stderr stays with the reader thread."""
+        since = time.monotonic() if since is None else since
+        try:
+            self.process.wait(timeout=bound_s)
+        except subprocess.TimeoutExpired:
+            self.kill()
+            pytest.fail(f"still running {bound_s} s later; stderr: {self.stderr_lines}")
+        elapsed = time.monotonic() - since
+        self._reader.join(bound_s)
+        return self.process.returncode, elapsed, self.process.stdout.read()
+
+    def kill(self) -> None:
+        if self.process.poll() is None:
+            self.process.kill()
+            self.process.wait()
+
+
+@pytest.fixture
+def cli_process():
+    """Start ``gesturecast`` subprocesses (CliProcess); any still running at teardown are killed."""
+    started: list[CliProcess] = []
+
+    def start(args: list[str], env: dict[str, str] | None = None) -> CliProcess:
+        started.append(CliProcess(args, env))
+        return started[-1]
+
+    yield start
+    for process in started:
+        process.kill()

@@ -14,7 +14,7 @@ from gesturecast.errors import UserError
 from gesturecast.realtime.audio.cli import open_source
 from gesturecast.realtime.audio.files import PACKAGED_SAMPLE
 from gesturecast.realtime.engine import EngineReport, LiveEngine
-from gesturecast.realtime.engine_cli import summary_line
+from gesturecast.realtime.engine_cli import exit_status, summary_line
 from gesturecast.realtime.engine_setup import add_generation_arguments, build_outputs, build_session
 from gesturecast.realtime.timing.clock import MonotonicClock
 from gesturecast.realtime.timing.scheduler import SchedulerConfig
@@ -49,6 +49,9 @@ def run_demo(args: argparse.Namespace) -> int:
         report = engine.run()
     finally:
         outputs.close()
+    if report.interrupted:  # no preview: Ctrl-C should end the run now, not after rendering
+        _write_latency(args, report)
+        return exit_status(report)
     _write_demo_results(args, report)
     return 0
 
@@ -71,6 +74,12 @@ def _write_demo_results(args: argparse.Namespace, report: EngineReport) -> None:
     preview = render_positions(motion.positions(), motion.skeleton.parents, args.out / "demo.gif",
                                fps=motion.fps, title=f"gesturecast demo - style {args.style}",  # ASCII font
                                names=motion.skeleton.names)
+    _write_latency(args, report)
+    sys.stdout.write(f"wrote {preview}\n")
+
+
+def _write_latency(args: argparse.Namespace, report: EngineReport) -> None:
+    """latency.json and the summary line (both also after Ctrl-C, with the BVH recorded so far)."""
     (args.out / "latency.json").write_text(json.dumps(report.to_dict(), indent=2) + "\n")
     sys.stdout.write(summary_line(report) + "\n")
-    sys.stdout.write(f"wrote {args.bvh}, {preview} and {args.out / 'latency.json'}\n")
+    sys.stdout.write(f"wrote {args.bvh} and {args.out / 'latency.json'}\n")

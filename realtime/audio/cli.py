@@ -1,8 +1,8 @@
 """CLI glue for audio: ``gesturecast devices`` and the shared source flags for live/file input.
 
 Other commands call :func:`add_source_arguments` on their parser and :func:`open_source` on the
-parsed arguments, so every command takes the same ``--input/--device/--sample-rate/--block-size``
-and ``--pace`` flags.
+parsed arguments, so every command takes the same ``--input/--device/--sample-rate/--block-size``,
+``--stall-timeout`` and ``--pace`` flags.
 """
 
 from __future__ import annotations
@@ -10,7 +10,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from gesturecast.arguments import int_at_least
+from gesturecast.arguments import finite_float, int_at_least
 from gesturecast.realtime.audio.portaudio import NO_DEVICE_HINT, list_input_devices
 from gesturecast.realtime.audio.sources import (
     DEFAULT_CHUNK,
@@ -20,6 +20,7 @@ from gesturecast.realtime.audio.sources import (
     MicSource,
     PacedFileSource,
 )
+from gesturecast.realtime.audio.watchdog import DEFAULT_STALL_TIMEOUT_S, STALL_WARN_S
 from gesturecast.realtime.timing.clock import Clock
 
 PACES = ("realtime", "fast")
@@ -52,6 +53,10 @@ def add_source_arguments(parser: argparse.ArgumentParser) -> None:
     group.add_argument("--device", help="microphone: index or name substring (see `gesturecast devices`)")
     group.add_argument("--sample-rate", type=int_at_least(1), help="microphone rate in Hz (default: the device's own)")
     group.add_argument("--block-size", type=int_at_least(1), default=DEFAULT_CHUNK, help="samples per audio chunk")
+    group.add_argument("--stall-timeout", type=finite_float(minimum=0.0, exclusive_minimum=True),
+                       default=DEFAULT_STALL_TIMEOUT_S, metavar="SECONDS",
+                       help=f"microphone: end the run when the device delivers no samples for this long "
+                            f"(a warning comes after {STALL_WARN_S:.0f} s)")
 
 
 def open_source(args: argparse.Namespace, clock: Clock | None = None) -> AudioSource:
@@ -59,5 +64,6 @@ def open_source(args: argparse.Namespace, clock: Clock | None = None) -> AudioSo
         if args.pace == "fast":
             return FastFileSource(args.input, chunk_samples=args.block_size)
         return PacedFileSource(args.input, chunk_samples=args.block_size, clock=clock)
-    config = MicConfig(device=args.device, sample_rate=args.sample_rate, block_size=args.block_size)
+    config = MicConfig(device=args.device, sample_rate=args.sample_rate, block_size=args.block_size,
+                       stall_timeout_s=args.stall_timeout)
     return MicSource(config, clock=clock)

@@ -7,13 +7,19 @@ becomes one :class:`UserError` line saying what to install or which flag to use.
 
 from __future__ import annotations
 
+import atexit
+import logging
+import threading
 from dataclasses import dataclass
 from types import ModuleType
 
 from gesturecast.errors import UserError
 
+logger = logging.getLogger(__name__)
+
 INSTALL_HINT = "install the Debian package libportaudio2 (apt-get install libportaudio2), or use --input FILE"
 NO_DEVICE_HINT = "no audio input device found (no microphone?); use --input FILE to read a recording instead"
+CLOSE_BOUND_S = 1.0  # longest wait for PortAudio to close a stream (a stalled device can block it for good)
 
 
 @dataclass(frozen=True)
@@ -89,3 +95,47 @@ def check_input_rate(device: InputDevice, sample_rate: int) -> None:
         sd.check_input_settings(device=device.index, channels=1, dtype="float32", samplerate=sample_rate)
     except sd.PortAudioError as error:
         raise translate_stream_error(error, device, sample_rate) from error
+
+
+def device_label(device: InputDevice) -> str:
+    """How messages name a device: ``input device 3 (USB Audio Device: Mic)``."""
+    return f"input device {device.index} ({device.name})"
+
+
+def capture_time(now: float, adc_time: float, current_time: float, frames: int, sample_rate: int) -> float:
+    """Capture time, on the caller's clock, of the first sample of a callback's input block.
+
+    PortAudio gives the block's ADC time and the callback's current time on its own stream clock
+    (``time_info.inputBufferAdcTime`` / ``.currentTime``); their difference is how long ago the block
+    was captured, whatever the host's buffering. A host API without ADC times reports 0 (or a time
+    after ``current_time``): then the block is taken to have ended at ``now``.
+    """
+    age_s = current_time - adc_time
+    if adc_time > 0 and age_s >= 0:
+        return now - age_s
+    return now - frames / sample_rate
+
+
+def close_stream(stream: object, bound_s: float = CLOSE_BOUND_S) -> bool:
+    """Abort and close a sounddevice stream off the calling thread, waiting at most ``bound_s``.
+
+    ``stop()`` is never called: it waits for buffers that a stalled device never delivers (it hung
+    for good with a silent PulseAudio source). ``abort()`` returns at once on every host seen so far;
+    should it block anyway, the caller goes on after ``bound_s`` and sounddevice's exit handler
+    (``Pa_Terminate``, which would block the same way) is unregistered. Returns whether it closed.
+    """
+    closer = threading.Thread(target=_abort_and_close, args=(stream,), name="portaudio-close", daemon=True)
+    closer.start()
+    closer.join(bound_s)
+    if not closer.is_alive():
+        return True
+    logger.warning("the audio device did not close within %.1f s; leaving it to the operating system", bound_s)
+    exit_handler = getattr(import_sounddevice(), "_exit_handler", None)
+    if exit_handler is not None:
+        atexit.unregister(exit_handler)
+    return False
+
+
+def _abort_and_close(stream: object) -> None:
+    stream.abort()
+    stream.close()

@@ -5,8 +5,9 @@ first sample and its capture time on the injected :class:`Clock`. Time of sample
 is ``capture_time + i / 16000``.
 
 - :class:`MicSource`: sounddevice callback ``InputStream``; the callback only copies into a
-  bounded :class:`RingBuffer` (drop-oldest on overrun, counted); the consumer thread resamples
-  from the device rate to 16 kHz (soxr, streaming).
+  bounded :class:`RingBuffer` (drop-oldest on overrun, counted), timestamped from PortAudio's
+  ADC time; the consumer thread resamples from the device rate to 16 kHz (soxr, streaming),
+  watches for a stalled or vanished device, and closes the stream with ``abort()`` within a bound.
 - :class:`PacedFileSource`: a file replayed at real-time pace (each chunk released when its last
   sample would have been captured); repeatable.
 - :class:`FastFileSource`: a file as fast as possible (offline generation); capture times are
@@ -17,22 +18,27 @@ from __future__ import annotations
 
 import threading
 from abc import ABC, abstractmethod
-from collections.abc import Iterator
+from collections.abc import Generator, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 import soxr
 
+from gesturecast.errors import UserError
 from gesturecast.realtime.audio.files import RESAMPLE_QUALITY, SAMPLE_RATE, AudioFileReader
 from gesturecast.realtime.audio.portaudio import (
+    capture_time,
     check_input_rate,
+    close_stream,
+    device_label,
     import_sounddevice,
     list_input_devices,
     resolve_input_device,
     translate_stream_error,
 )
 from gesturecast.realtime.audio.ring_buffer import RingBuffer
+from gesturecast.realtime.audio.watchdog import DEFAULT_STALL_TIMEOUT_S, StallWatchdog
 from gesturecast.realtime.timing.clock import Clock, MonotonicClock
 
 DEFAULT_CHUNK = 512  # 16 kHz samples per yielded chunk (32 ms)
@@ -52,6 +58,7 @@ class SourceStats:
     dropped_samples: int = 0  # lost to ring-buffer overruns (device-rate samples)
     overruns: int = 0  # ring-buffer writes that had to drop audio
     device_overflows: int = 0  # callbacks where PortAudio itself reported input overflow
+    untimed_blocks: int = 0  # callbacks without a PortAudio ADC timestamp (timed by their arrival instead)
 
 
 class AudioSource(ABC):
@@ -65,7 +72,8 @@ class AudioSource(ABC):
         self._stop = threading.Event()
 
     @abstractmethod
-    def __iter__(self) -> Iterator[AudioChunk]: ...
+    def __iter__(self) -> Generator[AudioChunk, None, None]:
+        """The chunks; closing the generator early releases the source's resources."""
 
     def close(self) -> None:
         """End the iteration after the current chunk (thread-safe)."""
@@ -109,7 +117,7 @@ class FastFileSource(AudioSource):
         self.reader = AudioFileReader(path)
         self.chunk_samples = chunk_samples
 
-    def __iter__(self) -> Iterator[AudioChunk]:
+    def __iter__(self) -> Generator[AudioChunk, None, None]:
         for start, samples in rechunk(iter(self.reader), self.chunk_samples):
             if self._stop.is_set():
                 return
@@ -125,7 +133,7 @@ class PacedFileSource(AudioSource):
         self.chunk_samples = chunk_samples
         self.clock = clock or MonotonicClock()
 
-    def __iter__(self) -> Iterator[AudioChunk]:
+    def __iter__(self) -> Generator[AudioChunk, None, None]:
         origin = self.clock.now()
         for start, samples in rechunk(iter(self.reader), self.chunk_samples):
             if self._stop.is_set():
@@ -142,6 +150,7 @@ class MicConfig:
     chunk_samples: int = DEFAULT_CHUNK  # device frames read per yielded chunk (before resampling)
     ring_seconds: float = 2.0  # ring-buffer capacity: older audio is dropped beyond this
     read_timeout_s: float = 0.1  # consumer wait per read, so close() is noticed promptly
+    stall_timeout_s: float = DEFAULT_STALL_TIMEOUT_S  # no samples for this long ends the run (watchdog)
 
 
 class MicSource(AudioSource):
@@ -156,44 +165,76 @@ class MicSource(AudioSource):
         self.device_rate = int(self.config.sample_rate or self.device.default_rate)
         check_input_rate(self.device, self.device_rate)
         self.ring = RingBuffer(int(self.config.ring_seconds * self.device_rate))
+        self.label = device_label(self.device)
         self._device_overflows = 0
+        self._untimed_blocks = 0
+        self._stream_ended = threading.Event()  # PortAudio ended the stream on its own (device gone)
 
     def _callback(self, indata: np.ndarray, frames: int, time_info: object, status: object) -> None:
         """PortAudio thread: copy only (plus a timestamp and an overflow count)."""
-        self.ring.write(indata[:, 0], self.clock.now() - frames / self.device_rate)
+        adc_time = time_info.inputBufferAdcTime
+        if adc_time <= 0:
+            self._untimed_blocks += 1
+        now = self.clock.now()
+        self.ring.write(indata[:, 0], capture_time(now, adc_time, time_info.currentTime, frames, self.device_rate))
         if status:
             self._device_overflows += 1
 
-    def __iter__(self) -> Iterator[AudioChunk]:
+    def __iter__(self) -> Generator[AudioChunk, None, None]:
         resampler = None
         if self.device_rate != SAMPLE_RATE:
             resampler = soxr.ResampleStream(self.device_rate, SAMPLE_RATE, 1, dtype="float32", quality=RESAMPLE_QUALITY)
         self._stop.clear()
+        self._stream_ended.clear()
+        watchdog = StallWatchdog(self.label, self.clock.now(), self.config.stall_timeout_s)
+        stream = self._open_stream()
         try:
-            stream = self._sd.InputStream(
+            self._start(stream)
+            yield from self._consume(resampler, watchdog)
+        finally:
+            close_stream(stream)
+
+    def _open_stream(self) -> object:
+        """A sounddevice InputStream on the chosen device, not started yet."""
+        try:
+            return self._sd.InputStream(
                 device=self.device.index,
                 channels=1,
                 samplerate=self.device_rate,
                 blocksize=self.config.block_size,
                 dtype="float32",
                 callback=self._callback,
+                finished_callback=self._stream_ended.set,
             )
         except self._sd.PortAudioError as error:
             raise translate_stream_error(error, self.device, self.device_rate) from error
-        with stream:
-            yield from self._consume(resampler)
 
-    def _consume(self, resampler: soxr.ResampleStream | None) -> Iterator[AudioChunk]:
+    def _start(self, stream: object) -> None:
+        try:
+            stream.start()
+        except self._sd.PortAudioError as error:
+            raise translate_stream_error(error, self.device, self.device_rate) from error
+
+    def _consume(self, resampler: soxr.ResampleStream | None, watchdog: StallWatchdog) -> Iterator[AudioChunk]:
         produced = 0
         while not self._stop.is_set():
             read = self.ring.read(self.config.chunk_samples, timeout=self.config.read_timeout_s)
             if not read.samples.shape[0]:
+                self._check_silence(watchdog)
                 continue
+            watchdog.audio(self.clock.now())
             samples = read.samples if resampler is None else resampler.resample_chunk(read.samples)
             capture = read.write_time + (read.start_index - read.time_index) / self.device_rate
             if samples.shape[0]:
                 yield self._count(AudioChunk(samples, produced, capture))
                 produced += samples.shape[0]
+
+    def _check_silence(self, watchdog: StallWatchdog) -> None:
+        """No samples in this read: a stream PortAudio has ended means the device is gone; else the watchdog."""
+        if self._stream_ended.is_set() and not self._stop.is_set():
+            raise UserError(f"{self.label} stopped delivering audio (unplugged, or its sound server went away); "
+                            "run `gesturecast devices` and pick one with --device")
+        watchdog.silence(self.clock.now())
 
     def stats(self) -> SourceStats:
         ring = self.ring.stats()
@@ -203,4 +244,5 @@ class MicSource(AudioSource):
             dropped_samples=ring.dropped_samples,
             overruns=ring.overruns,
             device_overflows=self._device_overflows,
+            untimed_blocks=self._untimed_blocks,
         )

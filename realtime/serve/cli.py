@@ -3,12 +3,13 @@
 from __future__ import annotations
 
 import argparse
+import logging
 import sys
 import threading
 
 from gesturecast.arguments import port_number
 from gesturecast.bridges.coords import FRAMES
-from gesturecast.errors import UserError
+from gesturecast.errors import INTERRUPTED_EXIT, UserError
 from gesturecast.realtime.engine_setup import (
     add_access_arguments,
     add_generation_arguments,
@@ -19,6 +20,8 @@ from gesturecast.realtime.serve.server import SERVE_DEFAULT_PORT, GestureServer,
 from gesturecast.realtime.serve.setup import StreamSessions
 from gesturecast.realtime.serve.stream import StreamConfig
 from gesturecast.realtime.timing.clock import Clock, MonotonicClock
+
+logger = logging.getLogger(__name__)
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -64,9 +67,25 @@ def run_serve(args: argparse.Namespace) -> int:
                      "Ctrl-C stops\n")
     sys.stdout.flush()
     try:
-        threading.Event().wait()
-    except KeyboardInterrupt:
-        return 130
+        wait_for_ctrl_c()
     finally:
         server.close()
-    return 0
+    sys.stdout.write(served_summary(list(server.finished)) + "\n")
+    return INTERRUPTED_EXIT
+
+
+def wait_for_ctrl_c() -> None:
+    """Block the main thread (the server runs on its own) until Ctrl-C."""
+    try:
+        threading.Event().wait()
+    except KeyboardInterrupt:
+        logger.info("Ctrl-C: closing the streams")
+
+
+def served_summary(streams: list[dict]) -> str:
+    """One line over the streams closed while serving (those still remembered: at most --max-streams)."""
+    total = {key: sum(s[key] for s in streams) for key in ("audio_seconds", "frames", "deadline_misses",
+                                                            "audio_dropped_samples")}
+    return (f"stopped by Ctrl-C: last {len(streams)} streams served: {total['frames']} frames from "
+            f"{total['audio_seconds']:.1f} s of audio | deadline misses {total['deadline_misses']} | "
+            f"audio drops {total['audio_dropped_samples']}")

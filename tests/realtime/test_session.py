@@ -215,3 +215,25 @@ def test_root_modes_and_a_live_root_change_without_a_jump(bundle, speech):
     after = path[-int(30 * 1.0):]  # the last second: pinned where the change found the avatar
     assert np.ptp(after, axis=0).max() == 0.0
     assert np.linalg.norm(np.diff(path, axis=0), axis=1).max() < 0.05  # no jump at the change
+
+
+JITTER_S = 0.06  # a capture time estimated 60 ms early: more than one frame period (33 ms)
+
+
+def test_jittery_source_capture_times_never_make_frames_go_back_in_time(bundle, speech):
+    """A microphone's capture times are estimates (PortAudio's ADC times through PulseAudio are coarse);
+    one estimated early must not give a frame a presentation time before the frame ahead of it (the
+    scheduler refused that with ValueError and the live run died with a traceback)."""
+    from gesturecast.realtime.audio.sources import AudioChunk
+    from gesturecast.realtime.timing.scheduler import FrameScheduler
+
+    audio = load_audio(speech)  # (n,)
+    clock = FakeClock(0.0)
+    session = make_session(bundle, clock)
+    scheduler = FrameScheduler(clock, lambda frame: None)
+    chunk = 512
+    for index, start in enumerate(range(0, audio.shape[0], chunk)):
+        early = JITTER_S if index % 7 == 6 else 0.0
+        for frame in session.push(AudioChunk(audio[start : start + chunk], start, 10.0 + start / SAMPLE_RATE - early)):
+            scheduler.submit(frame)
+    assert scheduler.stats.submitted > 0

@@ -1,8 +1,13 @@
-"""``gesturecast bench latency FILE --json``: the live engine on a recording at real-time pace.
+"""``gesturecast bench latency FILE --json`` (or ``--device NAME``): the live engine in real time.
 
 Measures end-to-end latency (audio capture → bytes handed to the bridges), per-stage compute,
 real-time factor, deadline misses and audio drops, with the real VMC and WebSocket bridges on
-loopback. ``--sweep`` repeats the run for K ∈ {1, 2, 4, 8, 16} (and for each ``--model`` given,
+loopback. The input is a recording at real-time pace, or a microphone (``--device``, for
+``--seconds`` seconds), where capture times come from PortAudio's ADC timestamps; with no sound
+card, ``python -m gesturecast.tools.bench.virtual_mic SPEECH -- gesturecast bench latency --device
+pulse`` provides one. The first ``START_WINDOW_S`` seconds of frames are reported apart (``start``),
+to show whether the run misses deadlines while it starts; ``--no-warm-up`` skips the engine's
+warm-up, to measure what it saves. ``--sweep`` repeats the run for K ∈ {1, 2, 4, 8, 16} (and for each ``--model`` given,
 e.g. bundles trained with other look-aheads δa) and writes a Markdown table and a plot.
 """
 
@@ -14,26 +19,40 @@ import os
 import platform
 import sys
 import tempfile
+import threading
 from pathlib import Path
+
+import numpy as np
 
 from gesturecast.bridges.fanout import BridgeFanout
 from gesturecast.bridges.vmc import VMC_DEFAULT_PORT, VmcBridge, VmcConfig
 from gesturecast.bridges.websocket_server import WebSocketBridge, WebSocketConfig
+from gesturecast.errors import UserError
 from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio
-from gesturecast.realtime.audio.sources import DEFAULT_CHUNK, PacedFileSource
-from gesturecast.realtime.engine import EngineReport, LiveEngine
+from gesturecast.realtime.audio.sources import DEFAULT_CHUNK, AudioSource, MicConfig, MicSource, PacedFileSource
+from gesturecast.realtime.engine import EngineReport, LiveEngine, Sink
 from gesturecast.realtime.engine_setup import add_generation_arguments, build_session
-from gesturecast.realtime.timing.clock import MonotonicClock
+from gesturecast.realtime.timing.clock import Clock, MonotonicClock
+from gesturecast.realtime.timing.frames import PoseFrame
+from gesturecast.realtime.timing.latency import MS_PER_S
 
 SWEEP_STEPS = (1, 2, 4, 8, 16)
 PERCENTILES = ("p50", "p95", "p99", "max")
 STAGES = ("features", "denoiser", "decoder", "bridge")
+DEFAULT_DEVICE_SECONDS = 60.0  # how long --device records when --seconds is not given
+START_WINDOW_S = 5.0  # frames captured in the first seconds are reported apart ("start" vs "after_start")
+LATE_AFTER_S = 1.0 / 30.0  # a frame sent a whole frame period after its presentation time counts as late
+LATE_INDICES_SHOWN = 20  # late frames listed by index (the rest are only counted)
 
 
 def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
-    parser = bench_subparsers.add_parser("latency", help="end-to-end latency of the live engine on a file")
-    parser.add_argument("audio", type=Path, help="speech file replayed at real-time pace")
-    parser.add_argument("--seconds", type=float, help="use only the first N seconds of the file")
+    parser = bench_subparsers.add_parser("latency", help="end-to-end latency of the live engine (file or microphone)")
+    parser.add_argument("audio", type=Path, nargs="?", help="speech file replayed at real-time pace")
+    parser.add_argument("--device", help="measure from this microphone (index or name substring) instead of a file")
+    parser.add_argument("--seconds", type=float, help="use only the first N seconds of the file; with --device: "
+                        f"record for N seconds (default {DEFAULT_DEVICE_SECONDS:.0f})")
+    parser.add_argument("--no-warm-up", dest="warm_up", action="store_false",
+                        help="open the source without warming the stages up first (to measure what that saves)")
     parser.add_argument("--json", action="store_true", help="print one JSON object")
     parser.add_argument("--sweep", action="store_true", help="vary K (and --model bundles) and write table + plot")
     parser.add_argument("--sweep-models", type=Path, nargs="*", default=[], help="extra bundles for the δa sweep")
@@ -44,6 +63,14 @@ def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
 
 
 def run_bench_latency(args: argparse.Namespace) -> int:
+    if (args.audio is None) == (args.device is None):
+        raise UserError("give a speech FILE or --device NAME (one of them)")
+    if args.device is not None:
+        if args.sweep:
+            raise UserError("--sweep runs on a file; drop --device")
+        result = measure(args, None)
+        sys.stdout.write(json.dumps(result, indent=None if args.json else 2) + "\n")
+        return 0
     with tempfile.TemporaryDirectory() as scratch:
         audio = _trimmed(args.audio, args.seconds, Path(scratch))
         if args.sweep:
@@ -68,17 +95,60 @@ def _trimmed(path: Path, seconds: float | None, scratch: Path) -> Path:
     return trimmed
 
 
-def measure(args: argparse.Namespace, audio: Path) -> dict:
+class ReleaseLog:
+    """A sink in front of the bridges that records, per frame, its capture time and how late it was sent."""
+
+    def __init__(self, sink: Sink, clock: Clock) -> None:
+        self.sink = sink
+        self.clock = clock
+        self.rows: list[tuple[float, float]] = []  # (capture time, lateness s) per frame
+
+    def send(self, frame: PoseFrame) -> None:
+        self.rows.append((frame.capture_time, self.clock.now() - frame.presentation_time))
+        self.sink(frame)
+
+    def windows(self) -> dict:
+        """Late frames in the first START_WINDOW_S seconds of capture and after them."""
+        if not self.rows:
+            return {}
+        rows = np.array(self.rows)  # (T, 2): capture time, lateness
+        in_start = rows[:, 0] < rows[0, 0] + START_WINDOW_S  # (T,)
+        return {"start": lateness_summary(rows[in_start, 1]), "after_start": lateness_summary(rows[~in_start, 1]),
+                "start_window_s": START_WINDOW_S, "late_after_ms": LATE_AFTER_S * MS_PER_S}
+
+
+def lateness_summary(lateness_s: np.ndarray) -> dict:
+    """(n,) seconds late per frame → frames, late frames (indices) and the worst lateness in ms."""
+    late = np.flatnonzero(lateness_s > LATE_AFTER_S)
+    return {"frames": int(lateness_s.shape[0]), "late_frames": int(late.shape[0]),
+            "late_frame_indices": [int(i) for i in late[:LATE_INDICES_SHOWN]],
+            "max_lateness_ms": float(lateness_s.max() * MS_PER_S) if lateness_s.size else None}
+
+
+def open_bench_source(args: argparse.Namespace, audio: Path | None, clock: Clock) -> AudioSource:
+    """The file at real-time pace, or the microphone closed after --seconds (a timer thread)."""
+    if audio is not None:
+        return PacedFileSource(audio, args.block_size, clock)
+    source = MicSource(MicConfig(device=args.device, block_size=args.block_size), clock)
+    timer = threading.Timer(args.seconds or DEFAULT_DEVICE_SECONDS, source.close)
+    timer.daemon = True
+    timer.start()
+    return source
+
+
+def measure(args: argparse.Namespace, audio: Path | None) -> dict:
     """One real-time run with the real bridges on loopback; returns the benchmark's JSON object."""
     clock = MonotonicClock()
     session = build_session(args, clock)
     viewer = WebSocketBridge(WebSocketConfig(port=0, clock=clock.now)).start()
     outputs = BridgeFanout([VmcBridge(VmcConfig(port=VMC_DEFAULT_PORT)), viewer])
+    log = ReleaseLog(outputs.send, clock)
     try:
-        report = LiveEngine(session, PacedFileSource(audio, args.block_size, clock), outputs.send, clock).run()
+        source = open_bench_source(args, audio, clock)
+        report = LiveEngine(session, source, log.send, clock, warm=args.warm_up).run()
     finally:
         outputs.close()
-    return benchmark_json(report, args, session.generator.guidance)
+    return {**benchmark_json(report, args, session.generator.guidance), **log.windows()}
 
 
 def benchmark_json(report: EngineReport, args: argparse.Namespace, guidance: float) -> dict:
@@ -91,6 +161,8 @@ def benchmark_json(report: EngineReport, args: argparse.Namespace, guidance: flo
         "rtf": report.rtf,
         "deadline_misses": report.scheduler.get("deadline_misses", 0),
         "audio_drops": report.audio["dropped_samples"],
+        "untimed_audio_blocks": report.audio["untimed_blocks"],
+        "warm_up_ms": report.warm_up_s * MS_PER_S,
         "frames": report.frames,
         "audio_seconds": report.audio_seconds,
         "settings": {
@@ -102,6 +174,7 @@ def benchmark_json(report: EngineReport, args: argparse.Namespace, guidance: flo
             "threads": args.threads,
             "block_size": args.block_size,
             "model": str(args.model),
+            "source": f"device {args.device}" if args.device is not None else "file",
         },
         "machine": {"cpus": os.cpu_count(), "platform": platform.platform(), "python": platform.python_version()},
     }
