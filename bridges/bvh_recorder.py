@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from gesturecast.errors import UserError
-from gesturecast.files import atomic_file
+from gesturecast.files import abandon, atomic_file
 from gesturecast.models.motion.bvh import format_frame_time, format_hierarchy, format_motion_rows
 from gesturecast.models.motion.canonical_bvh import canonical_frame_values, canonical_layout
 from gesturecast.models.motion.motion import MOTION_FPS
@@ -93,7 +93,7 @@ class BvhRecorder:
         if self.error is None:
             self._stack.close()
             return
-        self._stack.__exit__(UserError, UserError(self.error), None)
+        abandon(self._stack)
         raise UserError(f"{self.error}; {self.path} was left as it was")
 
     def __enter__(self) -> BvhRecorder:

@@ -21,7 +21,7 @@ import os
 import secrets
 import stat
 from collections.abc import Iterator, Sequence
-from contextlib import contextmanager
+from contextlib import ExitStack, contextmanager, suppress
 from pathlib import Path
 from typing import IO
 
@@ -97,12 +97,23 @@ def atomic_path(path: str | Path) -> Iterator[Path]:
 def atomic_file(path: str | Path, binary: bool = False) -> Iterator[IO]:
     """An open file (text UTF-8 with ``\\n`` line ends, or binary) whose content replaces ``path`` on success."""
     with atomic_path(path) as temp:
-        if binary:
-            with temp.open("wb") as handle:
-                yield handle
-        else:
-            with temp.open("w", encoding="utf-8", newline="\n") as handle:
-                yield handle
+        handle = temp.open("wb") if binary else temp.open("w", encoding="utf-8", newline="\n")
+        try:
+            yield handle
+        except BaseException:
+            with suppress(OSError):  # the content is dropped: a failing flush changes nothing
+                handle.close()
+            raise
+        handle.close()
+
+
+class Abandoned(Exception):
+    """Thrown into an unfinished :func:`atomic_file` to drop it: the target stays as it was."""
+
+
+def abandon(files: ExitStack) -> None:
+    """Close the :func:`atomic_file` s entered on ``files`` without replacing their targets."""
+    files.__exit__(Abandoned, Abandoned(), None)
 
 
 def write_text_atomic(path: str | Path, text: str) -> None:

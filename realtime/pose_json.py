@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from gesturecast.errors import UserError
-from gesturecast.files import atomic_file
+from gesturecast.files import abandon, atomic_file
 from gesturecast.models.motion.motion import MOTION_FPS
 from gesturecast.models.motion.skeleton import CANONICAL
 from gesturecast.realtime.timing.frames import PoseFrame
@@ -65,7 +65,7 @@ class PoseJsonWriter:
 
     def close(self) -> None:
         """Drop an unsaved document (the temporary file is removed, the target left as it was)."""
-        self._stack.__exit__(UserError, UserError(f"{self.path} not saved"), None)
+        abandon(self._stack)
 
     def __enter__(self) -> PoseJsonWriter:
         return self

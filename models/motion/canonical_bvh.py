@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import shutil
 import tempfile
+from contextlib import suppress
 from pathlib import Path
 
 import numpy as np
@@ -96,7 +97,9 @@ class CanonicalBvhWriter:
             shutil.copyfileobj(self._spool, handle)
 
     def close(self) -> None:
-        self._spool.close()
+        """Drop the spool (a failing flush of lines already saved, or never to be saved, changes nothing)."""
+        with suppress(OSError):
+            self._spool.close()
 
     def __enter__(self) -> CanonicalBvhWriter:
         return self
