@@ -1,21 +1,28 @@
 """Streaming BVH recorder for the live engine: frames are written as they arrive.
 
-The ``Frames:`` count sits in a fixed-width field that is rewritten after every frame, so a
-recording that is interrupted (crash, Ctrl-C) still leaves a valid BVH of the frames written.
+Frames go to a temporary file next to the target (:func:`gesturecast.files.atomic_file`), which
+replaces the target only when the recording is closed (end of input, Ctrl-C): an existing file of
+that name is never truncated by a run that fails. The ``Frames:`` count sits in a fixed-width field
+that is rewritten after every frame, so even the temporary file of a killed run is a valid BVH of
+the frames written. A write error (disk full, file size limit) stops the recording, leaves the
+target as it was, and :meth:`BvhRecorder.close` raises it as one :class:`UserError` line.
 The hierarchy and number formatting come from :mod:`gesturecast.models.motion.bvh` /
 :mod:`gesturecast.models.motion.canonical_bvh` (the same code as ``motion_to_bvh``).
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from contextlib import ExitStack
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from gesturecast.errors import UserError
+from gesturecast.files import abandon, atomic_file
 from gesturecast.models.motion.bvh import format_frame_time, format_hierarchy, format_motion_rows
-from gesturecast.models.motion.canonical_bvh import canonical_bvh_data, canonical_frame_values
+from gesturecast.models.motion.canonical_bvh import canonical_frame_values, canonical_layout
 from gesturecast.models.motion.motion import MOTION_FPS
 from gesturecast.models.motion.skeleton import CANONICAL, Skeleton
 from gesturecast.realtime.timing.frames import PoseFrame
@@ -38,15 +45,20 @@ class BvhRecorder:
         self.config = BvhRecorderConfig(skeleton, fps)
         self.path = Path(path)
         self.frames_written = 0
-        layout = canonical_bvh_data(np.zeros((0, skeleton.num_joints, 4)), np.zeros((0, 3)), fps, skeleton)
+        self.error: str | None = None  # the write error that stopped the recording
+        layout = canonical_layout(fps, skeleton)
+        self._stack = ExitStack()
+        self._file = self._stack.enter_context(atomic_file(self.path))
+        self.partial_path = Path(self._file.name)  # the recording so far: a valid BVH after every frame
         try:
-            self.path.parent.mkdir(parents=True, exist_ok=True)
-            self._file = self.path.open("w", encoding="utf-8", newline="\n")
-        except OSError as error:
-            raise UserError(f"cannot record BVH to {self.path}: {error.strerror}") from None
-        self._file.write(format_hierarchy(layout) + "Frames: ")
+            self._write(lambda: self._start(format_hierarchy(layout), format_frame_time(1.0 / fps)))
+        except UserError:
+            self.close()  # removes the temporary file and raises the error
+
+    def _start(self, hierarchy: str, frame_time: str) -> None:
+        self._file.write(hierarchy + "Frames: ")
         self._count_position = self._file.tell()
-        self._file.write(self._count_field() + "\n" + format_frame_time(1.0 / fps))
+        self._file.write(self._count_field() + "\n" + frame_time)
         self._file.flush()
 
     def _count_field(self) -> str:
@@ -54,8 +66,13 @@ class BvhRecorder:
 
     def send(self, frame: PoseFrame) -> None:
         """Append one pose and update the frame count, so the file is valid after every call."""
+        if self.error is not None:
+            return
         values = canonical_frame_values(frame.rotations[None], np.asarray(frame.root_position)[None])  # (1, C)
-        self._file.write(format_motion_rows(values))
+        self._write(lambda: self._append(format_motion_rows(values)))
+
+    def _append(self, rows: str) -> None:
+        self._file.write(rows)
         end = self._file.tell()
         self.frames_written += 1
         self._file.seek(self._count_position)
@@ -63,9 +80,21 @@ class BvhRecorder:
         self._file.seek(end)
         self._file.flush()
 
+    def _write(self, step: Callable[[], None]) -> None:
+        """Run one write; an OSError ends the recording (kept in :attr:`error`, raised again by close)."""
+        try:
+            step()
+        except OSError as error:
+            self.error = f"cannot record BVH to {self.path}: {error.strerror or error}"
+            raise UserError(self.error) from None
+
     def close(self) -> None:
-        if not self._file.closed:
-            self._file.close()
+        """Finish the file: it replaces the target, or, after a write error, is removed and the error raised."""
+        if self.error is None:
+            self._stack.close()
+            return
+        abandon(self._stack)
+        raise UserError(f"{self.error}; {self.path} was left as it was")
 
     def __enter__(self) -> BvhRecorder:
         return self

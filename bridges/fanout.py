@@ -24,6 +24,7 @@ class BridgeFanout:
     def __init__(self, bridges: Sequence[Bridge]) -> None:
         self.bridges = tuple(bridges)
         self._errors = {id(bridge): ErrorThrottle(f"bridge {bridge.name!r} failed") for bridge in self.bridges}
+        self.close_errors: list[str] = []  # what closing the bridges raised (e.g. a recording not saved)
 
     def send(self, frame: PoseFrame) -> None:
         for bridge in self.bridges:
@@ -40,8 +41,10 @@ class BridgeFanout:
         return {bridge.name: self._errors[id(bridge)].count for bridge in self.bridges}
 
     def close(self) -> None:
+        """Close every bridge; what a bridge raises is kept in :attr:`close_errors` for the final summary."""
         for bridge in self.bridges:
             try:
                 bridge.close()
             except Exception as error:  # a broken bridge must not keep the others open
                 self._errors[id(bridge)].report(error)
+                self.close_errors.append(str(error))

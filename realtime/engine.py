@@ -3,13 +3,13 @@
 Threads: the source (for a microphone, PortAudio's callback only copies into a ring buffer) and
 the session run on the caller's thread; the :class:`SchedulerWorker` releases frames at their
 presentation times on the one injected clock. ``generate`` uses the same session with a fast
-file source and collects the frames instead (see :func:`run_offline`).
+file source and streams the frames to files instead (see :func:`offline_batches`).
 """
 
 from __future__ import annotations
 
 import logging
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -205,10 +205,14 @@ class LiveEngine:
         self.status.update(snapshot)
 
 
-def run_offline(session: GestureSession, source: AudioSource) -> tuple[list[PoseFrame], EngineReport]:
-    """The same session fed as fast as possible; frames are collected in order (the `generate` path)."""
-    frames: list[PoseFrame] = []
+def offline_batches(session: GestureSession, source: AudioSource) -> Iterator[list[PoseFrame]]:
+    """The session fed as fast as possible (the `generate` path): each chunk's frames, in order, then the last."""
     for chunk in source:
-        frames.extend(session.push(chunk))
-    frames.extend(session.finish())
+        yield session.push(chunk)
+    yield session.finish()
+
+
+def run_offline(session: GestureSession, source: AudioSource) -> tuple[list[PoseFrame], EngineReport]:
+    """:func:`offline_batches` collected in one list (for short clips: evaluation, tests)."""
+    frames = [frame for batch in offline_batches(session, source) for frame in batch]
     return frames, make_report(session, source, {})

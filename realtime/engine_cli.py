@@ -3,26 +3,29 @@
 from __future__ import annotations
 
 import argparse
-import json
 import logging
 import sys
+from contextlib import ExitStack
 from pathlib import Path
 
 import numpy as np
 
+from gesturecast.bridges.fanout import BridgeFanout
 from gesturecast.errors import INTERRUPTED_EXIT, UserError
-from gesturecast.models.motion.motion import Motion
-from gesturecast.models.motion.retarget import motion_to_bvh
+from gesturecast.files import check_distinct
+from gesturecast.models.motion.canonical_bvh import CanonicalBvhWriter
+from gesturecast.models.motion.motion import MOTION_FPS, Motion
 from gesturecast.models.motion.skeleton import CANONICAL
 from gesturecast.realtime.audio.cli import add_source_arguments, open_source
 from gesturecast.realtime.audio.sources import FastFileSource
-from gesturecast.realtime.engine import EngineReport, LiveEngine, run_offline
+from gesturecast.realtime.engine import EngineReport, LiveEngine, make_report, offline_batches
 from gesturecast.realtime.engine_setup import (
     add_generation_arguments,
     add_output_arguments,
     build_outputs,
     build_session,
 )
+from gesturecast.realtime.pose_json import PoseJsonWriter
 from gesturecast.realtime.timing.clock import MonotonicClock
 from gesturecast.realtime.timing.frames import PoseFrame
 from gesturecast.realtime.timing.scheduler import STAGE_END_TO_END, SchedulerConfig
@@ -47,13 +50,19 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def run_live(args: argparse.Namespace) -> int:
+    check_distinct([("--input", args.input)], [("--bvh", args.bvh)])
     clock = MonotonicClock()
     session = build_session(args, clock)
-    outputs = build_outputs(args, session, clock)
+    source = open_source(args, clock)  # checks the input before any output file is opened
+    try:
+        outputs = build_outputs(args, session, clock)
+    except BaseException:
+        source.close()
+        raise
     if not outputs.bridges:
+        source.close()
         raise UserError("no output chosen: add --vmc HOST:PORT, --osc HOST:PORT, --ws PORT and/or --bvh FILE")
     sys.stdout.write(session.budget.describe() + "\n")
-    source = open_source(args, clock)
     engine = LiveEngine(session, source, outputs.send, clock, scheduler_config(args), StatusLine(clock))
     try:
         report = engine.run()
@@ -61,18 +70,36 @@ def run_live(args: argparse.Namespace) -> int:
         outputs.close()
     report.outputs = outputs.counters()
     sys.stdout.write(summary_line(report) + "\n")
+    raise_output_errors(outputs)
     return exit_status(report)
 
 
+def raise_output_errors(outputs: BridgeFanout) -> None:
+    """After the summary: an output that could not be finished (e.g. a BVH on a full disk) fails the run."""
+    if outputs.close_errors:
+        raise UserError("; ".join(outputs.close_errors))
+
+
 def run_generate(args: argparse.Namespace) -> int:
+    check_distinct([("audio", args.audio)], [("-o", args.output), ("--json", args.json)])
     session = build_session(args, MonotonicClock())
-    frames, report = run_offline(session, FastFileSource(args.audio))
-    if not frames:
-        raise UserError(f"{args.audio} is shorter than one motion frame (1/30 s)")
-    motion_to_bvh(frames_to_motion(frames), args.output)
-    if args.json is not None:
-        write_pose_json(frames, args.json)
-    logger.info("wrote %d frames (%.1f s) to %s; rtf %.3f", len(frames), len(frames) / 30, args.output, report.rtf)
+    source = FastFileSource(args.audio)
+    with ExitStack() as files:
+        bvh = files.enter_context(CanonicalBvhWriter(args.output))
+        poses = files.enter_context(PoseJsonWriter(args.json)) if args.json is not None else None
+        for batch in offline_batches(session, source):
+            if batch:
+                bvh.append(np.stack([f.rotations for f in batch]), np.stack([f.root_position for f in batch]))
+            if poses is not None:
+                poses.write(batch)
+        if bvh.num_frames == 0:
+            raise UserError(f"{args.audio} is shorter than one motion frame (1/30 s)")
+        bvh.save()
+        if poses is not None:
+            poses.save()
+    report = make_report(session, source, {})
+    logger.info("wrote %d frames (%.1f s) to %s; rtf %.3f", bvh.num_frames, bvh.num_frames / MOTION_FPS,
+                args.output, report.rtf)
     return 0
 
 
@@ -112,24 +139,4 @@ def summary_line(report: EngineReport) -> str:
 def frames_to_motion(frames: list[PoseFrame]) -> Motion:
     rotations = np.stack([f.rotations for f in frames])  # (T, J, 4)
     roots = np.stack([f.root_position for f in frames])  # (T, 3)
-    return Motion(rotations, roots, 30.0, CANONICAL)
-
-
-def write_pose_json(frames: list[PoseFrame], path: Path) -> None:
-    """The pose stream as JSON: bone names once, then per frame seq, times, root and XYZW quaternions."""
-    payload = {
-        "bones": list(CANONICAL.names),
-        "fps": 30,
-        "frames": [
-            {
-                "seq": f.seq,
-                "capture_time": f.capture_time,
-                "root": [float(v) for v in f.root_position],
-                "rotations": np.round(f.rotations, 7).tolist(),
-                "speaking": f.speaking,
-            }
-            for f in frames
-        ],
-    }
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(json.dumps(payload, allow_nan=False) + "\n")  # strict JSON: the session never emits NaN
+    return Motion(rotations, roots, MOTION_FPS, CANONICAL)

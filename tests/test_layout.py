@@ -19,26 +19,27 @@ SOURCE_ROOTS = {"gesturecast": "gesturecast", "models": "gesturecast.models", "r
 # package -> floor: a module imports only its own package and packages on lower floors
 FLOORS = {
     "gesturecast.errors": 0,
+    "gesturecast.files": 1,
     "gesturecast.arguments": 1,
-    "gesturecast.models.motion": 1,
-    "gesturecast.models.generator": 1,
-    "gesturecast.realtime.timing": 2,
-    "gesturecast.models.networks": 2,
-    "gesturecast.realtime.audio": 3,
-    "gesturecast.realtime.features": 4,
-    "gesturecast.models.dataset": 4,
-    "gesturecast.models.runtime": 5,
-    "gesturecast.bridges": 5,
-    "gesturecast.tools.render": 5,
-    "gesturecast.realtime": 6,
-    "gesturecast.realtime.serve": 7,
-    "gesturecast.models.training": 7,
-    "gesturecast.models.export": 8,
-    "gesturecast.models.evaluation": 8,
-    "gesturecast.tools": 9,
-    "gesturecast.tools.eval": 10,
-    "gesturecast.tools.bench": 11,
-    "gesturecast.cli": 12,
+    "gesturecast.models.motion": 2,
+    "gesturecast.models.generator": 2,
+    "gesturecast.realtime.timing": 3,
+    "gesturecast.models.networks": 3,
+    "gesturecast.realtime.audio": 4,
+    "gesturecast.realtime.features": 5,
+    "gesturecast.models.dataset": 5,
+    "gesturecast.models.runtime": 6,
+    "gesturecast.bridges": 6,
+    "gesturecast.tools.render": 6,
+    "gesturecast.realtime": 7,
+    "gesturecast.realtime.serve": 8,
+    "gesturecast.models.training": 8,
+    "gesturecast.models.export": 9,
+    "gesturecast.models.evaluation": 9,
+    "gesturecast.tools": 10,
+    "gesturecast.tools.eval": 11,
+    "gesturecast.tools.bench": 12,
+    "gesturecast.cli": 13,
 }
 TORCH_PACKAGES = {"gesturecast.models.networks", "gesturecast.models.training", "gesturecast.models.export",
                   "gesturecast.models.evaluation", "gesturecast.tools.bench"}
@@ -168,8 +169,8 @@ def test_the_checks_catch_an_upward_import_and_training_in_the_runtime(tmp_path)
         "models/training/pipeline.py": "import torch\n",
     })
     assert floor_violations(graph) == [
-        "gesturecast.models.motion.skeleton (floor 1) imports gesturecast.realtime.session (floor 6)",
-        "gesturecast.realtime.session (floor 6) imports gesturecast.models.training.pipeline (floor 7)",
+        "gesturecast.models.motion.skeleton (floor 2) imports gesturecast.realtime.session (floor 7)",
+        "gesturecast.realtime.session (floor 7) imports gesturecast.models.training.pipeline (floor 8)",
     ]
     assert "gesturecast.realtime.session reaches gesturecast.models.training.pipeline (through " \
            "gesturecast.realtime.session)" in live_runtime_violations(graph)

@@ -11,10 +11,11 @@ from pathlib import Path
 from gesturecast.bridges.vmc import VMC_DEFAULT_PORT
 from gesturecast.bridges.websocket_server import WS_DEFAULT_PORT
 from gesturecast.errors import UserError
+from gesturecast.files import write_text_atomic
 from gesturecast.realtime.audio.cli import open_source
 from gesturecast.realtime.audio.files import PACKAGED_SAMPLE
 from gesturecast.realtime.engine import EngineReport, LiveEngine
-from gesturecast.realtime.engine_cli import exit_status, summary_line
+from gesturecast.realtime.engine_cli import exit_status, raise_output_errors, summary_line
 from gesturecast.realtime.engine_setup import add_generation_arguments, build_outputs, build_session
 from gesturecast.realtime.timing.clock import MonotonicClock
 from gesturecast.realtime.timing.scheduler import SchedulerConfig
@@ -49,6 +50,7 @@ def run_demo(args: argparse.Namespace) -> int:
         report = engine.run()
     finally:
         outputs.close()
+    raise_output_errors(outputs)
     if report.interrupted:  # no preview: Ctrl-C should end the run now, not after rendering
         _write_latency(args, report)
         return exit_status(report)
@@ -80,6 +82,6 @@ def _write_demo_results(args: argparse.Namespace, report: EngineReport) -> None:
 
 def _write_latency(args: argparse.Namespace, report: EngineReport) -> None:
     """latency.json and the summary line (both also after Ctrl-C, with the BVH recorded so far)."""
-    (args.out / "latency.json").write_text(json.dumps(report.to_dict(), indent=2) + "\n")
+    write_text_atomic(args.out / "latency.json", json.dumps(report.to_dict(), indent=2) + "\n")
     sys.stdout.write(summary_line(report) + "\n")
     sys.stdout.write(f"wrote {args.bvh} and {args.out / 'latency.json'}\n")

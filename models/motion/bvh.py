@@ -13,14 +13,14 @@ Bad input raises :class:`~gesturecast.errors.UserError` with one line naming the
 from __future__ import annotations
 
 import math
-import os
-import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from gesturecast.errors import UserError
+from gesturecast.files import write_text_atomic
+from gesturecast.models.motion.motion import check_clip_header, check_file_size
 from gesturecast.models.motion.rotations import quat_from_euler, quat_identity, quat_to_euler
 
 _AXES = "XYZ"
@@ -210,6 +210,7 @@ def _parse_motion(lines: list[str], num_channels: int, path: Path) -> tuple[floa
         raise UserError(f"{path}: BVH file has zero frames")
     if not (math.isfinite(frame_time) and frame_time > 0):
         raise UserError(f"{path}: BVH Frame Time must be a positive finite number, got {time_text}")
+    check_clip_header(1.0 / frame_time, num_frames, str(path))
     rows = lines[2 : 2 + num_frames]
     if len(rows) < num_frames:
         raise UserError(f"{path}: truncated BVH file ({len(rows)} of {num_frames} frames present)")
@@ -233,6 +234,7 @@ def read_bvh(path: str | Path) -> BvhData:
     """Parse a BVH file. Raises UserError for missing, truncated or malformed files."""
     path = Path(path)
     try:
+        check_file_size(path.stat().st_size, str(path))
         text = path.read_text(encoding="utf-8", errors="replace")
     except OSError as error:
         raise UserError(f"cannot read BVH file {path}: {error.strerror}") from None
@@ -311,23 +313,10 @@ def _check_writable(data: BvhData) -> None:
 def write_bvh(data: BvhData, path: str | Path) -> None:
     """Write ``data`` to ``path`` atomically (a temporary file in the same folder, then rename)."""
     _check_writable(data)
-    path = Path(path)
-    text = (format_hierarchy(data) + f"Frames: {data.num_frames}\n" + format_frame_time(data.frame_time)
-            + format_motion_rows(data.motion))
-    write_text_atomic(path, text)
+    write_text_atomic(Path(path), format_header(data, data.num_frames) + format_motion_rows(data.motion))
 
 
-def write_text_atomic(path: Path, text: str) -> None:
-    """Write a text file so that readers never see a half-written file."""
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp_name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    except OSError as error:
-        raise UserError(f"cannot write {path}: {error.strerror}") from None
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="\n") as handle:
-            handle.write(text)
-        os.replace(tmp_name, path)
-    except BaseException:
-        Path(tmp_name).unlink(missing_ok=True)
-        raise
+def format_header(data: BvhData, num_frames: int) -> str:
+    """Everything before the first frame line: hierarchy, ``Frames:`` and ``Frame Time:``."""
+    return format_hierarchy(data) + f"Frames: {num_frames}\n" + format_frame_time(data.frame_time)
+

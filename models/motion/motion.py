@@ -6,9 +6,32 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from gesturecast.errors import UserError
 from gesturecast.models.motion.skeleton import CANONICAL, Skeleton
 
 MOTION_FPS = 30.0
+# motion files (BVH, SMPL-X .npz): limits checked from the header before anything is allocated
+MIN_FILE_FPS = 1.0  # a BVH ``Frame Time`` of at most 1 s
+MAX_FILE_FPS = 1000.0  # a ``Frame Time`` of at least 1 ms
+MAX_CLIP_SECONDS = 4 * 3600.0  # 4 h: 432 000 frames at 30 fps, about 300 MB of canonical rotations
+MAX_MOTION_FILE_BYTES = 1 << 30  # a BVH file, or one decompressed array of an .npz
+
+
+def check_file_size(num_bytes: int, source: str) -> None:
+    """Refuse a motion file (or .npz member, by its declared size) above :data:`MAX_MOTION_FILE_BYTES`."""
+    if num_bytes > MAX_MOTION_FILE_BYTES:
+        raise UserError(f"{source}: {num_bytes / 2**20:.0f} MiB is larger than the supported "
+                        f"{MAX_MOTION_FILE_BYTES / 2**20:.0f} MiB for a motion file")
+
+
+def check_clip_header(fps: float, num_frames: int, source: str) -> None:
+    """Refuse a motion file whose frame rate or implied length (frames / fps) is outside the limits."""
+    if not MIN_FILE_FPS <= fps <= MAX_FILE_FPS:
+        raise UserError(f"{source}: frame rate {fps:g} fps is outside the supported {MIN_FILE_FPS:g}-"
+                        f"{MAX_FILE_FPS:g} fps (BVH Frame Time {1 / MAX_FILE_FPS:g}-{1 / MIN_FILE_FPS:g} s)")
+    if num_frames / fps > MAX_CLIP_SECONDS:
+        raise UserError(f"{source}: {num_frames} frames at {fps:g} fps is {num_frames / fps / 3600:.1f} h, "
+                        f"longer than the supported {MAX_CLIP_SECONDS / 3600:g} h")
 
 
 @dataclass

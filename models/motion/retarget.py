@@ -30,7 +30,7 @@ from gesturecast.models.motion.joint_maps import (
     load_joint_map,
     strip_namespace,
 )
-from gesturecast.models.motion.motion import MOTION_FPS, Motion
+from gesturecast.models.motion.motion import MOTION_FPS, Motion, check_clip_header, check_file_size
 from gesturecast.models.motion.resample import resample_motion
 from gesturecast.models.motion.rest_alignment import (
     MappedSkeleton,
@@ -206,10 +206,12 @@ def _read_smplx_npz(path: Path) -> Motion:
             missing = [key for key in ("poses", "trans") if key not in archive.files]
             if missing:
                 raise UserError(f"{path}: not an SMPL-X motion file (missing {', '.join(missing)} arrays)")
+            for key in ("poses", "trans"):
+                check_file_size(archive.zip.getinfo(f"{key}.npy").file_size, f"{path}: {key}")
             poses = np.asarray(archive["poses"], dtype=np.float64)
             trans = np.asarray(archive["trans"], dtype=np.float64)
             fps = _npz_frame_rate(archive, path)
-    except (OSError, ValueError) as error:
+    except (OSError, ValueError, KeyError) as error:
         raise UserError(f"cannot read {path} as an SMPL-X .npz file: {error}") from None
     if poses.ndim != 2 or poses.shape[1] != SMPLX_AXIS_ANGLE_DIM or trans.shape != (len(poses), 3):
         raise UserError(f"{path}: expected SMPL-X poses (T, {SMPLX_AXIS_ANGLE_DIM}) and trans (T, 3), "
@@ -218,6 +220,7 @@ def _read_smplx_npz(path: Path) -> Motion:
         raise UserError(f"{path}: SMPL-X file has zero frames")
     if not (np.isfinite(poses).all() and np.isfinite(trans).all()):
         raise UserError(f"{path}: SMPL-X poses or trans hold NaN or infinite values")
+    check_clip_header(fps, len(poses), str(path))
     return retarget_smplx(poses, trans, fps)
 
 

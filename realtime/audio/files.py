@@ -9,6 +9,8 @@ offline and the streaming file paths see identical samples.
 Bad input policy (each is one-line :class:`UserError`, never a traceback):
 - missing, unreadable, or not audio (e.g. a text file renamed ``.wav``);
 - empty (no samples);
+- a header outside the limits (sample rate :data:`MIN_FILE_RATE`-:data:`MAX_FILE_RATE`, at most
+  :data:`MAX_AUDIO_SECONDS` of audio), checked before anything is decoded;
 - NaN or ±inf samples: **rejected**, not sanitised. A non-finite sample means the file is
   corrupt; replacing it would silently hide that and bend the log-mel features around it.
 Clipped audio (samples at full scale) is accepted with a logged warning: the features are
@@ -36,6 +38,11 @@ DEFAULT_BLOCK_FRAMES = 65536  # file frames read per block (about 1.4 s at 48 kH
 CLIP_LEVEL = 0.999  # |x| at or above this counts as a clipped sample
 CLIP_WARN_FRACTION = 1e-3  # warn when more than 0.1 % of the samples are clipped
 RESAMPLE_QUALITY = "HQ"
+# header limits, checked before anything is decoded: a crafted header cannot make the resampler
+# produce gigabytes from a small file (1 Hz -> 16 kHz multiplies every block by 16 000)
+MIN_FILE_RATE = 8000  # Hz: telephone speech; lower rates hold no usable speech
+MAX_FILE_RATE = 384000  # Hz: the highest rate audio interfaces record at
+MAX_AUDIO_SECONDS = 24 * 3600.0  # frames / rate: one day of audio
 PACKAGED_SAMPLE = Path(str(resources.files("gesturecast"))) / "samples" / "sample_speech.wav"  # bundled speech
 
 
@@ -126,6 +133,12 @@ def _probe(path: Path) -> soundfile._SoundFileInfo:
         raise UserError(f"{path}: the audio file is empty (no samples)")
     if info.samplerate <= 0 or info.channels <= 0:
         raise UserError(f"{path}: invalid header ({info.samplerate} Hz, {info.channels} channels)")
+    if not MIN_FILE_RATE <= info.samplerate <= MAX_FILE_RATE:
+        raise UserError(f"{path}: sample rate {info.samplerate} Hz is outside the supported "
+                        f"{MIN_FILE_RATE}-{MAX_FILE_RATE} Hz")
+    if info.frames / info.samplerate > MAX_AUDIO_SECONDS:
+        raise UserError(f"{path}: the header claims {info.frames / info.samplerate / 3600:.1f} h of audio, "
+                        f"more than the supported {MAX_AUDIO_SECONDS / 3600:g} h")
     return info
 
 

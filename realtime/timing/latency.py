@@ -26,6 +26,7 @@ from gesturecast.realtime.timing.clock import Clock
 MOTION_FPS = 30.0
 MS_PER_S = 1000.0
 DEFAULT_WINDOW = 1 << 16  # samples kept per stage: ~36 minutes of 30 fps frames, 512 KiB
+INITIAL_RING_SAMPLES = 1 << 9  # a stage's ring starts at 4 KiB and doubles up to the window
 SUMMARY_PERCENTILES = (50.0, 95.0, 99.0)
 
 
@@ -96,15 +97,26 @@ class LatencyBudget:
 
 
 class _Ring:
-    """Fixed-size ring of float samples plus exact all-time count, sum and max."""
+    """Ring of float samples, at most ``capacity``, plus exact all-time count, sum and max.
+
+    The storage starts at :data:`INITIAL_RING_SAMPLES` and doubles as samples arrive, so a short
+    stream holds kilobytes, not ``capacity`` x 8 bytes per stage (``gesturecast serve`` starts and
+    closes many streams; a full-size ring per stage per stream made the process grow by megabytes
+    per stream, the freed blocks stranded in the allocator's per-thread arenas).
+    """
 
     def __init__(self, capacity: int) -> None:
-        self.samples = np.zeros(capacity)  # (capacity,)
+        self.capacity = capacity
+        self.samples = np.zeros(min(capacity, INITIAL_RING_SAMPLES))  # (size,), size <= capacity
         self.count = 0
         self.total = 0.0
         self.maximum = -np.inf
 
     def add(self, value: float) -> None:
+        if self.count == self.samples.size < self.capacity:  # full before wrapping: grow (samples in order)
+            grown = np.zeros(min(2 * self.samples.size, self.capacity))  # (size',)
+            grown[: self.count] = self.samples
+            self.samples = grown
         self.samples[self.count % self.samples.size] = value
         self.count += 1
         self.total += value

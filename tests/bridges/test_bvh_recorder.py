@@ -36,10 +36,14 @@ def test_recording_matches_offline_export(tmp_path: Path) -> None:
     np.testing.assert_array_equal(live.offsets, offline.offsets)
 
 
-def test_interrupted_recording_is_readable(tmp_path: Path) -> None:
+def test_interrupted_recording_is_readable_and_replaces_the_target_only_when_closed(tmp_path: Path) -> None:
     rotations, root = _poses()
-    recorder = BvhRecorder(tmp_path / "crash.bvh")
+    target = tmp_path / "crash.bvh"
+    target.write_text("an older take\n")
+    recorder = BvhRecorder(target)
     for k in range(5):
         recorder.send(PoseFrame(k, 0.0, 0.0, root[k], rotations[k]))
-        assert read_bvh(tmp_path / "crash.bvh").num_frames == k + 1  # never closed: still valid
+        assert read_bvh(recorder.partial_path).num_frames == k + 1  # never closed (a killed run): still valid
+        assert target.read_text() == "an older take\n"
     recorder.close()
+    assert read_bvh(target).num_frames == 5 and not recorder.partial_path.exists()

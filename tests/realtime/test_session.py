@@ -170,7 +170,7 @@ def test_nonfinite_generator_output_never_reaches_a_bridge_bvh_or_json(bundle, s
 
     from gesturecast.bridges.bvh_recorder import BvhRecorder
     from gesturecast.models.motion.bvh import read_bvh
-    from gesturecast.realtime.engine_cli import write_pose_json
+    from gesturecast.realtime.pose_json import PoseJsonWriter
 
     session = make_session(bundle)
     decode, latents = session.generator.decode, iter(range(1 << 20))
@@ -193,7 +193,9 @@ def test_nonfinite_generator_output_never_reaches_a_bridge_bvh_or_json(bundle, s
         for frame in frames:
             recorder.send(frame)
     assert np.isfinite(read_bvh(tmp_path / "take.bvh").motion).all()
-    write_pose_json(frames, tmp_path / "take.json")
+    writer = PoseJsonWriter(tmp_path / "take.json")
+    writer.write(frames)
+    writer.save()
     json.loads((tmp_path / "take.json").read_text(), parse_constant=lambda name: pytest.fail(f"bare {name}"))
 
 

@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
+from gesturecast.files import write_text_atomic
 from gesturecast.models.evaluation.beat_consistency import beat_consistency, speech_onsets
 from gesturecast.models.evaluation.speech_following import FollowingConfig, speech_following
 from gesturecast.models.generator.diffusion import SamplerConfig
@@ -117,6 +118,6 @@ def run_bench(args: argparse.Namespace) -> int:
     report = following_report(args.bundle, args.cache, args.shared, seeds, args.steps, args.audio_guidance)
     text = json.dumps(report, indent=1)
     if args.json is not None:
-        args.json.write_text(text + "\n")
+        write_text_atomic(args.json, text + "\n")
     print(text)
     return 0

@@ -28,6 +28,7 @@ from gesturecast.bridges.fanout import BridgeFanout
 from gesturecast.bridges.vmc import VMC_DEFAULT_PORT, VmcBridge, VmcConfig
 from gesturecast.bridges.websocket_server import WebSocketBridge, WebSocketConfig
 from gesturecast.errors import UserError
+from gesturecast.files import save_figure, write_text_atomic
 from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio
 from gesturecast.realtime.audio.sources import DEFAULT_CHUNK, AudioSource, MicConfig, MicSource, PacedFileSource
 from gesturecast.realtime.engine import EngineReport, LiveEngine, Sink
@@ -215,7 +216,7 @@ def _write_sweep(rows: list[dict], out: Path) -> None:
         f"{r['end_to_end_p95_ms']:.1f} | {r['latency_budget_ms']:.0f} | {r['deadline_misses']} |"
         for r in rows
     ]
-    (out / "latency_sweep.md").write_text(header + "\n".join(lines) + "\n")
+    write_text_atomic(out / "latency_sweep.md", header + "\n".join(lines) + "\n")
     figure, (left, right) = plt.subplots(1, 2, figsize=(10, 4))
     for lookahead in sorted({r["lookahead_frames"] for r in rows}):
         subset = [r for r in rows if r["lookahead_frames"] == lookahead]
@@ -230,5 +231,5 @@ def _write_sweep(rows: list[dict], out: Path) -> None:
         axis.legend()
         axis.grid(alpha=0.3)
     figure.tight_layout()
-    figure.savefig(out / "latency_sweep.png", dpi=110)
+    save_figure(figure, out / "latency_sweep.png", dpi=110)
     plt.close(figure)

@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from gesturecast.errors import UserError
+from gesturecast.files import save_figure
 from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio
 from gesturecast.realtime.audio.sources import AudioChunk
 from gesturecast.realtime.engine import compute_seconds
@@ -128,6 +129,5 @@ def plot_trace(times_s: np.ndarray, rss: np.ndarray, path: Path, result: dict) -
     axis.grid(alpha=0.3)
     axis.legend()
     figure.tight_layout()
-    path.parent.mkdir(parents=True, exist_ok=True)
-    figure.savefig(path, dpi=110)
+    save_figure(figure, path, dpi=110)
     plt.close(figure)

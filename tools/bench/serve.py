@@ -6,12 +6,17 @@ Reports per-stream server-side end-to-end latency (capture → handed to the soc
 end-to-end latency (client capture → frame received), deadline misses, audio drops, real-time factor
 (process CPU seconds per second of audio, clients included) and how the batcher grouped calls; then
 the largest N with zero deadline misses and that per CPU core.
+
+``--churn N``: one server, N short streams one after another (start, CHURN_SECONDS of audio as fast as
+the server takes it, end, close); reports the process RSS every CHURN_REPORT_EVERY streams. What a
+closed stream leaves behind shows up as a slope; it must be flat.
 """
 
 from __future__ import annotations
 
 import argparse
 import asyncio
+import gc
 import json
 import os
 import platform
@@ -21,10 +26,12 @@ from pathlib import Path
 
 import numpy as np
 
+from gesturecast.errors import UserError
 from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio
 from gesturecast.realtime.serve.cli import add_serve_arguments, build_server
 from gesturecast.realtime.timing.clock import MonotonicClock
 from gesturecast.realtime.timing.latency import MS_PER_S
+from gesturecast.tools.bench.memory import rss_mb
 from gesturecast.tools.bench.serve_client import ClientResult, stream_audio
 
 DEFAULT_AUDIO = Path(__file__).resolve().parents[3] / "shared" / "data" / "zeggs" / "067_Speech_2_x_1_0.wav"
@@ -34,6 +41,10 @@ MAX_SECONDS = 60.0
 CHUNK_SAMPLES = 512  # 32 ms, what a microphone client sends
 MAX_STAGGER_S = 1.0  # clients start spread over this long, as independent users would
 STAGGER_SEED = 0
+CHURN_SECONDS = 1.0  # audio per churn stream: a start, a few latent frames, an end
+CHURN_REPORT_EVERY = 100  # streams between RSS samples
+SLOPE_UNIT_STREAMS = 100  # the slope is reported per this many streams
+CHURN_WARMUP_STREAMS = 100  # left out of the slope (first-use allocations: caches, arenas, code paths)
 
 
 def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
@@ -41,6 +52,8 @@ def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--audio", type=Path, default=DEFAULT_AUDIO, help="speech file the clients replay")
     parser.add_argument("--streams", type=int, nargs="+", default=list(DEFAULT_STREAMS), help="stream counts N")
     parser.add_argument("--seconds", type=float, default=DEFAULT_SECONDS, help=f"audio per stream (≤ {MAX_SECONDS:g})")
+    parser.add_argument("--churn", type=int, metavar="N", help="instead: N short streams in a row, RSS every "
+                        f"{CHURN_REPORT_EVERY} (must be flat)")
     parser.add_argument("--json", action="store_true", help="print one JSON object on one line")
     add_serve_arguments(parser)
     parser.set_defaults(func=run_bench_serve)
@@ -49,6 +62,12 @@ def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
 def run_bench_serve(args: argparse.Namespace) -> int:
     seconds = min(args.seconds, MAX_SECONDS)
     speech = load_audio(args.audio)
+    if args.churn is not None:
+        if args.churn < CHURN_REPORT_EVERY:
+            raise UserError(f"--churn wants at least {CHURN_REPORT_EVERY} streams, got {args.churn}")
+        result = measure_churn(args, speech[: int(CHURN_SECONDS * SAMPLE_RATE)], args.churn)
+        sys.stdout.write(json.dumps(result, indent=None if args.json else 2) + "\n")
+        return 0
     runs = [measure_streams(args, n, speech, seconds) for n in args.streams]
     cores = len(os.sched_getaffinity(0))
     clean = [r["streams"] for r in runs if r["deadline_misses"] == 0 and not r["errors"] and not r["audio_drops"]]
@@ -98,6 +117,40 @@ def measure_streams(args: argparse.Namespace, streams: int, speech: np.ndarray, 
     finally:
         server.close()
     return run_summary(results, streams, seconds, cpu, wall, batching, guidance)
+
+
+def measure_churn(args: argparse.Namespace, speech: np.ndarray, count: int) -> dict:
+    """RSS (MiB) after every CHURN_REPORT_EVERY of ``count`` short streams through one server, and its slope."""
+    server_args = argparse.Namespace(**{**vars(args), "host": "127.0.0.1", "port": 0, "token": None})
+    server = build_server(server_args, MonotonicClock())
+    samples = [(0, rss_mb())]
+    errors: list[str] = []
+
+    async def streams(first: int) -> None:
+        for index in range(first, first + CHURN_REPORT_EVERY):
+            result = await stream_audio(f"{server.url}churn-{index}", speech, CHUNK_SAMPLES, paced=False)
+            errors.extend(result.errors)
+
+    try:
+        for first in range(0, count - count % CHURN_REPORT_EVERY, CHURN_REPORT_EVERY):
+            asyncio.run(streams(first))
+            gc.collect()
+            samples.append((first + CHURN_REPORT_EVERY, rss_mb()))
+        active = server.active_streams()
+    finally:
+        server.close()
+    return {"churn": {"streams": samples[-1][0], "seconds_per_stream": CHURN_SECONDS,
+                      "rss_mib": [{"streams": n, "rss": rss} for n, rss in samples],
+                      "mib_per_100_streams_after_warmup": churn_slope(samples),
+                      "active_streams_after": active, "errors": errors[:10]}}
+
+
+def churn_slope(samples: list[tuple[int, float]]) -> float | None:
+    """Least-squares RSS growth in MiB per 100 streams, after the warm-up streams (None: too few samples)."""
+    kept = np.array([(n, rss) for n, rss in samples if n >= CHURN_WARMUP_STREAMS])  # (K, 2)
+    if len(kept) < 2:
+        return None
+    return float(np.polyfit(kept[:, 0], kept[:, 1], 1)[0] * SLOPE_UNIT_STREAMS)
 
 
 def run_summary(results: list[ClientResult], streams: int, seconds: float, cpu: float, wall: float,

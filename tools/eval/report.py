@@ -7,6 +7,7 @@ import math
 import subprocess
 from pathlib import Path
 
+from gesturecast.files import save_figure, write_text_atomic
 from gesturecast.tools.eval.suite import DDIM_STEPS, DDPM
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
@@ -92,13 +93,12 @@ def plot_curves(systems: dict, lookahead: dict, out_prefix: Path) -> list[Path]:
             axis.legend(fontsize="small") if axis.get_legend_handles_labels()[0] else None
         figure.tight_layout()
         path = out_prefix.with_name(f"{out_prefix.stem}_{suffix}.png")
-        figure.savefig(path, dpi=80)
+        save_figure(figure, path, dpi=80)
         plt.close(figure)
         written.append(path)
     return written
 
 
 def write_json(report: dict, path: Path) -> Path:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(json.dumps(report, indent=1) + "\n")
+    write_text_atomic(path, json.dumps(report, indent=1) + "\n")
     return path

@@ -20,6 +20,7 @@ import numpy as np
 from PIL import Image
 
 from gesturecast.errors import UserError
+from gesturecast.files import atomic_file, atomic_path
 from gesturecast.tools.render.stick_figure import (
     BACKGROUND,
     FigureConfig,
@@ -77,7 +78,8 @@ def render_positions(
     if out_path.suffix == ".png":
         indices = sheet_indices(num_frames, config.sheet_frames)
         sheet = contact_sheet([drawer.draw(clip, t, caption(t)) for t in indices], config.sheet_columns)
-        sheet.save(out_path)
+        with atomic_file(out_path, binary=True) as handle:
+            sheet.save(handle, format="PNG")
         return out_path
     indices = range(0, num_frames, config.stride)
     frames = (drawer.draw(clip, t, caption(t)) for t in indices)
@@ -145,25 +147,27 @@ def gif_delays_ms(count: int, fps: float) -> list[int]:
 
 
 def write_gif(frames: Iterator[Image.Image], out_path: Path, delays_ms: list[int]) -> None:
-    """A looping GIF of palette frames, one delay per frame."""
+    """A looping GIF of palette frames, one delay per frame (written atomically)."""
     first = next(frames)
-    first.save(
-        out_path, save_all=True, append_images=frames, duration=delays_ms, loop=0, background=BACKGROUND, optimize=False
-    )
+    with atomic_file(out_path, binary=True) as handle:
+        first.save(handle, format="GIF", save_all=True, append_images=frames, duration=delays_ms, loop=0,
+                   background=BACKGROUND, optimize=False)
 
 
 def write_mp4(frames: Iterator[Image.Image], out_path: Path, fps: float, size: tuple[int, int]) -> None:
-    """Pipe raw RGB frames into ffmpeg (H.264, yuv420p, plays everywhere)."""
-    command = [
-        "ffmpeg", "-y", "-loglevel", "error", "-f", "rawvideo", "-pix_fmt", "rgb24", "-s", f"{size[0]}x{size[1]}",
-        "-r", f"{fps:g}", "-i", "-", "-pix_fmt", "yuv420p", "-vcodec", "libx264", str(out_path),
-    ]  # fmt: skip
-    process = subprocess.Popen(command, stdin=subprocess.PIPE, stderr=subprocess.PIPE)
-    try:
-        for frame in frames:
-            process.stdin.write(frame.convert("RGB").tobytes())
-    except BrokenPipeError:
-        log.debug("ffmpeg closed its input early")
-    _, stderr = process.communicate()
-    if process.returncode != 0:
-        raise UserError(f"ffmpeg failed writing {out_path}: {stderr.decode(errors='replace').strip()[-300:]}")
+    """Pipe raw RGB frames into ffmpeg (H.264, yuv420p, plays everywhere), which writes a temporary file
+    that replaces ``out_path`` only when ffmpeg succeeded."""
+    with atomic_path(out_path) as temp:
+        command = [
+            "ffmpeg", "-y", "-loglevel", "error", "-f", "rawvideo", "-pix_fmt", "rgb24", "-s", f"{size[0]}x{size[1]}",
+            "-r", f"{fps:g}", "-i", "-", "-pix_fmt", "yuv420p", "-vcodec", "libx264", "-f", "mp4", str(temp),
+        ]  # fmt: skip
+        process = subprocess.Popen(command, stdin=subprocess.PIPE, stderr=subprocess.PIPE)
+        try:
+            for frame in frames:
+                process.stdin.write(frame.convert("RGB").tobytes())
+        except BrokenPipeError:
+            log.debug("ffmpeg closed its input early")
+        _, stderr = process.communicate()
+        if process.returncode != 0:
+            raise UserError(f"ffmpeg failed writing {out_path}: {stderr.decode(errors='replace').strip()[-300:]}")

@@ -16,6 +16,7 @@ import numpy as np
 
 from gesturecast.arguments import finite_float, int_at_least
 from gesturecast.errors import UserError
+from gesturecast.files import check_distinct
 from gesturecast.models.motion.rotations import quat_identity, quat_mul, quat_rotate
 from gesturecast.tools.render.animation import RenderConfig, render_positions
 
@@ -52,6 +53,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 def run_render(args: argparse.Namespace) -> int:
     if not args.input.is_file():
         raise UserError(f"motion file {args.input} does not exist")
+    check_distinct([("input", args.input)], [("-o", args.output)])
     clip = load_raw_bvh(args.input) if args.raw else load_canonical(args.input, args.joint_map)
     first, positions = select_time_range(clip.positions, clip.fps, args.start, args.seconds)
     stride = args.stride if args.stride is not None else auto_stride(len(positions), args.output)

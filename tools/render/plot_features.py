@@ -11,6 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
+from gesturecast.files import save_figure
 from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio
 from gesturecast.realtime.features.streaming import FeatureConfig, extract_features
 
@@ -48,8 +49,7 @@ def plot_features(audio_path: Path, out_path: Path, start_s: float, seconds: flo
     axes[4].set_xlabel("time (s)")
     fig.suptitle(f"{audio_path.name}: features at {config.fps} fps")
     fig.tight_layout()
-    out_path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(out_path, dpi=DPI)
+    save_figure(fig, out_path, dpi=DPI)
     plt.close(fig)
     return out_path
 

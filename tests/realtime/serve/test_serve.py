@@ -2,6 +2,7 @@
 
 import asyncio
 import json
+import threading
 import time
 from contextlib import contextmanager
 
@@ -179,3 +180,31 @@ def test_bad_messages_get_a_one_line_error_and_the_stream_goes_on(bundle, speech
         assert reply["type"] == "error" and expected in reply["message"] and "\n" not in reply["message"]
     assert len(frames) == int(SECONDS * 30)
     assert refused["type"] == "error" and "unknown path" in refused["message"]
+
+
+def test_closed_streams_leave_nothing_behind(bundle, speech):
+    """Start and close streams one after another: no stream object, session or thread outlives its stream
+    (a guard for `serve`'s memory under churn; see also `gesturecast bench serve --churn`)."""
+    import gc
+    import weakref
+
+    from gesturecast.realtime.serve.stream import ServeStream
+
+    async def one_after_another(url, first, count):
+        for i in range(first, first + count):
+            result = await stream_audio(f"{url}churn-{i}", speech[0][: SAMPLE_RATE // 2], CHUNK, paced=False)
+            assert result.errors == []
+
+    with running_server(bundle) as server:
+        run(one_after_another(server.url, 0, 1))  # warm-up: the event loop's worker threads start
+        assert wait_until(lambda: server.active_streams() == 0)
+        run(one_after_another(server.url, 1, 5))
+        assert wait_until(lambda: server.active_streams() == 0)
+        streams = [weakref.ref(o) for o in gc.get_objects() if type(o) is ServeStream]
+        assert wait_until(lambda: gc.collect() >= 0 and all(ref() is None for ref in streams))
+        assert wait_until(lambda: not stream_threads()), stream_threads()  # the event loop's pool may grow
+
+
+def stream_threads() -> list[str]:
+    """Names of live per-stream threads (session worker, frame releaser)."""
+    return [t.name for t in threading.enumerate() if t.name.startswith(("stream-", "frame-scheduler"))]

@@ -94,3 +94,38 @@ def test_summary_is_json_serialisable_and_unknown_stage_is_nan():
     json.dumps(stats.summary())
     assert set(stats.summary()) == {"decoder"}
     assert np.isnan(stats.percentiles_ms("missing")[0])
+
+
+def test_a_short_stream_holds_kilobytes_not_a_full_window_per_stage():
+    """Before: every stage allocated the whole 512 KiB window on its first sample (3 MiB for a 1 s
+    serve stream), which `serve` left behind in the allocator for every stream it started."""
+    import tracemalloc
+
+    stages = ("features", "denoiser", "decoder", "sink", "lateness", "end_to_end")
+    tracemalloc.start()
+    try:
+        stats = LatencyStats(FakeClock())
+        for k in range(30):  # one second of frames
+            for stage in stages:
+                stats.record(stage, k * 1e-3)
+        held = tracemalloc.get_traced_memory()[0]
+    finally:
+        tracemalloc.stop()
+    assert held < 64 * 1024, f"{held} bytes for 30 samples of {len(stages)} stages"
+
+
+def test_a_growing_ring_keeps_exactly_the_newest_window_samples():
+    window = 5000
+    stats = LatencyStats(FakeClock(), window=window)
+    values = np.random.default_rng(1).uniform(0.0, 0.1, size=12_345)  # grows 512 -> ... -> 5000, then wraps
+    for k, v in enumerate(values):
+        stats.record("denoiser", v)
+        if k + 1 in (511, 512, 513, 1024, window, window + 1):
+            newest = values[max(0, k + 1 - window) : k + 1]
+            assert stats.stage_summary("denoiser")["p50"] == pytest.approx(np.percentile(newest, 50) * 1000)
+    assert stats._rings["denoiser"].samples.size == window
+    summary = stats.stage_summary("denoiser")
+    assert summary["p95"] == pytest.approx(np.percentile(values[-window:], 95) * 1000)
+    assert summary["count"] == values.size and summary["max"] == pytest.approx(values.max() * 1000)
+    (p50_last_10,) = stats.percentiles_ms("denoiser", (50.0,), last=10)
+    assert p50_last_10 == pytest.approx(np.percentile(values[-10:], 50) * 1000)
