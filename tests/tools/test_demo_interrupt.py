@@ -14,14 +14,17 @@ POLL_S = 0.1
 
 
 def wait_for_recorded_frames(path, timeout_s: float) -> int:
-    """Frames in the BVH the demo is recording, once there are some (the file is valid after every frame)."""
+    """Frames in the BVH the demo is recording, once there are some. The recorder writes a hidden temporary
+    file beside ``path`` (valid after every frame) and renames it to ``path`` when the run ends."""
     deadline = time.monotonic() + timeout_s
     while time.monotonic() < deadline:
-        try:
-            return read_bvh(path).motion.shape[0]
-        except (UserError, FileNotFoundError):
-            time.sleep(POLL_S)
-    pytest.fail(f"no frames recorded in {path} within {timeout_s} s")
+        for recording in path.parent.glob(f".{path.name}.*.tmp"):
+            try:
+                return read_bvh(recording).motion.shape[0]
+            except (UserError, FileNotFoundError):
+                pass
+        time.sleep(POLL_S)
+    pytest.fail(f"no frames recorded for {path} within {timeout_s} s")
 
 
 def test_ctrl_c_on_demo_ends_within_the_bound_with_summary_latency_json_and_bvh(cli_process, tmp_path):
