@@ -17,7 +17,7 @@ from gesturecast.errors import UserError
 from gesturecast.models.motion.bvh import format_frame_time, format_hierarchy, format_motion_rows
 from gesturecast.models.motion.canonical_bvh import canonical_bvh_data, canonical_frame_values
 from gesturecast.models.motion.motion import MOTION_FPS
-from gesturecast.models.motion.skeleton import CANONICAL, Skeleton
+from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS, Skeleton
 from gesturecast.realtime.timing.frames import PoseFrame
 
 FRAME_COUNT_WIDTH = 12  # digits reserved for the frame count: room for 10^12 frames
@@ -25,7 +25,7 @@ FRAME_COUNT_WIDTH = 12  # digits reserved for the frame count: room for 10^12 fr
 
 @dataclass(frozen=True)
 class BvhRecorderConfig:
-    skeleton: Skeleton = CANONICAL
+    skeleton: Skeleton = CANONICAL_WITH_HANDS
     fps: float = MOTION_FPS
 
 
@@ -34,7 +34,7 @@ class BvhRecorder:
 
     name = "bvh"
 
-    def __init__(self, path: str | Path, skeleton: Skeleton = CANONICAL, fps: float = MOTION_FPS) -> None:
+    def __init__(self, path: str | Path, skeleton: Skeleton = CANONICAL_WITH_HANDS, fps: float = MOTION_FPS) -> None:
         self.config = BvhRecorderConfig(skeleton, fps)
         self.path = Path(path)
         self.frames_written = 0
@@ -54,7 +54,8 @@ class BvhRecorder:
 
     def send(self, frame: PoseFrame) -> None:
         """Append one pose and update the frame count, so the file is valid after every call."""
-        values = canonical_frame_values(frame.rotations[None], np.asarray(frame.root_position)[None])  # (1, C)
+        values = canonical_frame_values(frame.rotations[None], np.asarray(frame.root_position)[None],
+                                        self.config.skeleton)  # (1, C)
         self._file.write(format_motion_rows(values))
         end = self._file.tell()
         self.frames_written += 1

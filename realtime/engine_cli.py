@@ -13,7 +13,7 @@ import numpy as np
 from gesturecast.errors import INTERRUPTED_EXIT, UserError
 from gesturecast.models.motion.motion import Motion
 from gesturecast.models.motion.retarget import motion_to_bvh
-from gesturecast.models.motion.skeleton import CANONICAL
+from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
 from gesturecast.realtime.audio.cli import add_source_arguments, open_source
 from gesturecast.realtime.audio.sources import FastFileSource
 from gesturecast.realtime.engine import EngineReport, LiveEngine, run_offline
@@ -112,13 +112,13 @@ def summary_line(report: EngineReport) -> str:
 def frames_to_motion(frames: list[PoseFrame]) -> Motion:
     rotations = np.stack([f.rotations for f in frames])  # (T, J, 4)
     roots = np.stack([f.root_position for f in frames])  # (T, 3)
-    return Motion(rotations, roots, 30.0, CANONICAL)
+    return Motion(rotations, roots, 30.0, CANONICAL_WITH_HANDS)
 
 
 def write_pose_json(frames: list[PoseFrame], path: Path) -> None:
     """The pose stream as JSON: bone names once, then per frame seq, times, root and XYZW quaternions."""
     payload = {
-        "bones": list(CANONICAL.names),
+        "bones": list(CANONICAL_WITH_HANDS.names),
         "fps": 30,
         "frames": [
             {

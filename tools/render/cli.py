@@ -1,7 +1,7 @@
 """`gesturecast render IN -o OUT.gif|.mp4|.png`: look at a motion file as a stick figure.
 
-By default the file is retargeted onto the canonical skeleton (what the model sees); ``--raw``
-draws the BVH's own skeleton instead, in its file units.
+By default the file is retargeted onto the canonical skeleton (what the model sees; a BVH written by
+gesturecast keeps its finger joints); ``--raw`` draws the BVH's own skeleton instead, in its file units.
 """
 
 from __future__ import annotations
@@ -65,7 +65,7 @@ def run_render(args: argparse.Namespace) -> int:
 def load_canonical(path: Path, joint_map: Path | None = None) -> LoadedClip:
     from gesturecast.models.motion.retarget import load_motion_file
 
-    motion = load_motion_file(path, joint_map)
+    motion = load_motion_file(path, joint_map, keep_hands=True)
     return LoadedClip(motion.positions(), motion.skeleton.parents, motion.skeleton.names, motion.fps)
 
 
