@@ -36,9 +36,10 @@ from gesturecast.models.motion.skeleton import (
 
 PALM_NORMAL = np.array([0.0, -1.0, 0.0])  # T-pose palms face down
 THUMB = "Thumb"
-# body joints from the Hips' child to the hand, per side (FK in the Hips frame: facing and root removed)
-ARM_CHAIN = ("Spine", "Chest", "UpperChest", "{side}Shoulder", "{side}UpperArm", "{side}LowerArm", "{side}Hand")
-_HIPS_FRAME = np.broadcast_to(np.eye(3), (len(SIDES), 3, 3))  # the start of both arm chains
+# body joints from the UpperChest's child to the hand, per side (FK in the UpperChest frame: the arm's own
+# motion, without the root, the facing or the body's sway)
+ARM_CHAIN = ("{side}Shoulder", "{side}UpperArm", "{side}LowerArm", "{side}Hand")
+_CHEST_FRAME = np.broadcast_to(np.eye(3), (len(SIDES), 3, 3))  # the start of both arm chains
 
 
 @dataclass(frozen=True)
@@ -52,7 +53,7 @@ class HandConfig:
     spread_deg: float = 3.0  # fan of the fingers at rest (proximal joints, away from the middle finger)
     open_spread_deg: float = 5.0  # extra fan when the hand is fully open
     max_open: float = 0.55  # at most this fraction of the curl is released when the arm is active
-    open_speed_mps: float = 1.2  # wrist speed (Hips frame) that counts as fully active
+    open_speed_mps: float = 1.2  # wrist speed (UpperChest frame) that counts as fully active
     speed_weight: float = 0.6  # openness = speed_weight · speed term + (1 − speed_weight) · rise term
     smoothing_s: float = 0.25  # time constant of the openness
     variation_deg: float = 3.0  # per-finger flexion wobble
@@ -127,7 +128,7 @@ class HandPose:
         return np.array(curl), np.array(spread), np.array(open_spread)
 
     def _wrist_range(self) -> tuple[float, float]:
-        """Wrist height (Hips frame) with the arm hanging straight down, and the arm length (the rise range)."""
+        """Wrist height (UpperChest frame) with the arm hanging straight down, and the arm length (the rise range)."""
         tpose_wrist_y = self._wrist_positions(quat_identity((CANONICAL.num_joints,)))[0, 1]  # arm level at the shoulder
         lower_arm, hand = (CANONICAL.index(f"{SIDES[0]}{bone}") for bone in ("LowerArm", "Hand"))
         length = float(np.linalg.norm(CANONICAL.offsets[lower_arm]) + np.linalg.norm(CANONICAL.offsets[hand]))
@@ -135,11 +136,11 @@ class HandPose:
 
     # ---- per frame ----
     def _wrist_positions(self, body: np.ndarray) -> np.ndarray:
-        """(2, 3) wrist positions of both arms in the Hips frame (root motion and facing left out) from (22, 4).
+        """(2, 3) wrist positions of both arms in the UpperChest frame from a body pose (22, 4).
 
         Rotation matrices, not quaternion products: a dozen tiny numpy calls instead of a hundred (hot path)."""
         matrices = quat_to_matrix(body[self._chains])  # (2, C, 3, 3)
-        rotation = _HIPS_FRAME  # (2, 3, 3)
+        rotation = _CHEST_FRAME  # (2, 3, 3)
         position = np.zeros((len(SIDES), 3, 1))  # (2, 3, 1) column vectors
         for step in range(self._chains.shape[1]):
             position = position + rotation @ self._chain_offsets[:, step]  # (2, 3, 1)
