@@ -24,7 +24,7 @@ from gesturecast.files import abandon, atomic_file
 from gesturecast.models.motion.bvh import format_frame_time, format_hierarchy, format_motion_rows
 from gesturecast.models.motion.canonical_bvh import canonical_frame_values, canonical_layout
 from gesturecast.models.motion.motion import MOTION_FPS
-from gesturecast.models.motion.skeleton import CANONICAL, Skeleton
+from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS, Skeleton
 from gesturecast.realtime.timing.frames import PoseFrame
 
 FRAME_COUNT_WIDTH = 12  # digits reserved for the frame count: room for 10^12 frames
@@ -32,7 +32,7 @@ FRAME_COUNT_WIDTH = 12  # digits reserved for the frame count: room for 10^12 fr
 
 @dataclass(frozen=True)
 class BvhRecorderConfig:
-    skeleton: Skeleton = CANONICAL
+    skeleton: Skeleton = CANONICAL_WITH_HANDS
     fps: float = MOTION_FPS
 
 
@@ -41,7 +41,7 @@ class BvhRecorder:
 
     name = "bvh"
 
-    def __init__(self, path: str | Path, skeleton: Skeleton = CANONICAL, fps: float = MOTION_FPS) -> None:
+    def __init__(self, path: str | Path, skeleton: Skeleton = CANONICAL_WITH_HANDS, fps: float = MOTION_FPS) -> None:
         self.config = BvhRecorderConfig(skeleton, fps)
         self.path = Path(path)
         self.frames_written = 0
@@ -68,7 +68,8 @@ class BvhRecorder:
         """Append one pose and update the frame count, so the file is valid after every call."""
         if self.error is not None:
             return
-        values = canonical_frame_values(frame.rotations[None], np.asarray(frame.root_position)[None])  # (1, C)
+        values = canonical_frame_values(frame.rotations[None], np.asarray(frame.root_position)[None],
+                                        self.config.skeleton)  # (1, C)
         self._write(lambda: self._append(format_motion_rows(values)))
 
     def _append(self, rows: str) -> None:

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 from gesturecast.bridges.coords import coordinate_frame
 from gesturecast.bridges.osc_wire import MAX_DATAGRAM_SIZE, MessageLayout, encode_float_rows, pack_bundles
 from gesturecast.bridges.transport import RateLimiter, UdpSender, UdpTarget
-from gesturecast.models.motion.skeleton import CANONICAL, Skeleton
+from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS, Skeleton
 from gesturecast.realtime.timing.frames import PoseFrame
 
 OSC_DEFAULT_PORT = 9000
@@ -45,7 +45,7 @@ def bone_address(name: str) -> str:
 class OscEncoder:
     """Pure encoder: PoseFrame → datagrams (bundles, or single messages when not ``bundled``)."""
 
-    def __init__(self, config: OscConfig = OscConfig(), skeleton: Skeleton = CANONICAL) -> None:
+    def __init__(self, config: OscConfig = OscConfig(), skeleton: Skeleton = CANONICAL_WITH_HANDS) -> None:
         self.frame = coordinate_frame(config.coordinate_frame)
         self.bundled = config.bundled
         self.max_bundle_size = config.max_bundle_size
@@ -68,7 +68,7 @@ class OscBridge:
 
     name = "osc"
 
-    def __init__(self, config: OscConfig = OscConfig(), skeleton: Skeleton = CANONICAL) -> None:
+    def __init__(self, config: OscConfig = OscConfig(), skeleton: Skeleton = CANONICAL_WITH_HANDS) -> None:
         self.config = config
         self.encoder = OscEncoder(config, skeleton)
         self.limiter = RateLimiter(config.send_rate)

@@ -21,7 +21,7 @@ import numpy as np
 from gesturecast.bridges.coords import UNITY
 from gesturecast.bridges.osc_wire import MAX_DATAGRAM_SIZE, MessageLayout, encode_float_rows, pack_bundles
 from gesturecast.bridges.transport import RateLimiter, UdpSender, UdpTarget
-from gesturecast.models.motion.skeleton import CANONICAL, Skeleton
+from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS, Skeleton
 from gesturecast.realtime.timing.frames import PoseFrame
 
 VMC_DEFAULT_PORT = 39539
@@ -41,7 +41,7 @@ class VmcConfig:
 class VmcEncoder:
     """Pure encoder: PoseFrame → OSC bundles (bytes), each at most ``max_bundle_size``."""
 
-    def __init__(self, skeleton: Skeleton = CANONICAL, max_bundle_size: int = MAX_DATAGRAM_SIZE) -> None:
+    def __init__(self, skeleton: Skeleton = CANONICAL_WITH_HANDS, max_bundle_size: int = MAX_DATAGRAM_SIZE) -> None:
         self.skeleton = skeleton
         self.max_bundle_size = max_bundle_size
         self._root = MessageLayout("/VMC/Ext/Root/Pos", (VMC_ROOT_NAME,), POSITION_AND_QUATERNION)
@@ -68,7 +68,7 @@ class VmcBridge:
 
     name = "vmc"
 
-    def __init__(self, config: VmcConfig = VmcConfig(), skeleton: Skeleton = CANONICAL) -> None:
+    def __init__(self, config: VmcConfig = VmcConfig(), skeleton: Skeleton = CANONICAL_WITH_HANDS) -> None:
         self.config = config
         self.encoder = VmcEncoder(skeleton, config.max_bundle_size)
         self.limiter = RateLimiter(config.send_rate)

@@ -35,7 +35,7 @@ from gesturecast.bridges.viewer_http import is_websocket_upgrade, static_respons
 from gesturecast.bridges.ws_access import AccessPolicy, send_refusal
 from gesturecast.bridges.ws_listener import ThreadedListener
 from gesturecast.errors import UserError
-from gesturecast.models.motion.skeleton import CANONICAL, Skeleton
+from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS, Skeleton
 from gesturecast.realtime.timing.frames import PoseFrame
 
 logger = logging.getLogger(__name__)
@@ -82,7 +82,7 @@ class WebSocketBridge:
         self,
         config: WebSocketConfig = WebSocketConfig(),
         on_control: Callable[[dict], None] = _ignore_control,
-        skeleton: Skeleton = CANONICAL,
+        skeleton: Skeleton = CANONICAL_WITH_HANDS,
     ) -> None:
         self.access = AccessPolicy(config.host, config.token, config.allow_origins, config.clock)
         self.config = config

@@ -15,7 +15,7 @@ from gesturecast.errors import INTERRUPTED_EXIT, UserError
 from gesturecast.files import check_distinct
 from gesturecast.models.motion.canonical_bvh import CanonicalBvhWriter
 from gesturecast.models.motion.motion import MOTION_FPS, Motion
-from gesturecast.models.motion.skeleton import CANONICAL
+from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
 from gesturecast.realtime.audio.cli import add_source_arguments, open_source
 from gesturecast.realtime.audio.sources import FastFileSource
 from gesturecast.realtime.engine import EngineReport, LiveEngine, make_report, offline_batches
@@ -85,7 +85,7 @@ def run_generate(args: argparse.Namespace) -> int:
     session = build_session(args, MonotonicClock())
     source = FastFileSource(args.audio)
     with ExitStack() as files:
-        bvh = files.enter_context(CanonicalBvhWriter(args.output))
+        bvh = files.enter_context(CanonicalBvhWriter(args.output, skeleton=CANONICAL_WITH_HANDS))
         poses = files.enter_context(PoseJsonWriter(args.json)) if args.json is not None else None
         for batch in offline_batches(session, source):
             if batch:
@@ -139,4 +139,4 @@ def summary_line(report: EngineReport) -> str:
 def frames_to_motion(frames: list[PoseFrame]) -> Motion:
     rotations = np.stack([f.rotations for f in frames])  # (T, J, 4)
     roots = np.stack([f.root_position for f in frames])  # (T, 3)
-    return Motion(rotations, roots, MOTION_FPS, CANONICAL)
+    return Motion(rotations, roots, MOTION_FPS, CANONICAL_WITH_HANDS)

@@ -152,5 +152,5 @@ def build_outputs(args: argparse.Namespace, session: GestureSession, clock: Cloc
                                  allow_origins=tuple(args.allow_origin), clock=clock.now)
         bridges.append(WebSocketBridge(config, on_control=session.controls.submit).start())
     if args.bvh is not None:
-        bridges.append(BvhRecorder(args.bvh))
+        bridges.append(BvhRecorder(args.bvh, fps=float(args.fps)))  # Frame Time of the output rate (60: upsampled)
     return BridgeFanout(bridges)

@@ -17,7 +17,7 @@ import numpy as np
 from gesturecast.errors import UserError
 from gesturecast.files import abandon, atomic_file
 from gesturecast.models.motion.motion import MOTION_FPS
-from gesturecast.models.motion.skeleton import CANONICAL
+from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
 from gesturecast.realtime.timing.frames import PoseFrame
 
 ROTATION_DECIMALS = 7  # quaternion components: far below any visible difference
@@ -43,7 +43,7 @@ class PoseJsonWriter:
         self._stack = ExitStack()
         self._file = self._stack.enter_context(atomic_file(self.path))
         self._count = 0
-        head = json.dumps({"bones": list(CANONICAL.names), "fps": int(MOTION_FPS), "frames": []})
+        head = json.dumps({"bones": list(CANONICAL_WITH_HANDS.names), "fps": int(MOTION_FPS), "frames": []})
         self._write(head[: -len("]}")])
 
     def _write(self, text: str) -> None:

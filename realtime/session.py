@@ -4,7 +4,8 @@ Data flow (DESIGN.md): pushed chunks wait in a short pending list until the audi
 ``(i+1)·d + δa`` (latent ``i``'s window end) has arrived; then, in one burst, streaming features of
 the pending audio → normalised feature buffer → one generator step for latent ``i`` (K-step DDIM or
 DDPM, KV cache, CFG) → d motion-feature frames → root integration + 6D → quaternions → idle
-cross-fade in silence → :class:`PoseFrame` with capture and presentation times. Computing the
+cross-fade in silence → procedural fingers (:mod:`gesturecast.realtime.hands`) → :class:`PoseFrame` with
+capture and presentation times. Computing the
 features in that burst instead of per chunk gives the same bits (the extractor is chunk-size
 invariant) with a quarter of the wake-ups, each on warm caches.
 
@@ -31,6 +32,7 @@ from gesturecast.realtime.feature_buffer import FeatureBuffer
 from gesturecast.realtime.features.dsp import frame_boundary
 from gesturecast.realtime.features.streaming import StreamingFeatureExtractor, speaking_flags
 from gesturecast.realtime.generator import Generator
+from gesturecast.realtime.hands import HandPose
 from gesturecast.realtime.idle import IdleMotion
 from gesturecast.realtime.motion_smoother import MotionSmoother
 from gesturecast.realtime.session_controls import SessionControls
@@ -81,6 +83,7 @@ class GestureSession:
         self.root = RootAnchor(self.config.root_mode, fps=self.fps)
         self.controls = SessionControls(generator, self.root)
         self.smoother = MotionSmoother(budget.smoothing_frames)
+        self.hands = HandPose(self.fps, seed=generator.settings.seed)
         self.reset()
 
     def reset(self) -> None:
@@ -90,6 +93,7 @@ class GestureSession:
         self.generator.reset()
         self.root.reset()
         self.smoother.reset()
+        self.hands.reset()
         self._unsmoothed: deque[tuple[int, bool]] = deque()  # (frame, speaking) of frames inside the smoother
         self.crossfade = PoseCrossfade(self.config.idle_fade_s, initial_weight_b=IDLE)
         self.next_latent = 0
@@ -187,6 +191,7 @@ class GestureSession:
         t = frame / self.fps
         self.crossfade.fade_to(SPEECH if speaking else IDLE, t)
         rotations, root = self._finite_pose(frame, features, t)  # (J, 4), (3,)
+        rotations = self.hands.append(rotations, t)  # (J + 30, 4) on CANONICAL_WITH_HANDS
         capture = self._capture_time(frame)
         self.frames_out += 1
         return PoseFrame(

@@ -72,7 +72,7 @@ def _write_demo_results(args: argparse.Namespace, report: EngineReport) -> None:
     from gesturecast.models.motion.retarget import load_motion_file
     from gesturecast.tools.render.animation import render_positions
 
-    motion = load_motion_file(args.bvh)
+    motion = load_motion_file(args.bvh, keep_hands=True)  # the recorded fingers are drawn too
     preview = render_positions(motion.positions(), motion.skeleton.parents, args.out / "demo.gif",
                                fps=motion.fps, title=f"gesturecast demo - style {args.style}",  # ASCII font
                                names=motion.skeleton.names)

@@ -10,7 +10,12 @@ const CAMERA_TARGET = [0, 1.0, 0];
 const DRAG_RADIANS_PER_PIXEL = 0.01;
 const MAX_PITCH = 1.4;
 const FOCAL_FRACTION = 1.6;
-const SLIDERS = ["guidance", "audio_guidance"];  // numeric control fields (ranges from the hello's control_schema)
+const SLIDERS = ["guidance", "audio_guidance"];
+const BODY_LINE_PX = 4;
+const FINGER_LINE_PX = 1.5;  // finger bones (hello bones named Left/Right + Thumb/Index/Middle/Ring/Little)
+const JOINT_DOT_PX = 3;
+const FINGER_DOT_PX = 1;
+const FINGER_NAME = /(Thumb|Index|Middle|Ring|Little)(Proximal|Intermediate|Distal)$/;  // numeric control fields (ranges from the hello's control_schema)
 
 const state = {
   hello: null, pose: null, frames: 0, latencyMs: null, arrivals: [],
@@ -179,21 +184,21 @@ function drawFloor(ctx, canvas) {
 
 function drawSkeleton(ctx, canvas) {
   const { parents, bones } = state.hello;
-  ctx.lineWidth = 4;
   ctx.lineCap = "round";
   parents.forEach((parent, j) => {
     if (parent < 0) return;
     const name = bones[j];
+    ctx.lineWidth = FINGER_NAME.test(name) ? FINGER_LINE_PX : BODY_LINE_PX;
     ctx.strokeStyle = name.startsWith("Left") ? "#4fc3f7" : name.startsWith("Right") ? "#ff8a65" : "#e4e6ea";
     drawLine(ctx, canvas, state.pose[parent], state.pose[j]);
   });
   ctx.fillStyle = "#ffd54f";
-  for (const p of state.pose) {
+  state.pose.forEach((p, j) => {
     const s = project(p, canvas);
     ctx.beginPath();
-    ctx.arc(s[0], s[1], 3, 0, 2 * Math.PI);
+    ctx.arc(s[0], s[1], FINGER_NAME.test(bones[j]) ? FINGER_DOT_PX : JOINT_DOT_PX, 0, 2 * Math.PI);
     ctx.fill();
-  }
+  });
 }
 
 function render() {

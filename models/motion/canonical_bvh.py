@@ -18,7 +18,7 @@ from gesturecast.errors import UserError
 from gesturecast.files import atomic_file, check_output_target
 from gesturecast.models.motion.bvh import BvhData, format_header, format_motion_rows, rotation_channel_values
 from gesturecast.models.motion.motion import MOTION_FPS
-from gesturecast.models.motion.skeleton import CANONICAL, END_SITES, Skeleton
+from gesturecast.models.motion.skeleton import CANONICAL, END_SITES, FINGERTIPS, Skeleton
 
 BVH_UNITS_PER_METRE = 100.0
 ROTATION_ORDER = "ZYX"
@@ -26,9 +26,11 @@ _ROTATION_CHANNELS = tuple(f"{axis}rotation" for axis in ROTATION_ORDER)
 _ROOT_CHANNELS = ("Xposition", "Yposition", "Zposition", *_ROTATION_CHANNELS)
 
 
-def canonical_frame_values(rotations: np.ndarray, root_position: np.ndarray) -> np.ndarray:
-    """BVH channel values for canonical poses: (T, J, 4), (T, 3) metres -> (T, 3 + 3 J)."""
-    euler = rotation_channel_values(rotations, ROTATION_ORDER)  # (T, J, 3) degrees
+def canonical_frame_values(
+    rotations: np.ndarray, root_position: np.ndarray, skeleton: Skeleton = CANONICAL
+) -> np.ndarray:
+    """BVH channel values for canonical poses: (T, J, 4), (T, 3) metres -> (T, 3 + 3 J), joints depth-first."""
+    euler = rotation_channel_values(rotations[:, skeleton.depth_first_order()], ROTATION_ORDER)  # (T, J, 3) degrees
     flat = euler.reshape(len(euler), 3 * rotations.shape[1])  # (T, 3 J)
     return np.concatenate([root_position * BVH_UNITS_PER_METRE, flat], axis=1)
 
@@ -38,18 +40,22 @@ def canonical_bvh_data(
 ) -> BvhData:
     """A BVH document of canonical poses (rotations (T, J, 4), root_position (T, 3) metres)."""
     channels = [_ROOT_CHANNELS] + [_ROTATION_CHANNELS] * (skeleton.num_joints - 1)
+    order = skeleton.depth_first_order()  # (J,) skeleton index of each BVH joint
+    file_index = np.argsort(order)  # (J,) BVH index of each skeleton joint
+    names = [skeleton.names[j] for j in order]
+    leaves = set(names) - {skeleton.names[p] for p in skeleton.parents if p >= 0}  # joints that end a chain
     end_sites = {
-        skeleton.index(name): np.asarray(offset) * BVH_UNITS_PER_METRE
-        for name, offset in END_SITES.items()
-        if name in skeleton.names
+        names.index(name): np.asarray(offset) * BVH_UNITS_PER_METRE
+        for name, offset in {**END_SITES, **FINGERTIPS}.items()
+        if name in leaves
     }
     return BvhData(
-        names=list(skeleton.names),
-        parents=np.asarray(skeleton.parents),
-        offsets=skeleton.offsets * BVH_UNITS_PER_METRE,
+        names=names,
+        parents=np.array([file_index[skeleton.parents[j]] if skeleton.parents[j] >= 0 else -1 for j in order]),
+        offsets=skeleton.offsets[order] * BVH_UNITS_PER_METRE,
         channels=channels,
         frame_time=1.0 / fps,
-        motion=canonical_frame_values(rotations, root_position),
+        motion=canonical_frame_values(rotations, root_position, skeleton),
         end_sites=end_sites,
     )
 
@@ -83,7 +89,7 @@ class CanonicalBvhWriter:
     def append(self, rotations: np.ndarray, root_position: np.ndarray) -> None:
         """Add frames: rotations (T, J, 4) XYZW, root_position (T, 3) metres."""
         try:
-            self._spool.write(format_motion_rows(canonical_frame_values(rotations, root_position)))
+            self._spool.write(format_motion_rows(canonical_frame_values(rotations, root_position, self.skeleton)))
         except OSError as error:
             raise UserError(f"cannot write {self.path}: {error.strerror}") from None
         self.num_frames += len(rotations)

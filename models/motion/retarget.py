@@ -19,7 +19,7 @@ import numpy as np
 
 from gesturecast.errors import UserError
 from gesturecast.models.motion.bvh import BvhData, read_bvh, write_bvh
-from gesturecast.models.motion.canonical_bvh import canonical_bvh_data
+from gesturecast.models.motion.canonical_bvh import BVH_UNITS_PER_METRE, canonical_bvh_data
 from gesturecast.models.motion.joint_maps import (
     SMPLX,
     SMPLX_JOINTS,
@@ -50,7 +50,7 @@ from gesturecast.models.motion.rotations import (
     quat_normalize,
     quat_rotate,
 )
-from gesturecast.models.motion.skeleton import CANONICAL, Skeleton
+from gesturecast.models.motion.skeleton import CANONICAL, CANONICAL_WITH_HANDS, Skeleton
 
 logger = logging.getLogger(__name__)
 
@@ -237,21 +237,32 @@ def _npz_frame_rate(archive: np.lib.npyio.NpzFile, path: Path) -> float:
     return fps
 
 
-def load_motion_file(path: str | Path, joint_map: Path | None = None) -> Motion:
+def load_motion_file(path: str | Path, joint_map: Path | None = None, keep_hands: bool = False) -> Motion:
     """Read a ``.bvh`` (any supported skeleton) or SMPL-X ``.npz`` as canonical Motion at 30 fps.
 
     joint_map: a user JSON map file for BVH skeletons that are not detected automatically.
+    keep_hands: a BVH that gesturecast wrote (the joints of ``CANONICAL_WITH_HANDS``) is read as it is, fingers
+    included, instead of being retargeted to the 22 body joints (for drawing; the model sees body joints only).
     """
     path = Path(path)
     suffix = path.suffix.lower()
     if suffix == ".bvh":
+        data = read_bvh(path)
+        own = keep_hands and sorted(data.names) == sorted(CANONICAL_WITH_HANDS.names)
         user_map = load_joint_map(joint_map) if joint_map is not None else None
-        motion = retarget_bvh(read_bvh(path), user_map, str(path)).motion
+        motion = _motion_with_hands(data) if own else retarget_bvh(data, user_map, str(path)).motion
     elif suffix == ".npz":
         motion = _read_smplx_npz(path)
     else:
         raise UserError(f"{path}: unsupported motion file type '{path.suffix}' (expected .bvh or SMPL-X .npz)")
     return resample_motion(motion, MOTION_FPS)
+
+
+def _motion_with_hands(data: BvhData) -> Motion:
+    """Motion on ``CANONICAL_WITH_HANDS`` of a BVH with exactly its joints (our own output: T-pose rest, cm)."""
+    columns = [data.names.index(name) for name in CANONICAL_WITH_HANDS.names]  # file order → skeleton order
+    root = data.local_translations()[:, columns[0]] / BVH_UNITS_PER_METRE  # (T, 3) metres
+    return Motion(data.local_rotations()[:, columns], root, data.fps, CANONICAL_WITH_HANDS)
 
 
 def motion_to_bvh(motion: Motion, path: str | Path) -> None:

@@ -3,6 +3,12 @@
 Frame (DESIGN.md): right-handed, Y-up, the character faces +Z (its left is +X), metres,
 quaternions XYZW, identity local rotation = T-pose. Default rest offsets have ZeroEGGS
 proportions (take 067 skeleton; intermediate joints merged, left/right averaged).
+
+Two skeletons: :data:`CANONICAL` (22 body joints) is what the model generates and what motion
+files are retargeted to; :data:`CANONICAL_WITH_HANDS` (52 joints) is what the live session sends:
+the same 22 joints in the same order, then 15 finger joints per hand (Unity names such as
+``LeftThumbProximal``, ``RightLittleDistal``), left hand first. In the T-pose the fingers lie
+straight along the arm, palms down (−Y), thumbs pointing forward (+Z) and outward.
 """
 
 from __future__ import annotations
@@ -39,6 +45,44 @@ _CANONICAL_TABLE: tuple[tuple[str, str | None, tuple[float, float, float]], ...]
     ("RightToes", "RightFoot", (0.0, 0.0, 0.152616)),
 )
 
+# The five fingers of the left hand: knuckle offset from LeftHand, bone direction, segment lengths
+# (proximal→intermediate, intermediate→distal, distal→tip), metres. The right hand mirrors X.
+_FINGER_TABLE: tuple[tuple[str, tuple[float, float, float], tuple[float, float, float],
+                           tuple[float, float, float]], ...] = (
+    ("Thumb", (0.020, -0.012, 0.022), (0.70, -0.20, 0.70), (0.035, 0.030, 0.027)),
+    ("Index", (0.090, 0.004, 0.028), (1.0, 0.0, 0.0), (0.040, 0.024, 0.022)),
+    ("Middle", (0.094, 0.004, 0.007), (1.0, 0.0, 0.0), (0.045, 0.027, 0.024)),
+    ("Ring", (0.088, 0.002, -0.013), (1.0, 0.0, 0.0), (0.041, 0.026, 0.023)),
+    ("Little", (0.080, -0.002, -0.031), (1.0, 0.0, 0.0), (0.032, 0.019, 0.020)),
+)
+FINGERS = tuple(row[0] for row in _FINGER_TABLE)
+FINGER_SEGMENTS = ("Proximal", "Intermediate", "Distal")
+SIDES = ("Left", "Right")
+_MIRROR_X = np.array([-1.0, 1.0, 1.0])
+
+
+def _finger_rows(side: str) -> tuple[list[tuple[str, str | None, tuple[float, ...]]], dict[str, tuple[float, ...]]]:
+    """Skeleton rows (name, parent, offset) of one hand's 15 finger joints, and their fingertip end sites."""
+    mirror = _MIRROR_X if side == "Right" else np.ones(3)
+    rows: list[tuple[str, str | None, tuple[float, ...]]] = []
+    tips: dict[str, tuple[float, ...]] = {}
+    for finger, knuckle, direction, lengths in _FINGER_TABLE:
+        unit = np.asarray(direction) / np.linalg.norm(direction)  # (3,)
+        offsets = [np.asarray(knuckle)] + [length * unit for length in lengths[:-1]]  # 3 × (3,)
+        parent = f"{side}Hand"
+        for segment, offset in zip(FINGER_SEGMENTS, offsets, strict=True):
+            name = f"{side}{finger}{segment}"
+            rows.append((name, parent, tuple(float(v) for v in offset * mirror)))
+            parent = name
+        tips[parent] = tuple(float(v) for v in lengths[-1] * unit * mirror)
+    return rows, tips
+
+
+def finger_joint_names(side: str) -> tuple[str, ...]:
+    """The 15 finger joints of one hand (``side`` "Left" or "Right"), finger by finger, proximal first."""
+    return tuple(f"{side}{finger}{segment}" for finger in FINGERS for segment in FINGER_SEGMENTS)
+
+
 # Bone tips for drawing and BVH end sites (offset from the joint, metres).
 END_SITES: dict[str, tuple[float, float, float]] = {
     "Head": (0.0, 0.116551, 0.0),
@@ -71,6 +115,19 @@ class Skeleton:
         """For each joint, the index of its left/right counterpart (itself for the midline)."""
         swapped = [n.replace("Left", "\0").replace("Right", "Left").replace("\0", "Right") for n in self.names]
         return np.array([self.names.index(n) for n in swapped])
+
+    def depth_first_order(self) -> np.ndarray:
+        """Joint indices in depth-first order, children in index order (the order of a BVH hierarchy)."""
+        children: list[list[int]] = [[] for _ in self.names]
+        for j, parent in enumerate(self.parents):
+            if parent >= 0:
+                children[parent].append(j)
+        order, stack = [], [0]
+        while stack:
+            joint = stack.pop()
+            order.append(joint)
+            stack.extend(reversed(children[joint]))
+        return np.array(order)
 
     def forward_kinematics(
         self, local_rotations: np.ndarray, root_position: np.ndarray | None = None
@@ -105,13 +162,18 @@ class Skeleton:
         return float(top - pos[:, 1].min())
 
 
-def _build_canonical() -> Skeleton:
-    names = tuple(row[0] for row in _CANONICAL_TABLE)
-    parents = tuple(-1 if row[1] is None else names.index(row[1]) for row in _CANONICAL_TABLE)
-    offsets = np.array([row[2] for row in _CANONICAL_TABLE], dtype=np.float64)
+def _build_skeleton(table: tuple[tuple[str, str | None, tuple[float, ...]], ...]) -> Skeleton:
+    names = tuple(row[0] for row in table)
+    parents = tuple(-1 if row[1] is None else names.index(row[1]) for row in table)
+    offsets = np.array([row[2] for row in table], dtype=np.float64)
     return Skeleton(names, parents, offsets)
 
 
-CANONICAL = _build_canonical()
+_HAND_ROWS = {side: _finger_rows(side) for side in SIDES}
+FINGERTIPS: dict[str, tuple[float, ...]] = {name: tip for side in SIDES for name, tip in _HAND_ROWS[side][1].items()}
+
+CANONICAL = _build_skeleton(_CANONICAL_TABLE)
 CANONICAL_JOINTS = CANONICAL.names
 NUM_JOINTS = CANONICAL.num_joints
+CANONICAL_WITH_HANDS = _build_skeleton(_CANONICAL_TABLE + tuple(row for side in SIDES for row in _HAND_ROWS[side][0]))
+NUM_FINGER_JOINTS = CANONICAL_WITH_HANDS.num_joints - NUM_JOINTS  # 30: 15 per hand

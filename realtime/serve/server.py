@@ -29,7 +29,7 @@ from gesturecast.bridges.transport import ErrorThrottle
 from gesturecast.bridges.ws_access import AccessPolicy, send_refusal
 from gesturecast.bridges.ws_listener import ThreadedListener
 from gesturecast.errors import UserError
-from gesturecast.models.motion.skeleton import CANONICAL
+from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
 from gesturecast.realtime.serve.protocol import (
     DEFAULT_AUDIO_FORMAT,
     MAX_AUDIO_MESSAGE_BYTES,
@@ -236,7 +236,7 @@ class GestureServer:
     # ---- event-loop thread ----
     def _hello(self, stream_id: str) -> str:
         styles = tuple(self.sessions.bundle.styles.labels)
-        viewer = ws_protocol.hello_message(CANONICAL, self.coords, self.config.stream.output_fps,
+        viewer = ws_protocol.hello_message(CANONICAL_WITH_HANDS, self.coords, self.config.stream.output_fps,
                                            self.sessions.defaults.style.value, styles, control_schema(),
                                            self.access.token_required)
         return hello(viewer, stream_id, self.sessions.budget.total_ms)

@@ -15,7 +15,8 @@ class PoseFrame:
     capture_time: clock time (s) at which the audio this frame answers was captured.
     presentation_time: capture_time + the fixed latency L; bridges send at this time.
     root_position: (3,) Hips position, metres, internal frame (right-handed, Y-up, faces +Z).
-    rotations: (J, 4) local XYZW rotations on the canonical skeleton.
+    rotations: (J, 4) local XYZW rotations; the session sends J = 52 on ``CANONICAL_WITH_HANDS`` (22 body
+        joints, then 15 finger joints per hand), the bridges' default skeleton.
     style: the style prompt in effect (for display).
     speaking: whether the voice-activity flag was set for this frame.
     """

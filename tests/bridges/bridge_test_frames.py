@@ -7,7 +7,7 @@ import time
 import numpy as np
 
 from gesturecast.models.motion.rotations import quat_from_axis_angle
-from gesturecast.models.motion.skeleton import CANONICAL
+from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS as SKELETON  # what the session sends
 from gesturecast.realtime.timing.frames import PoseFrame
 
 ARM_SWING_RAD = 0.9
@@ -19,11 +19,11 @@ def moving_frame(seq: int, fps: float = 30.0, clock_now: float | None = None, st
     """Frame ``seq`` of a motion whose arms swing and hips turn (sinusoids of time)."""
     t = seq / fps
     phase = np.sin(2 * np.pi * SWING_HZ * t)
-    rotations = np.tile([0.0, 0.0, 0.0, 1.0], (CANONICAL.num_joints, 1))
-    rotations[CANONICAL.index("LeftUpperArm")] = quat_from_axis_angle(np.array([0.0, 0.0, -ARM_SWING_RAD * phase]))
-    rotations[CANONICAL.index("RightUpperArm")] = quat_from_axis_angle(np.array([0.0, 0.0, ARM_SWING_RAD * phase]))
-    rotations[CANONICAL.index("Hips")] = quat_from_axis_angle(np.array([0.0, 0.5 * phase, 0.0]))
-    root = CANONICAL.offsets[0] + np.array([0.05 * phase, 0.0, 0.0])
+    rotations = np.tile([0.0, 0.0, 0.0, 1.0], (SKELETON.num_joints, 1))
+    rotations[SKELETON.index("LeftUpperArm")] = quat_from_axis_angle(np.array([0.0, 0.0, -ARM_SWING_RAD * phase]))
+    rotations[SKELETON.index("RightUpperArm")] = quat_from_axis_angle(np.array([0.0, 0.0, ARM_SWING_RAD * phase]))
+    rotations[SKELETON.index("Hips")] = quat_from_axis_angle(np.array([0.0, 0.5 * phase, 0.0]))
+    root = SKELETON.offsets[0] + np.array([0.05 * phase, 0.0, 0.0])
     now = time.monotonic() if clock_now is None else clock_now
     return PoseFrame(seq, now - CAPTURE_AGE_S, now, root, rotations, style=style, speaking=seq % 2 == 0)
 

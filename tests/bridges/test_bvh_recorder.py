@@ -11,7 +11,7 @@ from gesturecast.models.motion.bvh import read_bvh
 from gesturecast.models.motion.motion import Motion
 from gesturecast.models.motion.retarget import motion_to_bvh
 from gesturecast.models.motion.rotations import quat_from_axis_angle
-from gesturecast.models.motion.skeleton import CANONICAL
+from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
 from gesturecast.realtime.timing.frames import PoseFrame
 
 NUM_FRAMES = 12
@@ -19,7 +19,7 @@ NUM_FRAMES = 12
 
 def _poses() -> tuple[np.ndarray, np.ndarray]:
     rng = np.random.default_rng(3)
-    rotations = quat_from_axis_angle(rng.normal(0, 0.4, size=(NUM_FRAMES, CANONICAL.num_joints, 3)))
+    rotations = quat_from_axis_angle(rng.normal(0, 0.4, size=(NUM_FRAMES, CANONICAL_WITH_HANDS.num_joints, 3)))
     return rotations, rng.normal(0, 1, size=(NUM_FRAMES, 3))
 
 
@@ -28,7 +28,7 @@ def test_recording_matches_offline_export(tmp_path: Path) -> None:
     with BvhRecorder(tmp_path / "live.bvh") as recorder:
         for k in range(NUM_FRAMES):
             recorder.send(PoseFrame(k, k / 30, k / 30 + 0.2, root[k], rotations[k]))
-    motion_to_bvh(Motion(rotations, root), tmp_path / "offline.bvh")
+    motion_to_bvh(Motion(rotations, root, skeleton=CANONICAL_WITH_HANDS), tmp_path / "offline.bvh")
     live, offline = read_bvh(tmp_path / "live.bvh"), read_bvh(tmp_path / "offline.bvh")
     assert live.num_frames == NUM_FRAMES and live.fps == offline.fps
     np.testing.assert_array_equal(live.motion, offline.motion)

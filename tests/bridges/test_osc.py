@@ -7,7 +7,7 @@ from pythonosc.osc_packet import OscPacket
 
 from gesturecast.bridges.coords import FRAMES
 from gesturecast.bridges.osc import OscBridge, OscConfig, OscEncoder
-from gesturecast.models.motion.skeleton import CANONICAL
+from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS as SKELETON  # what the session sends
 from gesturecast.realtime.timing.frames import PoseFrame
 
 FLOAT32_TOLERANCE = 1e-4  # centimetre-scaled Unreal positions are ~100x larger
@@ -18,7 +18,7 @@ def decode(datagrams: list[bytes]) -> dict[str, list]:
 
 
 def test_frame_message_bytes():
-    frame = PoseFrame(42, 1.5, 1.6, CANONICAL.offsets[0], np.tile([0.0, 0.0, 0.0, 1.0], (CANONICAL.num_joints, 1)))
+    frame = PoseFrame(42, 1.5, 1.6, SKELETON.offsets[0], np.tile([0.0, 0.0, 0.0, 1.0], (SKELETON.num_joints, 1)))
     datagrams = OscEncoder(OscConfig(bundled=False)).encode(frame, 1.5)
     assert datagrams[0] == b"/gesturecast/frame\0\0,if\0" + struct.pack(">if", 42, 1.5)
     assert datagrams[2] == b"/gesturecast/bone/Hips\0\0,ffff\0\0\0" + struct.pack(">4f", 0, 0, 0, 1)
@@ -29,12 +29,12 @@ def test_address_scheme_and_values_per_coordinate_frame(frame_name):
     frame = moving_frame(9)
     coords = FRAMES[frame_name]
     values = decode(OscEncoder(OscConfig(coordinate_frame=frame_name)).encode(frame, 0.0))
-    bones = [f"/gesturecast/bone/{n}" for n in CANONICAL.names]
+    bones = [f"/gesturecast/bone/{n}" for n in SKELETON.names]
     assert list(values) == ["/gesturecast/frame", "/gesturecast/root", *bones]
     assert values["/gesturecast/frame"][0] == 9
     root = coords.position(frame.root_position)
     np.testing.assert_allclose(values["/gesturecast/root"], root, atol=FLOAT32_TOLERANCE)
-    for j, name in enumerate(CANONICAL.names):
+    for j, name in enumerate(SKELETON.names):
         expected = coords.rotation(frame.rotations[j])
         np.testing.assert_allclose(values[f"/gesturecast/bone/{name}"], expected, atol=FLOAT32_TOLERANCE)
 
@@ -44,7 +44,7 @@ def test_bundled_and_unbundled_carry_the_same_messages():
     bundled = OscEncoder(OscConfig(bundled=True)).encode(frame, 0.0)
     single = OscEncoder(OscConfig(bundled=False)).encode(frame, 0.0)
     assert all(len(d) <= 1500 for d in bundled)
-    assert len(single) == 2 + CANONICAL.num_joints
+    assert len(single) == 2 + SKELETON.num_joints
     assert decode(bundled) == decode(single)
 
 
@@ -53,7 +53,8 @@ def test_receiver_not_running_is_survivable():
     for seq in range(5):
         bridge.send(moving_frame(seq, fps=60.0, clock_now=seq / 60.0))
     bridge.close()
-    assert bridge.sender.sent_datagrams + bridge.sender.errors.count == 5
+    per_frame = len(bridge.encoder.encode(moving_frame(0), 0.0))  # bundles of one frame (3 with the fingers)
+    assert bridge.sender.sent_datagrams + bridge.sender.errors.count == 5 * per_frame
 
 
 TWO_DAYS_S = 2 * 24 * 3600.0

@@ -13,7 +13,7 @@ from pythonosc.osc_server import BlockingOSCUDPServer
 from gesturecast.bridges.coords import UNITY
 from gesturecast.bridges.vmc import VmcBridge, VmcConfig, VmcEncoder
 from gesturecast.models.motion.rotations import quat_from_axis_angle
-from gesturecast.models.motion.skeleton import CANONICAL
+from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
 from gesturecast.realtime.timing.frames import PoseFrame
 
 RECEIVE_TIMEOUT_S = 5.0
@@ -21,8 +21,8 @@ FLOAT32_TOLERANCE = 1e-6
 
 
 def rest_frame(rotations=None, root=None) -> PoseFrame:
-    q = np.tile([0.0, 0.0, 0.0, 1.0], (CANONICAL.num_joints, 1)) if rotations is None else rotations
-    return PoseFrame(0, 0.0, 0.0, CANONICAL.offsets[0].copy() if root is None else root, q)
+    q = np.tile([0.0, 0.0, 0.0, 1.0], (CANONICAL_WITH_HANDS.num_joints, 1)) if rotations is None else rotations
+    return PoseFrame(0, 0.0, 0.0, CANONICAL_WITH_HANDS.offsets[0].copy() if root is None else root, q)
 
 
 def parse(bundles: list[bytes]) -> list[tuple[str, list]]:
@@ -59,10 +59,10 @@ BONE_CASES = [
 
 @pytest.mark.parametrize(("bone", "axis_angle", "unity_q"), BONE_CASES)
 def test_bone_message_bytes(bone, axis_angle, unity_q):
-    rotations = np.tile([0.0, 0.0, 0.0, 1.0], (CANONICAL.num_joints, 1))
-    rotations[CANONICAL.index(bone)] = quat_from_axis_angle(np.array(axis_angle))
+    rotations = np.tile([0.0, 0.0, 0.0, 1.0], (CANONICAL_WITH_HANDS.num_joints, 1))
+    rotations[CANONICAL_WITH_HANDS.index(bone)] = quat_from_axis_angle(np.array(axis_angle))
     bundles = VmcEncoder().encode(rest_frame(rotations), stream_time=0.0)
-    offset = UNITY.position(CANONICAL.offsets[CANONICAL.index(bone)])
+    offset = UNITY.position(CANONICAL_WITH_HANDS.offsets[CANONICAL_WITH_HANDS.index(bone)])
     name = bone.encode() + b"\0" * (4 - len(bone) % 4)
     expected = (
         b"/VMC/Ext/Bone/Pos\0\0\0,sfffffff\0\0\0" + name + struct.pack(">7f", *offset, *unity_q)
@@ -75,15 +75,15 @@ def test_frame_layout_order_types_and_sizes():
     assert all(len(b) <= 1500 for b in bundles)
     messages = parse(bundles)
     addresses = [a for a, _ in messages]
-    bones = ["/VMC/Ext/Bone/Pos"] * CANONICAL.num_joints
+    bones = ["/VMC/Ext/Bone/Pos"] * CANONICAL_WITH_HANDS.num_joints
     assert addresses == ["/VMC/Ext/Root/Pos", *bones, "/VMC/Ext/OK", "/VMC/Ext/T"]
-    assert [p[0] for a, p in messages if a == "/VMC/Ext/Bone/Pos"] == list(CANONICAL.names)
+    assert [p[0] for a, p in messages if a == "/VMC/Ext/Bone/Pos"] == list(CANONICAL_WITH_HANDS.names)
     assert messages[-2][1] == [1] and messages[-1][1] == [2.5]
     assert {tag for b in bundles for tag in type_tags(b)} == {",sfffffff", ",i", ",f"}
 
 
 def test_root_carries_hips_displacement():
-    root = CANONICAL.offsets[0] + np.array([0.1, 0.02, -0.3])
+    root = CANONICAL_WITH_HANDS.offsets[0] + np.array([0.1, 0.02, -0.3])
     (address, params), *_ = parse(VmcEncoder().encode(rest_frame(root=root), stream_time=0.0))
     np.testing.assert_allclose(params[1:4], [-0.1, 0.02, -0.3], atol=FLOAT32_TOLERANCE)  # Unity: x flips
 
@@ -122,10 +122,10 @@ def test_loopback_python_osc_server_parses_our_bundles():
         assert collector.done.wait(RECEIVE_TIMEOUT_S)
         bridge.close()
     bones = {args[0]: np.array(args[1:]) for address, args in collector.messages if address == "/VMC/Ext/Bone/Pos"}
-    assert list(bones) == list(CANONICAL.names)
+    assert list(bones) == list(CANONICAL_WITH_HANDS.names)
     expected_q = UNITY.rotation(frame.rotations)  # (J, 4)
-    expected_p = UNITY.position(CANONICAL.offsets)  # (J, 3)
-    for j, name in enumerate(CANONICAL.names):
+    expected_p = UNITY.position(CANONICAL_WITH_HANDS.offsets)  # (J, 3)
+    for j, name in enumerate(CANONICAL_WITH_HANDS.names):
         np.testing.assert_allclose(bones[name][:3], expected_p[j], atol=FLOAT32_TOLERANCE)
         np.testing.assert_allclose(bones[name][3:], expected_q[j], atol=FLOAT32_TOLERANCE)
     ok = [args for address, args in collector.messages if address == "/VMC/Ext/OK"]

@@ -15,10 +15,10 @@ from gesturecast.bridges.coords import UNREAL
 from gesturecast.bridges.websocket_server import WebSocketBridge, WebSocketConfig
 from gesturecast.bridges.ws_protocol import BINARY_HEADER
 from gesturecast.errors import UserError
-from gesturecast.models.motion.skeleton import CANONICAL
+from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
 
 TIMEOUT_S = 5.0
-J = CANONICAL.num_joints
+J = CANONICAL_WITH_HANDS.num_joints
 
 
 @pytest.fixture
@@ -60,9 +60,9 @@ def test_hello_describes_the_stream(bridge):
     with connect(ws_url(bridge)) as client:
         hello = hello_of(client)
     assert hello["format_version"] == 1
-    assert hello["bones"] == list(CANONICAL.names)
-    assert hello["parents"] == list(CANONICAL.parents)
-    np.testing.assert_allclose(hello["offsets"], CANONICAL.offsets, atol=1e-6)
+    assert hello["bones"] == list(CANONICAL_WITH_HANDS.names)
+    assert hello["parents"] == list(CANONICAL_WITH_HANDS.parents)
+    np.testing.assert_allclose(hello["offsets"], CANONICAL_WITH_HANDS.offsets, atol=1e-6)
     assert hello["fps"] == 30.0 and hello["coordinate_frame"] == "internal"
     assert hello["token_required"] is False
 

@@ -8,6 +8,8 @@ import soundfile
 
 from gesturecast.cli import main
 from gesturecast.models.motion.bvh import read_bvh
+from gesturecast.models.motion.retarget import load_motion_file
+from gesturecast.models.motion.skeleton import CANONICAL, CANONICAL_WITH_HANDS
 from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio
 
 
@@ -95,3 +97,33 @@ def test_live_fast_pace_reports_no_uptime_as_latency_and_no_false_misses(tiny_mo
     assert "end-to-end n/a (unpaced)" in summary
     assert "deadline misses 0 | late releases 0" in summary
     assert read_bvh(out).motion.shape[0] == 60
+
+
+def test_generate_writes_fingers_that_read_back_as_the_body_or_with_hands(tiny_model, speech, tmp_path):
+    """The BVH and JSON carry 52 joints (22 body + 30 finger); the loader gives the model's 22-joint Motion,
+    or the fingers too with keep_hands (what `render` draws)."""
+    out, stream_json = tmp_path / "hands.bvh", tmp_path / "hands.json"
+    assert main(["generate", str(speech), "-o", str(out), "--json", str(stream_json), "--model", str(tiny_model[1]),
+                 "--steps", "2"]) == 0
+    data = read_bvh(out)
+    assert sorted(data.names) == sorted(CANONICAL_WITH_HANDS.names) and "RightLittleDistal" in data.names
+    assert data.names[data.names.index("LeftHand") + 1] == "LeftThumbProximal"  # depth-first: fingers follow
+    assert json.loads(stream_json.read_text())["bones"] == list(CANONICAL_WITH_HANDS.names)
+    body = load_motion_file(out)
+    assert body.skeleton.names == CANONICAL.names and body.num_frames == data.num_frames
+    with_hands = load_motion_file(out, keep_hands=True)
+    assert with_hands.skeleton is CANONICAL_WITH_HANDS
+    in_file_order = with_hands.rotations[:, [CANONICAL_WITH_HANDS.index(n) for n in data.names]]  # (T, J, 4)
+    same_rotation = np.abs((in_file_order * data.local_rotations()).sum(axis=-1))  # (T, J) |q·q'| = 1
+    np.testing.assert_allclose(same_rotation, 1.0, atol=1e-6)
+    np.testing.assert_allclose(with_hands.positions()[:, : CANONICAL.num_joints], body.positions(), atol=1e-3)
+
+
+def test_live_bvh_at_60_fps_has_a_60_fps_frame_time(tiny_model, speech, tmp_path):
+    """--fps 60 upsamples the stream; the recorder's Frame Time says so (it was always 1/30: half speed)."""
+    out = tmp_path / "sixty.bvh"
+    assert main(["live", "--input", str(speech), "--pace", "fast", "--fps", "60", "--bvh", str(out),
+                 "--model", str(tiny_model[1]), "--steps", "2"]) == 0
+    recorded = read_bvh(out)
+    assert recorded.fps == pytest.approx(60.0, rel=1e-4)
+    assert recorded.num_frames / recorded.fps == pytest.approx(2.0, abs=2 / 60)  # plays for as long as the speech

@@ -7,6 +7,7 @@ import soundfile
 from gesturecast.models.generator.diffusion import SamplerConfig
 from gesturecast.models.motion.root_anchor import RootMode
 from gesturecast.models.motion.rotations import quat_conj, quat_mul, quat_to_axis_angle
+from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS, NUM_JOINTS
 from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio
 from gesturecast.realtime.audio.sources import FastFileSource, PacedFileSource
@@ -19,6 +20,8 @@ from gesturecast.realtime.timing.clock import FakeClock, MonotonicClock
 from gesturecast.realtime.timing.latency import LatencyBudget
 
 SECONDS = 4.0
+MIN_MEAN_FINGER_BEND_DEG = 5.0  # a relaxed hand: its finger joints bend by more than this on average
+MIN_FINGER_MOTION_DEG = 0.5  # and move by more than this (standard deviation over the clip)
 
 
 @pytest.fixture(scope="module")
@@ -184,9 +187,10 @@ def test_nonfinite_generator_output_never_reaches_a_bridge_bvh_or_json(bundle, s
     d = bundle.frames_per_latent
     assert report.nonfinite_poses == report.to_dict()["nonfinite_poses"] == len(POISONED_LATENTS) * d
     assert all(np.isfinite(f.rotations).all() and np.isfinite(f.root_position).all() for f in frames)
-    np.testing.assert_array_equal(frames[0].rotations, session.idle.rotations(0.0))  # no good pose yet: idle
+    body = slice(0, NUM_JOINTS)  # the fingers (realtime/hands.py) keep moving with stream time
+    np.testing.assert_array_equal(frames[0].rotations[body], session.idle.rotations(0.0))  # no good pose yet: idle
     for held in range(3 * d, 5 * d):  # latents 3 and 4 hold the last pose of latent 2
-        np.testing.assert_array_equal(frames[held].rotations, frames[3 * d - 1].rotations)
+        np.testing.assert_array_equal(frames[held].rotations[body], frames[3 * d - 1].rotations[body])
         np.testing.assert_array_equal(frames[held].root_position, frames[3 * d - 1].root_position)
     assert sum("NaN or infinite" in r.getMessage() for r in caplog.records) == 1
     with BvhRecorder(tmp_path / "take.bvh") as recorder:
@@ -197,6 +201,17 @@ def test_nonfinite_generator_output_never_reaches_a_bridge_bvh_or_json(bundle, s
     writer.write(frames)
     writer.save()
     json.loads((tmp_path / "take.json").read_text(), parse_constant=lambda name: pytest.fail(f"bare {name}"))
+
+
+def test_every_frame_carries_curled_fingers_that_move_with_the_gesture(bundle, speech):
+    """Frames are poses on CANONICAL_WITH_HANDS: the body as generated, then 30 finger joints that are bent
+    (a relaxed hand, never the flat rest pose) and that move over the clip."""
+    frames, _ = run_offline(make_session(bundle), FastFileSource(speech))
+    rotations = np.stack([f.rotations for f in frames])  # (T, 52, 4)
+    assert rotations.shape[1:] == (CANONICAL_WITH_HANDS.num_joints, 4)
+    finger_deg = np.degrees(np.linalg.norm(quat_to_axis_angle(rotations[:, NUM_JOINTS:]), axis=-1))  # (T, 30)
+    assert finger_deg.mean(axis=1).min() > MIN_MEAN_FINGER_BEND_DEG
+    assert finger_deg.std(axis=0).mean() > MIN_FINGER_MOTION_DEG
 
 
 def test_root_modes_and_a_live_root_change_without_a_jump(bundle, speech):

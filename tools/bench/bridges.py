@@ -25,22 +25,23 @@ from gesturecast.bridges.vmc import VmcBridge, VmcConfig
 from gesturecast.bridges.websocket_server import WebSocketBridge, WebSocketConfig
 from gesturecast.bridges.ws_protocol import binary_frame, json_frame
 from gesturecast.models.motion.rotations import quat_from_axis_angle
-from gesturecast.models.motion.skeleton import CANONICAL
+from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
 from gesturecast.realtime.timing.frames import PoseFrame
 
 FPS = 60.0  # send every frame through the 60 fps limiter
 RECV_TIMEOUT_S = 5.0
 NS_PER_US = 1000.0
 MOTION_SCALE_RAD = 0.5
+SKELETON = CANONICAL_WITH_HANDS  # what the session sends: 22 body joints + 30 finger joints
 
 
 def synthetic_frames(count: int, seed: int = 0) -> list[PoseFrame]:
     rng = np.random.default_rng(seed)
-    axis_angles = MOTION_SCALE_RAD * rng.normal(size=(count, CANONICAL.num_joints, 3))  # (T, J, 3)
+    axis_angles = MOTION_SCALE_RAD * rng.normal(size=(count, SKELETON.num_joints, 3))  # (T, J, 3)
     rotations = quat_from_axis_angle(axis_angles)  # (T, J, 4)
     now = time.monotonic()
     return [
-        PoseFrame(i, now + i / FPS, now + i / FPS, CANONICAL.offsets[0] + 0.01 * rng.normal(size=3), rotations[i])
+        PoseFrame(i, now + i / FPS, now + i / FPS, SKELETON.offsets[0] + 0.01 * rng.normal(size=3), rotations[i])
         for i in range(count)
     ]
 
@@ -109,7 +110,7 @@ def run(args: argparse.Namespace) -> int:
         port = sink.getsockname()[1]
         result = {
             "frames": args.frames,
-            "joints": CANONICAL.num_joints,
+            "joints": SKELETON.num_joints,
             "vmc": bench_udp(VmcBridge(VmcConfig(port=port, send_rate=FPS)), frames),
             "osc": bench_udp(OscBridge(OscConfig(port=port, send_rate=FPS)), frames),
         }

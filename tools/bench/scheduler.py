@@ -18,7 +18,7 @@ import resource
 
 import numpy as np
 
-from gesturecast.models.motion.skeleton import CANONICAL, NUM_JOINTS
+from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
 from gesturecast.realtime.timing.clock import MonotonicClock
 from gesturecast.realtime.timing.frames import PoseFrame
 from gesturecast.realtime.timing.latency import LatencyBudget, LatencyStats
@@ -45,7 +45,7 @@ def simulate(args: argparse.Namespace) -> dict:
     stats = LatencyStats(clock)
     scheduler = FrameScheduler(clock, lambda frame: None, SchedulerConfig(output_fps=args.output_fps), stats)
     worker = SchedulerWorker(scheduler)
-    rest = np.tile([0.0, 0.0, 0.0, 1.0], (NUM_JOINTS, 1))  # (J, 4)
+    rest = np.tile([0.0, 0.0, 0.0, 1.0], (CANONICAL_WITH_HANDS.num_joints, 1))  # (J, 4)
     d, frame_s = args.latent_frames, 1.0 / budget.fps
     cpu_start = resource.getrusage(resource.RUSAGE_SELF)
     start = clock.now()
@@ -55,7 +55,7 @@ def simulate(args: argparse.Namespace) -> dict:
         clock.sleep_until(audio_ready + args.compute_ms / 1000.0)
         for k in range(step * d, step * d + d):
             capture = start + k * frame_s
-            scheduler.submit(PoseFrame(k, capture, capture + budget.total_s, CANONICAL.offsets[0], rest))
+            scheduler.submit(PoseFrame(k, capture, capture + budget.total_s, CANONICAL_WITH_HANDS.offsets[0], rest))
     last_presentation = start + (step * d + d - 1) * frame_s + budget.total_s
     clock.sleep_until(last_presentation + DRAIN_S)
     worker.stop(STOP_TIMEOUT_S)

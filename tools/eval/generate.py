@@ -16,6 +16,7 @@ import numpy as np
 import soundfile
 
 from gesturecast.models.generator.diffusion import SamplerConfig
+from gesturecast.models.motion.skeleton import NUM_JOINTS
 from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.realtime.audio.files import SAMPLE_RATE
 from gesturecast.realtime.audio.sources import FastFileSource, PacedFileSource
@@ -56,7 +57,8 @@ def _session(bundle: ModelBundle, sampler: SamplerConfig, style: str, seed: int,
 
 
 def _positions(frames: list[PoseFrame]) -> np.ndarray:
-    return frames_to_motion(sorted(frames, key=lambda f: f.seq)).positions()  # (T, J, 3)
+    positions = frames_to_motion(sorted(frames, key=lambda f: f.seq)).positions()  # (T, 52, 3) body + fingers
+    return positions[:, :NUM_JOINTS]  # (T, 22, 3): the metrics and frozen evaluation networks see the body
 
 
 def _with_wav(audio: np.ndarray, run):

@@ -44,6 +44,7 @@ class RenderConfig:
     sheet_frames: int = 12  # frames on a PNG contact sheet
     sheet_columns: int = 4
     start_s: float = 0.0  # clip time of the first frame (the captions show clip time)
+    focus: str | None = None  # draw only this joint and the joints under it, followed and zoomed (e.g. LeftLowerArm)
 
 
 def render_positions(
@@ -65,11 +66,12 @@ def render_positions(
     config = config or RenderConfig()
     out_path = Path(out_path)
     _check_inputs(positions, parents, out_path, config)
-    body, parents = hips_subtree(parents, hips_index(names))
+    root = focus_index(names, config.focus) if config.focus else hips_index(names)
+    body, parents = hips_subtree(parents, root)
     positions = positions[:, body]  # (T, J', 3): a floor-level root above the hips (Bandai) is left out
     sides = joint_sides([names[j] for j in body]) if names is not None else np.zeros(len(body), dtype=int)
     drawer = FigureDrawer(parents, sides, config.figure, title)
-    clip = project_clip(positions, config.figure)
+    clip = project_clip(positions, config.figure, follow_height=config.focus is not None)
     num_frames = positions.shape[0]
 
     def caption(t: int) -> str:
@@ -111,6 +113,14 @@ def _check_inputs(positions: np.ndarray, parents: Sequence[int], out_path: Path,
         raise UserError("ffmpeg is not on PATH: install it (e.g. apt-get install ffmpeg) or render to .gif / .png")
     if not out_path.parent.is_dir():
         raise UserError(f"output folder {out_path.parent} does not exist")
+
+
+def focus_index(names: Sequence[str] | None, focus: str) -> int:
+    """The index of the joint named ``focus``; UserError naming the joints there are if none is."""
+    if names is None or focus not in names:
+        known = ", ".join(names or ()) or "none (the clip has no joint names)"
+        raise UserError(f"--focus {focus}: no such joint; joints: {known}")
+    return list(names).index(focus)
 
 
 def hips_subtree(parents: Sequence[int], hips: int) -> tuple[list[int], list[int]]:

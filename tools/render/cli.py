@@ -1,7 +1,7 @@
 """`gesturecast render IN -o OUT.gif|.mp4|.png`: look at a motion file as a stick figure.
 
-By default the file is retargeted onto the canonical skeleton (what the model sees); ``--raw``
-draws the BVH's own skeleton instead, in its file units.
+By default the file is retargeted onto the canonical skeleton (what the model sees; a BVH written by
+gesturecast keeps its finger joints); ``--raw`` draws the BVH's own skeleton instead, in its file units.
 """
 
 from __future__ import annotations
@@ -44,6 +44,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="draw every K-th frame (default: 1, thinned if long)")
     parser.add_argument("--sheet-frames", type=int_at_least(1), default=RenderConfig.sheet_frames,
                         help="frames on a PNG sheet")
+    parser.add_argument("--focus", metavar="JOINT", help="draw only JOINT and the joints under it, zoomed in "
+                        "(e.g. LeftLowerArm for the left forearm and hand)")
     parser.add_argument("--raw", action="store_true", help="draw the BVH's own skeleton, without retargeting")
     parser.add_argument("--joint-map", type=Path, help="JSON joint map for a skeleton that is not detected "
                         "automatically (docs/retargeting.md)")
@@ -57,7 +59,7 @@ def run_render(args: argparse.Namespace) -> int:
     clip = load_raw_bvh(args.input) if args.raw else load_canonical(args.input, args.joint_map)
     first, positions = select_time_range(clip.positions, clip.fps, args.start, args.seconds)
     stride = args.stride if args.stride is not None else auto_stride(len(positions), args.output)
-    config = RenderConfig(stride=stride, sheet_frames=args.sheet_frames, start_s=first / clip.fps)
+    config = RenderConfig(stride=stride, sheet_frames=args.sheet_frames, start_s=first / clip.fps, focus=args.focus)
     title = f"{args.input.name}  ({'raw' if args.raw else 'canonical'}, {clip.fps:g} fps)"
     out = render_positions(positions, clip.parents, args.output, clip.fps, title, clip.names, config)
     log.info("wrote %s (%d frames, stride %d)", out, len(positions), stride)
@@ -67,7 +69,7 @@ def run_render(args: argparse.Namespace) -> int:
 def load_canonical(path: Path, joint_map: Path | None = None) -> LoadedClip:
     from gesturecast.models.motion.retarget import load_motion_file
 
-    motion = load_motion_file(path, joint_map)
+    motion = load_motion_file(path, joint_map, keep_hands=True)
     return LoadedClip(motion.positions(), motion.skeleton.parents, motion.skeleton.names, motion.fps)
 
 

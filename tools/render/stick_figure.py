@@ -69,12 +69,12 @@ class ProjectedClip:
 
     pixels: (T, 2, J, 2) float pixel (x, y) per frame, panel (front, side), joint.
     depth: (T, 2, J) distance along each panel's viewing direction (larger = farther).
-    ground_y: pixel row of the ground line (Y = 0).
+    ground_y: pixel row of the ground line (Y = 0); None when the root is followed in height too (no ground).
     """
 
     pixels: np.ndarray
     depth: np.ndarray
-    ground_y: float
+    ground_y: float | None
 
 
 def hips_index(names: Sequence[str] | None) -> int:
@@ -83,13 +83,19 @@ def hips_index(names: Sequence[str] | None) -> int:
     return matches[0] if matches else 0
 
 
-def project_clip(positions: np.ndarray, config: FigureConfig) -> ProjectedClip:
-    """Follow the root (joint 0) in X/Z, project to the two panels, and fit one scale to the whole clip."""
-    centred = positions - positions[:, :1] * np.array([1.0, 0.0, 1.0])  # (T, J, 3) root at X = Z = 0
+def project_clip(positions: np.ndarray, config: FigureConfig, follow_height: bool = False) -> ProjectedClip:
+    """Follow the root (joint 0) in X/Z, project to the two panels, and fit one scale to the whole clip.
+
+    follow_height: follow the root vertically too and draw no ground (a close-up of a limb)."""
+    followed = np.array([1.0, 1.0 if follow_height else 0.0, 1.0])
+    centred = positions - positions[:, :1] * followed  # (T, J, 3) root at X = Z = 0 (and Y = 0)
     x, y, z = centred[..., 0], centred[..., 1], centred[..., 2]  # each (T, J)
     horizontal = np.stack([x, z], axis=1)  # (T, 2, J): front shows X, side shows Z
     depth = np.stack([-z, x], axis=1)  # (T, 2, J): front camera at +Z, side camera at -X
-    bottom, top = min(0.0, float(y.min())), max(0.0, float(y.max()))
+    if follow_height:
+        bottom, top = float(y.min()), float(y.max())
+    else:
+        bottom, top = min(0.0, float(y.min())), max(0.0, float(y.max()))
     half_width = max(float(np.abs(horizontal).max()), 1e-6)
     usable_h = config.panel_height - 2 * config.margin_px
     usable_half_w = config.panel_width / 2 - config.margin_px
@@ -98,7 +104,7 @@ def project_clip(positions: np.ndarray, config: FigureConfig) -> ProjectedClip:
     floor_row = config.header_px + config.panel_height - config.margin_px
     px = panel_left + config.panel_width / 2 + horizontal * scale  # (T, 2, J)
     py = np.repeat(floor_row - (y[:, None, :] - bottom) * scale, 2, axis=1)  # (T, 2, J)
-    ground_y = floor_row + bottom * scale
+    ground_y = None if follow_height else floor_row + bottom * scale
     return ProjectedClip(np.stack([px, py], axis=-1), depth, ground_y)
 
 
@@ -131,7 +137,8 @@ class FigureDrawer:
         draw = ImageDraw.Draw(image)
         for panel in range(len(PANEL_NAMES)):
             x0 = panel * cfg.panel_width + cfg.margin_px / 2
-            draw.line([(x0, clip.ground_y), (x0 + cfg.panel_width - cfg.margin_px, clip.ground_y)], GROUND, 1)
+            if clip.ground_y is not None:
+                draw.line([(x0, clip.ground_y), (x0 + cfg.panel_width - cfg.margin_px, clip.ground_y)], GROUND, 1)
             self._draw_panel(draw, clip.pixels[t, panel], clip.depth[t, panel])
         draw.text((4, cfg.header_px + cfg.panel_height + 3), caption, fill=TEXT, font=self.font)
         return image

@@ -74,3 +74,29 @@ def test_joint_map_file_renders_a_skeleton_that_is_not_detected(tmp_path):
     joint_map.write_text(json.dumps({name: [f"rig_{name}"] for name in CANONICAL.names}))
     render_cli.run_render(parse([str(custom), "-o", str(tmp_path / "ok.png"), "--joint-map", str(joint_map)]))
     assert Image.open(tmp_path / "ok.png").size[0] > 0
+
+
+def test_focus_on_a_hand_of_our_own_bvh_draws_its_fingers_zoomed(tmp_path):
+    """A BVH written by gesturecast keeps its 52 joints when drawn; --focus LeftHand draws the hand alone, so it
+    fills the panel (the whole figure's hand is a few pixels wide); an unknown joint is a one-line error."""
+    from gesturecast.models.motion.motion import Motion
+    from gesturecast.models.motion.retarget import motion_to_bvh
+    from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
+
+    rng = np.random.default_rng(5)
+    rotations = quat_from_axis_angle(rng.normal(0.0, 0.2, size=(6, CANONICAL_WITH_HANDS.num_joints, 3)))
+    root = np.tile(CANONICAL_WITH_HANDS.offsets[0], (6, 1))  # (T, 3)
+    motion_to_bvh(Motion(rotations, root, skeleton=CANONICAL_WITH_HANDS), tmp_path / "hands.bvh")
+    ink = {}
+    for focus in (None, "LeftHand"):
+        out = tmp_path / f"{focus}.png"
+        focus_flags = ["--focus", focus] if focus else []
+        args = parse([str(tmp_path / "hands.bvh"), "-o", str(out), "--sheet-frames", "1", *focus_flags])
+        assert render_cli.run_render(args) == 0
+        ink[focus] = (np.asarray(Image.open(out).convert("L")) < 200).sum()  # dark pixels: bones, dots, text
+    assert ink["LeftHand"] > ink[None] * 0.5  # 16 joints drawn big vs 52 drawn small: the hand is not a speck
+    clip = render_cli.load_canonical(tmp_path / "hands.bvh")
+    assert clip.names == CANONICAL_WITH_HANDS.names
+    with pytest.raises(UserError, match="--focus LeftPinky: no such joint"):
+        render_cli.run_render(parse([str(tmp_path / "hands.bvh"), "-o", str(tmp_path / "x.png"),
+                                     "--focus", "LeftPinky"]))
