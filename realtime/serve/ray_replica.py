@@ -63,8 +63,8 @@ class StreamRelay:
         """Copy audio and JSON to the server; a client that leaves closes the stream (the server frees it)."""
         while True:
             message = await client.receive()
-            if message["type"] == DISCONNECT:
-                await upstream.close(message.get("code", CloseCode.NORMAL_CLOSURE))
+            if message["type"] == DISCONNECT:  # its code may be 1006, which no one may send: close plainly
+                await upstream.close()
                 return
             data = message.get("bytes")
             try:
