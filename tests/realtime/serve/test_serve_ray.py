@@ -248,3 +248,12 @@ def test_without_ray_the_command_names_the_extra():
     assert done.returncode == 2
     assert done.stderr.strip().splitlines()[-1].endswith("pip install 'gesturecast[scale]'")
     assert "Traceback" not in done.stderr
+
+
+def test_a_serve_config_builds_the_same_application(tiny_model):
+    from gesturecast.realtime.serve.ray_replica import app_builder
+
+    flags = ["--model", str(tiny_model[1]), "--max-streams", "3", "--replicas", "2"]
+    assert isinstance(app_builder({"flags": flags}), serve.Application)
+    with pytest.raises(UserError, match="--max-replicas"):
+        app_builder({"flags": [*flags, "--max-replicas", "1"]})
