@@ -16,6 +16,7 @@ from gesturecast.realtime.engine_setup import (
     build_session,
     server_token,
 )
+from gesturecast.realtime.serve.ray_cli import add_ray_arguments, ray_serving
 from gesturecast.realtime.serve.server import SERVE_DEFAULT_PORT, GestureServer, ServeConfig
 from gesturecast.realtime.serve.setup import StreamSessions
 from gesturecast.realtime.serve.stream import StreamConfig
@@ -27,6 +28,7 @@ logger = logging.getLogger(__name__)
 def register(subparsers: argparse._SubParsersAction) -> None:
     parser = subparsers.add_parser("serve", help="many avatars: audio in / poses out over WebSocket, batched")
     add_serve_arguments(parser)
+    add_ray_arguments(parser)
     parser.set_defaults(func=run_serve)
 
 
@@ -61,6 +63,8 @@ def build_server(args: argparse.Namespace, clock: Clock) -> GestureServer:
 
 
 def run_serve(args: argparse.Namespace) -> int:
+    if args.ray:
+        return run_on_ray(args)
     clock = MonotonicClock()
     server = build_server(args, clock)
     sys.stdout.write(f"{server.sessions.budget.describe()}\nstreams: {server.url}<id> (at most {args.max_streams}); "
@@ -71,6 +75,15 @@ def run_serve(args: argparse.Namespace) -> int:
     finally:
         server.close()
     sys.stdout.write(served_summary(list(server.finished)) + "\n")
+    return INTERRUPTED_EXIT
+
+
+def run_on_ray(args: argparse.Namespace) -> int:
+    """``serve --ray``: the same streams on Ray Serve replicas until Ctrl-C (docs/scale.md)."""
+    with ray_serving(args) as where:
+        sys.stdout.write(f"{where}; Ctrl-C stops\n")
+        sys.stdout.flush()
+        wait_for_ctrl_c()
     return INTERRUPTED_EXIT
 
 

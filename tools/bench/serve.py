@@ -55,6 +55,8 @@ def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--churn", type=int, metavar="N", help="instead: N short streams in a row, RSS every "
                         f"{CHURN_REPORT_EVERY} (must be flat)")
     parser.add_argument("--json", action="store_true", help="print one JSON object on one line")
+    parser.add_argument("--url", help="measure a server that is already running (e.g. serve --ray: "
+                                      "ws://127.0.0.1:8766/stream/); rtf then counts only the clients' CPU")
     add_serve_arguments(parser)
     parser.set_defaults(func=run_bench_serve)
 
@@ -103,14 +105,21 @@ async def _clients(url: str, slices: list[np.ndarray]) -> list[ClientResult]:
     return await asyncio.gather(*(one(i) for i in range(len(slices))))
 
 
+def timed_clients(url: str, slices: list[np.ndarray]) -> tuple[list[ClientResult], float, float]:
+    """The clients' results, and the process CPU and wall seconds they took."""
+    cpu_start, wall_start = time.process_time(), time.monotonic()
+    results = asyncio.run(_clients(url, slices))
+    return results, time.process_time() - cpu_start, time.monotonic() - wall_start
+
+
 def measure_streams(args: argparse.Namespace, streams: int, speech: np.ndarray, seconds: float) -> dict:
+    if args.url is not None:
+        return measure_running_server(args.url, streams, speech, seconds)
     server_args = argparse.Namespace(**{**vars(args), "host": "127.0.0.1", "port": 0, "token": None,
                                         "max_streams": streams})
     server = build_server(server_args, MonotonicClock())
     try:
-        cpu_start, wall_start = time.process_time(), time.monotonic()
-        results = asyncio.run(_clients(server.url, stream_slices(speech, streams, seconds)))
-        cpu, wall = time.process_time() - cpu_start, time.monotonic() - wall_start
+        results, cpu, wall = timed_clients(server.url, stream_slices(speech, streams, seconds))
         batching = server.sessions.batcher.stats.to_dict()
         guidance = server.sessions.defaults.guidance
         guidance = server.sessions.bundle.default_guidance if guidance is None else guidance
@@ -153,8 +162,14 @@ def churn_slope(samples: list[tuple[int, float]]) -> float | None:
     return float(np.polyfit(kept[:, 0], kept[:, 1], 1)[0] * SLOPE_UNIT_STREAMS)
 
 
+def measure_running_server(url: str, streams: int, speech: np.ndarray, seconds: float) -> dict:
+    """N clients against a server started elsewhere (its batching and CPU are not visible from here)."""
+    results, cpu, wall = timed_clients(url, stream_slices(speech, streams, seconds))
+    return run_summary(results, streams, seconds, cpu, wall, None, None) | {"url": url}
+
+
 def run_summary(results: list[ClientResult], streams: int, seconds: float, cpu: float, wall: float,
-                batching: dict, guidance: float | None) -> dict:
+                batching: dict | None, guidance: float | None) -> dict:
     stats = [r.stats or {} for r in results]
     client_ms = np.concatenate([r.latencies_s() for r in results]) * MS_PER_S
     server_p95 = [p for s in stats if (p := s.get("end_to_end_ms", {}).get("p95")) is not None] or [float("nan")]

@@ -1,0 +1,38 @@
+"""bench serve --url: the load generator against a server it did not start (as for serve --ray)."""
+
+import json
+
+from gesturecast.cli import main
+from gesturecast.models.generator.diffusion import SamplerConfig
+from gesturecast.models.runtime.bundle import ModelBundle
+from gesturecast.realtime.generator import GeneratorSettings
+from gesturecast.realtime.serve.server import GestureServer, ServeConfig
+from gesturecast.realtime.serve.setup import StreamSessions
+from gesturecast.realtime.timing.clock import MonotonicClock
+from gesturecast.realtime.timing.latency import LatencyBudget
+
+STREAMS = 2
+SECONDS = 2.0
+FPS = 30
+MARGIN_MS = 100.0
+
+
+def test_bench_serve_measures_a_running_server(tiny_model, shared_data, capsys):
+    bundle = ModelBundle.load(tiny_model[1])
+    clock = MonotonicClock()
+    sessions = StreamSessions(bundle, GeneratorSettings(SamplerConfig("ddim", 2), guidance=1.5, seed=0),
+                              LatencyBudget(bundle.frames_per_latent, bundle.audio_lookahead, MARGIN_MS), clock,
+                              max_streams=STREAMS)
+    server = GestureServer(sessions, clock, ServeConfig(port=0, max_streams=STREAMS)).start()
+    try:
+        code = main(["bench", "serve", "--url", server.url, "--streams", str(STREAMS), "--seconds", str(SECONDS),
+                     "--audio", str(shared_data / "zeggs" / "067_Speech_2_x_1_0.wav"), "--json"])
+        served = {s["stream"] for s in server.finished}
+    finally:
+        server.close()
+    assert code == 0
+    run = json.loads(capsys.readouterr().out)["runs"][0]
+    assert run["url"] == server.url and run["batching"] is None
+    assert run["frames"] == STREAMS * SECONDS * FPS and run["errors"] == [] and run["missing_stats"] == 0
+    assert served == {f"bench-{i}" for i in range(STREAMS)}  # the clients streamed to that server
+    assert run["client_end_to_end_ms"]["p95"] > 0
