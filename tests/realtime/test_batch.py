@@ -81,12 +81,13 @@ def test_a_folder_batch_writes_what_generate_writes_lists_bad_files_and_resumes(
 def test_csv_rows_set_each_file_s_style_and_seed(tiny_model, clips, tmp_path):
     table = tmp_path / "lines.csv"
     (tmp_path / "x.wav").symlink_to(clips / "a.wav")
-    table.write_text(f"path,style,seed\n{clips / 'a.wav'},old,3\nx.wav,,\n")
+    (tmp_path / "y.wav").symlink_to(clips / "a.wav")
+    table.write_text(f"path,style,seed\n{clips / 'a.wav'},old,3\nx.wav,,\ny.wav,,\n")
     out = tmp_path / "out"
     model = ["--model", str(tiny_model[1])]
     result = run_cli("generate", "--batch", str(table), "-o", str(out), "--workers", "1", "--style", "neutral", *model)
     assert result.returncode == 0, result.stderr[-3000:]
-    assert read_summary(out)["generated"] == 2
+    assert read_summary(out)["generated"] == 3
     styled = tmp_path / "styled.bvh"
     plain = tmp_path / "plain.bvh"
     assert run_cli("generate", str(clips / "a.wav"), "-o", str(styled), "--style", "old", "--seed", "3",
@@ -94,6 +95,7 @@ def test_csv_rows_set_each_file_s_style_and_seed(tiny_model, clips, tmp_path):
     assert run_cli("generate", str(clips / "a.wav"), "-o", str(plain), "--style", "neutral", *model).returncode == 0
     assert (out / "a.bvh").read_bytes() == styled.read_bytes()  # outside the CSV's folder: named by the file
     assert (out / "x.bvh").read_bytes() == plain.read_bytes()  # empty cells: the command's flags
+    assert (out / "y.bvh").read_bytes() == plain.read_bytes()  # x's session, reset, writes what a new one writes
     assert styled.read_bytes() != plain.read_bytes()
 
 
