@@ -74,20 +74,9 @@ class JobResult:
         return self.error if self.error.startswith(self.audio) else f"{self.audio}: {self.error}"
 
 
-def generate_job(job: BatchJob, sessions: SessionCache) -> JobResult:
-    """One file in a worker: never raises for a bad file, so the batch goes on."""
-    try:
-        report = generate_to_files(sessions.session_for(job.settings(sessions.base)), job.audio, job.bvh, job.json)
-    except UserError as error:
-        return JobResult(str(job.audio), error=str(error))
-    except Exception as error:  # any failure of one file is that file's result, never the batch's end
-        logger.debug("%s failed", job.audio, exc_info=True)
-        return JobResult(str(job.audio), error=f"{type(error).__name__}: {error}")
-    return JobResult(str(job.audio), report.audio_seconds)
-
-
-class SessionCache:
-    """The bundle loaded once, and the last file's session, reused (reset) while the settings stay the same.
+class BatchWorker:
+    """Files one after another (one worker per process or Ray actor): the bundle loaded once, and the last
+    file's session reused (reset) while the settings stay the same.
 
     A new session builds its ONNX runtimes again (about 0.2 s here, as much as generating 3 s of audio);
     :meth:`GestureSession.reset` starts a fresh stream with the same seed, so a reused session writes the
@@ -99,7 +88,18 @@ class SessionCache:
         self._settings: dict | None = None
         self._session: GestureSession | None = None
 
-    def session_for(self, settings: argparse.Namespace) -> GestureSession:
+    def __call__(self, job: BatchJob) -> JobResult:
+        """One file: never raises for a bad file, so the batch goes on."""
+        try:
+            report = generate_to_files(self._session_for(job.settings(self.base)), job.audio, job.bvh, job.json)
+        except UserError as error:
+            return JobResult(str(job.audio), error=str(error))
+        except Exception as error:  # any failure of one file is that file's result, never the batch's end
+            logger.debug("%s failed", job.audio, exc_info=True)
+            return JobResult(str(job.audio), error=f"{type(error).__name__}: {error}")
+        return JobResult(str(job.audio), report.audio_seconds)
+
+    def _session_for(self, settings: argparse.Namespace) -> GestureSession:
         if self._session is not None and vars(settings) == self._settings:
             self._session.reset()
             self._session.stats = LatencyStats(self._session.stats.clock)  # per-file timings in the log line
@@ -108,16 +108,6 @@ class SessionCache:
         self._session = build_session(settings, MonotonicClock(), self.bundle)
         self._settings = vars(settings)
         return self._session
-
-
-class BatchWorker:
-    """Any number of files, one after another (one per worker process or Ray actor)."""
-
-    def __init__(self, base: argparse.Namespace) -> None:
-        self.sessions = SessionCache(base)
-
-    def __call__(self, job: BatchJob) -> JobResult:
-        return generate_job(job, self.sessions)
 
 
 _process_worker: BatchWorker | None = None  # in a pool process only: its worker, set once by the initializer
@@ -138,12 +128,19 @@ def run_with_processes(jobs: list[BatchJob], base: argparse.Namespace, workers: 
     """The jobs on ``workers`` local processes; ``on_result`` sees each result as it completes."""
     context = multiprocessing.get_context(PROCESS_START_METHOD)
     pool = ProcessPoolExecutor(workers, mp_context=context, initializer=_start_process_worker, initargs=(base,))
+    futures = {pool.submit(_run_in_process, job): job for job in jobs}
+    unreported = set(futures)
     try:
-        futures = {pool.submit(_run_in_process, job): job for job in jobs}
         for future in as_completed(futures):
+            unreported.discard(future)
             on_result(_result_of(future, futures[future]))
+    except KeyboardInterrupt:
+        pool.shutdown(wait=True, cancel_futures=True)  # files already running finish, no new ones start
+        for future in [f for f in unreported if not f.cancelled()]:
+            on_result(_result_of(future, futures[future]))  # finished while Ctrl-C was handled: still counted
+        raise
     finally:
-        pool.shutdown(wait=True, cancel_futures=True)  # on Ctrl-C: files already running finish, no new ones
+        pool.shutdown(wait=True, cancel_futures=True)
 
 
 def _result_of(future: Future, job: BatchJob) -> JobResult:

@@ -7,6 +7,7 @@ import json
 import os
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -14,6 +15,7 @@ import pytest
 import soundfile
 
 from gesturecast.errors import UserError
+from gesturecast.models.motion.bvh import read_bvh
 from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio
 from gesturecast.realtime.batch import BATCH_FAILED_EXIT, SUMMARY_NAME
 from gesturecast.realtime.batch_jobs import find_jobs
@@ -152,3 +154,37 @@ def test_ray_without_the_extra_names_the_install_command(tiny_model, clips, tmp_
                      "--model", str(tiny_model[1]), prelude="import sys; sys.modules['ray'] = None; ")
     assert result.returncode == 2, result.stderr[-2000:]
     assert "pip install 'gesturecast[scale]'" in result.stderr.splitlines()[-1]
+
+
+INTERRUPT_FILES = 24
+INTERRUPT_CLIP_S = 2.0
+INTERRUPT_BOUND_S = 60.0  # the files already running finish first; generous for shared cores
+POLL_S = 0.05
+
+
+def test_ctrl_c_stops_after_the_running_file_and_the_next_run_resumes(tiny_model, shared_data, cli_process,
+                                                                       tmp_path):
+    speech = load_audio(shared_data / "zeggs" / "067_Speech_2_x_1_0.wav")  # (n,)
+    n = int(INTERRUPT_CLIP_S * SAMPLE_RATE)
+    (tmp_path / "in").mkdir()
+    for i in range(INTERRUPT_FILES):
+        soundfile.write(tmp_path / "in" / f"line_{i:02d}.wav", speech[i * n : (i + 1) * n], SAMPLE_RATE)
+    out = tmp_path / "out"
+    argv = ["generate", "--batch", str(tmp_path / "in"), "-o", str(out), "--workers", "1",
+            "--model", str(tiny_model[1])]
+    batch = cli_process(argv)
+    deadline = time.monotonic() + INTERRUPT_BOUND_S
+    while not list(out.glob("*.bvh")) and time.monotonic() < deadline:
+        time.sleep(POLL_S)
+    status, _, stdout = batch.interrupt(INTERRUPT_BOUND_S)
+    summary = read_summary(out)
+    assert status == 130 and summary["interrupted"] and stdout.startswith("stopped by Ctrl-C: ")
+    written = sorted(out.glob("*.bvh"))
+    assert 1 <= summary["generated"] == len(written) < INTERRUPT_FILES
+    assert all(read_bvh(path).motion.shape[0] == INTERRUPT_CLIP_S * 30 for path in written)  # complete files
+    assert not list(out.glob(".*.tmp"))  # nothing half-written left behind
+
+    again = run_cli(*argv)
+    assert again.returncode == 0, again.stderr[-2000:]
+    assert (read_summary(out)["skipped"], read_summary(out)["generated"]) == (
+        len(written), INTERRUPT_FILES - len(written))
