@@ -18,7 +18,7 @@ $(STAMP_RUN): pyproject.toml | $(BIN)/python
 
 $(STAMP_DEV): pyproject.toml | $(BIN)/python
 	$(BIN)/pip install --quiet $(TORCH)
-	$(BIN)/pip install --quiet -e ".[train,dev,scale]"
+	$(BIN)/pip install --quiet -e ".[train,dev,scale,pipecat]"
 	touch $@ $(STAMP_RUN)
 
 # Debian packages the tests need: PortAudio for sounddevice, Chromium for the viewer test, PulseAudio and

@@ -181,13 +181,7 @@ class LiveEngine:
             self._last_frame = frames[-1]
 
     def _drain(self, worker: SchedulerWorker) -> None:
-        """Wait until the worker has released every queued frame at its time."""
-        poll = self.scheduler.config.poll_interval_s
-        while (due := self.scheduler.next_due()) is not None and worker.running:
-            self.clock.sleep_until(max(due, self.clock.now() + poll))  # unpaced frames are due at once: no spin
-            self._show_status()
-        if worker.error is not None:
-            raise worker.error
+        drain(worker, self._show_status)
 
     def _show_status(self) -> None:
         if self.status is None:
@@ -203,6 +197,20 @@ class LiveEngine:
             bool(last and last.speaking),
         )
         self.status.update(snapshot)
+
+
+def drain(worker: SchedulerWorker, on_wait: Callable[[], None] | None = None) -> None:
+    """Wait until ``worker`` has released every queued frame at its time; re-raises the error that stopped it.
+
+    ``on_wait`` runs after each wait (the live status line)."""
+    scheduler = worker.scheduler
+    poll = scheduler.config.poll_interval_s
+    while (due := scheduler.next_due()) is not None and worker.running:
+        scheduler.clock.sleep_until(max(due, scheduler.clock.now() + poll))  # unpaced frames are due at once: no spin
+        if on_wait is not None:
+            on_wait()
+    if worker.error is not None:
+        raise worker.error
 
 
 def offline_batches(session: GestureSession, source: AudioSource) -> Iterator[list[PoseFrame]]:

@@ -3,9 +3,7 @@
 from __future__ import annotations
 
 import argparse
-import logging
 import sys
-from contextlib import ExitStack
 from pathlib import Path
 
 import numpy as np
@@ -13,25 +11,22 @@ import numpy as np
 from gesturecast.bridges.fanout import BridgeFanout
 from gesturecast.errors import INTERRUPTED_EXIT, UserError
 from gesturecast.files import check_distinct
-from gesturecast.models.motion.canonical_bvh import CanonicalBvhWriter
 from gesturecast.models.motion.motion import MOTION_FPS, Motion
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
 from gesturecast.realtime.audio.cli import add_source_arguments, open_source
-from gesturecast.realtime.audio.sources import FastFileSource
-from gesturecast.realtime.engine import EngineReport, LiveEngine, make_report, offline_batches
+from gesturecast.realtime.batch import add_batch_arguments, run_batch
+from gesturecast.realtime.engine import EngineReport, LiveEngine
 from gesturecast.realtime.engine_setup import (
     add_generation_arguments,
     add_output_arguments,
     build_outputs,
     build_session,
 )
-from gesturecast.realtime.pose_json import PoseJsonWriter
+from gesturecast.realtime.offline_generate import generate_to_files
 from gesturecast.realtime.timing.clock import MonotonicClock
 from gesturecast.realtime.timing.frames import PoseFrame
 from gesturecast.realtime.timing.scheduler import STAGE_END_TO_END, SchedulerConfig
 from gesturecast.realtime.timing.status import StatusLine
-
-logger = logging.getLogger(__name__)
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -41,10 +36,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     add_output_arguments(live)
     live.set_defaults(func=run_live)
 
-    generate = subparsers.add_parser("generate", help="offline: audio file → BVH (same session code as live)")
-    generate.add_argument("audio", type=Path, help="speech file (any format soundfile reads)")
-    generate.add_argument("-o", "--output", type=Path, required=True, help="BVH file to write")
+    generate = subparsers.add_parser("generate", help="offline: audio file → BVH (same session code as live); "
+                                     "--batch: a folder or CSV of files → a folder of BVHs")
+    generate.add_argument("audio", type=Path, nargs="?", help="speech file (any format soundfile reads)")
+    generate.add_argument("-o", "--output", type=Path, required=True,
+                          help="BVH file to write (with --batch: the output folder)")
     generate.add_argument("--json", type=Path, metavar="FILE", help="also write the pose stream as JSON")
+    add_batch_arguments(generate)
     add_generation_arguments(generate)
     generate.set_defaults(func=run_generate)
 
@@ -81,25 +79,12 @@ def raise_output_errors(outputs: BridgeFanout) -> None:
 
 
 def run_generate(args: argparse.Namespace) -> int:
+    if args.batch is not None:
+        return run_batch(args)
+    if args.audio is None:
+        raise UserError("name an audio file, or a folder / CSV with --batch")
     check_distinct([("audio", args.audio)], [("-o", args.output), ("--json", args.json)])
-    session = build_session(args, MonotonicClock())
-    source = FastFileSource(args.audio)
-    with ExitStack() as files:
-        bvh = files.enter_context(CanonicalBvhWriter(args.output, skeleton=CANONICAL_WITH_HANDS))
-        poses = files.enter_context(PoseJsonWriter(args.json)) if args.json is not None else None
-        for batch in offline_batches(session, source):
-            if batch:
-                bvh.append(np.stack([f.rotations for f in batch]), np.stack([f.root_position for f in batch]))
-            if poses is not None:
-                poses.write(batch)
-        if bvh.num_frames == 0:
-            raise UserError(f"{args.audio} is shorter than one motion frame (1/30 s)")
-        bvh.save()
-        if poses is not None:
-            poses.save()
-    report = make_report(session, source, {})
-    logger.info("wrote %d frames (%.1f s) to %s; rtf %.3f", bvh.num_frames, bvh.num_frames / MOTION_FPS,
-                args.output, report.rtf)
+    generate_to_files(build_session(args, MonotonicClock()), args.audio, args.output, args.json)
     return 0
 
 

@@ -90,8 +90,9 @@ def generator_settings(args: argparse.Namespace, bundle: ModelBundle) -> Generat
     )
 
 
-def build_session(args: argparse.Namespace, clock: Clock) -> GestureSession:
-    bundle = load_bundle(args.model)
+def build_session(args: argparse.Namespace, clock: Clock, bundle: ModelBundle | None = None) -> GestureSession:
+    """A session with the flags' settings, on ``bundle`` (loaded once by batch workers) or on ``--model``."""
+    bundle = load_bundle(args.model) if bundle is None else bundle
     if args.lookahead is not None and args.lookahead != bundle.audio_lookahead:
         raise UserError(
             f"this model was trained with look-ahead δa = {bundle.audio_lookahead} frames, not {args.lookahead}; "

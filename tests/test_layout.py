@@ -33,6 +33,7 @@ FLOORS = {
     "gesturecast.tools.render": 6,
     "gesturecast.realtime": 7,
     "gesturecast.realtime.serve": 8,
+    "gesturecast.realtime.agents": 8,
     "gesturecast.models.training": 8,
     "gesturecast.models.export": 9,
     "gesturecast.models.evaluation": 9,

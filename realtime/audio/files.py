@@ -75,7 +75,7 @@ class AudioFileReader:
 
     def __iter__(self) -> Iterator[np.ndarray]:
         self.stats.clipped_samples = 0
-        resampler = _make_resampler(self.stats.file_rate)
+        resampler = make_resampler(self.stats.file_rate)
         try:
             blocks = soundfile.blocks(str(self.path), blocksize=self.block_frames, dtype="float32", always_2d=True)
             for position, block in enumerate(blocks):
@@ -142,7 +142,8 @@ def _probe(path: Path) -> soundfile._SoundFileInfo:
     return info
 
 
-def _make_resampler(file_rate: int) -> soxr.ResampleStream | None:
+def make_resampler(file_rate: int) -> soxr.ResampleStream | None:
+    """A streaming mono resampler from ``file_rate`` to :data:`SAMPLE_RATE` (None when no resampling is needed)."""
     if file_rate == SAMPLE_RATE:
         return None
     return soxr.ResampleStream(file_rate, SAMPLE_RATE, 1, dtype="float32", quality=RESAMPLE_QUALITY)

@@ -26,7 +26,7 @@ import numpy as np
 import soxr
 
 from gesturecast.errors import UserError
-from gesturecast.realtime.audio.files import RESAMPLE_QUALITY, SAMPLE_RATE, AudioFileReader
+from gesturecast.realtime.audio.files import SAMPLE_RATE, AudioFileReader, make_resampler
 from gesturecast.realtime.audio.portaudio import (
     capture_time,
     check_input_rate,
@@ -181,9 +181,7 @@ class MicSource(AudioSource):
             self._device_overflows += 1
 
     def __iter__(self) -> Generator[AudioChunk, None, None]:
-        resampler = None
-        if self.device_rate != SAMPLE_RATE:
-            resampler = soxr.ResampleStream(self.device_rate, SAMPLE_RATE, 1, dtype="float32", quality=RESAMPLE_QUALITY)
+        resampler = make_resampler(self.device_rate)
         self._stop.clear()
         self._stream_ended.clear()
         watchdog = StallWatchdog(self.label, self.clock.now(), self.config.stall_timeout_s)

@@ -1,0 +1,1 @@
+"""Voice-agent integrations (optional extras): gesturecast as a stage of someone else's speech pipeline."""

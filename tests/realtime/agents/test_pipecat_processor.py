@@ -1,0 +1,157 @@
+"""GesturecastProcessor in real Pipecat pipelines: audio frames in (any rate / channels), poses out through a
+real VMC bridge to a loopback UDP socket and a BVH, every frame passed on unchanged, style changes from a
+style frame and from spoken text, and the offline example as a subprocess. Bounded in time."""
+
+from __future__ import annotations
+
+import asyncio
+import importlib.util
+import os
+import socket
+import subprocess
+import sys
+import threading
+from pathlib import Path
+
+import numpy as np
+import pytest
+import soundfile
+
+pytest.importorskip("pipecat", reason="Pipecat is not installed (pip install 'gesturecast[pipecat]')")
+
+from pipecat.frames.frames import Frame, InputAudioRawFrame, OutputAudioRawFrame, TTSTextFrame  # noqa: E402
+from pipecat.processors.frame_processor import FrameDirection, FrameProcessor  # noqa: E402
+from pythonosc.osc_bundle import OscBundle  # noqa: E402
+
+from gesturecast.models.motion.bvh import read_bvh  # noqa: E402
+from gesturecast.realtime.agents.pipecat_processor import GesturecastProcessor, GestureStyleFrame  # noqa: E402
+from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio  # noqa: E402
+
+REPO_ROOT = Path(__file__).resolve().parents[3]
+EXAMPLE = REPO_ROOT / "examples" / "pipecat_offline.py"
+SPEECH_S = 2.0
+PIPELINE_BOUND_S = 120.0  # model load + 2 s of audio released in real time, on shared cores
+DATAGRAM_BYTES = 65536
+BONE_ADDRESS = "/VMC/Ext/Bone/Pos"
+FRAMES_PER_S = 30
+FRAME_S = 0.02
+
+
+class VmcReceiver:
+    """A UDP socket on a free loopback port, parsing every VMC bundle it receives on a thread."""
+
+    def __init__(self) -> None:
+        self.socket = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+        self.socket.bind(("127.0.0.1", 0))
+        self.socket.settimeout(0.2)
+        self.addresses: list[str] = []
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._receive, daemon=True)
+        self._thread.start()
+
+    @property
+    def target(self) -> str:
+        return f"127.0.0.1:{self.socket.getsockname()[1]}"
+
+    def _receive(self) -> None:
+        while not self._stop.is_set():
+            try:
+                data = self.socket.recv(DATAGRAM_BYTES)
+            except TimeoutError:
+                continue
+            self.addresses.extend(message.address for message in OscBundle(data))
+
+    def close(self) -> None:
+        self._stop.set()
+        self._thread.join()
+        self.socket.close()
+
+
+@pytest.fixture
+def vmc_receiver():
+    receiver = VmcReceiver()
+    yield receiver
+    receiver.close()
+
+
+class Recorder(FrameProcessor):
+    """The next stage of the pipeline: keeps every frame that reaches it."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.frames: list[Frame] = []
+
+    async def process_frame(self, frame: Frame, direction: FrameDirection) -> None:
+        await super().process_frame(frame, direction)
+        self.frames.append(frame)
+        await self.push_frame(frame, direction)
+
+
+@pytest.fixture(scope="module")
+def speech(shared_data) -> np.ndarray:
+    """(n,) float32: 2 s of synthetic speech at 16 kHz."""
+    return load_audio(shared_data / "speech" / "tts_03_en-gb.wav")[: int(SPEECH_S * SAMPLE_RATE)]
+
+
+def pcm_frames(audio: np.ndarray, rate: int, channels: int, frame_type: type) -> list[Frame]:
+    """(n,) float audio at ``rate`` as 20 ms int16 frames with ``channels`` identical channels."""
+    pcm = np.repeat(np.round(audio * 32767).astype("<i2")[:, None], channels, axis=1)  # (n, C)
+    step = round(FRAME_S * rate)
+    return [frame_type(audio=pcm[s : s + step].tobytes(), sample_rate=rate, num_channels=channels)
+            for s in range(0, pcm.shape[0], step)]
+
+
+def load_example():
+    """examples/pipecat_offline.py as a module (its ``run_pipeline`` runs the pipelines here too)."""
+    spec = importlib.util.spec_from_file_location("pipecat_offline", EXAMPLE)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+run_pipeline = load_example().run_pipeline
+
+
+def test_tts_audio_drives_vmc_and_bvh_and_a_style_frame_changes_the_style(tiny_model, speech, vmc_receiver,
+                                                                          tmp_path):
+    upsampled = np.interp(np.arange(int(SPEECH_S * 48000)) * SAMPLE_RATE / 48000, np.arange(speech.shape[0]), speech)
+    frames = pcm_frames(upsampled, 48000, 2, OutputAudioRawFrame)  # as a TTS at 48 kHz stereo sends it
+    half = len(frames) // 2
+    style = GestureStyleFrame(control={"style": "old"})
+    frames = [*frames[:half], style, *frames[half:]]
+    processor = GesturecastProcessor.from_flags(["--model", str(tiny_model[1]), "--style", "neutral",
+                                                 "--vmc", vmc_receiver.target, "--bvh", str(tmp_path / "take.bvh")])
+    recorder = Recorder()
+    asyncio.run(asyncio.wait_for(run_pipeline([processor, recorder], frames), PIPELINE_BOUND_S))
+
+    passed = [f for f in recorder.frames if isinstance(f, (OutputAudioRawFrame, GestureStyleFrame))]
+    assert [id(f) for f in passed] == [id(f) for f in frames]  # every frame on, unchanged, in order
+    assert processor.session.controls.describe() == "old"
+    assert processor.audio_seconds == pytest.approx(SPEECH_S, abs=1e-2)
+    bvh_frames = read_bvh(tmp_path / "take.bvh").motion.shape[0]
+    assert abs(bvh_frames - SPEECH_S * FRAMES_PER_S) <= 1
+    bones = vmc_receiver.addresses.count(BONE_ADDRESS)
+    assert bones > 0 and bones % bvh_frames == 0  # every pose reached the receiver with all its bones
+
+
+def test_user_audio_and_a_style_per_spoken_sentence(tiny_model, speech, tmp_path):
+    sentences = {"Grumpy now.": {"style": "old"}}
+    frames = pcm_frames(speech, SAMPLE_RATE, 1, InputAudioRawFrame)
+    frames.insert(len(frames) // 2, TTSTextFrame("Grumpy now.", text_type="sentence"))
+    processor = GesturecastProcessor.from_flags(["--model", str(tiny_model[1]), "--bvh", str(tmp_path / "u.bvh")],
+                                                audio="input", style_for_text=sentences.get)
+    asyncio.run(asyncio.wait_for(run_pipeline([processor], frames), PIPELINE_BOUND_S))
+    assert processor.session.controls.describe() == "old"
+    assert abs(read_bvh(tmp_path / "u.bvh").motion.shape[0] - SPEECH_S * FRAMES_PER_S) <= 1
+
+
+def test_the_offline_example_runs_a_pipeline_to_vmc_and_bvh(tiny_model, speech, vmc_receiver, tmp_path):
+    wav = tmp_path / "speech.wav"
+    soundfile.write(wav, speech, SAMPLE_RATE, subtype="PCM_16")
+    env = {**os.environ, "PYTHONDONTWRITEBYTECODE": "1"}
+    result = subprocess.run([sys.executable, str(EXAMPLE), str(wav), "--styles", "neutral,old", "--model",
+                             str(tiny_model[1]), "--vmc", vmc_receiver.target, "--bvh", str(tmp_path / "ex.bvh")],
+                            capture_output=True, text=True, timeout=PIPELINE_BOUND_S, env=env)
+    assert result.returncode == 0, result.stderr[-3000:]
+    assert "style at the end: old" in result.stderr
+    assert read_bvh(tmp_path / "ex.bvh").motion.shape[0] > 0 and BONE_ADDRESS in vmc_receiver.addresses
