@@ -26,11 +26,11 @@ import numpy as np
 from gesturecast.bridges.control import CONTROL_FIELDS, ControlError, validate_control
 from gesturecast.errors import UserError
 from gesturecast.realtime.audio.files import SAMPLE_RATE
+from gesturecast.realtime.audio.pcm import PCM16_FULL_SCALE
 from gesturecast.realtime.style_prompts import StylePrompt
 
 AUDIO_FORMATS = {"f32le": np.dtype("<f4"), "s16le": np.dtype("<i2")}
 DEFAULT_AUDIO_FORMAT = "f32le"
-INT16_FULL_SCALE = 32768.0
 MAX_AUDIO_MESSAGE_BYTES = 64 * 1024  # 1 s of float32 audio fits
 MAX_SEED = 2**31 - 1
 START_FIELDS = frozenset({"type", "token", "seed", "audio_format", *CONTROL_FIELDS})
@@ -105,7 +105,7 @@ def decode_audio(data: bytes, audio_format: str) -> np.ndarray:
                            f"got {len(data)}")
     samples = np.frombuffer(data, dtype=dtype)  # (n,)
     if dtype.kind == "i":
-        return (samples / INT16_FULL_SCALE).astype(np.float32)
+        return (samples / PCM16_FULL_SCALE).astype(np.float32)
     if not np.isfinite(samples).all():
         raise ControlError("audio contains NaN or infinite samples")
     return samples.astype(np.float32)
