@@ -6,6 +6,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+VISEME_VOWELS = ("a", "i", "u", "e", "o")
+VISEME_NAMES = {
+    "vrm0": ("A", "I", "U", "E", "O"),  # VRM 0.x blend shape presets (case-sensitive in VMC)
+    "vrm1": ("aa", "ih", "ou", "ee", "oh"),  # VRM 1.0 expression presets
+}
+
 
 @dataclass(frozen=True)
 class PoseFrame:
@@ -19,6 +25,8 @@ class PoseFrame:
         joints, then 15 finger joints per hand), the bridges' default skeleton.
     style: the style prompt in effect (for display).
     speaking: whether the voice-activity flag was set for this frame.
+    visemes: (5,) mouth-shape weights in [0, 1] of the vowels ``VISEME_VOWELS`` at this frame's audio
+        instant, or None when lip sync is off. Bridges name them per ``VISEME_NAMES`` (VRM 0.x or 1.0).
     """
 
     seq: int
@@ -28,3 +36,4 @@ class PoseFrame:
     rotations: np.ndarray
     style: str = ""
     speaking: bool = False
+    visemes: np.ndarray | None = None
