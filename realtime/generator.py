@@ -13,8 +13,10 @@ numpy + onnxruntime only (no torch). Per step (GestureDiffuCLIP §3.2, run autor
 3. commit the clean latent to the history (folded into the next denoiser call) and decode it with
    the streaming VQ decoder into d motion-feature frames (denormalised, canonical layout).
 
-The generator keeps no audio handling and no timing: the caller passes normalised (A, F) audio
-windows (:meth:`ModelBundle.audio_stats`) and owns the clock.
+The generator keeps no audio handling and no timing: the caller passes normalised audio windows
+(:meth:`ModelBundle.audio_stats`) laid out as :attr:`Generator.audio_config` says (the model's (A, F)
+windows, or at a shorter look-ahead δ of a truncation model the (A − δa + δ, F) part it may hear) and
+owns the clock.
 """
 
 from __future__ import annotations
@@ -26,6 +28,12 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from gesturecast.errors import UserError
+from gesturecast.models.generator.denoiser_config import (
+    DenoiserConfig,
+    pad_visible_window,
+    supported_lookaheads,
+    visible_config,
+)
 from gesturecast.models.generator.diffusion import (
     CLEAN_TIMESTEP,
     SamplerConfig,
@@ -57,6 +65,7 @@ class GeneratorSettings:
     seed: int = 0
     threads: int = DEFAULT_THREADS
     audio_guidance: float = NO_GUIDANCE  # s_a: > 1 strengthens the speech's pull on the motion (extra row)
+    lookahead: int | None = None  # δ: audio look-ahead frames heard (None = the model's δa; docs/latency.md)
 
 
 @dataclass(frozen=True)
@@ -123,6 +132,19 @@ def combine_rows(x0_rows: np.ndarray, layout: RowLayout, gamma: float, guidance:
     return guided
 
 
+def check_lookahead(config: DenoiserConfig, lookahead: int) -> None:
+    """One-line UserError unless the model serves look-ahead ``lookahead``."""
+    supported = supported_lookaheads(config)
+    if lookahead in supported:
+        return
+    if not config.lookahead_truncation:
+        raise UserError(f"this model serves only look-ahead δa = {config.audio_lookahead} frames (--latency "
+                        f"quality), not {lookahead}: it was trained without look-ahead truncation; train one with "
+                        "`gesturecast train --lookahead-truncation` and pass it with --model")
+    raise UserError(f"look-ahead {lookahead} frames is past this model's δa = {config.audio_lookahead} "
+                    f"(it serves 0..{config.audio_lookahead})")
+
+
 class Generator:
     """Seeded, stateful latent-by-latent motion generator over a :class:`ModelBundle`."""
 
@@ -130,6 +152,9 @@ class Generator:
         self.bundle = bundle
         self.settings = settings or GeneratorSettings()
         self.config = bundle.denoiser_config
+        self.lookahead = self.config.audio_lookahead if self.settings.lookahead is None else self.settings.lookahead
+        check_lookahead(self.config, self.lookahead)
+        self.audio_config = visible_config(self.config, self.lookahead)  # the audio layout the caller feeds
         self.schedule = get_schedule(bundle.schedule_name)
         self.denoiser = bundle.denoiser(self.settings.threads)
         self.decoder = bundle.vq_decoder(self.settings.threads)
@@ -196,6 +221,7 @@ class Generator:
             self.layout.hears_audio[:, None] * np.array([h.audio_present for h in self.history], np.float32),  # (B, M)
             np.repeat(self.layout.styles[:, None], length, axis=1),  # (B, M, S)
             np.repeat(self.layout.style_present[:, None], length, axis=1),  # (B, M)
+            self.lookahead,
         )  # (B, M, Dc)
         frames = FrameInputs(
             np.broadcast_to(np.stack([h.latent for h in self.history]), (batch, length, self.latent_dim)).copy(),
@@ -243,11 +269,14 @@ class Generator:
         return self.rng.standard_normal(self.latent_dim) if stochastic and t_prev != CLEAN_TIMESTEP else None
 
     def denoise(self, audio_window: np.ndarray, audio_present: bool) -> np.ndarray:
-        """Sample the next clean latent (C,) (normalised) and commit it to the history."""
+        """Sample the next clean latent (C,) (normalised) from its (A', F) window of :attr:`audio_config` and
+        commit it to the history."""
         layout = self.layout
-        windows = np.broadcast_to(np.asarray(audio_window, np.float32), (layout.batch, *np.shape(audio_window)))
+        audio_window = pad_visible_window(np.asarray(audio_window, np.float32), self.config)  # (A, F)
+        windows = np.broadcast_to(audio_window, (layout.batch, *audio_window.shape))  # (B, A, F)
         present = layout.hears_audio * float(audio_present)  # (B,)
-        condition = self.denoiser.frame_condition(windows, layout.styles, present, layout.style_present)  # (B, Dc)
+        condition = self.denoiser.frame_condition(windows, layout.styles, present, layout.style_present,
+                                                  self.lookahead)  # (B, Dc)
         x = self.rng.standard_normal(self.latent_dim)  # (C,) x_T
         for t, t_prev in self._plan:
             rows = np.broadcast_to(x, (layout.batch, self.latent_dim))  # (B, C)
@@ -256,7 +285,7 @@ class Generator:
             x = sampler_step(self.schedule, self.settings.sampler, x0, t, t_prev, x, self._noise(t_prev))
         self.denoiser.commit(np.broadcast_to(x, (layout.batch, self.latent_dim)), condition)
         latent = x.astype(np.float32)  # (C,)
-        self.history.append(HistoryFrame(latent, np.asarray(audio_window, np.float32), float(audio_present)))
+        self.history.append(HistoryFrame(latent, audio_window, float(audio_present)))
         return latent
 
     def decode(self, latent: np.ndarray) -> np.ndarray:
@@ -265,5 +294,6 @@ class Generator:
         return self.bundle.motion_stats.denormalize(features)
 
     def step(self, audio_window: np.ndarray, audio_present: bool = True) -> np.ndarray:
-        """One latent frame: (A, F) normalised audio window → (d, D) denormalised motion features."""
+        """One latent frame: (A', F) normalised audio window (:attr:`audio_config`) → (d, D) denormalised motion
+        features."""
         return self.decode(self.denoise(audio_window, audio_present))

@@ -1,7 +1,8 @@
 """One stream's state and the step that turns audio into poses: the shared core of `live` and `generate`.
 
 Data flow (DESIGN.md): pushed chunks wait in a short pending list until the audio up to
-``(i+1)·d + δa`` (latent ``i``'s window end) has arrived; then, in one burst, streaming features of
+``(i+1)·d + δ`` (latent ``i``'s window end at the generator's look-ahead δ, docs/latency.md) has
+arrived; then, in one burst, streaming features of
 the pending audio → normalised feature buffer → one generator step for latent ``i`` (K-step DDIM or
 DDPM, KV cache, CFG) → d motion-feature frames → root integration + 6D → quaternions → idle
 cross-fade in silence → procedural fingers (:mod:`gesturecast.realtime.hands`) → :class:`PoseFrame` with
@@ -74,7 +75,7 @@ class GestureSession:
         self.budget = budget
         self.config = config or SessionConfig()
         self.stats = stats or LatencyStats(clock)
-        self.denoiser_config = bundle.denoiser_config
+        self.denoiser_config = generator.audio_config  # the audio layout at the generator's look-ahead δ
         self.fps = bundle.feature_config.fps
         self.sample_rate = bundle.feature_config.sample_rate
         self.extractor = StreamingFeatureExtractor(bundle.feature_config)
@@ -158,7 +159,7 @@ class GestureSession:
     def _generate_latent(self, index: int) -> list[PoseFrame]:
         d = self.denoiser_config.frames_per_latent
         self.controls.advance(index * d / self.fps)
-        window = self.features.window(index, self.denoiser_config)  # (A, F)
+        window = self.features.window(index, self.denoiser_config)  # (A', F)
         with self.stats.time(STAGE_DENOISER):
             latent = self.generator.denoise(window, audio_present=True)  # (C,)
         with self.stats.time(STAGE_DECODER):

@@ -33,6 +33,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--threads", type=int, default=None, help="torch CPU threads (default: the preset's)")
     parser.add_argument("--audio-augmentation", action=argparse.BooleanOptionalAction, default=None,
                         help="voice / channel augmentation of the paired audio (default: the preset's)")
+    parser.add_argument("--lookahead-truncation", action=argparse.BooleanOptionalAction, default=None,
+                        help="random look-ahead δ ≤ δa in training, so one model serves every --latency setting "
+                             "(default: the preset's)")
     parser.add_argument("--speaker-norm", action="store_true",
                         help="listen to speaker-normalised log-mel / energy (docs/generator.md; off in the default)")
     parser.add_argument("--vq-steps", type=int, default=None)
@@ -47,7 +50,8 @@ def run_train(args: argparse.Namespace) -> int:
     from gesturecast.models.training.pipeline import run_training
 
     preset = get_preset(args.preset, seed=args.seed, audio_lookahead=args.lookahead, threads=args.threads,
-                        audio_augmentation=args.audio_augmentation, vq_steps=args.vq_steps,
+                        audio_augmentation=args.audio_augmentation,
+                        lookahead_truncation=args.lookahead_truncation, vq_steps=args.vq_steps,
                         denoiser_steps=args.denoiser_steps, prompt_steps=args.prompt_steps)
     work_dir = args.work_dir or DEFAULT_WORK_ROOT / preset.name
     started = time.perf_counter()

@@ -6,7 +6,8 @@ times. Both are written next to each other: ``denoiser.onnx`` and ``denoiser_con
 
 Condition graph (dynamic B = batch, M = frames)::
 
-    inputs   audio_windows (B, M, A, F), audio_present (B, M), style (B, M, S), style_present (B, M)
+    inputs   audio_windows (B, M, A, F), audio_present (B, M), style (B, M, S), style_present (B, M),
+             and for a look-ahead truncation model also lookahead (B, M) float32 (δ per frame)
     outputs  condition (B, M, condition_dim)
 
 Step graph (KV cache and history as explicit inputs/outputs; W, L, H, Dh fixed by the config)::
@@ -34,11 +35,11 @@ from gesturecast.models.generator.denoiser_config import DenoiserConfig
 from gesturecast.models.networks.denoiser import CausalDenoiser
 from gesturecast.models.runtime.denoiser import (
     CACHE_INPUT_NAMES,
-    CONDITION_INPUT_NAMES,
     CONDITION_OUTPUT_NAME,
     CONFIG_METADATA_KEY,
     FRAME_INPUT_NAMES,
     OUTPUT_NAMES,
+    condition_input_names,
     condition_path,
 )
 
@@ -55,18 +56,17 @@ STEP_DYNAMIC_AXES = {
     "new_keys": NEW_CACHE_AXES,
     "new_values": NEW_CACHE_AXES,
 }
-CONDITION_DYNAMIC_AXES = dict.fromkeys((*CONDITION_INPUT_NAMES, CONDITION_OUTPUT_NAME), FRAME_AXES)
 
 
 class DenoiserConditionGraph(nn.Module):
-    """``CausalDenoiser.condition``, as exported."""
+    """``CausalDenoiser.condition``, as exported (``lookahead`` only for truncation models)."""
 
     def __init__(self, model: CausalDenoiser):
         super().__init__()
         self.model = model
 
-    def forward(self, audio_windows, audio_present, style, style_present):
-        return self.model.condition(audio_windows, audio_present, style, style_present)
+    def forward(self, audio_windows, audio_present, style, style_present, lookahead=None):
+        return self.model.condition(audio_windows, audio_present, style, style_present, lookahead)
 
 
 class DenoiserStepGraph(nn.Module):
@@ -81,13 +81,16 @@ class DenoiserStepGraph(nn.Module):
 
 
 def example_condition_inputs(config: DenoiserConfig, batch: int = 2, new_frames: int = 2) -> tuple[torch.Tensor, ...]:
-    """Tracing inputs of the condition graph: audio_windows, audio_present, style, style_present."""
-    return (
+    """Tracing inputs of the condition graph: audio_windows, audio_present, style, style_present[, lookahead]."""
+    inputs = (
         torch.zeros(batch, new_frames, config.audio_window, config.audio_dim),
         torch.ones(batch, new_frames),
         torch.zeros(batch, new_frames, config.style_dim),
         torch.ones(batch, new_frames),
     )
+    if config.lookahead_truncation:
+        return (*inputs, torch.full((batch, new_frames), float(config.audio_lookahead)))
+    return inputs
 
 
 def example_step_inputs(config: DenoiserConfig, batch: int = 2, new_frames: int = 2) -> tuple[torch.Tensor, ...]:
@@ -120,6 +123,8 @@ def export_denoiser(model: CausalDenoiser, path: Path | str) -> Path:
     config = model.config
     _export(DenoiserStepGraph(model), example_step_inputs(config), path,
             ([*FRAME_INPUT_NAMES, *CACHE_INPUT_NAMES], list(OUTPUT_NAMES)), STEP_DYNAMIC_AXES, config)
+    names = condition_input_names(config)
+    axes = dict.fromkeys((*names, CONDITION_OUTPUT_NAME), FRAME_AXES)
     _export(DenoiserConditionGraph(model), example_condition_inputs(config), condition_path(path),
-            (list(CONDITION_INPUT_NAMES), [CONDITION_OUTPUT_NAME]), CONDITION_DYNAMIC_AXES, config)
+            (list(names), [CONDITION_OUTPUT_NAME]), axes, config)
     return path

@@ -3,12 +3,18 @@
 Time layout (GestureDiffuCLIP §3.2, DiffuseStyleGesture §3): latent frame ``i`` covers motion frames
 ``[i*d, (i+1)*d)`` at 30 fps. Its audio condition is the window of ``audio_window`` feature frames
 ending at motion frame ``(i+1)*d + audio_lookahead - 1`` (``δa`` frames of look-ahead).
+
+Look-ahead truncation (docs/latency.md "Latency settings"): a model trained with
+``lookahead_truncation`` also serves any shorter look-ahead δ ≤ δa. Its window stays where it is, the
+``δa − δ`` frames past ``(i+1)*d + δ`` are masked out, and the model is told δ (a mask channel), so an
+engine running at δ needs only the audio up to ``(i+1)*d + δ``. :func:`visible_config` is that
+engine's view: the same window start, ending δ frames past the latent.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 
 import numpy as np
 
@@ -29,6 +35,7 @@ class DenoiserConfig:
     audio_lookahead: int = 8  # δa: audio feature frames past the end of the latent
     audio_window: int = 16  # A: audio feature frames encoded per latent frame
     num_timesteps: int = 1000  # T: diffusion steps of the schedule
+    lookahead_truncation: bool = False  # trained with random look-ahead δ ≤ δa: serves every δ in 0..δa
 
     @property
     def head_dim(self) -> int:
@@ -49,6 +56,31 @@ class DenoiserConfig:
     @classmethod
     def from_dict(cls, values: dict) -> DenoiserConfig:
         return cls(**values)
+
+
+def supported_lookaheads(config: DenoiserConfig) -> tuple[int, ...]:
+    """The look-aheads δ a model serves: 0..δa with truncation training, else only its own δa."""
+    if config.lookahead_truncation:
+        return tuple(range(config.audio_lookahead + 1))
+    return (config.audio_lookahead,)
+
+
+def visible_config(config: DenoiserConfig, lookahead: int) -> DenoiserConfig:
+    """The audio layout an engine at look-ahead δ works with: windows end δ (not δa) frames past the latent
+    and are ``A − (δa − δ)`` frames long (the masked tail is never needed); δ = δa gives ``config`` itself."""
+    if lookahead not in supported_lookaheads(config):
+        raise ValueError(f"look-ahead {lookahead} is not one of {supported_lookaheads(config)}")
+    truncated = config.audio_lookahead - lookahead
+    if truncated >= config.audio_window:
+        raise ValueError(f"look-ahead {lookahead} leaves no frame of the {config.audio_window}-frame window")
+    return replace(config, audio_lookahead=lookahead, audio_window=config.audio_window - truncated)
+
+
+def pad_visible_window(window: np.ndarray, config: DenoiserConfig) -> np.ndarray:
+    """A (A', F) window of :func:`visible_config` → the model's (A, F) window, the masked tail zero."""
+    padded = np.zeros((config.audio_window, window.shape[-1]), np.float32)  # (A, F)
+    padded[: len(window)] = window
+    return padded
 
 
 def audio_window_end(latent_index: int, config: DenoiserConfig) -> int:

@@ -104,15 +104,15 @@ class CausalDenoiser(nn.Module):
         self.final_norm = nn.LayerNorm(config.width)
         self.output = nn.Linear(config.width, config.latent_dim)
 
-    def condition(self, windows, audio_present, style, style_present):
+    def condition(self, windows, audio_present, style, style_present, lookahead=None):
         """Everything a frame's denoising needs besides x_t and t, computed once per frame (not per sampler step).
 
-        windows (B, M, A, F), audio_present (B, M), style (B, M, S), style_present (B, M)
-        → (B, M, condition_dim) = [audio token | per layer: attention scale 1 + γ, shift β, feed-forward scale, shift],
+        windows (B, M, A, F), audio_present (B, M), style (B, M, S), style_present (B, M), lookahead δ (B, M)
+        (look-ahead truncation models only) → (B, M, condition_dim) = [audio token | per layer: attention scale 1 + γ, shift β, feed-forward scale, shift],
         each D wide.
         """
         style_code = self.style(style, style_present)  # (B, M, D)
-        parts = [self.audio(windows, audio_present)] + [block.modulation(style_code) for block in self.blocks]
+        parts = [self.audio(windows, audio_present, lookahead)] + [block.modulation(style_code) for block in self.blocks]
         return torch.cat(parts, dim=-1)  # (B, M, D + L·4D)
 
     def split_condition(self, condition: torch.Tensor) -> tuple[torch.Tensor, list[tuple[torch.Tensor, ...]]]:
@@ -139,14 +139,15 @@ class CausalDenoiser(nn.Module):
         x0 = self.output(self.final_norm(h))  # (B, M, C)
         return x0, torch.stack(new_keys), torch.stack(new_values)
 
-    def forward_chunk(self, x_t, t, windows, audio_present, style, style_present, cache_k, cache_v, cache_len):
+    def forward_chunk(self, x_t, t, windows, audio_present, style, style_present, cache_k, cache_v, cache_len,
+                      lookahead=None):
         """:meth:`forward_conditioned` on the raw per-frame inputs (B, M, ...) (see :meth:`condition`)."""
-        condition = self.condition(windows, audio_present, style, style_present)  # (B, M, condition_dim)
+        condition = self.condition(windows, audio_present, style, style_present, lookahead)  # (B, M, condition_dim)
         return self.forward_conditioned(x_t, t, condition, cache_k, cache_v, cache_len)
 
-    def forward(self, x_t, t, audio, audio_present, style, style_present):
+    def forward(self, x_t, t, audio, audio_present, style, style_present, lookahead=None):
         """Whole-sequence forward: x_t (B, N, C), t (B, N), audio (B, N*d+δa, F), audio_present (B, N),
-        style (B, S), style_present (B,) → x0 (B, N, C)."""
+        style (B, S), style_present (B,), lookahead δ (B,) (truncation models; default δa) → x0 (B, N, C)."""
         batch, num_latents, _ = x_t.shape
         cfg = self.config
         empty = x_t.new_zeros(cfg.num_layers, batch, cfg.num_heads, 0, cfg.head_dim)  # (L, B, H, 0, Dh)
@@ -154,12 +155,17 @@ class CausalDenoiser(nn.Module):
         windows = audio_windows(audio, num_latents, cfg)  # (B, N, A, F)
         style = style[:, None].expand(-1, num_latents, -1)  # (B, N, S)
         style_present = style_present[:, None].expand(-1, num_latents)  # (B, N)
-        x0, _, _ = self.forward_chunk(x_t, t, windows, audio_present, style, style_present, empty, empty, no_history)
+        if lookahead is None:
+            lookahead = torch.full((batch,), cfg.audio_lookahead, device=x_t.device)
+        per_frame = lookahead[:, None].expand(-1, num_latents)  # (B, N)
+        x0, _, _ = self.forward_chunk(x_t, t, windows, audio_present, style, style_present, empty, empty, no_history,
+                                      per_frame)
         return x0
 
-    def step(self, x_t, t, audio_window, style, cache: KVCache, audio_present=None, style_present=None):
-        """One incremental call: x_t (B, C), t (B,), audio_window (B, A, F), style (B, S)
-        → x0 (B, C), the cache with this frame appended.
+    def step(self, x_t, t, audio_window, style, cache: KVCache, audio_present=None, style_present=None,
+             lookahead=None):
+        """One incremental call: x_t (B, C), t (B,), audio_window (B, A, F), style (B, S), lookahead δ (B,)
+        (truncation models; default δa) → x0 (B, C), the cache with this frame appended.
 
         Keep the returned cache only for a clean frame (``t = CLEAN_TIMESTEP``, x_t = the chosen x0):
         that is how a generated latent becomes history. Noisy calls reuse the old cache.
@@ -167,7 +173,8 @@ class CausalDenoiser(nn.Module):
         batch = x_t.shape[0]
         audio_present = torch.ones(batch) if audio_present is None else audio_present
         style_present = torch.ones(batch) if style_present is None else style_present
+        lookahead = torch.full((batch,), self.config.audio_lookahead) if lookahead is None else lookahead
         frame_inputs = (x_t, t, audio_window, audio_present, style, style_present)
         as_chunk = (value[:, None] for value in frame_inputs)  # one new frame: M = 1
-        x0, keys, values = self.forward_chunk(*as_chunk, cache.keys, cache.values, cache.length)
+        x0, keys, values = self.forward_chunk(*as_chunk, cache.keys, cache.values, cache.length, lookahead[:, None])
         return x0[:, 0], cache.append(keys, values)

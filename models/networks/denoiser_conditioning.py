@@ -2,7 +2,9 @@
 
 - Diffusion step: sinusoidal embedding (Vaswani et al. 2017 §3.5; Ho et al. 2020 App. B) of ``t + 1``,
   so that ``t = CLEAN_TIMESTEP = -1`` (clean history, diffusion forcing) has its own exact code.
-- Audio: a small 1D conv over the (A, F) window of features ending δa frames past the latent.
+- Audio: a small 1D conv over the (A, F) window of features ending δa frames past the latent. A model
+  with ``lookahead_truncation`` is told its look-ahead δ ≤ δa per frame: the window's last δa − δ frames
+  are zeroed and a visibility channel (1 = heard, 0 = masked) joins the features (docs/latency.md).
 - Style: AdaIN-like modulation ``x * (1 + γ) + β`` (GestureDiffuCLIP §4 eq. 6; ZeroEGGS), γ and β
   predicted from the style embedding and zero-initialised so every layer starts as identity.
   A learned null style replaces the embedding where ``style_present = 0`` (classifier-free guidance,
@@ -48,8 +50,10 @@ class AudioWindowEncoder(nn.Module):
     def __init__(self, config: DenoiserConfig):
         super().__init__()
         width = config.width
+        self.config = config
+        channels = config.audio_dim + int(config.lookahead_truncation)  # + the visibility channel
         self.convs = nn.Sequential(
-            nn.Conv1d(config.audio_dim, width, AUDIO_CONV_KERNEL, padding=AUDIO_CONV_KERNEL // 2),
+            nn.Conv1d(channels, width, AUDIO_CONV_KERNEL, padding=AUDIO_CONV_KERNEL // 2),
             nn.GELU(),
             nn.Conv1d(width, width, AUDIO_CONV_KERNEL, stride=AUDIO_CONV_STRIDE, padding=AUDIO_CONV_KERNEL // 2),
             nn.GELU(),
@@ -58,8 +62,22 @@ class AudioWindowEncoder(nn.Module):
         self.project = nn.Linear(width * reduced, width)
         self.null_audio = nn.Parameter(torch.zeros(width))
 
-    def forward(self, windows: torch.Tensor, audio_present: torch.Tensor) -> torch.Tensor:
-        """windows (B, M, A, F), audio_present (B, M) in {0, 1} → (B, M, D)."""
+    def visible(self, windows: torch.Tensor, lookahead: torch.Tensor) -> torch.Tensor:
+        """windows (B, M, A, F), lookahead δ (B, M) → (B, M, A, F + 1): frames past δ zeroed, visibility appended."""
+        length = windows.shape[2]
+        heard = length - self.config.audio_lookahead + lookahead.to(windows.dtype)  # (B, M): visible frames
+        positions = torch.arange(length, dtype=windows.dtype, device=windows.device)  # (A,)
+        mask = (positions < heard[..., None]).to(windows.dtype)[..., None]  # (B, M, A, 1)
+        return torch.cat([windows * mask, mask], dim=-1)  # (B, M, A, F + 1)
+
+    def forward(self, windows: torch.Tensor, audio_present: torch.Tensor,
+                lookahead: torch.Tensor | None = None) -> torch.Tensor:
+        """windows (B, M, A, F), audio_present (B, M) in {0, 1}, lookahead δ (B, M) (truncation models only)
+        → (B, M, D)."""
+        if self.config.lookahead_truncation:
+            if lookahead is None:
+                raise ValueError("a look-ahead truncation model needs the look-ahead δ of every frame")
+            windows = self.visible(windows, lookahead)  # (B, M, A, F + 1)
         batch, num_new, length, channels = windows.shape
         flat = windows.reshape(batch * num_new, length, channels).transpose(1, 2)  # (B*M, F, A)
         encoded = self.convs(flat).flatten(1)  # (B*M, D*A')

@@ -33,11 +33,17 @@ from gesturecast.models.runtime.ort_session import DEFAULT_THREADS, make_session
 CONFIG_METADATA_KEY = "gesturecast.denoiser_config"  # ONNX metadata entry holding the DenoiserConfig JSON
 FRAME_INPUT_NAMES = ("x_t", "t", "condition")
 CONDITION_INPUT_NAMES = ("audio_windows", "audio_present", "style", "style_present")
+LOOKAHEAD_INPUT_NAME = "lookahead"  # condition input of look-ahead truncation models only: δ (B, M)
 CONDITION_OUTPUT_NAME = "condition"
 CONDITION_FILE_SUFFIX = "_condition"  # denoiser.onnx → denoiser_condition.onnx
 CACHE_INPUT_NAMES = ("cache_keys", "cache_values", "cache_length")
 OUTPUT_NAMES = ("x0", "new_keys", "new_values")
 CACHE_AXIS = 3  # frame axis of (L, B, H, W, Dh)
+
+
+def condition_input_names(config: DenoiserConfig) -> tuple[str, ...]:
+    """The condition graph's inputs: the four of every model, plus ``lookahead`` for truncation models."""
+    return (*CONDITION_INPUT_NAMES, LOOKAHEAD_INPUT_NAME) if config.lookahead_truncation else CONDITION_INPUT_NAMES
 
 
 def condition_path(step_path: Path | str) -> Path:
@@ -123,21 +129,30 @@ class DenoiserRuntime:
         x0, new_keys, new_values = self.session.run(None, feeds)
         return x0, new_keys, new_values
 
-    def condition(self, windows, audio_present, style, style_present) -> np.ndarray:
+    def condition(self, windows, audio_present, style, style_present, lookahead: int | None = None) -> np.ndarray:
         """Condition-graph call on M frames: windows (B, M, A, F), audio_present (B, M), style (B, M, S),
-        style_present (B, M) → (B, M, Dc)."""
-        arrays = (windows, audio_present, style, style_present)
-        feeds = {name: np.asarray(value, np.float32) for name, value in zip(CONDITION_INPUT_NAMES, arrays, strict=True)}
+        style_present (B, M), look-ahead δ of every frame (default δa; another δ needs a truncation model)
+        → (B, M, Dc)."""
+        cfg = self.config
+        lookahead = cfg.audio_lookahead if lookahead is None else lookahead
+        arrays = [windows, audio_present, style, style_present]
+        if cfg.lookahead_truncation:
+            arrays.append(np.full(np.shape(audio_present), lookahead))
+        elif lookahead != cfg.audio_lookahead:
+            raise ValueError(f"this denoiser serves only look-ahead {cfg.audio_lookahead}, not {lookahead}")
+        names = condition_input_names(cfg)
+        feeds = {name: np.asarray(value, np.float32) for name, value in zip(names, arrays, strict=True)}
         return self.condition_session.run(None, feeds)[0]
 
-    def frame_condition(self, audio_window, style, audio_present=None, style_present=None) -> np.ndarray:
+    def frame_condition(self, audio_window, style, audio_present=None, style_present=None,
+                        lookahead: int | None = None) -> np.ndarray:
         """One frame's condition (B, Dc): audio_window (B, A, F), style (B, S), audio_present / style_present
-        (B,) in {0, 1} (default 1)."""
+        (B,) in {0, 1} (default 1), look-ahead δ (default δa)."""
         ones = np.ones(len(style), dtype=np.float32)
         present = ones if audio_present is None else audio_present
         style_on = ones if style_present is None else style_present
         arrays = (audio_window, present, style, style_on)
-        return self.condition(*(np.asarray(value, np.float32)[:, None] for value in arrays))[:, 0]
+        return self.condition(*(np.asarray(value, np.float32)[:, None] for value in arrays), lookahead)[:, 0]
 
     @staticmethod
     def frame(x, t, condition) -> FrameInputs:

@@ -8,6 +8,9 @@
   with a Huber loss (DiffuseStyleGesture §3.3, eq. 5) on the noisy frames only.
 - The style is dropped (replaced by the learned null style) with probability ``style_drop_prob``
   for classifier-free guidance (Ho & Salimans 2022 §3.2; 10% as in DiffuseStyleGesture).
+- Random look-ahead truncation (models with ``lookahead_truncation``): every sequence draws its
+  look-ahead δ uniformly from 0..δa; the network masks the audio past δ and is told δ, so one model
+  serves every latency setting (docs/latency.md "Latency settings").
 """
 
 from __future__ import annotations
@@ -35,6 +38,14 @@ def sample_noise_levels(batch: int, num_latents: int, num_timesteps: int, clean_
     history_len = torch.randint(0, num_latents, (batch,), generator=generator)  # (B,) in 0..N-1
     clean = (torch.arange(num_latents)[None, :] < history_len[:, None]) & with_history[:, None]  # (B, N)
     return t.masked_fill(clean, CLEAN_TIMESTEP)
+
+
+def sample_lookaheads(model: CausalDenoiser, batch: int, generator) -> torch.Tensor:
+    """Per-sequence look-ahead δ (B,): uniform over 0..δa with truncation training, else δa."""
+    config = model.config
+    if not config.lookahead_truncation:
+        return torch.full((batch,), config.audio_lookahead)
+    return torch.randint(0, config.audio_lookahead + 1, (batch,), generator=generator)
 
 
 def noise_frames(schedule: DiffusionSchedule, latents: torch.Tensor, t: torch.Tensor, generator) -> torch.Tensor:
@@ -65,7 +76,8 @@ def training_loss(
     x_t = noise_frames(schedule, latents, t, generator)  # (B, N, C)
     audio_present = audio_mask.float().reshape(batch, -1).expand(batch, num_latents)  # (B, N)
     style_present = (torch.rand(batch, generator=generator) >= config.style_drop_prob).float()  # (B,)
-    x0 = model(x_t, t, audio, audio_present, style, style_present)  # (B, N, C)
+    lookahead = sample_lookaheads(model, batch, generator)  # (B,)
+    x0 = model(x_t, t, audio, audio_present, style, style_present, lookahead)  # (B, N, C)
     per_element = F.huber_loss(x0, latents, reduction="none", delta=config.huber_delta)  # (B, N, C)
     noisy = (t != CLEAN_TIMESTEP).float()[..., None]  # (B, N, 1)
     return (per_element * noisy).sum() / (noisy.sum() * latents.shape[-1]).clamp(min=1.0)

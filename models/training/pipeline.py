@@ -168,7 +168,7 @@ def denoiser_config(preset: TrainPreset, latent_dim: int, audio_dim: int, style_
     return DenoiserConfig(latent_dim=latent_dim, audio_dim=audio_dim, style_dim=style_dim, width=den.width,
                           num_layers=den.num_layers, num_heads=den.num_heads, window=den.window,
                           frames_per_latent=preset.vq.downsample, audio_lookahead=preset.audio_lookahead,
-                          audio_window=den.audio_window)
+                          audio_window=den.audio_window, lookahead_truncation=preset.lookahead_truncation)
 
 
 def denoiser_stage(inputs: TrainInputs, preset: TrainPreset, checkpoint: dict, progress: bool) -> dict:

@@ -58,6 +58,7 @@ class TrainPreset:
     mirror_motion_only: bool = True  # mirror the motion-only takes (paired takes get mirror + speed)
     paired_speeds: tuple[float, ...] = field(default=(0.9, 1.1))
     audio_augmentation: bool = False  # voice / channel augmentation of paired audio (models/audio_augment.py)
+    lookahead_truncation: bool = False  # random look-ahead δ ≤ δa in training: one model for every --latency
 
     def to_dict(self) -> dict:
         return asdict(self)
@@ -83,6 +84,7 @@ TINY = TrainPreset(
                             sequence_latents=6, learning_rate=1e-3, paired_fraction=0.5),
     prompt=PromptPreset(width=16, steps=5, batch_size=4, clip_frames=32),
     paired_speeds=(),
+    lookahead_truncation=True,
 )
 
 DEFAULT = TrainPreset(
@@ -92,6 +94,7 @@ DEFAULT = TrainPreset(
     denoiser=DenoiserPreset(width=128, num_layers=4, num_heads=4, window=16, audio_window=16, steps=6000,
                             batch_size=32, sequence_latents=16, learning_rate=3e-4, paired_fraction=0.5),
     prompt=PromptPreset(width=128, steps=400, batch_size=32, clip_frames=90),
+    lookahead_truncation=True,
 )
 
 PRESETS = {preset.name: preset for preset in (TINY, DEFAULT)}
