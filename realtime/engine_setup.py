@@ -21,10 +21,10 @@ from gesturecast.realtime.generator import SINGLE_STYLE, Generator, GeneratorSet
 from gesturecast.realtime.session import GestureSession, SessionConfig
 from gesturecast.realtime.style_prompts import StylePrompt
 from gesturecast.realtime.timing.clock import Clock
-from gesturecast.realtime.timing.latency import LatencyBudget
+from gesturecast.realtime.timing.latency import LATENCY_SETTINGS, QUALITY, LatencyBudget, LatencySetting
 
 DEFAULT_MODEL_DIR = Path(str(resources.files("gesturecast.models"))) / "weights" / "default"
-DEFAULT_MARGIN_MS = 100.0
+DEFAULT_MARGIN_MS = QUALITY.compute_margin_ms
 DEFAULT_SMOOTHING_FRAMES = 1  # centred 3-frame window: jerk ≈ real motion's (docs/generator.md "Smoothing")
 DEFAULT_STEPS = 4
 DEFAULT_AUDIO_GUIDANCE = 1.5  # docs/generator.md "Audio guidance": rests in pauses, follows the speech more
@@ -48,12 +48,17 @@ def add_generation_arguments(parser: argparse.ArgumentParser) -> None:
     group.add_argument("--sampler", choices=("ddim", "ddpm"), default="ddim")
     group.add_argument("--steps", type=int_at_least(1), default=DEFAULT_STEPS, help="DDIM steps K per latent frame")
     group.add_argument("--seed", type=int_at_least(0), default=0)
-    group.add_argument("--lookahead", type=int_at_least(0), help="audio look-ahead δa in frames (must match the model)")
+    group.add_argument("--latency", choices=tuple(LATENCY_SETTINGS), default=QUALITY.name,
+                       help="latency dial: quality = the model's look-ahead δa (L 533 ms), balanced = δ 4, "
+                            "low = δ 0 (L 237 ms); below δa needs a model trained with look-ahead truncation "
+                            "(docs/latency.md)")
+    group.add_argument("--lookahead", type=int_at_least(0),
+                       help="audio look-ahead δ in frames (default: the --latency setting's)")
     group.add_argument("--smoothing", type=int_at_least(0), default=DEFAULT_SMOOTHING_FRAMES,
                        help="half-width k of the centred motion smoothing window in frames (adds k frames to L; "
                             "0: off)")
-    group.add_argument("--margin-ms", type=finite_float(minimum=0.0), default=DEFAULT_MARGIN_MS,
-                       help="compute margin in the latency L")
+    group.add_argument("--margin-ms", type=finite_float(minimum=0.0),
+                       help="compute margin in the latency L (default: the --latency setting's)")
     group.add_argument("--threads", type=int_at_least(1), default=1, help="onnxruntime intra-op threads")
     group.add_argument("--root", choices=ROOT_MODES, default=RootMode.BOUNDED.value,
                        help="bounded: stays within 0.15 m / 30° of where it started (default); "
@@ -74,10 +79,19 @@ def style_prompt(args: argparse.Namespace) -> StylePrompt:
     return StylePrompt.parse(args.style)
 
 
+def latency_choice(args: argparse.Namespace, bundle: ModelBundle) -> tuple[int, float]:
+    """(look-ahead δ, compute margin ms) of --latency, with --lookahead / --margin-ms overriding it."""
+    setting: LatencySetting = LATENCY_SETTINGS[args.latency]
+    lookahead = setting.lookahead_for(bundle.audio_lookahead) if args.lookahead is None else args.lookahead
+    margin = setting.compute_margin_ms if args.margin_ms is None else args.margin_ms
+    return lookahead, margin
+
+
 def generator_settings(args: argparse.Namespace, bundle: ModelBundle) -> GeneratorSettings:
     """DDIM with K steps, or DDPM over all T steps of the model's schedule (the offline-quality path)."""
     steps = args.steps if args.sampler == "ddim" else bundle.denoiser_config.num_timesteps
     sampler = SamplerConfig(args.sampler, steps)
+    lookahead, _ = latency_choice(args, bundle)
     return GeneratorSettings(
         sampler=sampler,
         guidance=args.guidance,
@@ -87,20 +101,16 @@ def generator_settings(args: argparse.Namespace, bundle: ModelBundle) -> Generat
         seed=args.seed,
         threads=args.threads,
         audio_guidance=args.audio_guidance,
+        lookahead=lookahead,
     )
 
 
 def build_session(args: argparse.Namespace, clock: Clock, bundle: ModelBundle | None = None) -> GestureSession:
     """A session with the flags' settings, on ``bundle`` (loaded once by batch workers) or on ``--model``."""
     bundle = load_bundle(args.model) if bundle is None else bundle
-    if args.lookahead is not None and args.lookahead != bundle.audio_lookahead:
-        raise UserError(
-            f"this model was trained with look-ahead δa = {bundle.audio_lookahead} frames, not {args.lookahead}; "
-            f"train one with `gesturecast train --lookahead {args.lookahead}` and pass it with --model"
-        )
-    budget = LatencyBudget(bundle.frames_per_latent, bundle.audio_lookahead, args.margin_ms,
-                           smoothing_frames=args.smoothing)
     generator = Generator(bundle, generator_settings(args, bundle))
+    _, margin = latency_choice(args, bundle)
+    budget = LatencyBudget(bundle.frames_per_latent, generator.lookahead, margin, smoothing_frames=args.smoothing)
     return GestureSession(bundle, generator, budget, clock, SessionConfig(root_mode=RootMode(args.root)))
 
 

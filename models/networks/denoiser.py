@@ -108,11 +108,12 @@ class CausalDenoiser(nn.Module):
         """Everything a frame's denoising needs besides x_t and t, computed once per frame (not per sampler step).
 
         windows (B, M, A, F), audio_present (B, M), style (B, M, S), style_present (B, M), lookahead δ (B, M)
-        (look-ahead truncation models only) → (B, M, condition_dim) = [audio token | per layer: attention scale 1 + γ, shift β, feed-forward scale, shift],
-        each D wide.
+        (look-ahead truncation models only) → (B, M, condition_dim) = [audio token | per layer: attention
+        scale 1 + γ, shift β, feed-forward scale, shift], each D wide.
         """
         style_code = self.style(style, style_present)  # (B, M, D)
-        parts = [self.audio(windows, audio_present, lookahead)] + [block.modulation(style_code) for block in self.blocks]
+        audio_token = self.audio(windows, audio_present, lookahead)  # (B, M, D)
+        parts = [audio_token] + [block.modulation(style_code) for block in self.blocks]
         return torch.cat(parts, dim=-1)  # (B, M, D + L·4D)
 
     def split_condition(self, condition: torch.Tensor) -> tuple[torch.Tensor, list[tuple[torch.Tensor, ...]]]:

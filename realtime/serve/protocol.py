@@ -3,7 +3,8 @@
 Client → server:
 
 - ``{"type": "start", "style"?, "prompt"?, "style2"?, "gamma"?, "guidance"?, "audio_guidance"?, "seed"?,
-  "audio_format"?, "token"?}`` — optional before the first audio (defaults: the server's style, ``f32le``); carries the
+  "latency"?, "audio_format"?, "token"?}`` — optional before the first audio (defaults: the server's style and
+  latency setting, ``f32le``); ``latency`` is ``low``, ``balanced`` or ``quality`` (docs/latency.md); carries the
   token when the server requires one.
 - binary messages: raw PCM, 16 kHz mono, ``f32le`` (float32 in [-1, 1]) or ``s16le`` (int16).
 - ``{"type": "control", ...}`` — live style / guidance / audio guidance / γ changes
@@ -11,7 +12,8 @@ Client → server:
 - ``{"type": "end"}`` — no more audio: the rest of the poses, then a ``stats`` message, then close.
 
 Server → client: the JSON hello (the viewer's hello plus ``stream``, ``latency_budget_ms``, ``audio``),
-``started``, binary pose frames (:func:`gesturecast.bridges.ws_protocol.binary_frame`), ``ack``,
+``started`` (with the stream's ``latency_budget_ms``), binary pose frames
+(:func:`gesturecast.bridges.ws_protocol.binary_frame`), ``ack``,
 ``error`` (one line; the connection stays open) and ``stats``.
 """
 
@@ -28,12 +30,13 @@ from gesturecast.errors import UserError
 from gesturecast.realtime.audio.files import SAMPLE_RATE
 from gesturecast.realtime.audio.pcm import PCM16_FULL_SCALE
 from gesturecast.realtime.style_prompts import StylePrompt
+from gesturecast.realtime.timing.latency import LATENCY_SETTINGS
 
 AUDIO_FORMATS = {"f32le": np.dtype("<f4"), "s16le": np.dtype("<i2")}
 DEFAULT_AUDIO_FORMAT = "f32le"
 MAX_AUDIO_MESSAGE_BYTES = 64 * 1024  # 1 s of float32 audio fits
 MAX_SEED = 2**31 - 1
-START_FIELDS = frozenset({"type", "token", "seed", "audio_format", *CONTROL_FIELDS})
+START_FIELDS = frozenset({"type", "token", "seed", "latency", "audio_format", *CONTROL_FIELDS})
 STREAM_ID_CHARS = frozenset("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-_.")
 MAX_STREAM_ID_CHARS = 64
 STREAM_PATH_PREFIX = "/stream/"
@@ -50,6 +53,7 @@ class StreamOptions:
     audio_guidance: float | None = None
     root: str | None = None
     seed: int | None = None
+    latency: str | None = None  # a LATENCY_SETTINGS name
     audio_format: str = DEFAULT_AUDIO_FORMAT
 
 
@@ -82,6 +86,9 @@ def parse_start(message: dict) -> StreamOptions:
     seed = message.get("seed")
     if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed <= MAX_SEED):
         raise ControlError(f"seed must be an integer in [0, {MAX_SEED}]")
+    latency = message.get("latency")
+    if latency is not None and latency not in LATENCY_SETTINGS:
+        raise ControlError(f"latency must be one of {', '.join(LATENCY_SETTINGS)}, got {latency!r:.40}")
     style = StylePrompt("text", control["prompt"]) if "prompt" in control else None
     if style is None and "style" in control:
         style = client_style(control["style"])
@@ -93,6 +100,7 @@ def parse_start(message: dict) -> StreamOptions:
         audio_guidance=control.get("audio_guidance"),
         root=control.get("root"),
         seed=seed,
+        latency=latency,
         audio_format=audio_format,
     )
 
@@ -136,8 +144,9 @@ def hello(viewer_hello: str, stream_id: str, latency_budget_ms: float) -> str:
     return json.dumps(message)
 
 
-def started(stream_id: str, style: str, audio_format: str) -> str:
-    return json.dumps({"type": "started", "stream": stream_id, "style": style, "audio_format": audio_format})
+def started(stream_id: str, style: str, audio_format: str, latency_budget_ms: float) -> str:
+    return json.dumps({"type": "started", "stream": stream_id, "style": style, "audio_format": audio_format,
+                       "latency_budget_ms": latency_budget_ms})
 
 
 def ack(control: dict) -> str:

@@ -171,7 +171,7 @@ class StreamConnection:
                                   self.server.config.stream, on_finished=self.sender.close_when_sent,
                                   delivery_counters=self.sender.counters).start()
         logger.info("stream %s started (%s)", self.stream_id, session.controls.describe())
-        return started(self.stream_id, session.controls.describe(), self.audio_format)
+        return started(self.stream_id, session.controls.describe(), self.audio_format, session.budget.total_ms)
 
     async def _audio(self, data: bytes) -> str | None:
         reply = None

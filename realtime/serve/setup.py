@@ -13,14 +13,15 @@ from gesturecast.realtime.serve.batched_denoiser import DenoiserBatcher, SharedD
 from gesturecast.realtime.serve.protocol import StreamOptions
 from gesturecast.realtime.session import GestureSession, SessionConfig
 from gesturecast.realtime.timing.clock import Clock
-from gesturecast.realtime.timing.latency import LatencyBudget
+from gesturecast.realtime.timing.latency import LATENCY_SETTINGS, LatencyBudget
 
 
 class StreamSessions:
     """Builds one :class:`GestureSession` per stream from a ``start`` message over the server's defaults.
 
-    All sessions share the budget L (same model, same margin) and one :class:`DenoiserBatcher`;
-    each has its own generator state (KV cache rows, RNG, decoder, features). Close with :meth:`close`.
+    Sessions share the server's budget L unless their ``start`` names a latency setting (its look-ahead and
+    margin, the server's smoothing), and one :class:`DenoiserBatcher`; each has its own generator state
+    (KV cache rows, RNG, decoder, features). Close with :meth:`close`.
     """
 
     def __init__(self, bundle: ModelBundle, defaults: GeneratorSettings, budget: LatencyBudget, clock: Clock,
@@ -32,6 +33,14 @@ class StreamSessions:
         self.batcher = DenoiserBatcher(bundle.path("denoiser"), defaults.threads, max_waiting=max_streams).start()
         self.bundle = SharedDenoiserBundle.wrap(bundle, self.batcher)
 
+    def budget_for(self, options: StreamOptions) -> LatencyBudget:
+        """The stream's L: the server's, or the one of the ``start`` message's latency setting."""
+        if options.latency is None:
+            return self.budget
+        setting = LATENCY_SETTINGS[options.latency]
+        lookahead = setting.lookahead_for(self.bundle.audio_lookahead)
+        return replace(self.budget, lookahead_frames=lookahead, compute_margin_ms=setting.compute_margin_ms)
+
     def settings(self, options: StreamOptions) -> GeneratorSettings:
         chosen = {
             "style": options.style,
@@ -41,10 +50,12 @@ class StreamSessions:
             "audio_guidance": options.audio_guidance,
             "seed": options.seed,
         }
-        return replace(self.defaults, **{name: value for name, value in chosen.items() if value is not None})
+        settings = replace(self.defaults, **{name: value for name, value in chosen.items() if value is not None})
+        return replace(settings, lookahead=self.budget_for(options).lookahead_frames)
 
     def session(self, options: StreamOptions) -> GestureSession:
-        """A fresh session; ControlError (sent to the client) for a style the model does not know."""
+        """A fresh session; ControlError (sent to the client) for a style the model does not know or a latency
+        setting it cannot serve."""
         try:
             generator = Generator(self.bundle, self.settings(options))
         except UserError as error:
@@ -52,7 +63,7 @@ class StreamSessions:
         config = self.session_defaults
         if options.root is not None:
             config = replace(config, root_mode=RootMode(options.root))
-        return GestureSession(self.bundle, generator, self.budget, self.clock, config)
+        return GestureSession(self.bundle, generator, self.budget_for(options), self.clock, config)
 
     def close(self) -> None:
         self.batcher.close()
