@@ -7,8 +7,10 @@ loopback. The input is a recording at real-time pace, or a microphone (``--devic
 card, ``python -m gesturecast.tools.bench.virtual_mic SPEECH -- gesturecast bench latency --device
 pulse`` provides one. The first ``START_WINDOW_S`` seconds of frames are reported apart (``start``),
 to show whether the run misses deadlines while it starts; ``--no-warm-up`` skips the engine's
-warm-up, to measure what it saves. ``--sweep`` repeats the run for K ∈ {1, 2, 4, 8, 16} (and for each ``--model`` given,
-e.g. bundles trained with other look-aheads δa) and writes a Markdown table and a plot.
+warm-up, to measure what it saves. ``--sweep`` repeats the run for every ``--latency`` setting of the
+model (and of each ``--sweep-models`` bundle; :mod:`gesturecast.tools.bench.latency_sweep`);
+``--sweep-steps`` repeats it for K ∈ {1, 2, 4, 8, 16} (and each ``--sweep-models`` bundle, e.g. bundles
+trained with other look-aheads δa). Both write a Markdown table and a plot.
 """
 
 from __future__ import annotations
@@ -36,6 +38,7 @@ from gesturecast.realtime.engine_setup import add_generation_arguments, build_se
 from gesturecast.realtime.timing.clock import Clock, MonotonicClock
 from gesturecast.realtime.timing.frames import PoseFrame
 from gesturecast.realtime.timing.latency import MS_PER_S
+from gesturecast.tools.bench.latency_sweep import latency_sweep
 
 SWEEP_STEPS = (1, 2, 4, 8, 16)
 PERCENTILES = ("p50", "p95", "p99", "max")
@@ -55,8 +58,11 @@ def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--no-warm-up", dest="warm_up", action="store_false",
                         help="open the source without warming the stages up first (to measure what that saves)")
     parser.add_argument("--json", action="store_true", help="print one JSON object")
-    parser.add_argument("--sweep", action="store_true", help="vary K (and --model bundles) and write table + plot")
-    parser.add_argument("--sweep-models", type=Path, nargs="*", default=[], help="extra bundles for the δa sweep")
+    parser.add_argument("--sweep", action="store_true",
+                        help="every --latency setting (and --sweep-models bundle): L, p95, misses, following; "
+                             "table + plot")
+    parser.add_argument("--sweep-steps", action="store_true", help="vary K (and --sweep-models bundles); table + plot")
+    parser.add_argument("--sweep-models", type=Path, nargs="*", default=[], help="extra bundles for the sweeps")
     parser.add_argument("--out", type=Path, default=Path("out/bench"), help="folder for the sweep table and plot")
     parser.add_argument("--block-size", type=int, default=DEFAULT_CHUNK, help="samples per audio chunk (16 kHz)")
     add_generation_arguments(parser)
@@ -67,14 +73,16 @@ def run_bench_latency(args: argparse.Namespace) -> int:
     if (args.audio is None) == (args.device is None):
         raise UserError("give a speech FILE or --device NAME (one of them)")
     if args.device is not None:
-        if args.sweep:
-            raise UserError("--sweep runs on a file; drop --device")
+        if args.sweep or args.sweep_steps:
+            raise UserError("the sweeps run on a file; drop --device")
         result = measure(args, None)
         sys.stdout.write(json.dumps(result, indent=None if args.json else 2) + "\n")
         return 0
     with tempfile.TemporaryDirectory() as scratch:
         audio = _trimmed(args.audio, args.seconds, Path(scratch))
         if args.sweep:
+            result = latency_sweep(args, audio, measure_with_frames)
+        elif args.sweep_steps:
             rows = _sweep(args, audio)
             _write_sweep(rows, args.out)
             result = {"sweep": rows, "table": str(args.out / "latency_sweep.md"),
@@ -99,13 +107,16 @@ def _trimmed(path: Path, seconds: float | None, scratch: Path) -> Path:
 class ReleaseLog:
     """A sink in front of the bridges that records, per frame, its capture time and how late it was sent."""
 
-    def __init__(self, sink: Sink, clock: Clock) -> None:
+    def __init__(self, sink: Sink, clock: Clock, keep_frames: bool = False) -> None:
         self.sink = sink
         self.clock = clock
         self.rows: list[tuple[float, float]] = []  # (capture time, lateness s) per frame
+        self.frames: list[PoseFrame] | None = [] if keep_frames else None  # the released frames (sweeps only)
 
     def send(self, frame: PoseFrame) -> None:
         self.rows.append((frame.capture_time, self.clock.now() - frame.presentation_time))
+        if self.frames is not None:
+            self.frames.append(frame)
         self.sink(frame)
 
     def windows(self) -> dict:
@@ -139,17 +150,23 @@ def open_bench_source(args: argparse.Namespace, audio: Path | None, clock: Clock
 
 def measure(args: argparse.Namespace, audio: Path | None) -> dict:
     """One real-time run with the real bridges on loopback; returns the benchmark's JSON object."""
+    return measure_with_frames(args, audio)[0]
+
+
+def measure_with_frames(args: argparse.Namespace, audio: Path | None,
+                        keep_frames: bool = False) -> tuple[dict, list[PoseFrame] | None]:
+    """:func:`measure`, plus the frames it released when ``keep_frames``."""
     clock = MonotonicClock()
     session = build_session(args, clock)
     viewer = WebSocketBridge(WebSocketConfig(port=0, clock=clock.now)).start()
     outputs = BridgeFanout([VmcBridge(VmcConfig(port=VMC_DEFAULT_PORT)), viewer])
-    log = ReleaseLog(outputs.send, clock)
+    log = ReleaseLog(outputs.send, clock, keep_frames)
     try:
         source = open_bench_source(args, audio, clock)
         report = LiveEngine(session, source, log.send, clock, warm=args.warm_up).run()
     finally:
         outputs.close()
-    return {**benchmark_json(report, args, session.generator.guidance), **log.windows()}
+    return {**benchmark_json(report, args, session.generator.guidance), **log.windows()}, log.frames
 
 
 def benchmark_json(report: EngineReport, args: argparse.Namespace, guidance: float) -> dict:
@@ -169,7 +186,9 @@ def benchmark_json(report: EngineReport, args: argparse.Namespace, guidance: flo
         "settings": {
             "sampler": args.sampler,
             "steps": args.steps if args.sampler == "ddim" else None,
+            "latency": args.latency,
             "lookahead_frames": report.budget.get("lookahead_frames"),
+            "compute_margin_ms": report.budget.get("compute_margin_ms"),
             "guidance": guidance,
             "audio_guidance": args.audio_guidance,
             "threads": args.threads,
