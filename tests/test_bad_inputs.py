@@ -125,6 +125,8 @@ BAD_INPUTS: dict[str, BadInput] = {
     "audio guidance nan": BadInput(f"{GENERATE} --audio-guidance nan", "--audio-guidance: must be a finite"),
     "gamma nan": BadInput(f"{GENERATE} --gamma nan", "--gamma: must be a finite number"),
     "lookahead -1": BadInput(f"{GENERATE} --lookahead -1", "--lookahead: must be an integer ≥ 0"),
+    "latency low, old model": BadInput(f"{GENERATE} --latency low", "trained without look-ahead truncation"),
+    "latency unknown": BadInput(f"{GENERATE} --latency fast", "--latency: invalid choice"),
     "ws port 70000": BadInput("live --input {speech} --ws 70000", "--ws: must be an integer from 0 to 65535"),
     "serve port 70000": BadInput("serve --port 70000", "--port: must be an integer from 0 to 65535"),
     "block size 0": BadInput("live --input {speech} --bvh {out} --block-size 0", "--block-size: must be an integer"),

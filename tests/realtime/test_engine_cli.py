@@ -44,7 +44,7 @@ def test_ddpm_sampler_runs_all_steps_on_the_same_model(tiny_model, speech, tmp_p
     ("flags", "message"),
     [
         (["--style", "sparkly"], "unknown style"),
-        (["--lookahead", "3"], "look-ahead"),
+        (["--lookahead", "9"], "past this model's δa = 8"),
         (["--model", "/nonexistent"], "no model bundle"),
     ],
 )

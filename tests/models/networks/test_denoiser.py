@@ -1,7 +1,7 @@
 import numpy as np
 import pytest
 import torch
-from denoiser_helpers import TINY, random_model
+from denoiser_helpers import TINY, TRUNCATING, random_model
 
 from gesturecast.models.generator.denoiser_config import audio_frames_needed, audio_window_from_features
 from gesturecast.models.generator.diffusion import CLEAN_TIMESTEP
@@ -86,3 +86,33 @@ def test_audio_windows_match_numpy_slicing():
         np.testing.assert_array_equal(windows[0, i].numpy(), expected)
     with pytest.raises(ValueError):
         audio_windows(audio[:, :-1], num_latents, TINY)
+
+
+def test_truncated_look_ahead_ignores_the_masked_frames_and_is_told_its_look_ahead():
+    """At look-ahead δ the window's last δa − δ frames do not matter at all; δ itself changes the output."""
+    model = random_model(TRUNCATING)
+    gen = torch.Generator().manual_seed(2)
+    windows = torch.randn(1, 3, TRUNCATING.audio_window, TRUNCATING.audio_dim, generator=gen)  # (B, M, A, F)
+    present, style = torch.ones(1, 3), torch.randn(1, 3, TRUNCATING.style_dim, generator=gen)
+    lookahead = 1
+    changed = windows.clone()
+    changed[:, :, TRUNCATING.audio_window - (TRUNCATING.audio_lookahead - lookahead):] = 7.0  # only masked frames
+    heard_change = windows.clone()
+    heard_change[:, :, 0] += 1.0  # a heard frame
+    with torch.no_grad():
+        def condition(w, delta):
+            return model.condition(w, present, style, present, torch.full((1, 3), float(delta)))
+
+        torch.testing.assert_close(condition(windows, lookahead), condition(changed, lookahead), rtol=0, atol=0)
+        assert not torch.allclose(condition(windows, lookahead), condition(heard_change, lookahead))
+        assert not torch.allclose(condition(windows, lookahead), condition(windows, lookahead + 1))
+
+
+def test_a_truncation_model_without_its_look_ahead_falls_back_to_the_full_one():
+    """forward / step default δ to δa: the same as passing δa explicitly."""
+    model = random_model(TRUNCATING)
+    x, t, audio, audio_present, style, style_present = random_inputs(2, 5, TRUNCATING)
+    with torch.no_grad():
+        default = model(x, t, audio, audio_present, style, style_present)
+        explicit = model(x, t, audio, audio_present, style, style_present, torch.full((2,), TRUNCATING.audio_lookahead))
+    torch.testing.assert_close(default, explicit, rtol=0, atol=0)

@@ -4,7 +4,7 @@ import sys
 import numpy as np
 import pytest
 import torch
-from denoiser_helpers import TINY, random_model
+from denoiser_helpers import TINY, TRUNCATING, random_model
 
 from gesturecast.errors import UserError
 from gesturecast.models.export.denoiser import example_condition_inputs, example_step_inputs, export_denoiser
@@ -13,7 +13,7 @@ from gesturecast.models.generator.denoiser_config import audio_frames_needed
 from gesturecast.models.generator.diffusion import CLEAN_TIMESTEP
 from gesturecast.models.networks.denoiser import audio_windows
 from gesturecast.models.networks.motion_prompt import MotionPromptConfig, MotionPromptEncoder
-from gesturecast.models.runtime.denoiser import DenoiserRuntime, FrameInputs, condition_path
+from gesturecast.models.runtime.denoiser import LOOKAHEAD_INPUT_NAME, DenoiserRuntime, FrameInputs, condition_path
 
 
 @pytest.fixture(scope="module")
@@ -117,3 +117,30 @@ def test_a_step_graph_without_its_condition_graph_is_refused(tmp_path):
     condition_path(path).unlink()
     with pytest.raises(UserError, match="denoiser_condition.onnx is missing"):
         DenoiserRuntime(path)
+
+
+@pytest.mark.parametrize("lookahead", [0, 2])
+def test_truncation_model_onnx_matches_torch_at_a_truncated_look_ahead(tmp_path, lookahead):
+    """The condition graph of a truncation model takes δ; torch and ONNX agree within 1e-4 at δ < δa, and the
+    frames past δ do not matter."""
+    model = random_model(TRUNCATING)
+    runtime = DenoiserRuntime(export_denoiser(model, tmp_path / "denoiser.onnx"), threads=1)
+    names = [node.name for node in runtime.condition_session.get_inputs()]
+    assert names[-1] == LOOKAHEAD_INPUT_NAME
+    inputs = _random(example_condition_inputs(TRUNCATING, 2, 3), 5)[:4]  # the traced δ is replaced below
+    windows, present, style, style_present = (x.numpy() for x in inputs)
+    with torch.no_grad():
+        expected = model.condition(*(torch.as_tensor(x) for x in (windows, present, style, style_present)),
+                                   torch.full((2, 3), float(lookahead)))
+    got = runtime.condition(windows, present, style, style_present, lookahead)
+    np.testing.assert_allclose(got, expected.numpy(), atol=1e-4)
+    tail = windows.copy()
+    tail[:, :, TRUNCATING.audio_window - (TRUNCATING.audio_lookahead - lookahead):] = 0.0
+    np.testing.assert_array_equal(runtime.condition(tail, present, style, style_present, lookahead), got)
+
+
+def test_a_model_without_truncation_refuses_another_look_ahead(exported):
+    _, runtime = exported
+    windows, present, style, style_present = (x.numpy() for x in example_condition_inputs(TINY, 1, 1))
+    with pytest.raises(ValueError, match="serves only look-ahead 8"):
+        runtime.condition(windows, present, style, style_present, 0)

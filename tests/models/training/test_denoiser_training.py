@@ -1,5 +1,5 @@
 import torch
-from denoiser_helpers import TINY
+from denoiser_helpers import TINY, TRUNCATING
 
 from gesturecast.models.generator.denoiser_config import audio_frames_needed
 from gesturecast.models.generator.diffusion import CLEAN_TIMESTEP, get_schedule
@@ -7,6 +7,7 @@ from gesturecast.models.networks.denoiser import CausalDenoiser
 from gesturecast.models.training.denoiser_objective import (
     DenoiserTrainConfig,
     noise_frames,
+    sample_lookaheads,
     sample_noise_levels,
     training_loss,
 )
@@ -54,3 +55,10 @@ def test_training_loss_decreases_on_a_tiny_problem():
         losses.append(loss.item())
     assert sum(losses[-10:]) / 10 < 0.7 * sum(losses[:10]) / 10
     assert model.style.null_style.abs().sum() > 0  # style dropout trained the null embedding
+
+
+def test_truncation_training_draws_every_look_ahead_and_other_models_keep_theirs():
+    gen = torch.Generator().manual_seed(0)
+    drawn = sample_lookaheads(CausalDenoiser(TRUNCATING), 500, gen)
+    assert sorted(torch.unique(drawn).tolist()) == list(range(TRUNCATING.audio_lookahead + 1))
+    assert sample_lookaheads(CausalDenoiser(TINY), 3, gen).tolist() == [TINY.audio_lookahead] * 3

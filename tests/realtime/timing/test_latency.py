@@ -7,7 +7,7 @@ import pytest
 
 from gesturecast.errors import UserError
 from gesturecast.realtime.timing.clock import FakeClock
-from gesturecast.realtime.timing.latency import LatencyBudget, LatencyStats
+from gesturecast.realtime.timing.latency import LATENCY_SETTINGS, LatencyBudget, LatencyStats
 
 
 def test_budget_d4_lookahead8_is_400ms_algorithmic():
@@ -21,6 +21,21 @@ def test_budget_scales_with_frame_rate_and_zero_lookahead():
     budget = LatencyBudget(latent_frames=6, lookahead_frames=0, compute_margin_ms=0.0, fps=60.0)
     assert budget.algorithmic_ms == pytest.approx(100.0)
     assert budget.total_ms == pytest.approx(100.0)
+
+
+@pytest.mark.parametrize(("setting", "lookahead", "total_ms"),
+                         [("low", 0, 5000 / 30 + 70.0), ("balanced", 4, 9000 / 30 + 70.0), ("quality", 8, 533.3333)])
+def test_each_latency_setting_gives_its_budget_for_the_bundled_layout(setting, lookahead, total_ms):
+    """d = 4, δa = 8, smoothing k = 1 (the bundled model and the default smoothing): low stays within 250 ms."""
+    chosen = LATENCY_SETTINGS[setting]
+    assert chosen.lookahead_for(8) == lookahead
+    budget = LatencyBudget(4, chosen.lookahead_for(8), chosen.compute_margin_ms, smoothing_frames=1)
+    assert budget.total_ms == pytest.approx(total_ms, abs=1e-3)
+    assert setting != "low" or budget.total_ms <= 250.0  # the issue's bound for low
+
+
+def test_a_setting_never_asks_for_more_look_ahead_than_the_model_has():
+    assert [LATENCY_SETTINGS[name].lookahead_for(2) for name in ("low", "balanced", "quality")] == [0, 2, 2]
 
 
 def test_describe_names_the_audio_delay():
