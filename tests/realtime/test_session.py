@@ -12,12 +12,12 @@ from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio
 from gesturecast.realtime.audio.sources import FastFileSource, PacedFileSource
 from gesturecast.realtime.engine import LiveEngine, run_offline
-from gesturecast.realtime.features.dsp import frames_complete
+from gesturecast.realtime.features.dsp import frame_boundary, frames_complete
 from gesturecast.realtime.generator import Generator, GeneratorSettings
 from gesturecast.realtime.session import GestureSession, SessionConfig
 from gesturecast.realtime.style_prompts import StylePrompt
 from gesturecast.realtime.timing.clock import FakeClock, MonotonicClock
-from gesturecast.realtime.timing.latency import LatencyBudget
+from gesturecast.realtime.timing.latency import LATENCY_SETTINGS, LatencyBudget
 
 SECONDS = 4.0
 MIN_MEAN_FINGER_BEND_DEG = 5.0  # a relaxed hand: its finger joints bend by more than this on average
@@ -42,7 +42,7 @@ def speech(tmp_path_factory, shared_data):
 def make_session(bundle, clock=None, smoothing_frames=0, root_mode=RootMode.BOUNDED, **settings) -> GestureSession:
     settings = {"sampler": SamplerConfig("ddim", 2), "guidance": 1.5, "seed": 1, **settings}
     generator = Generator(bundle, GeneratorSettings(**settings))
-    budget = LatencyBudget(bundle.frames_per_latent, bundle.audio_lookahead, 100.0, smoothing_frames=smoothing_frames)
+    budget = LatencyBudget(bundle.frames_per_latent, generator.lookahead, 100.0, smoothing_frames=smoothing_frames)
     return GestureSession(bundle, generator, budget, clock or FakeClock(), SessionConfig(root_mode=root_mode))
 
 
@@ -62,6 +62,33 @@ def test_offline_equals_paced_live_and_any_chunk_size(bundle, speech, smoothing)
     np.testing.assert_array_equal(poses(offline), poses(paced))
     np.testing.assert_array_equal(poses(offline), poses(odd_chunks))
     assert [f.seq for f in offline] == list(range(len(offline)))
+
+
+@pytest.mark.parametrize("setting", list(LATENCY_SETTINGS))
+def test_every_latency_setting_streams_exactly_as_offline_at_any_chunk_size(bundle, speech, setting):
+    """The tiny preset trains with look-ahead truncation, so one bundle serves low, balanced and quality."""
+    lookahead = LATENCY_SETTINGS[setting].lookahead_for(bundle.audio_lookahead)
+    offline, _ = run_offline(make_session(bundle, lookahead=lookahead), FastFileSource(speech, chunk_samples=16000))
+    clock = FakeClock(100.0)
+    paced, _ = run_offline(make_session(bundle, clock, lookahead=lookahead),
+                           PacedFileSource(speech, chunk_samples=512, clock=clock))
+    odd_chunks, _ = run_offline(make_session(bundle, lookahead=lookahead), FastFileSource(speech, chunk_samples=333))
+    np.testing.assert_array_equal(poses(offline), poses(paced))
+    np.testing.assert_array_equal(poses(offline), poses(odd_chunks))
+    assert len(offline) == frames_complete(int(SECONDS * SAMPLE_RATE), SAMPLE_RATE, 30)
+    if setting != "quality":
+        quality, _ = run_offline(make_session(bundle), FastFileSource(speech, chunk_samples=16000))
+        assert not np.allclose(poses(offline), poses(quality))  # the look-ahead changes what the model hears
+
+
+def test_a_low_latency_session_makes_a_latent_once_its_own_audio_has_arrived(bundle):
+    """δ = 0: latent 0 needs the audio of frames [0, d) only; at δa it waits δa frames more."""
+    d = bundle.frames_per_latent
+    first_latent_audio = np.zeros(int(frame_boundary(d, SAMPLE_RATE, 30)), np.float32)
+    low = make_session(bundle, lookahead=0)
+    quality = make_session(bundle)
+    assert len(low.push(_chunk(first_latent_audio, 0))) == d
+    assert quality.push(_chunk(first_latent_audio, 0)) == []
 
 
 @pytest.mark.parametrize("smoothing", [0, 1])

@@ -22,7 +22,7 @@ from gesturecast.realtime.serve.setup import StreamSessions
 from gesturecast.realtime.session import GestureSession, SessionConfig
 from gesturecast.realtime.style_prompts import StylePrompt
 from gesturecast.realtime.timing.clock import FakeClock, MonotonicClock
-from gesturecast.realtime.timing.latency import LatencyBudget
+from gesturecast.realtime.timing.latency import LATENCY_SETTINGS, LatencyBudget
 from gesturecast.tools.bench.serve_client import stream_audio
 
 SECONDS = 2.0
@@ -61,9 +61,11 @@ def running_server(bundle, **config):
         server.close()
 
 
-def solo_poses(bundle, audio, style="neutral", guidance=1.5, seed=0, root="bounded") -> np.ndarray:
+def solo_poses(bundle, audio, style="neutral", guidance=1.5, seed=0, root="bounded", latency=None) -> np.ndarray:
     """The same stream through one session alone, as the float32 the wire carries."""
-    settings = GeneratorSettings(SamplerConfig("ddim", 2), guidance, StylePrompt("label", style), seed=seed)
+    lookahead = None if latency is None else LATENCY_SETTINGS[latency].lookahead_for(bundle.audio_lookahead)
+    settings = GeneratorSettings(SamplerConfig("ddim", 2), guidance, StylePrompt("label", style), seed=seed,
+                                 lookahead=lookahead)
     session = GestureSession(bundle, Generator(bundle, settings), budget(bundle), FakeClock(),
                              SessionConfig(root_mode=RootMode(root)))
     frames = session.push(AudioChunk(audio, 0, 0.0)) + session.finish()
@@ -71,7 +73,8 @@ def solo_poses(bundle, audio, style="neutral", guidance=1.5, seed=0, root="bound
 
 
 def test_concurrent_streams_equal_each_stream_served_alone(bundle, speech):
-    starts = [{"seed": 1}, {"seed": 2, "style": "old", "root": "free"}, {"seed": 3, "guidance": 1.0, "root": "locked"}]
+    starts = [{"seed": 1, "latency": "low"}, {"seed": 2, "style": "old", "root": "free"},
+              {"seed": 3, "guidance": 1.0, "root": "locked", "latency": "balanced"}]
 
     async def clients(url):
         return await asyncio.gather(*[stream_audio(f"{url}s{i}", audio, CHUNK, paced=False, start=start)
@@ -88,6 +91,8 @@ def test_concurrent_streams_equal_each_stream_served_alone(bundle, speech):
         assert result.hello["stream"] == result.stats["stream"]
         np.testing.assert_array_equal(result.poses(), solo_poses(bundle, audio, **start))
         assert [f.seq for f in result.frames] == list(range(len(result.frames)))
+    budgets = [next(m for m in result.messages if m["type"] == "started")["latency_budget_ms"] for result in results]
+    assert budgets[0] < budgets[2] < budgets[1] == pytest.approx(results[1].hello["latency_budget_ms"])
 
 
 def wait_until(predicate, limit_s: float = 30.0) -> bool:

@@ -34,9 +34,11 @@ def test_start_options_and_their_validation():
     assert options.second_style == StylePrompt("label", "old") and options.gamma == 0.5
     assert (options.seed, options.audio_format, options.guidance, options.root) == (7, "s16le", None, None)
     assert parse_start({"type": "start", "root": "free"}).root == "free"
+    assert parse_start({"type": "start", "latency": "low"}).latency == "low"
+    assert parse_start({"type": "start"}).latency is None
     for bad, reason in [({"seed": -1}, "seed"), ({"seed": True}, "seed"), ({"audio_format": "mp3"}, "audio_format"),
                         ({"volume": 1}, "unknown start field"), ({"style": "motion:x.bvh"}, "motion prompts"),
-                        ({"root": "walk"}, "root must be one of")]:
+                        ({"root": "walk"}, "root must be one of"), ({"latency": "fast"}, "latency must be one of")]:
         with pytest.raises(ControlError, match=reason):
             parse_start({"type": "start", **bad})
 
