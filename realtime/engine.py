@@ -25,6 +25,7 @@ from gesturecast.realtime.timing.status import StatusLine, build_snapshot
 logger = logging.getLogger(__name__)
 
 Sink = Callable[[PoseFrame], None]
+STAGE_MARGIN_USED = "margin_used"  # of each burst's earliest-due frame: ready time − (due time − compute margin)
 
 
 @dataclass
@@ -176,6 +177,12 @@ class LiveEngine:
         return make_report(self.session, self.source, self.scheduler.stats.to_dict(), interrupted, warm_up_s)
 
     def _submit(self, frames: list[PoseFrame], worker: SchedulerWorker) -> None:
+        """Hand a burst to the scheduler; paced, record how much of the compute margin its first frame used
+        (audio block wait + compute + wake-up: docs/latency.md "Latency settings")."""
+        if frames and self.scheduler.config.paced:
+            budget = self.session.budget
+            used = self.clock.now() - (frames[0].presentation_time - budget.compute_margin_ms / MS_PER_S)
+            self.session.stats.record(STAGE_MARGIN_USED, used)
         worker.submit(frames)
         if frames:
             self._last_frame = frames[-1]

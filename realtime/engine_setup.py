@@ -50,7 +50,7 @@ def add_generation_arguments(parser: argparse.ArgumentParser) -> None:
     group.add_argument("--seed", type=int_at_least(0), default=0)
     group.add_argument("--latency", choices=tuple(LATENCY_SETTINGS), default=QUALITY.name,
                        help="latency dial: quality = the model's look-ahead δa (L 533 ms), balanced = δ 4, "
-                            "low = δ 0 (L 237 ms); below δa needs a model trained with look-ahead truncation "
+                            "low = δ 0 (L 247 ms); below δa needs a model trained with look-ahead truncation "
                             "(docs/latency.md)")
     group.add_argument("--lookahead", type=int_at_least(0),
                        help="audio look-ahead δ in frames (default: the --latency setting's)")

@@ -48,8 +48,8 @@ class LatencySetting:
 
 
 QUALITY = LatencySetting("quality", None, 100.0)  # GestureDiffuCLIP's δa = 8 at 30 fps: L = 533 ms
-BALANCED = LatencySetting("balanced", 4, 70.0)  # (4 + 4 + 1) / 30 s + 70 ms = 370 ms
-LOW = LatencySetting("low", 0, 70.0)  # (4 + 0 + 1) / 30 s + 70 ms = 237 ms
+BALANCED = LatencySetting("balanced", 4, 80.0)  # (4 + 4 + 1) / 30 s + 80 ms = 380 ms
+LOW = LatencySetting("low", 0, 80.0)  # (4 + 0 + 1) / 30 s + 80 ms = 247 ms
 LATENCY_SETTINGS = {setting.name: setting for setting in (LOW, BALANCED, QUALITY)}
 
 

@@ -33,7 +33,7 @@ from gesturecast.errors import UserError
 from gesturecast.files import save_figure, write_text_atomic
 from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio
 from gesturecast.realtime.audio.sources import DEFAULT_CHUNK, AudioSource, MicConfig, MicSource, PacedFileSource
-from gesturecast.realtime.engine import EngineReport, LiveEngine, Sink
+from gesturecast.realtime.engine import STAGE_MARGIN_USED, EngineReport, LiveEngine, Sink
 from gesturecast.realtime.engine_setup import add_generation_arguments, build_session
 from gesturecast.realtime.timing.clock import Clock, MonotonicClock
 from gesturecast.realtime.timing.frames import PoseFrame
@@ -176,6 +176,7 @@ def benchmark_json(report: EngineReport, args: argparse.Namespace, guidance: flo
         "latency_budget_ms": report.budget["latency_budget_ms"],
         "end_to_end_ms": {p: end_to_end.get(p) for p in PERCENTILES},
         "stages_ms": {name: {p: stages[name][p] for p in ("p50", "p95")} for name in STAGES if name in stages},
+        "margin_used_ms": {p: stages.get(STAGE_MARGIN_USED, {}).get(p) for p in PERCENTILES},
         "rtf": report.rtf,
         "deadline_misses": report.scheduler.get("deadline_misses", 0),
         "audio_drops": report.audio["dropped_samples"],

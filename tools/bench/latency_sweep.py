@@ -50,6 +50,7 @@ def setting_row(model: Path, setting: str, result: dict, following: dict) -> dic
         "compute_margin_ms": result["settings"]["compute_margin_ms"],
         "latency_budget_ms": result["latency_budget_ms"],
         "end_to_end_ms": {p: result["end_to_end_ms"][p] for p in ("p50", "p95", "p99")},
+        "margin_used_ms": result["margin_used_ms"],
         "deadline_misses": result["deadline_misses"],
         "late_releases": sum(window.get("late_frames", 0) for window in windows),
         "rtf": result["rtf"],
