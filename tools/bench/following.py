@@ -25,6 +25,8 @@ from gesturecast.models.generator.diffusion import SamplerConfig
 from gesturecast.models.motion.motion import MOTION_FPS
 from gesturecast.realtime.audio.files import SAMPLE_RATE
 from gesturecast.realtime.engine_setup import DEFAULT_AUDIO_GUIDANCE, DEFAULT_MODEL_DIR, load_bundle
+from gesturecast.realtime.generator import check_lookahead
+from gesturecast.realtime.timing.latency import LATENCY_SETTINGS, QUALITY
 from gesturecast.tools.data_cli import DEFAULT_CACHE, DEFAULT_SHARED
 from gesturecast.tools.eval.clips import EvalClip, default_unseen_paths, held_out_clips, unseen_clips
 from gesturecast.tools.eval.generate import generate_offline
@@ -43,6 +45,8 @@ def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--steps", type=int, default=4, help="DDIM steps K")
     parser.add_argument("--audio-guidance", type=float, default=DEFAULT_AUDIO_GUIDANCE,
                         help="audio guidance scale s_a (1: off)")
+    parser.add_argument("--latency", choices=tuple(LATENCY_SETTINGS), default=QUALITY.name,
+                        help="latency setting whose look-ahead the motion is generated with (docs/latency.md)")
     parser.add_argument("--json", type=Path, help="also write the result here")
     parser.set_defaults(func=run_bench)
 
@@ -82,8 +86,10 @@ def summarise(rows: list[dict]) -> dict:
 
 
 def following_report(bundle_dir: Path, cache: Path, shared: Path, seeds: list[int], steps: int,
-                     audio_guidance: float = DEFAULT_AUDIO_GUIDANCE) -> dict:
+                     audio_guidance: float = DEFAULT_AUDIO_GUIDANCE, latency: str = QUALITY.name) -> dict:
     bundle = load_bundle(bundle_dir)
+    lookahead = LATENCY_SETTINGS[latency].lookahead_for(bundle.audio_lookahead)
+    check_lookahead(bundle.denoiser_config, lookahead)
     sampler = SamplerConfig("ddim", steps)
     unseen = unseen_clips(default_unseen_paths(shared), UNSEEN_STYLE, None)
     espeak = [clip for clip in unseen if clip.name.startswith("tts_")]
@@ -96,13 +102,15 @@ def following_report(bundle_dir: Path, cache: Path, shared: Path, seeds: list[in
         if clip.positions is not None:
             real.append({"file": clip.name, "group": group_of(clip), **score(clip.positions, clip.audio, onsets)})
         for seed in seeds:
-            generated = generate_offline(bundle, sampler, clip, clip.style, seed, audio_guidance)
+            generated = generate_offline(bundle, sampler, clip, clip.style, seed, audio_guidance, lookahead)
             rows.append({"file": clip.name, "group": group_of(clip), "seed": seed,
                          **score(generated.positions, clip.audio, onsets)})
     return {
         "bundle": str(bundle_dir),
         "sampler": f"ddim K={steps}",
         "audio_guidance": audio_guidance,
+        "latency": latency,
+        "lookahead_frames": lookahead,
         "seeds": seeds,
         "metric": "Pearson r of smoothed upper-body joint speed vs frame RMS dB, best lag within ±0.5 s; "
                   "BC = BEAT beat consistency",
@@ -115,7 +123,8 @@ def following_report(bundle_dir: Path, cache: Path, shared: Path, seeds: list[in
 
 def run_bench(args: argparse.Namespace) -> int:
     seeds = [int(value) for value in args.seeds.split(",")]
-    report = following_report(args.bundle, args.cache, args.shared, seeds, args.steps, args.audio_guidance)
+    report = following_report(args.bundle, args.cache, args.shared, seeds, args.steps, args.audio_guidance,
+                              args.latency)
     text = json.dumps(report, indent=1)
     if args.json is not None:
         write_text_atomic(args.json, text + "\n")

@@ -48,12 +48,13 @@ class Generated:
 
 
 def _session(bundle: ModelBundle, sampler: SamplerConfig, style: str, seed: int, clock: FakeClock,
-             audio_guidance: float = DEFAULT_AUDIO_GUIDANCE) -> GestureSession:
+             audio_guidance: float = DEFAULT_AUDIO_GUIDANCE, lookahead: int | None = None) -> GestureSession:
     settings = GeneratorSettings(sampler=sampler, style=StylePrompt("label", style), seed=seed, threads=1,
-                                 audio_guidance=audio_guidance)
-    budget = LatencyBudget(bundle.frames_per_latent, bundle.audio_lookahead, LATENCY_MARGIN_MS,
+                                 audio_guidance=audio_guidance, lookahead=lookahead)
+    generator = Generator(bundle, settings)
+    budget = LatencyBudget(bundle.frames_per_latent, generator.lookahead, LATENCY_MARGIN_MS,
                            smoothing_frames=DEFAULT_SMOOTHING_FRAMES)
-    return GestureSession(bundle, Generator(bundle, settings), budget, clock)
+    return GestureSession(bundle, generator, budget, clock)
 
 
 def _positions(frames: list[PoseFrame]) -> np.ndarray:
@@ -70,11 +71,12 @@ def _with_wav(audio: np.ndarray, run):
 
 def generate_offline(
     bundle: ModelBundle, sampler: SamplerConfig, clip: EvalClip, style: str, seed: int = 0,
-    audio_guidance: float = DEFAULT_AUDIO_GUIDANCE,
+    audio_guidance: float = DEFAULT_AUDIO_GUIDANCE, lookahead: int | None = None,
 ) -> Generated:
-    """Motion for the clip's audio in ``style`` through ``run_offline`` (the `generate` path)."""
+    """Motion for the clip's audio in ``style`` through ``run_offline`` (the `generate` path), at look-ahead
+    ``lookahead`` (default: the model's δa)."""
     start = time.perf_counter()
-    session = _session(bundle, sampler, style, seed, FakeClock(), audio_guidance)
+    session = _session(bundle, sampler, style, seed, FakeClock(), audio_guidance, lookahead)
     frames, _ = _with_wav(clip.audio, lambda path: run_offline(session, FastFileSource(path)))
     return Generated(_positions(frames), time.perf_counter() - start)
 
