@@ -2,7 +2,7 @@
 
 For each model (``--model`` and each ``--sweep-models`` bundle) and each setting (low, balanced,
 quality; docs/latency.md "Latency settings"): L, end-to-end p50 / p95 / p99, deadline misses, late
-releases (frames sent more than a frame period after their presentation time), the real-time
+frames (sent more than a frame period, 33 ms, after their presentation time), the real-time
 factor, and the speech-following score of the motion the run released for the file (energy–speed
 correlation, :mod:`gesturecast.models.evaluation.speech_following`, the metric of ``bench
 following``; one file and one seed, so read differences below ~0.05 as noise). A setting the model
@@ -52,7 +52,7 @@ def setting_row(model: Path, setting: str, result: dict, following: dict) -> dic
         "end_to_end_ms": {p: result["end_to_end_ms"][p] for p in ("p50", "p95", "p99")},
         "margin_used_ms": result["margin_used_ms"],
         "deadline_misses": result["deadline_misses"],
-        "late_releases": sum(window.get("late_frames", 0) for window in windows),
+        "late_frames": sum(window.get("late_frames", 0) for window in windows),
         "rtf": result["rtf"],
         "following": following,
         "frames": result["frames"],
@@ -79,7 +79,7 @@ def sweep_rows(args: argparse.Namespace, audio: Path, measure: Measure) -> list[
 
 
 def table(rows: list[dict]) -> str:
-    lines = ["| model | latency | δ | margin ms | L ms | p50 ms | p95 ms | p99 ms | misses | late | rtf "
+    lines = ["| model | latency | δ | margin ms | L ms | p50 ms | p95 ms | p99 ms | misses | late > 33 ms | rtf "
              "| following r |", "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         if "skipped" in r:
@@ -90,7 +90,7 @@ def table(rows: list[dict]) -> str:
         lines.append(
             f"| {r['model']} | {r['latency']} | {r['lookahead_frames']} | {r['compute_margin_ms']:.0f} | "
             f"{r['latency_budget_ms']:.0f} | {e2e['p50']:.0f} | {e2e['p95']:.0f} | {e2e['p99']:.0f} | "
-            f"{r['deadline_misses']} | {r['late_releases']} | {r['rtf']:.3f} | {r['following']['r_best']:.3f} |")
+            f"{r['deadline_misses']} | {r['late_frames']} | {r['rtf']:.3f} | {r['following']['r_best']:.3f} |")
     return "\n".join(lines) + "\n"
 
 
