@@ -18,6 +18,7 @@ from gesturecast.models.generator.diffusion import SamplerConfig
 from gesturecast.models.motion.root_anchor import ROOT_MODES, RootMode
 from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.realtime.generator import SINGLE_STYLE, Generator, GeneratorSettings
+from gesturecast.realtime.seed_motion import load_seed_motion
 from gesturecast.realtime.session import GestureSession, SessionConfig
 from gesturecast.realtime.style_prompts import StylePrompt
 from gesturecast.realtime.timing.clock import Clock
@@ -55,6 +56,9 @@ def add_generation_arguments(parser: argparse.ArgumentParser) -> None:
     group.add_argument("--margin-ms", type=finite_float(minimum=0.0), default=DEFAULT_MARGIN_MS,
                        help="compute margin in the latency L")
     group.add_argument("--threads", type=int_at_least(1), default=1, help="onnxruntime intra-op threads")
+    group.add_argument("--seed-motion", type=Path, metavar="FILE",
+                       help="start from this motion's last pose instead of the idle pose (BVH of any supported "
+                            "skeleton, or SMPL-X .npz; its last frames seed the generator)")
     group.add_argument("--root", choices=ROOT_MODES, default=RootMode.BOUNDED.value,
                        help="bounded: stays within 0.15 m / 30° of where it started (default); "
                             "free: the generated root motion; locked: pinned in place")
@@ -101,7 +105,9 @@ def build_session(args: argparse.Namespace, clock: Clock, bundle: ModelBundle | 
     budget = LatencyBudget(bundle.frames_per_latent, bundle.audio_lookahead, args.margin_ms,
                            smoothing_frames=args.smoothing)
     generator = Generator(bundle, generator_settings(args, bundle))
-    return GestureSession(bundle, generator, budget, clock, SessionConfig(root_mode=RootMode(args.root)))
+    seed = None if args.seed_motion is None else load_seed_motion(args.seed_motion, bundle)
+    return GestureSession(bundle, generator, budget, clock, SessionConfig(root_mode=RootMode(args.root),
+                                                                          seed_motion=seed))
 
 
 def add_output_arguments(parser: argparse.ArgumentParser) -> None:

@@ -35,6 +35,7 @@ from gesturecast.realtime.generator import Generator
 from gesturecast.realtime.hands import HandPose
 from gesturecast.realtime.idle import IdleMotion
 from gesturecast.realtime.motion_smoother import MotionSmoother
+from gesturecast.realtime.seed_motion import SeedMotion
 from gesturecast.realtime.session_controls import SessionControls
 from gesturecast.realtime.timing.clock import Clock
 from gesturecast.realtime.timing.frames import PoseFrame
@@ -55,6 +56,7 @@ class SessionConfig:
     idle_fade_s: float = 0.6  # cross-fade duration between idle motion and speech gestures
     silence_hold_s: float = 1.0  # silence this long after the last speech frame fades to idle
     root_mode: RootMode = RootMode.BOUNDED  # in place by default (models/motion/root_anchor.py)
+    seed_motion: SeedMotion | None = None  # start from this motion's last pose, not idle (realtime/seed_motion.py)
 
 
 class GestureSession:
@@ -87,10 +89,15 @@ class GestureSession:
         self.reset()
 
     def reset(self) -> None:
-        """Forget the stream (features, generator history, root anchor, idle fade): the next chunk is sample 0."""
+        """Forget the stream (features, generator history, root anchor, idle fade): the next chunk is sample 0.
+        With a seed motion the generator's history holds it again and the first pose is its last one."""
         self.extractor.reset()
         self.features = FeatureBuffer(self.extractor.num_features)
-        self.generator.reset()
+        seed = self.config.seed_motion
+        self.generator.reset(seed_pose=None if seed is None else seed.features)
+        self.seed_fade = None if seed is None else PoseCrossfade(self.config.idle_fade_s, initial_weight_b=IDLE)
+        if self.seed_fade is not None:
+            self.seed_fade.fade_to(SPEECH, 0.0)  # from the seed's pose at t = 0 into the stream
         self.root.reset()
         self.smoother.reset()
         self.hands.reset()
@@ -212,7 +219,15 @@ class GestureSession:
         if self.crossfade.weight(t) < SPEECH:  # idle visible: blend (skipped while fully in speech: hot path)
             idle_root = np.array([position[0], self.idle.base_root[1], position[2]])  # idle in place
             rotations, root = self.crossfade.mix(t, self.idle.rotations(t), idle_root, rotations, position)
+        if self.seed_fade is not None and self.seed_fade.weight(t) < SPEECH:
+            return self._from_seed(t, rotations, root)
         return rotations, root
+
+    def _from_seed(self, t: float, rotations: np.ndarray, root: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The stream's (J, 4), (3,) pose cross-faded from the seed motion's last pose (weight 0 at t = 0)."""
+        seed = self.config.seed_motion
+        seed_root = np.array([root[0], seed.height, root[2]])  # the seed's pose where the avatar stands
+        return self.seed_fade.mix(t, seed.rotations, seed_root, rotations, root)
 
     def _finite_pose(self, frame: int, features: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:
         """The pose of a (D,) feature row when finite; else the last good pose (the idle pose before any),
