@@ -25,7 +25,7 @@ import numpy as np
 
 from gesturecast.models.generator.denoiser_config import audio_window_bounds, audio_window_end
 from gesturecast.models.motion.motion_features import features_to_rotations
-from gesturecast.models.motion.root_anchor import RootAnchor, RootMode
+from gesturecast.models.motion.root_anchor import RootAnchor, RootMode, RootTravel
 from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.realtime.audio.sources import AudioChunk
 from gesturecast.realtime.feature_buffer import FeatureBuffer
@@ -99,6 +99,7 @@ class GestureSession:
         if self.seed_fade is not None:
             self.seed_fade.fade_to(SPEECH, 0.0)  # from the seed's pose at t = 0 into the stream
         self.root.reset()
+        self.travel = RootTravel()  # the root's distance, travel and facing from the start (the run's summary)
         self.smoother.reset()
         self.hands.reset()
         self._unsmoothed: deque[tuple[int, bool]] = deque()  # (frame, speaking) of frames inside the smoother
@@ -214,6 +215,7 @@ class GestureSession:
     def _pose(self, features: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:
         """(J, 4) rotations and (3,) root of one motion-feature row (D,), cross-faded with idle motion."""
         position, yaw = self.root.step(features)  # (3,), facing yaw
+        self.travel.update(position, yaw)
         rotations = features_to_rotations(features, np.asarray(yaw))  # (J, 4)
         root = position
         if self.crossfade.weight(t) < SPEECH:  # idle visible: blend (skipped while fully in speech: hot path)

@@ -254,3 +254,20 @@ def test_jittery_source_capture_times_never_make_frames_go_back_in_time(bundle, 
         for frame in session.push(AudioChunk(audio[start : start + chunk], start, 10.0 + start / SAMPLE_RATE - early)):
             scheduler.submit(frame)
     assert scheduler.stats.submitted > 0
+
+
+def test_the_report_and_summary_say_how_far_the_root_went(bundle, speech):
+    from gesturecast.models.motion.root_anchor import RootBounds
+    from gesturecast.realtime.engine_cli import summary_line
+
+    frames, report = run_offline(make_session(bundle, root_mode=RootMode.FREE), FastFileSource(speech))
+    planar = np.stack([f.root_position[[0, 2]] for f in frames])  # (T, 2)
+    distances = np.linalg.norm(planar - planar[0], axis=1)  # (T,)
+    root = report.to_dict()["root"]
+    assert root["max_distance_m"] == pytest.approx(distances.max()) and root["max_distance_m"] > 0.0
+    assert root["net_travel_m"] == pytest.approx(distances[-1])
+    _, bounded = run_offline(make_session(bundle), FastFileSource(speech))
+    assert bounded.root["max_distance_m"] < RootBounds().radius_m
+    assert bounded.root["max_facing_deg"] < RootBounds().max_yaw_deg
+    assert (f"root max {root['max_distance_m']:.2f} m, net {root['net_travel_m']:.2f} m, "
+            f"facing max {root['max_facing_deg']:.0f}°") in summary_line(report)

@@ -166,6 +166,7 @@ def benchmark_json(report: EngineReport, args: argparse.Namespace, guidance: flo
         "warm_up_ms": report.warm_up_s * MS_PER_S,
         "frames": report.frames,
         "audio_seconds": report.audio_seconds,
+        "root": report.root,
         "settings": {
             "sampler": args.sampler,
             "steps": args.steps if args.sampler == "ddim" else None,
