@@ -1,10 +1,13 @@
-"""``--seed-motion FILE``: the stream starts at the (retargeted) last pose of a real ZeroEGGS clip, not idle.
+"""``--seed-motion FILE``: the stream starts at the (retargeted) last pose of a real ZeroEGGS clip, not idle
+(``generate``, the session streaming and offline, ``serve``).
 
 The seed is 2 s cut from the shared ZeroEGGS take (its own 75-joint skeleton, retargeted on load).
 """
 
 from __future__ import annotations
 
+import argparse
+import asyncio
 from pathlib import Path
 
 import numpy as np
@@ -22,9 +25,11 @@ from gesturecast.realtime.audio.sources import FastFileSource, PacedFileSource
 from gesturecast.realtime.engine import run_offline
 from gesturecast.realtime.generator import Generator, GeneratorSettings
 from gesturecast.realtime.seed_motion import load_seed_motion
+from gesturecast.realtime.serve.cli import add_serve_arguments, build_server
 from gesturecast.realtime.session import GestureSession, SessionConfig
-from gesturecast.realtime.timing.clock import FakeClock
+from gesturecast.realtime.timing.clock import FakeClock, MonotonicClock
 from gesturecast.realtime.timing.latency import LatencyBudget
+from gesturecast.tools.bench.serve_client import stream_audio
 
 SEED_FRAMES = slice(900, 960)  # 2 s of the take, mid-gesture
 SPEECH_SECONDS = 3
@@ -118,3 +123,19 @@ def test_bad_seed_files_fail_in_one_line(bundle, seed_file, tmp_path):
     with pytest.raises(UserError) as error:
         load_seed_motion(tmp_path / "unknown.bvh", bundle)
     assert "\n" not in str(error.value)
+
+
+def test_serve_starts_every_stream_at_the_seed_pose(tiny_model, bundle, seed_file, speech):
+    parser = argparse.ArgumentParser()
+    add_serve_arguments(parser)
+    args = parser.parse_args(["--model", str(tiny_model[1]), "--steps", "2", "--port", "0",
+                              "--seed-motion", str(seed_file)])
+    server = build_server(args, MonotonicClock())
+    try:
+        result = asyncio.run(asyncio.wait_for(stream_audio(f"{server.url}seeded", load_audio(speech)[:SAMPLE_RATE],
+                                                           1600, paced=False), 60))
+    finally:
+        server.close()
+    seed = load_seed_motion(seed_file, bundle)
+    first = result.frames[0].rotations[: len(seed.rotations)]  # (J, 4) as sent (internal frame)
+    np.testing.assert_allclose(np.abs((first * seed.rotations).sum(-1)), 1.0, atol=1e-5)  # float32 on the wire
