@@ -64,12 +64,13 @@ class LipSync:
     def update(self, windows: np.ndarray, energy_db: np.ndarray, speaking: np.ndarray) -> np.ndarray:
         """(T, N) sample windows ending at each frame's end, (T,) RMS dBFS, (T,) speaking → (T, 5) float32."""
         formants = self.tracker.track(windows)  # (T, 2)
+        shapes = self.shape(formants)  # (T, V), NaN rows where no formants were found
         opening = self.opening(np.asarray(energy_db, np.float64), np.asarray(speaking) > 0)  # (T,)
         out = np.zeros((len(formants), len(VISEME_VOWELS)), np.float32)
-        for k, (pair, open_k) in enumerate(zip(formants, opening, strict=True)):
-            if np.isfinite(pair).all():
-                self._shape = self.shape(pair)
-            alpha = self.config.smoothing
+        alpha = self.config.smoothing
+        for k, (shape, open_k) in enumerate(zip(shapes, opening, strict=True)):
+            if np.isfinite(shape).all():
+                self._shape = shape
             self._weights = alpha * self._weights + (1.0 - alpha) * open_k * self._shape
             out[k] = self._weights
         return out
@@ -81,12 +82,12 @@ class LipSync:
         return np.where(speaking, level, 0.0)
 
     def shape(self, formants_hz: np.ndarray) -> np.ndarray:
-        """(2,) F1, F2 in Hz → (5,) vowel probabilities (scale-normalised nearest-template softmax)."""
-        offsets = np.log(formants_hz)[None, None] - self._log_references  # (S, V, 2)
-        distance = np.linalg.norm(offsets, axis=-1).min(axis=0)  # (V,)
+        """(T, 2) F1, F2 in Hz → (T, 5) vowel probabilities (scale-normalised nearest-template softmax)."""
+        offsets = np.log(formants_hz)[:, None, None] - self._log_references[None]  # (T, S, V, 2)
+        distance = np.linalg.norm(offsets, axis=-1).min(axis=1)  # (T, V)
         logits = -0.5 * (distance / self.config.shape_sigma) ** 2
-        probabilities = np.exp(logits - logits.max())
-        return probabilities / probabilities.sum()
+        probabilities = np.exp(logits - logits.max(axis=1, keepdims=True))
+        return probabilities / probabilities.sum(axis=1, keepdims=True)
 
 
 def mouth_class(weights: np.ndarray) -> np.ndarray:
