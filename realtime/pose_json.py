@@ -36,7 +36,7 @@ def frame_record(frame: PoseFrame) -> dict:
         "speaking": frame.speaking,
     }
     if frame.visemes is not None:
-        record["visemes"] = np.round(frame.visemes, VISEME_DECIMALS).tolist()  # (5,) weights in [0, 1]
+        record["visemes"] = np.round(np.asarray(frame.visemes, np.float64), VISEME_DECIMALS).tolist()  # (5,) in [0, 1]
     return record
 
 
