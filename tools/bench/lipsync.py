@@ -4,7 +4,8 @@
   the class of :func:`mouth_class` (argmax vowel, or closed when the opening is below ``SILENT_MOUTH``) vs
   the label (5 vowels + silence); per voice, overall, vowels only, and the 6 × 6 confusion matrix.
 - **Mouth opening vs loudness** on real speech: Pearson r between the opening (sum of the weights) and the
-  frame's RMS level in dBFS, over all frames and over the speaking ones.
+  frame's RMS level in dBFS, over all frames and over the speaking ones; and the share of non-speaking frames
+  whose mouth is closed (opening < ``SILENT_MOUTH``).
 - **Cost**: feature extraction with and without lip sync on the same speech, pushed as the session pushes
   (one latent's audio per burst: ``SESSION_BURST_FRAMES`` frames) and as a microphone delivers it (512-sample
   chunks); the difference per frame and as real-time factor (compute s / audio s).
@@ -24,7 +25,7 @@ import numpy as np
 from gesturecast.realtime.audio.files import load_audio
 from gesturecast.realtime.audio.sources import DEFAULT_CHUNK
 from gesturecast.realtime.features.dsp import frame_boundary
-from gesturecast.realtime.features.lipsync import LipSyncConfig, mouth_class
+from gesturecast.realtime.features.lipsync import SILENT_MOUTH, LipSyncConfig, mouth_class
 from gesturecast.realtime.features.streaming import FeatureConfig, StreamingFeatureExtractor, speaking_flags
 from gesturecast.realtime.timing.frames import VISEME_VOWELS
 from gesturecast.tools.bench.lipsync_set import SET_DIR, SILENCE, UNLABELLED, VOICES, WORDS, Utterance, vowel_set
@@ -87,13 +88,14 @@ def loudness_correlation(path: Path) -> dict:
     level = features[:, config.layout["energy"]][:, 0]  # (T,) dBFS
     opening = weights.sum(axis=1)  # (T,)
     speaking = speaking_flags(features, config)
+    silent = ~speaking
     return {
         "file": path.name,
         "frames": len(level),
         "speaking_fraction": round(float(speaking.mean()), 3),
         "r_all": round(float(np.corrcoef(opening, level)[0, 1]), 3),
         "r_speaking": round(float(np.corrcoef(opening[speaking], level[speaking])[0, 1]), 3),
-        "closed_when_silent": round(float((opening[~speaking] == 0).mean()), 3) if (~speaking).any() else None,
+        "closed_when_silent": round(float((opening[silent] < SILENT_MOUTH).mean()), 3) if silent.any() else None,
     }
 
 
