@@ -5,7 +5,8 @@ Data flow (DESIGN.md): pushed chunks wait in a short pending list until the audi
 the pending audio → normalised feature buffer → one generator step for latent ``i`` (K-step DDIM or
 DDPM, KV cache, CFG) → d motion-feature frames → root integration + 6D → quaternions → idle
 cross-fade in silence → procedural fingers (:mod:`gesturecast.realtime.hands`) → :class:`PoseFrame` with
-capture and presentation times. Computing the
+capture and presentation times and the viseme weights of the frame's own audio instant
+(:mod:`gesturecast.realtime.features.lipsync`, computed by the feature extractor in the same burst). Computing the
 features in that burst instead of per chunk gives the same bits (the extractor is chunk-size
 invariant) with a quarter of the wake-ups, each on warm caches.
 
@@ -30,6 +31,7 @@ from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.realtime.audio.sources import AudioChunk
 from gesturecast.realtime.feature_buffer import FeatureBuffer
 from gesturecast.realtime.features.dsp import frame_boundary
+from gesturecast.realtime.features.lipsync import LipSyncConfig
 from gesturecast.realtime.features.streaming import StreamingFeatureExtractor, speaking_flags
 from gesturecast.realtime.generator import Generator
 from gesturecast.realtime.hands import HandPose
@@ -38,7 +40,7 @@ from gesturecast.realtime.motion_smoother import MotionSmoother
 from gesturecast.realtime.seed_motion import SeedMotion
 from gesturecast.realtime.session_controls import SessionControls
 from gesturecast.realtime.timing.clock import Clock
-from gesturecast.realtime.timing.frames import PoseFrame
+from gesturecast.realtime.timing.frames import VISEME_NAMES, PoseFrame
 from gesturecast.realtime.timing.latency import LatencyBudget, LatencyStats
 from gesturecast.realtime.transitions import PoseCrossfade
 
@@ -57,6 +59,7 @@ class SessionConfig:
     silence_hold_s: float = 1.0  # silence this long after the last speech frame fades to idle
     root_mode: RootMode = RootMode.BOUNDED  # in place by default (models/motion/root_anchor.py)
     seed_motion: SeedMotion | None = None  # start from this motion's last pose, not idle (realtime/seed_motion.py)
+    lipsync: str = "vrm0"  # a key of VISEME_NAMES: fill PoseFrame.visemes (docs/lipsync.md); "off": None
 
 
 class GestureSession:
@@ -79,7 +82,8 @@ class GestureSession:
         self.denoiser_config = bundle.denoiser_config
         self.fps = bundle.feature_config.fps
         self.sample_rate = bundle.feature_config.sample_rate
-        self.extractor = StreamingFeatureExtractor(bundle.feature_config)
+        self.extractor = StreamingFeatureExtractor(bundle.feature_config,
+                                                   LipSyncConfig() if self.lipsync_on else None)
         self.idle = IdleMotion(seed=generator.settings.seed)
         self._hold_frames = round(self.config.silence_hold_s * self.fps)
         self.root = RootAnchor(self.config.root_mode, fps=self.fps)
@@ -87,6 +91,15 @@ class GestureSession:
         self.smoother = MotionSmoother(budget.smoothing_frames)
         self.hands = HandPose(self.fps, seed=generator.settings.seed)
         self.reset()
+
+    @property
+    def lipsync_on(self) -> bool:
+        return self.config.lipsync in VISEME_NAMES
+
+    @property
+    def viseme_names(self) -> tuple[str, ...]:
+        """Blend-shape names of the frames' viseme weights (VRM 0.x or 1.0), () with lip sync off."""
+        return VISEME_NAMES.get(self.config.lipsync, ())
 
     def reset(self) -> None:
         """Forget the stream (features, generator history, root anchor, idle fade): the next chunk is sample 0.
@@ -103,6 +116,7 @@ class GestureSession:
         self.smoother.reset()
         self.hands.reset()
         self._unsmoothed: deque[tuple[int, bool]] = deque()  # (frame, speaking) of frames inside the smoother
+        self._visemes: deque[np.ndarray] = deque()  # (5,) weights of the audio frames not yet posed, in order
         self.crossfade = PoseCrossfade(self.config.idle_fade_s, initial_weight_b=IDLE)
         self.next_latent = 0
         self.frames_out = 0
@@ -138,6 +152,8 @@ class GestureSession:
         with self.stats.time(STAGE_FEATURES):
             raw = self.extractor.push(samples)  # (n, F)
         self.features.append(self.bundle.audio_stats.apply(raw), speaking_flags(raw, self.bundle.feature_config))
+        if self.lipsync_on:
+            self._visemes.extend(self.extractor.take_visemes())  # one (5,) row per new audio frame
 
     def finish(self) -> list[PoseFrame]:
         """End of stream: pad with silence for the look-ahead so every captured audio frame gets a pose."""
@@ -180,8 +196,9 @@ class GestureSession:
         frames = []
         for row in smoothed:
             frame, speaking = self._unsmoothed.popleft()
+            visemes = self._visemes.popleft() if self.lipsync_on else None  # audio frame ``frame``'s
             if self._wanted(frame):
-                frames.append(self._pose_frame(frame, row, speaking))
+                frames.append(self._pose_frame(frame, row, speaking, visemes))
         return frames
 
     def _is_speaking(self, index: int) -> bool:
@@ -195,7 +212,7 @@ class GestureSession:
     def _wanted(self, frame: int) -> bool:
         return self._frame_limit is None or frame < self._frame_limit
 
-    def _pose_frame(self, frame: int, features: np.ndarray, speaking: bool) -> PoseFrame:
+    def _pose_frame(self, frame: int, features: np.ndarray, speaking: bool, visemes: np.ndarray | None) -> PoseFrame:
         t = frame / self.fps
         self.crossfade.fade_to(SPEECH if speaking else IDLE, t)
         rotations, root = self._finite_pose(frame, features, t)  # (J, 4), (3,)
@@ -210,6 +227,7 @@ class GestureSession:
             rotations=rotations,
             style=self.controls.describe(),
             speaking=speaking,
+            visemes=visemes,
         )
 
     def _pose(self, features: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:

@@ -13,6 +13,7 @@ from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio
 from gesturecast.realtime.audio.sources import FastFileSource, PacedFileSource
 from gesturecast.realtime.engine import LiveEngine, run_offline
 from gesturecast.realtime.features.dsp import frames_complete
+from gesturecast.realtime.features.streaming import extract_visemes
 from gesturecast.realtime.generator import Generator, GeneratorSettings
 from gesturecast.realtime.session import GestureSession, SessionConfig
 from gesturecast.realtime.style_prompts import StylePrompt
@@ -39,11 +40,13 @@ def speech(tmp_path_factory, shared_data):
     return path
 
 
-def make_session(bundle, clock=None, smoothing_frames=0, root_mode=RootMode.BOUNDED, **settings) -> GestureSession:
+def make_session(bundle, clock=None, smoothing_frames=0, root_mode=RootMode.BOUNDED, lipsync="vrm0",
+                 **settings) -> GestureSession:
     settings = {"sampler": SamplerConfig("ddim", 2), "guidance": 1.5, "seed": 1, **settings}
     generator = Generator(bundle, GeneratorSettings(**settings))
     budget = LatencyBudget(bundle.frames_per_latent, bundle.audio_lookahead, 100.0, smoothing_frames=smoothing_frames)
-    return GestureSession(bundle, generator, budget, clock or FakeClock(), SessionConfig(root_mode=root_mode))
+    return GestureSession(bundle, generator, budget, clock or FakeClock(),
+                         SessionConfig(root_mode=root_mode, lipsync=lipsync))
 
 
 def poses(frames) -> np.ndarray:
@@ -62,6 +65,21 @@ def test_offline_equals_paced_live_and_any_chunk_size(bundle, speech, smoothing)
     np.testing.assert_array_equal(poses(offline), poses(paced))
     np.testing.assert_array_equal(poses(offline), poses(odd_chunks))
     assert [f.seq for f in offline] == list(range(len(offline)))
+
+
+def test_each_frame_carries_the_visemes_of_its_own_audio_instant(bundle, speech):
+    session = make_session(bundle, smoothing_frames=2)
+    frames, _ = run_offline(session, FastFileSource(speech, chunk_samples=333))
+    expected = extract_visemes(load_audio(speech), config=bundle.feature_config)  # (T, 5), audio frame k = row k
+    np.testing.assert_array_equal(np.stack([f.visemes for f in frames]), expected)
+    assert expected.sum(axis=1).max() > 0.5  # speech opens the mouth
+    assert session.viseme_names == ("A", "I", "U", "E", "O")
+
+
+def test_lipsync_off_leaves_the_visemes_out(bundle, speech):
+    session = make_session(bundle, lipsync="off")
+    frames, _ = run_offline(session, FastFileSource(speech, chunk_samples=16000))
+    assert frames and all(f.visemes is None for f in frames) and session.viseme_names == ()
 
 
 @pytest.mark.parametrize("smoothing", [0, 1])

@@ -142,7 +142,8 @@ def measure(args: argparse.Namespace, audio: Path | None) -> dict:
     clock = MonotonicClock()
     session = build_session(args, clock)
     viewer = WebSocketBridge(WebSocketConfig(port=0, clock=clock.now)).start()
-    outputs = BridgeFanout([VmcBridge(VmcConfig(port=VMC_DEFAULT_PORT)), viewer])
+    vmc = VmcConfig(port=VMC_DEFAULT_PORT, viseme_names=session.viseme_names)  # blend shapes per --lipsync
+    outputs = BridgeFanout([VmcBridge(vmc), viewer])
     log = ReleaseLog(outputs.send, clock)
     try:
         source = open_bench_source(args, audio, clock)
