@@ -23,7 +23,7 @@ $(STAMP_DEV): pyproject.toml | $(BIN)/python
 
 # Debian packages the tests need: PortAudio for sounddevice, Chromium for the viewer test, PulseAudio and
 # ALSA's pulse plugin for the virtual microphone (tests/conftest.py, tools/bench/virtual_mic.py).
-SYSTEM_PACKAGES := libportaudio2 chromium chromium-driver pulseaudio pulseaudio-utils libasound2-plugins
+SYSTEM_PACKAGES := libportaudio2 chromium chromium-driver pulseaudio pulseaudio-utils libasound2-plugins espeak-ng
 system-deps:
 	@if ! ldconfig -p | grep -q libportaudio.so.2 || ! command -v chromedriver >/dev/null \
 		|| ! command -v pulseaudio >/dev/null || ! command -v pactl >/dev/null \

@@ -7,6 +7,8 @@ Address scheme (all arguments float32 ``f`` or int32 ``i``), per frame, in this 
 - ``/gesturecast/root``         f x y z   Hips position, in the selected coordinate frame
 - ``/gesturecast/bone/<Name>``  f qx qy qz qw   local rotation of each canonical bone
   (Unity HumanBodyBones names: Hips, Spine, ..., RightToes), in the selected frame
+- ``/gesturecast/viseme/<Name>`` f weight   per viseme (``--lipsync vrm0``: A I U E O; ``vrm1``: aa ih ou ee
+  oh), mouth-shape weights in [0, 1] of the frame's audio instant; absent with ``--lipsync off``
 
 The coordinate frame is ``unity``, ``unreal`` (Z-up, centimetres) or ``internal``
 (right-handed Y-up, metres); see :mod:`gesturecast.bridges.coords`. Messages go out grouped in
@@ -17,6 +19,8 @@ receivers that do not unpack bundles.
 from __future__ import annotations
 
 from dataclasses import dataclass
+
+import numpy as np
 
 from gesturecast.bridges.coords import coordinate_frame
 from gesturecast.bridges.osc_wire import MAX_DATAGRAM_SIZE, MessageLayout, encode_float_rows, pack_bundles
@@ -36,6 +40,7 @@ class OscConfig:
     coordinate_frame: str = "unity"
     bundled: bool = True
     max_bundle_size: int = MAX_DATAGRAM_SIZE
+    viseme_names: tuple[str, ...] = ()  # VISEME_NAMES[mode], or () to send no visemes
 
 
 def bone_address(name: str) -> str:
@@ -52,6 +57,7 @@ class OscEncoder:
         self._frame_number = MessageLayout(f"{ADDRESS_PREFIX}/frame", (), "if")
         self._root = MessageLayout(f"{ADDRESS_PREFIX}/root", (), "fff")
         self._bones = [MessageLayout(bone_address(name), (), "ffff") for name in skeleton.names]
+        self._visemes = [MessageLayout(f"{ADDRESS_PREFIX}/viseme/{name}", (), "f") for name in config.viseme_names]
 
     def encode(self, frame: PoseFrame, stream_time: float) -> list[bytes]:
         """Datagrams for one frame; ``stream_time`` (s since the first frame) goes to ``/gesturecast/frame``."""
@@ -60,6 +66,8 @@ class OscEncoder:
             self._root.encode_floats(self.frame.position(frame.root_position)),
         ]
         messages += encode_float_rows(self._bones, self.frame.rotation(frame.rotations))
+        if self._visemes and frame.visemes is not None:
+            messages += encode_float_rows(self._visemes, np.asarray(frame.visemes)[:, None])  # (V, 1)
         return pack_bundles(messages, self.max_bundle_size) if self.bundled else messages
 
 

@@ -7,7 +7,13 @@ Per frame, in this order (DESIGN.md "VMC protocol essentials"):
   rotation carries the facing. So root + Hips rest offset = the frame's Hips position.
 - ``/VMC/Ext/Bone/Pos`` (s HumanBodyBones name, f px py pz, f qx qy qz qw) per canonical bone:
   local position = the bone's rest offset, local rotation; both in Unity space.
+- ``/VMC/Ext/Blend/Val`` (s name, f weight) per viseme, then one ``/VMC/Ext/Blend/Apply`` (no arguments), when
+  the frame carries viseme weights and names were configured (``--lipsync vrm0``: A I U E O; ``vrm1``: aa ih
+  ou ee oh; case-sensitive in receivers).
 - ``/VMC/Ext/OK`` (i 1) and ``/VMC/Ext/T`` (f seconds since the stream started).
+
+In the Assistant role (:mod:`gesturecast.bridges.vmc_roles`) the root, OK and T messages are left out and only
+the selected bones are sent.
 
 Messages are grouped into bundles of at most 1500 bytes; only ``s``, ``f`` and ``i`` are sent.
 """
@@ -21,10 +27,11 @@ import numpy as np
 from gesturecast.bridges.coords import UNITY
 from gesturecast.bridges.osc_wire import MAX_DATAGRAM_SIZE, MessageLayout, encode_float_rows, pack_bundles
 from gesturecast.bridges.transport import RateLimiter, UdpSender, UdpTarget
+from gesturecast.bridges.vmc_roles import DEFAULT_PORTS, MARIONETTE
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS, Skeleton
 from gesturecast.realtime.timing.frames import PoseFrame
 
-VMC_DEFAULT_PORT = 39539
+VMC_DEFAULT_PORT = DEFAULT_PORTS[MARIONETTE]
 VMC_ROOT_NAME = "root"
 VMC_LOADED = 1
 POSITION_AND_QUATERNION = "f" * 7
@@ -36,31 +43,47 @@ class VmcConfig:
     port: int = VMC_DEFAULT_PORT
     send_rate: float = 30.0
     max_bundle_size: int = MAX_DATAGRAM_SIZE
+    viseme_names: tuple[str, ...] = ()  # VISEME_NAMES[mode], or () to send no blend shapes
+    bones: tuple[str, ...] | None = None  # bones to send (None: all of the skeleton)
+    assistant: bool = False  # Assistant role: no root, OK or T messages
 
 
 class VmcEncoder:
     """Pure encoder: PoseFrame → OSC bundles (bytes), each at most ``max_bundle_size``."""
 
-    def __init__(self, skeleton: Skeleton = CANONICAL_WITH_HANDS, max_bundle_size: int = MAX_DATAGRAM_SIZE) -> None:
+    def __init__(self, skeleton: Skeleton = CANONICAL_WITH_HANDS, config: VmcConfig = VmcConfig()) -> None:
         self.skeleton = skeleton
-        self.max_bundle_size = max_bundle_size
+        self.config = config
+        bones = skeleton.names if config.bones is None else config.bones
+        self._bone_index = np.array([skeleton.index(name) for name in bones], int)  # (B,)
         self._root = MessageLayout("/VMC/Ext/Root/Pos", (VMC_ROOT_NAME,), POSITION_AND_QUATERNION)
-        self._bones = [MessageLayout("/VMC/Ext/Bone/Pos", (name,), POSITION_AND_QUATERNION) for name in skeleton.names]
+        self._bones = [MessageLayout("/VMC/Ext/Bone/Pos", (name,), POSITION_AND_QUATERNION) for name in bones]
+        self._blends = [MessageLayout("/VMC/Ext/Blend/Val", (name,), "f") for name in config.viseme_names]
+        self._apply = MessageLayout("/VMC/Ext/Blend/Apply")
         self._ok = MessageLayout("/VMC/Ext/OK", (), "i")
         self._time = MessageLayout("/VMC/Ext/T", (), "f")
-        self._rest_unity = UNITY.position(skeleton.offsets)  # (J, 3)
+        self._rest_unity = UNITY.position(skeleton.offsets)[self._bone_index]  # (B, 3)
         self._hips_rest = skeleton.offsets[0]  # (3,) internal
 
     def encode(self, frame: PoseFrame, stream_time: float) -> list[bytes]:
         """Bundles for one frame; ``stream_time`` (s) goes to ``/VMC/Ext/T``."""
+        rotations = UNITY.rotation(np.asarray(frame.rotations)[self._bone_index])  # (B, 4)
+        messages = [] if self.config.assistant else [self._root_message(frame)]
+        messages += encode_float_rows(self._bones, np.concatenate([self._rest_unity, rotations], axis=1))
+        messages += self._blend_messages(frame)
+        if not self.config.assistant:
+            messages += [self._ok.encode(VMC_LOADED), self._time.encode(float(stream_time))]
+        return pack_bundles(messages, self.config.max_bundle_size)
+
+    def _root_message(self, frame: PoseFrame) -> bytes:
         root_unity = UNITY.position(np.asarray(frame.root_position) - self._hips_rest)  # (3,)
-        root_row = np.concatenate([root_unity, [0.0, 0.0, 0.0, 1.0]])  # (7,)
-        bone_rows = np.concatenate([self._rest_unity, UNITY.rotation(frame.rotations)], axis=1)  # (J, 7)
-        messages = [self._root.encode_floats(root_row)]
-        messages += encode_float_rows(self._bones, bone_rows)
-        messages.append(self._ok.encode(VMC_LOADED))
-        messages.append(self._time.encode(float(stream_time)))
-        return pack_bundles(messages, self.max_bundle_size)
+        return self._root.encode_floats(np.concatenate([root_unity, [0.0, 0.0, 0.0, 1.0]]))  # (7,)
+
+    def _blend_messages(self, frame: PoseFrame) -> list[bytes]:
+        """One Val per viseme name with the frame's weight, then Apply; none without names or weights."""
+        if not self._blends or frame.visemes is None:
+            return []
+        return [*encode_float_rows(self._blends, np.asarray(frame.visemes)[:, None]), self._apply.encode()]
 
 
 class VmcBridge:
@@ -70,7 +93,7 @@ class VmcBridge:
 
     def __init__(self, config: VmcConfig = VmcConfig(), skeleton: Skeleton = CANONICAL_WITH_HANDS) -> None:
         self.config = config
-        self.encoder = VmcEncoder(skeleton, config.max_bundle_size)
+        self.encoder = VmcEncoder(skeleton, config)
         self.limiter = RateLimiter(config.send_rate)
         self.sender = UdpSender(UdpTarget(config.host, config.port), "VMC")
         self._start_time: float | None = None

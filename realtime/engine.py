@@ -43,6 +43,7 @@ class EngineReport:
     outputs: dict = field(default_factory=dict)  # per bridge counters (e.g. WebSocket drops and skips)
     interrupted: bool = False  # ended by Ctrl-C (KeyboardInterrupt) before the source ran out
     warm_up_s: float = 0.0  # spent warming the stages up before the source opened
+    root: dict = field(default_factory=dict)  # RootTravel: max distance and net travel (m), max facing (°)
 
     @property
     def rtf(self) -> float:
@@ -62,6 +63,7 @@ class EngineReport:
             "outputs": self.outputs,
             "interrupted": self.interrupted,
             "warm_up_ms": self.warm_up_s * MS_PER_S,
+            "root": self.root,
         }
 
 
@@ -119,6 +121,7 @@ def make_report(session: GestureSession, source: AudioSource, scheduler_stats: d
         nonfinite_poses=session.nonfinite_poses,
         interrupted=interrupted,
         warm_up_s=warm_up_s,
+        root=session.travel.to_dict(),
     )
 
 

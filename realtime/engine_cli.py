@@ -114,11 +114,19 @@ def summary_line(report: EngineReport) -> str:
         f"late releases {sched.get('late_releases', 0)}",
         f"audio drops {report.audio['dropped_samples']}",
     ]
+    if report.root:
+        parts.append(root_summary(report.root))
     if report.nonfinite_poses:
         parts.append(f"non-finite poses held {report.nonfinite_poses}")
     dropped = {name: n for bridge in report.outputs.values() for name, n in bridge.items() if n}
     parts.extend(f"{name.replace('_', ' ')} {n}" for name, n in dropped.items())
     return " | ".join(parts)
+
+
+def root_summary(root: dict) -> str:
+    """Where the avatar went: hips distance from the start (largest, and start to end) and largest turn."""
+    return (f"root max {root['max_distance_m']:.2f} m, net {root['net_travel_m']:.2f} m, "
+            f"facing max {root['max_facing_deg']:.0f}°")
 
 
 def frames_to_motion(frames: list[PoseFrame]) -> Motion:

@@ -11,22 +11,27 @@ from gesturecast.bridges.bvh_recorder import BvhRecorder
 from gesturecast.bridges.fanout import BridgeFanout
 from gesturecast.bridges.osc import OscBridge, OscConfig
 from gesturecast.bridges.vmc import VmcBridge, VmcConfig
+from gesturecast.bridges.vmc_roles import ASSISTANT, DEFAULT_PORTS, MARIONETTE, BoneSelection
 from gesturecast.bridges.websocket_server import WebSocketBridge, WebSocketConfig
 from gesturecast.bridges.ws_access import MIN_TOKEN_CHARS, TOKEN_ENV_VAR, token_from_sources
 from gesturecast.errors import UserError
 from gesturecast.models.generator.diffusion import SamplerConfig
 from gesturecast.models.motion.root_anchor import ROOT_MODES, RootMode
+from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
 from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.realtime.generator import SINGLE_STYLE, Generator, GeneratorSettings
+from gesturecast.realtime.seed_motion import load_seed_motion
 from gesturecast.realtime.session import GestureSession, SessionConfig
 from gesturecast.realtime.style_prompts import StylePrompt
 from gesturecast.realtime.timing.clock import Clock
+from gesturecast.realtime.timing.frames import VISEME_NAMES
 from gesturecast.realtime.timing.latency import LATENCY_SETTINGS, QUALITY, LatencyBudget, LatencySetting
 
 DEFAULT_MODEL_DIR = Path(str(resources.files("gesturecast.models"))) / "weights" / "default"
 DEFAULT_MARGIN_MS = QUALITY.compute_margin_ms
 DEFAULT_SMOOTHING_FRAMES = 1  # centred 3-frame window: jerk ≈ real motion's (docs/generator.md "Smoothing")
 DEFAULT_STEPS = 4
+LIPSYNC_OFF = "off"
 DEFAULT_AUDIO_GUIDANCE = 1.5  # docs/generator.md "Audio guidance": rests in pauses, follows the speech more
 
 
@@ -60,6 +65,12 @@ def add_generation_arguments(parser: argparse.ArgumentParser) -> None:
     group.add_argument("--margin-ms", type=finite_float(minimum=0.0),
                        help="compute margin in the latency L (default: the --latency setting's)")
     group.add_argument("--threads", type=int_at_least(1), default=1, help="onnxruntime intra-op threads")
+    group.add_argument("--seed-motion", type=Path, metavar="FILE",
+                       help="start from this motion's last pose instead of the idle pose (BVH of any supported "
+                            "skeleton, or SMPL-X .npz; its last frames seed the generator)")
+    group.add_argument("--lipsync", choices=(*VISEME_NAMES, LIPSYNC_OFF), default="vrm0",
+                       help="viseme blend shapes from the audio (docs/lipsync.md): vrm0 = A I U E O (VRM 0.x), "
+                            "vrm1 = aa ih ou ee oh (VRM 1.0), off")
     group.add_argument("--root", choices=ROOT_MODES, default=RootMode.BOUNDED.value,
                        help="bounded: stays within 0.15 m / 30° of where it started (default); "
                             "free: the generated root motion; locked: pinned in place")
@@ -111,12 +122,26 @@ def build_session(args: argparse.Namespace, clock: Clock, bundle: ModelBundle | 
     generator = Generator(bundle, generator_settings(args, bundle))
     _, margin = latency_choice(args, bundle)
     budget = LatencyBudget(bundle.frames_per_latent, generator.lookahead, margin, smoothing_frames=args.smoothing)
-    return GestureSession(bundle, generator, budget, clock, SessionConfig(root_mode=RootMode(args.root)))
+    seed = None if args.seed_motion is None else load_seed_motion(args.seed_motion, bundle)
+    config = SessionConfig(root_mode=RootMode(args.root), seed_motion=seed, lipsync=args.lipsync)
+    return GestureSession(bundle, generator, budget, clock, config)
+
+
+def viseme_names(args: argparse.Namespace) -> tuple[str, ...]:
+    """The blend-shape names of ``--lipsync`` (VRM 0.x or 1.0), () when off."""
+    return VISEME_NAMES.get(args.lipsync, ())
 
 
 def add_output_arguments(parser: argparse.ArgumentParser) -> None:
     group = parser.add_argument_group("outputs")
-    group.add_argument("--vmc", metavar="HOST:PORT", help="VMC over OSC/UDP (VSeeFace, Warudo, EVMC4U, VMC4UE)")
+    group.add_argument("--vmc", metavar="HOST[:PORT]", help="VMC over OSC/UDP (VSeeFace, Warudo, EVMC4U, VMC4UE, "
+                       "VirtualMotionCapture); default port 39539, or 39540 with --vmc-role assistant")
+    group.add_argument("--vmc-role", choices=(MARIONETTE, ASSISTANT), default=MARIONETTE,
+                       help="marionette: the receiver shows our whole avatar (root + all bones); assistant: a "
+                            "Performer mixes our bones/visemes with its own tracking (no root; docs/bridges.md)")
+    group.add_argument("--vmc-bones", metavar="BONES",
+                       help="bones sent over VMC: all, upper (no hips, legs, neck, head), arms, none (visemes "
+                            "only) or a comma list of HumanBodyBones names; default all (assistant: upper)")
     group.add_argument("--osc", metavar="HOST:PORT", help="plain OSC (Unreal OSC plugin, TouchDesigner)")
     group.add_argument("--osc-frame", choices=("unity", "unreal", "internal"), default="unity")
     group.add_argument("--ws", metavar="PORT", type=port_number(allow_any=True),
@@ -148,15 +173,26 @@ def parse_host_port(value: str, flag: str) -> tuple[str, int]:
     return host or "127.0.0.1", int(port)
 
 
+def vmc_config(args: argparse.Namespace) -> VmcConfig:
+    """--vmc HOST[:PORT] in the --vmc-role with its --vmc-bones (an Assistant sends the upper body by default)."""
+    value = args.vmc if ":" in args.vmc else f"{args.vmc}:{DEFAULT_PORTS[args.vmc_role]}"
+    host, port = parse_host_port(value, "--vmc")
+    assistant = args.vmc_role == ASSISTANT
+    spec = args.vmc_bones or ("upper" if assistant else "all")
+    bones = BoneSelection.parse(spec, CANONICAL_WITH_HANDS).names
+    return VmcConfig(host, port, send_rate=float(args.fps), viseme_names=viseme_names(args), bones=bones,
+                     assistant=assistant)
+
+
 def build_outputs(args: argparse.Namespace, session: GestureSession, clock: Clock) -> BridgeFanout:
     """The bridges the flags ask for, fanned out so that one failing output never stops the others."""
     bridges = []
     if args.vmc:
-        host, port = parse_host_port(args.vmc, "--vmc")
-        bridges.append(VmcBridge(VmcConfig(host, port, send_rate=float(args.fps))))
+        bridges.append(VmcBridge(vmc_config(args)))
     if args.osc:
         host, port = parse_host_port(args.osc, "--osc")
-        bridges.append(OscBridge(OscConfig(host, port, send_rate=float(args.fps), coordinate_frame=args.osc_frame)))
+        bridges.append(OscBridge(OscConfig(host, port, send_rate=float(args.fps), coordinate_frame=args.osc_frame,
+                                           viseme_names=viseme_names(args))))
     if args.ws is not None:
         config = WebSocketConfig(host=args.host, port=args.ws, token=server_token(args), fps=float(args.fps),
                                  style=session.controls.describe(), style_choices=tuple(session.bundle.styles.labels),

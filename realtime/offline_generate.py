@@ -36,7 +36,7 @@ def generate_to_files(session: GestureSession, audio: Path, bvh_path: Path, json
     source = FastFileSource(audio)
     with ExitStack() as files:
         bvh = files.enter_context(CanonicalBvhWriter(bvh_path, skeleton=CANONICAL_WITH_HANDS))
-        poses = files.enter_context(PoseJsonWriter(json_path)) if json_path is not None else None
+        poses = files.enter_context(PoseJsonWriter(json_path, session.viseme_names)) if json_path is not None else None
         for batch in offline_batches(session, source):
             if batch:
                 bvh.append(np.stack([f.rotations for f in batch]),  # (n, J, 4)

@@ -1,9 +1,10 @@
 """The pose stream as JSON (``generate --json``), written frame batch by frame batch.
 
-The document is ``{"bones": [...], "fps": 30, "frames": [{seq, capture_time, root, rotations,
-speaking}, ...]}`` on one line, the same bytes as ``json.dumps`` of the whole document, but the
-frames are never all in memory: each batch is formatted and written as it comes, into a temporary
-file that replaces the target on :meth:`PoseJsonWriter.save` (:func:`gesturecast.files.atomic_file`).
+The document is ``{"bones": [...], "fps": 30, "visemes": [...], "frames": [{seq, capture_time, root,
+rotations, speaking, visemes}, ...]}`` on one line (``visemes``: the blend-shape names of ``--lipsync`` and each
+frame's weights in that order; both absent with ``--lipsync off``), the same bytes as ``json.dumps`` of the
+whole document, but the frames are never all in memory: each batch is formatted and written as it comes, into a
+temporary file that replaces the target on :meth:`PoseJsonWriter.save` (:func:`gesturecast.files.atomic_file`).
 """
 
 from __future__ import annotations
@@ -20,30 +21,37 @@ from gesturecast.models.motion.motion import MOTION_FPS
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
 from gesturecast.realtime.timing.frames import PoseFrame
 
+VISEME_DECIMALS = 4  # weights: 1e-4 is below any visible mouth difference
 ROTATION_DECIMALS = 7  # quaternion components: far below any visible difference
 ITEM_SEPARATOR = ", "  # json.dumps' default, so the streamed document equals the one-shot one
 
 
 def frame_record(frame: PoseFrame) -> dict:
     """One frame as the JSON object of the ``frames`` list."""
-    return {
+    record = {
         "seq": frame.seq,
         "capture_time": frame.capture_time,
         "root": [float(v) for v in frame.root_position],
         "rotations": np.round(frame.rotations, ROTATION_DECIMALS).tolist(),  # (J, 4) XYZW
         "speaking": frame.speaking,
     }
+    if frame.visemes is not None:
+        record["visemes"] = np.round(np.asarray(frame.visemes, np.float64), VISEME_DECIMALS).tolist()  # (5,) in [0, 1]
+    return record
 
 
 class PoseJsonWriter:
     """Append frames with :meth:`write`; :meth:`save` finishes the document and replaces the target."""
 
-    def __init__(self, path: str | Path) -> None:
+    def __init__(self, path: str | Path, viseme_names: tuple[str, ...] = ()) -> None:
         self.path = Path(path)
         self._stack = ExitStack()
         self._file = self._stack.enter_context(atomic_file(self.path))
         self._count = 0
-        head = json.dumps({"bones": list(CANONICAL_WITH_HANDS.names), "fps": int(MOTION_FPS), "frames": []})
+        head = {"bones": list(CANONICAL_WITH_HANDS.names), "fps": int(MOTION_FPS)}
+        if viseme_names:
+            head["visemes"] = list(viseme_names)
+        head = json.dumps({**head, "frames": []})
         self._write(head[: -len("]}")])
 
     def _write(self, text: str) -> None:

@@ -6,7 +6,8 @@ arrived; then, in one burst, streaming features of
 the pending audio → normalised feature buffer → one generator step for latent ``i`` (K-step DDIM or
 DDPM, KV cache, CFG) → d motion-feature frames → root integration + 6D → quaternions → idle
 cross-fade in silence → procedural fingers (:mod:`gesturecast.realtime.hands`) → :class:`PoseFrame` with
-capture and presentation times. Computing the
+capture and presentation times and the viseme weights of the frame's own audio instant
+(:mod:`gesturecast.realtime.features.lipsync`, computed by the feature extractor in the same burst). Computing the
 features in that burst instead of per chunk gives the same bits (the extractor is chunk-size
 invariant) with a quarter of the wake-ups, each on warm caches.
 
@@ -26,19 +27,21 @@ import numpy as np
 
 from gesturecast.models.generator.denoiser_config import audio_window_bounds, audio_window_end
 from gesturecast.models.motion.motion_features import features_to_rotations
-from gesturecast.models.motion.root_anchor import RootAnchor, RootMode
+from gesturecast.models.motion.root_anchor import RootAnchor, RootMode, RootTravel
 from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.realtime.audio.sources import AudioChunk
 from gesturecast.realtime.feature_buffer import FeatureBuffer
 from gesturecast.realtime.features.dsp import frame_boundary
+from gesturecast.realtime.features.lipsync import LipSyncConfig
 from gesturecast.realtime.features.streaming import StreamingFeatureExtractor, speaking_flags
 from gesturecast.realtime.generator import Generator
 from gesturecast.realtime.hands import HandPose
 from gesturecast.realtime.idle import IdleMotion
 from gesturecast.realtime.motion_smoother import MotionSmoother
+from gesturecast.realtime.seed_motion import SeedMotion
 from gesturecast.realtime.session_controls import SessionControls
 from gesturecast.realtime.timing.clock import Clock
-from gesturecast.realtime.timing.frames import PoseFrame
+from gesturecast.realtime.timing.frames import VISEME_NAMES, PoseFrame
 from gesturecast.realtime.timing.latency import LatencyBudget, LatencyStats
 from gesturecast.realtime.transitions import PoseCrossfade
 
@@ -56,6 +59,8 @@ class SessionConfig:
     idle_fade_s: float = 0.6  # cross-fade duration between idle motion and speech gestures
     silence_hold_s: float = 1.0  # silence this long after the last speech frame fades to idle
     root_mode: RootMode = RootMode.BOUNDED  # in place by default (models/motion/root_anchor.py)
+    seed_motion: SeedMotion | None = None  # start from this motion's last pose, not idle (realtime/seed_motion.py)
+    lipsync: str = "vrm0"  # a key of VISEME_NAMES: fill PoseFrame.visemes (docs/lipsync.md); "off": None
 
 
 class GestureSession:
@@ -78,7 +83,8 @@ class GestureSession:
         self.denoiser_config = generator.audio_config  # the audio layout at the generator's look-ahead δ
         self.fps = bundle.feature_config.fps
         self.sample_rate = bundle.feature_config.sample_rate
-        self.extractor = StreamingFeatureExtractor(bundle.feature_config)
+        self.extractor = StreamingFeatureExtractor(bundle.feature_config,
+                                                   LipSyncConfig() if self.lipsync_on else None)
         self.idle = IdleMotion(seed=generator.settings.seed)
         self._hold_frames = round(self.config.silence_hold_s * self.fps)
         self.root = RootAnchor(self.config.root_mode, fps=self.fps)
@@ -87,15 +93,31 @@ class GestureSession:
         self.hands = HandPose(self.fps, seed=generator.settings.seed)
         self.reset()
 
+    @property
+    def lipsync_on(self) -> bool:
+        return self.config.lipsync in VISEME_NAMES
+
+    @property
+    def viseme_names(self) -> tuple[str, ...]:
+        """Blend-shape names of the frames' viseme weights (VRM 0.x or 1.0), () with lip sync off."""
+        return VISEME_NAMES.get(self.config.lipsync, ())
+
     def reset(self) -> None:
-        """Forget the stream (features, generator history, root anchor, idle fade): the next chunk is sample 0."""
+        """Forget the stream (features, generator history, root anchor, idle fade): the next chunk is sample 0.
+        With a seed motion the generator's history holds it again and the first pose is its last one."""
         self.extractor.reset()
         self.features = FeatureBuffer(self.extractor.num_features)
-        self.generator.reset()
+        seed = self.config.seed_motion
+        self.generator.reset(seed_pose=None if seed is None else seed.features)
+        self.seed_fade = None if seed is None else PoseCrossfade(self.config.idle_fade_s, initial_weight_b=IDLE)
+        if self.seed_fade is not None:
+            self.seed_fade.fade_to(SPEECH, 0.0)  # from the seed's pose at t = 0 into the stream
         self.root.reset()
+        self.travel = RootTravel()  # the root's distance, travel and facing from the start (the run's summary)
         self.smoother.reset()
         self.hands.reset()
         self._unsmoothed: deque[tuple[int, bool]] = deque()  # (frame, speaking) of frames inside the smoother
+        self._visemes: deque[np.ndarray] = deque()  # (5,) weights of the audio frames not yet posed, in order
         self.crossfade = PoseCrossfade(self.config.idle_fade_s, initial_weight_b=IDLE)
         self.next_latent = 0
         self.frames_out = 0
@@ -131,6 +153,8 @@ class GestureSession:
         with self.stats.time(STAGE_FEATURES):
             raw = self.extractor.push(samples)  # (n, F)
         self.features.append(self.bundle.audio_stats.apply(raw), speaking_flags(raw, self.bundle.feature_config))
+        if self.lipsync_on:
+            self._visemes.extend(self.extractor.take_visemes())  # one (5,) row per new audio frame
 
     def finish(self) -> list[PoseFrame]:
         """End of stream: pad with silence for the look-ahead so every captured audio frame gets a pose."""
@@ -173,8 +197,9 @@ class GestureSession:
         frames = []
         for row in smoothed:
             frame, speaking = self._unsmoothed.popleft()
+            visemes = self._visemes.popleft() if self.lipsync_on else None  # audio frame ``frame``'s
             if self._wanted(frame):
-                frames.append(self._pose_frame(frame, row, speaking))
+                frames.append(self._pose_frame(frame, row, speaking, visemes))
         return frames
 
     def _is_speaking(self, index: int) -> bool:
@@ -188,7 +213,7 @@ class GestureSession:
     def _wanted(self, frame: int) -> bool:
         return self._frame_limit is None or frame < self._frame_limit
 
-    def _pose_frame(self, frame: int, features: np.ndarray, speaking: bool) -> PoseFrame:
+    def _pose_frame(self, frame: int, features: np.ndarray, speaking: bool, visemes: np.ndarray | None) -> PoseFrame:
         t = frame / self.fps
         self.crossfade.fade_to(SPEECH if speaking else IDLE, t)
         rotations, root = self._finite_pose(frame, features, t)  # (J, 4), (3,)
@@ -203,17 +228,27 @@ class GestureSession:
             rotations=rotations,
             style=self.controls.describe(),
             speaking=speaking,
+            visemes=visemes,
         )
 
     def _pose(self, features: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:
         """(J, 4) rotations and (3,) root of one motion-feature row (D,), cross-faded with idle motion."""
         position, yaw = self.root.step(features)  # (3,), facing yaw
+        self.travel.update(position, yaw)
         rotations = features_to_rotations(features, np.asarray(yaw))  # (J, 4)
         root = position
         if self.crossfade.weight(t) < SPEECH:  # idle visible: blend (skipped while fully in speech: hot path)
             idle_root = np.array([position[0], self.idle.base_root[1], position[2]])  # idle in place
             rotations, root = self.crossfade.mix(t, self.idle.rotations(t), idle_root, rotations, position)
+        if self.seed_fade is not None and self.seed_fade.weight(t) < SPEECH:
+            return self._from_seed(t, rotations, root)
         return rotations, root
+
+    def _from_seed(self, t: float, rotations: np.ndarray, root: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The stream's (J, 4), (3,) pose cross-faded from the seed motion's last pose (weight 0 at t = 0)."""
+        seed = self.config.seed_motion
+        seed_root = np.array([root[0], seed.height, root[2]])  # the seed's pose where the avatar stands
+        return self.seed_fade.mix(t, seed.rotations, seed_root, rotations, root)
 
     def _finite_pose(self, frame: int, features: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:
         """The pose of a (D,) feature row when finite; else the last good pose (the idle pose before any),

@@ -9,6 +9,7 @@ import sys
 from pathlib import Path
 
 from gesturecast.bridges.vmc import VMC_DEFAULT_PORT
+from gesturecast.bridges.vmc_roles import MARIONETTE
 from gesturecast.bridges.websocket_server import WS_DEFAULT_PORT
 from gesturecast.errors import UserError
 from gesturecast.files import write_text_atomic
@@ -37,6 +38,7 @@ def run_demo(args: argparse.Namespace) -> int:
     """Bundled sample at real-time pace → VMC on 127.0.0.1:39539 + WebSocket viewer + BVH + rendered preview."""
     args.input, args.pace, args.block_size = str(PACKAGED_SAMPLE), "realtime", 512
     args.vmc, args.osc, args.osc_frame = f"127.0.0.1:{VMC_DEFAULT_PORT}", None, "unity"
+    args.vmc_role, args.vmc_bones = MARIONETTE, None
     args.ws, args.host, args.token, args.fps = WS_DEFAULT_PORT, "127.0.0.1", None, 30
     args.token_file, args.allow_origin = None, []
     args.bvh = args.out / "demo.bvh"

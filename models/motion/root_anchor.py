@@ -120,3 +120,30 @@ class RootAnchor:
         self.position_xz = self._anchor_xz + saturate(self._offset, self.bounds.radius_m)
         max_yaw = math.radians(self.bounds.max_yaw_deg)
         self.yaw = float(wrap_angle(self._anchor_yaw + max_yaw * math.tanh(self._turn / max_yaw)))
+
+
+@dataclass
+class RootTravel:
+    """How far the hips went from where the stream started, frame by frame (constant memory): the largest
+    ground-plane distance from the first frame, the net travel (first frame to the newest) and the largest
+    facing angle away from the first frame's facing (wrapped to [0°, 180°])."""
+
+    start_xz: np.ndarray | None = None
+    start_yaw: float = 0.0
+    max_distance_m: float = 0.0
+    net_travel_m: float = 0.0
+    max_facing_deg: float = 0.0
+
+    def update(self, position: np.ndarray, yaw: float) -> None:
+        """One frame's hips position (3,) and facing yaw (radians)."""
+        planar = np.asarray(position, dtype=np.float64)[[0, 2]]  # (2,) ground plane
+        if self.start_xz is None:
+            self.start_xz, self.start_yaw = planar, float(yaw)
+        self.net_travel_m = float(np.linalg.norm(planar - self.start_xz))
+        self.max_distance_m = max(self.max_distance_m, self.net_travel_m)
+        facing = abs(math.degrees(float(wrap_angle(np.float64(yaw - self.start_yaw)))))
+        self.max_facing_deg = max(self.max_facing_deg, facing)
+
+    def to_dict(self) -> dict:
+        return {"max_distance_m": self.max_distance_m, "net_travel_m": self.net_travel_m,
+                "max_facing_deg": self.max_facing_deg}

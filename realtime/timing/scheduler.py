@@ -106,6 +106,7 @@ def midpoint_frame(a: PoseFrame, b: PoseFrame) -> PoseFrame:
         rotations=quat_slerp(np.asarray(a.rotations), np.asarray(b.rotations), HALF),  # (J, 4)
         style=a.style,
         speaking=a.speaking,
+        visemes=None if a.visemes is None or b.visemes is None else HALF * (a.visemes + b.visemes),  # (5,)
     )
 
 

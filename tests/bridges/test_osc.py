@@ -1,4 +1,5 @@
 import struct
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -8,7 +9,7 @@ from pythonosc.osc_packet import OscPacket
 from gesturecast.bridges.coords import FRAMES
 from gesturecast.bridges.osc import OscBridge, OscConfig, OscEncoder
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS as SKELETON  # what the session sends
-from gesturecast.realtime.timing.frames import PoseFrame
+from gesturecast.realtime.timing.frames import VISEME_NAMES, PoseFrame
 
 FLOAT32_TOLERANCE = 1e-4  # centimetre-scaled Unreal positions are ~100x larger
 
@@ -83,3 +84,13 @@ def test_frame_time_keeps_frame_steps_after_two_days_of_uptime():
         receiver.close()
     np.testing.assert_allclose(np.diff(times), 1 / 30.0, atol=1e-6)
     assert times[0] == 0.0
+
+
+@pytest.mark.parametrize("mode", sorted(VISEME_NAMES))
+def test_visemes_go_out_under_their_names(mode):
+    weights = np.array([0.5, 0.0, 0.25, 0.125, 0.0625], np.float32)
+    frame = replace(moving_frame(3), visemes=weights)
+    values = decode(OscEncoder(OscConfig(viseme_names=VISEME_NAMES[mode])).encode(frame, 0.0))
+    sent = {address.rsplit("/", 1)[1]: params for address, params in values.items() if "/viseme/" in address}
+    assert sent == {name: [float(w)] for name, w in zip(VISEME_NAMES[mode], weights, strict=True)}
+    assert not [a for a in decode(OscEncoder().encode(frame, 0.0)) if "/viseme/" in a]  # no names: no visemes

@@ -2,6 +2,7 @@ import logging
 import socket
 import struct
 import threading
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -11,10 +12,11 @@ from pythonosc.osc_packet import OscPacket
 from pythonosc.osc_server import BlockingOSCUDPServer
 
 from gesturecast.bridges.coords import UNITY
+from gesturecast.bridges.osc_wire import MAX_DATAGRAM_SIZE
 from gesturecast.bridges.vmc import VmcBridge, VmcConfig, VmcEncoder
 from gesturecast.models.motion.rotations import quat_from_axis_angle
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
-from gesturecast.realtime.timing.frames import PoseFrame
+from gesturecast.realtime.timing.frames import VISEME_NAMES, PoseFrame
 
 RECEIVE_TIMEOUT_S = 5.0
 FLOAT32_TOLERANCE = 1e-6
@@ -158,3 +160,42 @@ def test_receiver_not_running_never_raises_and_logs_once(caplog):
     warnings = [r for r in caplog.records if "VMC send" in r.getMessage()]
     assert len(warnings) == 1
     assert "Connection refused" in warnings[0].getMessage()
+
+
+def speaking_frame(weights=(0.1, 0.2, 0.3, 0.15, 0.05)) -> PoseFrame:
+    rest = rest_frame()
+    return replace(rest, visemes=np.array(weights, np.float32))
+
+
+@pytest.mark.parametrize("mode", sorted(VISEME_NAMES))
+def test_visemes_go_out_as_blend_values_and_one_apply(mode):
+    frame = speaking_frame()
+    bundles = VmcEncoder(config=VmcConfig(viseme_names=VISEME_NAMES[mode])).encode(frame, stream_time=0.0)
+    assert all(len(b) <= MAX_DATAGRAM_SIZE for b in bundles)
+    messages = parse(bundles)
+    blends = [(params[0], params[1]) for address, params in messages if address == "/VMC/Ext/Blend/Val"]
+    assert [name for name, _ in blends] == list(VISEME_NAMES[mode])
+    np.testing.assert_allclose([value for _, value in blends], frame.visemes, atol=FLOAT32_TOLERANCE)
+    addresses = [address for address, _ in messages]
+    assert addresses.count("/VMC/Ext/Blend/Apply") == 1
+    assert addresses.index("/VMC/Ext/Blend/Apply") > max(i for i, a in enumerate(addresses) if a.endswith("Val"))
+
+
+def test_no_blend_shapes_without_names_or_weights():
+    silent_config = VmcEncoder(config=VmcConfig(viseme_names=VISEME_NAMES["vrm0"]))
+    for encoder, frame in ((VmcEncoder(), speaking_frame()), (silent_config, rest_frame())):
+        assert not [a for a, _ in parse(encoder.encode(frame, 0.0)) if a.startswith("/VMC/Ext/Blend")]
+
+
+def test_assistant_sends_no_root_and_only_its_bones():
+    config = VmcConfig(viseme_names=VISEME_NAMES["vrm1"], bones=("LeftUpperArm", "RightHand"), assistant=True)
+    addresses = [(a, p[0] if p else None) for a, p in parse(VmcEncoder(config=config).encode(speaking_frame(), 0.0))]
+    assert [name for a, name in addresses if a == "/VMC/Ext/Bone/Pos"] == ["LeftUpperArm", "RightHand"]
+    assert not {a for a, _ in addresses} & {"/VMC/Ext/Root/Pos", "/VMC/Ext/OK", "/VMC/Ext/T"}
+    assert [name for a, name in addresses if a == "/VMC/Ext/Blend/Val"] == ["aa", "ih", "ou", "ee", "oh"]
+
+
+def test_assistant_with_no_bones_sends_visemes_only():
+    config = VmcConfig(viseme_names=VISEME_NAMES["vrm0"], bones=(), assistant=True)
+    addresses = {a for a, _ in parse(VmcEncoder(config=config).encode(speaking_frame(), 0.0))}
+    assert addresses == {"/VMC/Ext/Blend/Val", "/VMC/Ext/Blend/Apply"}

@@ -127,3 +127,18 @@ def test_live_bvh_at_60_fps_has_a_60_fps_frame_time(tiny_model, speech, tmp_path
     recorded = read_bvh(out)
     assert recorded.fps == pytest.approx(60.0, rel=1e-4)
     assert recorded.num_frames / recorded.fps == pytest.approx(2.0, abs=2 / 60)  # plays for as long as the speech
+
+
+@pytest.mark.parametrize("mode, names", [("vrm1", ["aa", "ih", "ou", "ee", "oh"]), ("off", None)])
+def test_generate_json_carries_the_viseme_names_and_weights(tiny_model, speech, tmp_path, mode, names):
+    out, stream_json = tmp_path / "a.bvh", tmp_path / "a.json"
+    assert main(["generate", str(speech), "-o", str(out), "--json", str(stream_json), "--model", str(tiny_model[1]),
+                 "--steps", "1", "--lipsync", mode]) == 0
+    stream = json.loads(stream_json.read_text())
+    assert stream.get("visemes") == names
+    weights = [frame.get("visemes") for frame in stream["frames"]]
+    if names is None:
+        assert weights == [None] * len(weights)
+    else:
+        assert all(len(w) == len(names) and min(w) >= 0.0 and sum(w) <= 1.0 + 1e-3 for w in weights)
+        assert max(sum(w) for w in weights) > 0.3  # the speech opens the mouth

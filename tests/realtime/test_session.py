@@ -13,6 +13,7 @@ from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio
 from gesturecast.realtime.audio.sources import FastFileSource, PacedFileSource
 from gesturecast.realtime.engine import LiveEngine, run_offline
 from gesturecast.realtime.features.dsp import frame_boundary, frames_complete
+from gesturecast.realtime.features.streaming import extract_visemes
 from gesturecast.realtime.generator import Generator, GeneratorSettings
 from gesturecast.realtime.session import GestureSession, SessionConfig
 from gesturecast.realtime.style_prompts import StylePrompt
@@ -39,11 +40,13 @@ def speech(tmp_path_factory, shared_data):
     return path
 
 
-def make_session(bundle, clock=None, smoothing_frames=0, root_mode=RootMode.BOUNDED, **settings) -> GestureSession:
+def make_session(bundle, clock=None, smoothing_frames=0, root_mode=RootMode.BOUNDED, lipsync="vrm0",
+                 **settings) -> GestureSession:
     settings = {"sampler": SamplerConfig("ddim", 2), "guidance": 1.5, "seed": 1, **settings}
     generator = Generator(bundle, GeneratorSettings(**settings))
     budget = LatencyBudget(bundle.frames_per_latent, generator.lookahead, 100.0, smoothing_frames=smoothing_frames)
-    return GestureSession(bundle, generator, budget, clock or FakeClock(), SessionConfig(root_mode=root_mode))
+    return GestureSession(bundle, generator, budget, clock or FakeClock(),
+                         SessionConfig(root_mode=root_mode, lipsync=lipsync))
 
 
 def poses(frames) -> np.ndarray:
@@ -89,6 +92,21 @@ def test_a_low_latency_session_makes_a_latent_once_its_own_audio_has_arrived(bun
     quality = make_session(bundle)
     assert len(low.push(_chunk(first_latent_audio, 0))) == d
     assert quality.push(_chunk(first_latent_audio, 0)) == []
+
+
+def test_each_frame_carries_the_visemes_of_its_own_audio_instant(bundle, speech):
+    session = make_session(bundle, smoothing_frames=2)
+    frames, _ = run_offline(session, FastFileSource(speech, chunk_samples=333))
+    expected = extract_visemes(load_audio(speech), config=bundle.feature_config)  # (T, 5), audio frame k = row k
+    np.testing.assert_array_equal(np.stack([f.visemes for f in frames]), expected)
+    assert expected.sum(axis=1).max() > 0.5  # speech opens the mouth
+    assert session.viseme_names == ("A", "I", "U", "E", "O")
+
+
+def test_lipsync_off_leaves_the_visemes_out(bundle, speech):
+    session = make_session(bundle, lipsync="off")
+    frames, _ = run_offline(session, FastFileSource(speech, chunk_samples=16000))
+    assert frames and all(f.visemes is None for f in frames) and session.viseme_names == ()
 
 
 @pytest.mark.parametrize("smoothing", [0, 1])
@@ -281,3 +299,20 @@ def test_jittery_source_capture_times_never_make_frames_go_back_in_time(bundle, 
         for frame in session.push(AudioChunk(audio[start : start + chunk], start, 10.0 + start / SAMPLE_RATE - early)):
             scheduler.submit(frame)
     assert scheduler.stats.submitted > 0
+
+
+def test_the_report_and_summary_say_how_far_the_root_went(bundle, speech):
+    from gesturecast.models.motion.root_anchor import RootBounds
+    from gesturecast.realtime.engine_cli import summary_line
+
+    frames, report = run_offline(make_session(bundle, root_mode=RootMode.FREE), FastFileSource(speech))
+    planar = np.stack([f.root_position[[0, 2]] for f in frames])  # (T, 2)
+    distances = np.linalg.norm(planar - planar[0], axis=1)  # (T,)
+    root = report.to_dict()["root"]
+    assert root["max_distance_m"] == pytest.approx(distances.max()) and root["max_distance_m"] > 0.0
+    assert root["net_travel_m"] == pytest.approx(distances[-1])
+    _, bounded = run_offline(make_session(bundle), FastFileSource(speech))
+    assert bounded.root["max_distance_m"] < RootBounds().radius_m
+    assert bounded.root["max_facing_deg"] < RootBounds().max_yaw_deg
+    assert (f"root max {root['max_distance_m']:.2f} m, net {root['net_travel_m']:.2f} m, "
+            f"facing max {root['max_facing_deg']:.0f}°") in summary_line(report)

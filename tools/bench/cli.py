@@ -22,6 +22,7 @@ BENCH_MODULES: tuple[str, ...] = (
     "gesturecast.tools.bench.following",
     "gesturecast.tools.bench.denoising",
     "gesturecast.tools.bench.root",
+    "gesturecast.tools.bench.lipsync",
 )
 
 

@@ -159,7 +159,8 @@ def measure_with_frames(args: argparse.Namespace, audio: Path | None,
     clock = MonotonicClock()
     session = build_session(args, clock)
     viewer = WebSocketBridge(WebSocketConfig(port=0, clock=clock.now)).start()
-    outputs = BridgeFanout([VmcBridge(VmcConfig(port=VMC_DEFAULT_PORT)), viewer])
+    vmc = VmcConfig(port=VMC_DEFAULT_PORT, viseme_names=session.viseme_names)  # blend shapes per --lipsync
+    outputs = BridgeFanout([VmcBridge(vmc), viewer])
     log = ReleaseLog(outputs.send, clock, keep_frames)
     try:
         source = open_bench_source(args, audio, clock)
@@ -184,6 +185,7 @@ def benchmark_json(report: EngineReport, args: argparse.Namespace, guidance: flo
         "warm_up_ms": report.warm_up_s * MS_PER_S,
         "frames": report.frames,
         "audio_seconds": report.audio_seconds,
+        "root": report.root,
         "settings": {
             "sampler": args.sampler,
             "steps": args.steps if args.sampler == "ddim" else None,

@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from gesturecast.models.motion.motion_features import facing_yaw
-from gesturecast.models.motion.root_anchor import ROOT_MODES
+from gesturecast.models.motion.root_anchor import ROOT_MODES, RootTravel
 from gesturecast.realtime.audio.sources import FastFileSource
 from gesturecast.realtime.engine import run_offline
 from gesturecast.realtime.engine_setup import add_generation_arguments, build_session
@@ -47,14 +47,16 @@ def root_path(args: argparse.Namespace, style: str, mode: str) -> tuple[np.ndarr
 
 
 def drift_figures(positions: np.ndarray, yaws: np.ndarray, fps: float) -> dict:
-    planar = positions[:, [0, 2]] - positions[0, [0, 2]]  # (T, 2) from the start
-    steps = np.linalg.norm(np.diff(planar, axis=0), axis=1)  # (T-1,)
-    turned = np.degrees(np.abs(np.angle(np.exp(1j * (yaws - yaws[0])))))  # (T,) wrapped to [0, 180]
+    """Distance, travel and facing as the live summary reports them (:class:`RootTravel`), plus steps and speed."""
+    travel = RootTravel()
+    for position, yaw in zip(positions, yaws, strict=True):
+        travel.update(position, yaw)
+    steps = np.linalg.norm(np.diff(positions[:, [0, 2]], axis=0), axis=1)  # (T-1,) ground-plane steps
     return {
         "seconds": round(len(positions) / fps, 2),
-        "max_distance_m": round(float(np.linalg.norm(planar, axis=1).max()), 4),
-        "net_travel_m": round(float(np.linalg.norm(planar[-1])), 4),
-        "max_facing_deg": round(float(turned.max()), 2),
+        "max_distance_m": round(travel.max_distance_m, 4),
+        "net_travel_m": round(travel.net_travel_m, 4),
+        "max_facing_deg": round(travel.max_facing_deg, 2),
         "max_step_cm": round(float(steps.max() * CM_PER_M), 3),
         "mean_speed_cm_s": round(float(steps.mean() * fps * CM_PER_M), 3),
     }

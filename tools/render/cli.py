@@ -2,6 +2,7 @@
 
 By default the file is retargeted onto the canonical skeleton (what the model sees; a BVH written by
 gesturecast keeps its finger joints); ``--raw`` draws the BVH's own skeleton instead, in its file units.
+``--wrists`` draws the wrist trajectories of one or more files side by side instead (:mod:`wrists`).
 """
 
 from __future__ import annotations
@@ -19,9 +20,11 @@ from gesturecast.errors import UserError
 from gesturecast.files import check_distinct
 from gesturecast.models.motion.rotations import quat_identity, quat_mul, quat_rotate
 from gesturecast.tools.render.animation import RenderConfig, render_positions
+from gesturecast.tools.render.wrists import WristTrack, body_frame_wrists, plot_wrists
 
 log = logging.getLogger(__name__)
 
+DEFAULT_WRIST_SECONDS = 5.0
 MAX_AUTO_FRAMES = 900  # without --stride, longer GIF/MP4 clips are thinned to about this many frames
 
 
@@ -35,7 +38,8 @@ class LoadedClip:
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     parser = subparsers.add_parser("render", help="draw a .bvh or SMPL-X .npz as a stick figure (front + side)")
-    parser.add_argument("input", type=Path, help="motion file: .bvh (any supported skeleton) or SMPL-X .npz")
+    parser.add_argument("input", type=Path, nargs="+",
+                        help="motion file: .bvh (any supported skeleton) or SMPL-X .npz (several with --wrists)")
     parser.add_argument("-o", "--output", type=Path, required=True, help="OUT.gif, OUT.mp4 (needs ffmpeg) or OUT.png")
     parser.add_argument("--start", type=finite_float(minimum=0.0), default=0.0, help="first second to draw (default 0)")
     parser.add_argument("--seconds", type=finite_float(minimum=0.0, exclusive_minimum=True), default=None,
@@ -49,21 +53,59 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--raw", action="store_true", help="draw the BVH's own skeleton, without retargeting")
     parser.add_argument("--joint-map", type=Path, help="JSON joint map for a skeleton that is not detected "
                         "automatically (docs/retargeting.md)")
+    parser.add_argument("--wrists", action="store_true", help="draw the wrist trajectories of every input side by "
+                        f"side (a PNG; --seconds defaults to {DEFAULT_WRIST_SECONDS:g})")
+    parser.add_argument("--labels", help="with --wrists: comma-separated column titles (default: the file names)")
     parser.set_defaults(func=run_render)
 
 
 def run_render(args: argparse.Namespace) -> int:
-    if not args.input.is_file():
-        raise UserError(f"motion file {args.input} does not exist")
-    check_distinct([("input", args.input)], [("-o", args.output)])
-    clip = load_raw_bvh(args.input) if args.raw else load_canonical(args.input, args.joint_map)
+    for path in args.input:
+        if not path.is_file():
+            raise UserError(f"motion file {path} does not exist")
+    check_distinct([("input", path) for path in args.input], [("-o", args.output)])
+    if args.wrists:
+        return run_wrists(args)
+    if len(args.input) > 1:
+        raise UserError(f"{len(args.input)} motion files given: several are drawn only with --wrists")
+    (path,) = args.input
+    clip = load_raw_bvh(path) if args.raw else load_canonical(path, args.joint_map)
     first, positions = select_time_range(clip.positions, clip.fps, args.start, args.seconds)
     stride = args.stride if args.stride is not None else auto_stride(len(positions), args.output)
     config = RenderConfig(stride=stride, sheet_frames=args.sheet_frames, start_s=first / clip.fps, focus=args.focus)
-    title = f"{args.input.name}  ({'raw' if args.raw else 'canonical'}, {clip.fps:g} fps)"
+    title = f"{path.name}  ({'raw' if args.raw else 'canonical'}, {clip.fps:g} fps)"
     out = render_positions(positions, clip.parents, args.output, clip.fps, title, clip.names, config)
     log.info("wrote %s (%d frames, stride %d)", out, len(positions), stride)
     return 0
+
+
+def run_wrists(args: argparse.Namespace) -> int:
+    """Wrist trajectories of every input over the same time range, one column each."""
+    from gesturecast.models.motion.retarget import load_motion_file
+
+    if args.raw:
+        raise UserError("--wrists draws retargeted motion (the canonical wrists): drop --raw")
+    if args.output.suffix.lower() != ".png":
+        raise UserError(f"--wrists writes a .png, not '{args.output.suffix}'")
+    labels = wrist_labels(args.labels, args.input)
+    seconds = DEFAULT_WRIST_SECONDS if args.seconds is None else args.seconds
+    tracks = []
+    for path, label in zip(args.input, labels, strict=True):
+        motion = load_motion_file(path, args.joint_map)
+        first, wrists = select_time_range(body_frame_wrists(motion), motion.fps, args.start, seconds)
+        tracks.append(WristTrack(label, wrists, motion.fps, first / motion.fps))
+    log.info("wrote %s", plot_wrists(tracks, args.output))
+    return 0
+
+
+def wrist_labels(labels: str | None, paths: list[Path]) -> list[str]:
+    """One title per file: ``--labels a,b,c`` or the file names."""
+    if labels is None:
+        return [path.name for path in paths]
+    names = [name.strip() for name in labels.split(",")]
+    if len(names) != len(paths):
+        raise UserError(f"--labels has {len(names)} names for {len(paths)} files")
+    return names
 
 
 def load_canonical(path: Path, joint_map: Path | None = None) -> LoadedClip:

@@ -12,7 +12,14 @@ from gesturecast.models.motion.motion_features import (
     ROOT_YAW_RATE,
     RootIntegrator,
 )
-from gesturecast.models.motion.root_anchor import RootAnchor, RootBounds, RootMode, parse_root_mode, saturate
+from gesturecast.models.motion.root_anchor import (
+    RootAnchor,
+    RootBounds,
+    RootMode,
+    RootTravel,
+    parse_root_mode,
+    saturate,
+)
 
 FPS = 30.0
 
@@ -107,3 +114,25 @@ def test_unknown_mode_is_one_line():
     assert parse_root_mode("locked") is RootMode.LOCKED
     with pytest.raises(UserError, match="unknown root mode 'pinned': choose one of bounded, free, locked"):
         parse_root_mode("pinned")
+
+
+def test_root_travel_reports_the_farthest_point_the_end_point_and_the_widest_turn():
+    travel = RootTravel()
+    path = [((1.0, 0.9, 2.0), 0.5), ((1.3, 0.9, 2.0), 0.5 + math.radians(90)),
+            ((1.1, 0.9, 2.0), 0.5 + math.radians(200))]  # out 0.3 m, back to 0.1 m; 200° is 160° the other way
+    for position, yaw in path:
+        travel.update(np.array(position), yaw)
+    assert travel.max_distance_m == pytest.approx(0.3)
+    assert travel.net_travel_m == pytest.approx(0.1)
+    assert travel.max_facing_deg == pytest.approx(160.0)
+
+
+def test_root_travel_of_a_bounded_walk_stays_inside_the_bounds():
+    bounds = RootBounds()
+    positions, yaws = run(RootAnchor(RootMode.BOUNDED, bounds, FPS), walk_and_turn(20.0))
+    travel = RootTravel()
+    for position, yaw in zip(positions, yaws, strict=True):
+        travel.update(position, yaw)
+    assert 0.5 * bounds.radius_m < travel.max_distance_m < bounds.radius_m
+    assert 0.5 * bounds.max_yaw_deg < travel.max_facing_deg < bounds.max_yaw_deg
+    assert travel.net_travel_m <= travel.max_distance_m

@@ -2,7 +2,8 @@
 
 Two replicas of one stream each: two streams land on different replicas (least-loaded), a third gets
 today's 1013; streams equal plain ``serve``; scaling down drains running streams; a killed replica ends
-only its own stream and a reconnect works. Skipped when Ray is not installed (``gesturecast[scale]``).
+only its own stream, with close code 1012 and a reason, and a reconnect works. Skipped when Ray is not
+installed (``gesturecast[scale]``).
 """
 
 import argparse
@@ -33,6 +34,7 @@ from gesturecast.realtime.serve.ray_cli import (
     application,
     deployment_options,
 )
+from gesturecast.realtime.serve.ray_proxy import REPLICA_LOST_CODE, REPLICA_LOST_REASON, install_proxy_callback
 from gesturecast.realtime.timing.clock import MonotonicClock
 from gesturecast.tools.bench.serve_client import stream_audio
 
@@ -49,7 +51,6 @@ TIMEOUT_S = 90.0  # a broken deployment fails the test instead of hanging it
 RECONNECT_TRIES = 30
 RECONNECT_PAUSE_S = 1.0
 STAGGER_S = 0.5  # streams connect this far apart: the router counts one before placing the next
-NO_CLOSE_FRAME = CloseCode.ABNORMAL_CLOSURE  # 1006: the connection dropped without a close frame
 
 
 def run(coroutine):
@@ -75,6 +76,7 @@ def serve_args(model, port: int, *flags: str) -> argparse.Namespace:
 def cluster(tiny_model):
     """A local Ray with Serve's proxy on a free loopback port and the app on 2 replicas."""
     port = free_port()
+    install_proxy_callback()  # as serve --ray does before it starts a local Ray
     ray.init(num_cpus=RAY_CPUS, include_dashboard=False, logging_level="ERROR")
     serve.start(http_options={"host": "127.0.0.1", "port": port})
     args = serve_args(tiny_model[1], port, "--replicas", "2")
@@ -183,20 +185,20 @@ def replica_pids() -> list[int]:
             if actor["ActorClassName"] == f"ServeReplica:{APP_NAME}:GestureReplica" and actor["State"] == "ALIVE"]
 
 
-async def close_code_or_result(url: str, audio: np.ndarray, delay_s: float = 0.0):
-    """The stream's result, or the close code that ended it early."""
+async def close_or_result(url: str, audio: np.ndarray, delay_s: float = 0.0):
+    """The stream's result, or the close frame that ended it early (None: no close frame, 1006)."""
     await asyncio.sleep(delay_s)
     try:
         return await stream_audio(url, audio, PACED_CHUNK, paced=True)
     except ConnectionClosed as closed:
-        return NO_CLOSE_FRAME if closed.rcvd is None else closed.rcvd.code
+        return closed.rcvd
 
 
 async def reconnect(url: str, audio: np.ndarray):
     """What a client does after losing its replica: try again until a stream goes through."""
     for _ in range(RECONNECT_TRIES):
-        outcome = await close_code_or_result(url, audio)
-        if not isinstance(outcome, int) and outcome.stats is not None:
+        outcome = await close_or_result(url, audio)
+        if hasattr(outcome, "stats") and outcome.stats is not None:
             return outcome
         await asyncio.sleep(RECONNECT_PAUSE_S)
     return None
@@ -208,7 +210,7 @@ def test_a_killed_replica_ends_only_its_own_stream_and_clients_can_reconnect(clu
     assert len(pids) == 2
 
     async def kill_one_midway():
-        running = [asyncio.ensure_future(close_code_or_result(f"{url}k{i}", a, i * STAGGER_S))
+        running = [asyncio.ensure_future(close_or_result(f"{url}k{i}", a, i * STAGGER_S))
                    for i, a in enumerate(speech)]
         await asyncio.sleep(PACED_SECONDS / 4)
         os.kill(pids[0], signal.SIGKILL)
@@ -216,9 +218,9 @@ def test_a_killed_replica_ends_only_its_own_stream_and_clients_can_reconnect(clu
         return outcomes, await reconnect(f"{url}again", speech[0][: CHUNK * 2])
 
     outcomes, again = run(kill_one_midway())
-    codes = [o for o in outcomes if isinstance(o, int)]
-    finished = [o for o in outcomes if not isinstance(o, int)]
-    assert codes == [NO_CLOSE_FRAME]  # each stream had its own replica: exactly one was lost
+    closes = [(o.code, o.reason) for o in outcomes if not hasattr(o, "stats")]
+    finished = [o for o in outcomes if hasattr(o, "stats")]
+    assert closes == [(REPLICA_LOST_CODE, REPLICA_LOST_REASON)]  # each stream had its own replica: one was lost
     assert len(finished) == 1 and finished[0].stats["error"] is None
     assert len(finished[0].frames) == round(PACED_SECONDS * finished[0].hello["fps"])
     assert again is not None and again.errors == []
