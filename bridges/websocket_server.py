@@ -22,6 +22,7 @@ import time
 from collections import deque
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from pathlib import Path
 
 from websockets.asyncio.server import ServerConnection, broadcast
 from websockets.exceptions import ConnectionClosed
@@ -61,6 +62,7 @@ class WebSocketConfig:
     slow_client_buffer_bytes: int = SLOW_CLIENT_BUFFER_BYTES
     lipsync: bool = False  # frames carry viseme weights: the hello names them, frames append them (ws_protocol)
     viseme_names: tuple[str, ...] = VISEME_NAMES["vrm0"]  # their names in the hello when ``lipsync``
+    avatar: Path | None = None  # the VRM file the viewer page shows (avatar_file.resolve_avatar); None: stick figure
     clock: Callable[[], float] = field(default=time.monotonic, compare=False)  # the engine's clock
 
 
@@ -161,7 +163,7 @@ class WebSocketBridge:
         """Upgrades pass the access policy (origin, wrong-token limit); plain GETs get the viewer files."""
         if is_websocket_upgrade(request):
             return self.access.process_request(connection, request)
-        return static_response(request.path)
+        return static_response(request.path, self.config.avatar)
 
     async def _handle(self, connection: ServerConnection) -> None:
         client = ClientState(address=str(connection.remote_address))
