@@ -22,12 +22,13 @@ CHROMIUM = Path("/usr/bin/chromium")
 CHROMEDRIVER = Path("/usr/bin/chromedriver")
 CHROMIUM_FLAGS = (
     "--headless", "--no-sandbox", "--disable-quic", "--no-first-run", "--disable-background-networking",
-    "--disable-component-update", "--disable-sync", "--window-size=1000,720",
+    "--disable-component-update", "--disable-sync", "--window-size=1000,900",
 )
 NO_GPU_FLAGS = ("--disable-gpu",)
 WEBGL_FLAGS = ("--use-angle=swiftshader", "--enable-unsafe-swiftshader")  # software WebGL for the avatar
 FEED_FPS = 30.0
 PAGE_TIMEOUT_S = 30.0
+SCREENSHOT_DIR = Path(tempfile.gettempdir()) / "gesturecast-viewer-screenshots"  # pictures the tests leave to look at
 
 needs_chromium = pytest.mark.skipif(
     not (CHROMIUM.exists() and CHROMEDRIVER.exists()),

@@ -2,21 +2,18 @@
 
 from __future__ import annotations
 
-import tempfile
 import time
-from pathlib import Path
 
 import numpy as np
 import pytest
 from bridge_test_frames import moving_frame
-from browser_session import NO_GPU_FLAGS, Feeder, canvas_pixels, chromium, needs_chromium, wait_for
+from browser_session import NO_GPU_FLAGS, SCREENSHOT_DIR, Feeder, canvas_pixels, chromium, needs_chromium, wait_for
 from PIL import Image
 
 from gesturecast.bridges.websocket_server import WebSocketBridge, WebSocketConfig
 
 SCREENSHOT_GAP_S = 0.6
 CHANGED_PIXEL_THRESHOLD = 40  # summed RGB difference that counts as a changed pixel
-SCREENSHOT_DIR = Path(tempfile.gettempdir()) / "gesturecast-viewer-screenshots"
 
 pytestmark = needs_chromium
 
