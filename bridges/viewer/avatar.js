@@ -3,8 +3,9 @@
 // T-pose, as for three-vrm's normalized humanoid bones, so a rotation goes to the normalized bone unchanged once
 // it is back in the internal frame (right-handed, Y-up, facing +Z = VRM 1.0). VRM 0.x models face -Z: the scene
 // is turned (VRMUtils.rotateVRM0) and their normalized rotations are (-x, y, -z, w), as three-vrm-animation does.
+import * as THREE from "./vendor/three-vrm.bundle.js";
 import {
-  THREE, GLTFLoader, VRMLoaderPlugin, VRMUtils, VRMAnimationLoaderPlugin, createVRMAnimationClip,
+  GLTFLoader, VRMLoaderPlugin, VRMUtils, VRMAnimationLoaderPlugin, createVRMAnimationClip,
 } from "./vendor/three-vrm.bundle.js";
 import { CAMERA_TARGET, VERTICAL_FOV_DEGREES, cameraEye, matVec, rotationToInternal } from "./stick.js";
 import { ProceduralMouth } from "./mouth.js";
