@@ -48,6 +48,7 @@ export class AvatarView {
     this.vrm = null;
     this.mouth = null;
     this.mixer = null;  // a dropped .vrma playing
+    this.animationEnd = 0;  // its duration, seconds
     this.bound = null;  // the hello the bone table was built for
   }
 

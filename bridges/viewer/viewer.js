@@ -156,7 +156,12 @@ function enableDrop() {
     const file = event.dataTransfer.files[0];
     if (!file) return;
     if (file.name.toLowerCase().endsWith(".vrma") && state.avatar?.vrm) {
-      await state.avatar.playAnimation(await file.arrayBuffer());
+      try {
+        const seconds = await state.avatar.playAnimation(await file.arrayBuffer());
+        el("avatar-status").textContent = `playing ${file.name} (${seconds.toFixed(1)} s)`;
+      } catch (error) {
+        el("avatar-status").textContent = `cannot play ${file.name}: ${error.message}`;
+      }
     } else {
       await showAvatar(await file.arrayBuffer(), file.name);
     }
