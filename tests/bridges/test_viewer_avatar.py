@@ -6,6 +6,7 @@ repository); the tests skip with the reason when it is absent.
 
 from __future__ import annotations
 
+import base64
 import dataclasses
 import shutil
 import time
@@ -89,6 +90,36 @@ def test_avatar_loads_and_moves(driver, avatar):
     assert stick_hidden, "the stick figure should give way to the avatar"
     assert (second.sum(axis=-1) > BRIGHT).sum() > 2000, "no avatar drawn"
     assert changed.sum() > 300, "the avatar did not move between screenshots"
+
+
+DROP_FILE = """
+const [encoded, name] = arguments;
+const bytes = Uint8Array.from(atob(encoded), (c) => c.charCodeAt(0));
+const transfer = new DataTransfer();
+transfer.items.add(new File([bytes], name));
+document.getElementById("stage-box").dispatchEvent(new DragEvent("drop", {dataTransfer: transfer, bubbles: true}));
+"""
+
+
+def test_without_an_avatar_the_page_asks_for_one_and_a_dropped_vrm_becomes_it(driver, avatar):
+    bridge = WebSocketBridge(WebSocketConfig(port=0)).start()  # no avatar on the server
+    try:
+        with Feeder(bridge, moving_frame):
+            driver.get(bridge.url)
+            wait_for(lambda: driver.execute_script("return document.body.dataset.avatar") == "none")
+            hint_before = driver.find_element("id", "drop-hint").is_displayed()
+            stick_before = driver.find_element("id", "stage").is_displayed()
+            driver.execute_script(DROP_FILE, base64.b64encode(avatar.read_bytes()).decode(), "mine.vrm")
+            wait_for(lambda: driver.execute_script("return document.body.dataset.avatar") == "loaded")
+            time.sleep(SETTLE_S)
+            status = driver.find_element("id", "avatar-status").text
+            hint_after = driver.find_element("id", "drop-hint").is_displayed()
+            drawn = canvas_pixels(driver, "avatar")
+    finally:
+        bridge.close()
+    assert hint_before and stick_before and not hint_after
+    assert status == "mine.vrm"
+    assert (drawn.sum(axis=-1) > BRIGHT).sum() > 2000, "no avatar drawn"
 
 
 def test_the_left_arm_rises_on_the_left_and_the_face_looks_forward(driver, avatar):
