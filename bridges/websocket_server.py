@@ -22,6 +22,7 @@ import time
 from collections import deque
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from pathlib import Path
 
 from websockets.asyncio.server import ServerConnection, broadcast
 from websockets.exceptions import ConnectionClosed
@@ -36,7 +37,7 @@ from gesturecast.bridges.ws_access import AccessPolicy, send_refusal
 from gesturecast.bridges.ws_listener import ThreadedListener
 from gesturecast.errors import UserError
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS, Skeleton
-from gesturecast.realtime.timing.frames import PoseFrame
+from gesturecast.realtime.timing.frames import VISEME_NAMES, PoseFrame
 
 logger = logging.getLogger(__name__)
 
@@ -59,6 +60,9 @@ class WebSocketConfig:
     style_choices: tuple[str, ...] = ()
     allow_origins: tuple[str, ...] = ()  # browser origins besides the viewer's own (ws_access)
     slow_client_buffer_bytes: int = SLOW_CLIENT_BUFFER_BYTES
+    lipsync: bool = False  # frames carry viseme weights: the hello names them, frames append them (ws_protocol)
+    viseme_names: tuple[str, ...] = VISEME_NAMES["vrm0"]  # their names in the hello when ``lipsync``
+    avatar: Path | None = None  # the VRM file the viewer page shows (avatar_file.resolve_avatar); None: stick figure
     clock: Callable[[], float] = field(default=time.monotonic, compare=False)  # the engine's clock
 
 
@@ -147,13 +151,19 @@ class WebSocketBridge:
             self.config.style_choices,
             control_schema(),
             self.access.token_required,
+            self.visemes,
         )
+
+    @property
+    def visemes(self) -> tuple[str, ...]:
+        """The viseme names of the hello: ``viseme_names`` with lip sync, else none."""
+        return self.config.viseme_names if self.config.lipsync else ()
 
     def _process_request(self, connection: ServerConnection, request: Request) -> Response | None:
         """Upgrades pass the access policy (origin, wrong-token limit); plain GETs get the viewer files."""
         if is_websocket_upgrade(request):
             return self.access.process_request(connection, request)
-        return static_response(request.path)
+        return static_response(request.path, self.config.avatar)
 
     async def _handle(self, connection: ServerConnection) -> None:
         client = ClientState(address=str(connection.remote_address))
@@ -224,9 +234,11 @@ class WebSocketBridge:
         binary_clients = [c for c, state in ready if not state.wants_json]
         json_clients = [c for c, state in ready if state.wants_json]
         if binary_clients:
-            broadcast(binary_clients, ws_protocol.binary_frame(frame, self.coords, capture_unix, send_unix))
+            broadcast(binary_clients, ws_protocol.binary_frame(frame, self.coords, capture_unix, send_unix,
+                                                               len(self.visemes)))
         if json_clients:
-            broadcast(json_clients, ws_protocol.json_frame(frame, self.coords, capture_unix, send_unix))
+            broadcast(json_clients, ws_protocol.json_frame(frame, self.coords, capture_unix, send_unix,
+                                                           len(self.visemes)))
 
     def _ready_clients(self) -> Sequence[tuple[ServerConnection, ClientState]]:
         """Clients whose write buffer has room; the others skip this frame (never queued)."""

@@ -13,7 +13,13 @@ offset  size  type         field
 36      2     uint16       joint count J (same order as the hello's ``bones``)
 38      2     uint16       flags: bit 0 = speaking
 40      16·J  float32 × 4  local rotation per joint, XYZW, selected coordinate frame
+40+16J  4·V   float32      viseme weights in [0, 1], V = len(hello ``visemes``) (0 without lip sync)
 ======  ====  ===========  =====================================================
+
+The viseme weights are those of ``PoseFrame.visemes`` (vowels a, i, u, e, o), named in the hello by
+``visemes`` (VRM 0.x ``A I U E O`` or VRM 1.0 ``aa ih ou ee oh``). Without lip sync the hello's
+``visemes`` is empty and frames end after the rotations: byte-identical to format version 1 before
+visemes, and a client reading J rotations after the header is unaffected either way.
 """
 
 from __future__ import annotations
@@ -44,6 +50,7 @@ def hello_message(
     style_choices: Sequence[str],
     control_schema: dict,
     token_required: bool,
+    visemes: Sequence[str] = (),
 ) -> str:
     """The first message on every connection: everything a client needs to interpret frames."""
     return json.dumps(
@@ -62,22 +69,34 @@ def hello_message(
             "style_choices": list(style_choices),
             "control_schema": control_schema,
             "token_required": token_required,
+            "visemes": list(visemes),
         }
     )
 
 
-def binary_frame(frame: PoseFrame, coords: CoordinateFrame, capture_unix: float, send_unix: float) -> bytes:
-    """One binary frame (layout in the module docstring)."""
+def viseme_weights(frame: PoseFrame, count: int) -> np.ndarray:
+    """(count,) the weights a frame sends when the hello names ``count`` visemes (0: none; zeros when the frame
+    carries none, so every frame of a stream has the same size)."""
+    if count == 0 or frame.visemes is None:
+        return np.zeros(count)
+    return np.asarray(frame.visemes, dtype=np.float64)
+
+
+def binary_frame(frame: PoseFrame, coords: CoordinateFrame, capture_unix: float, send_unix: float,
+                 viseme_count: int = 0) -> bytes:
+    """One binary frame (layout in the module docstring); ``viseme_count`` = len(hello ``visemes``)."""
     rotations = coords.rotation(frame.rotations)  # (J, 4)
     root = coords.position(frame.root_position)  # (3,)
     flags = FLAG_SPEAKING if frame.speaking else 0
     header = BINARY_HEADER.pack(
         FRAME_MAGIC, frame.seq % UINT32_MODULUS, capture_unix, send_unix, *root.tolist(), len(rotations), flags
     )
-    return header + np.ascontiguousarray(rotations, dtype="<f4").tobytes()
+    weights = viseme_weights(frame, viseme_count)  # (V,)
+    return header + np.ascontiguousarray(rotations, dtype="<f4").tobytes() + weights.astype("<f4").tobytes()
 
 
-def json_frame(frame: PoseFrame, coords: CoordinateFrame, capture_unix: float, send_unix: float) -> str:
+def json_frame(frame: PoseFrame, coords: CoordinateFrame, capture_unix: float, send_unix: float,
+               viseme_count: int = 0) -> str:
     """The same content as :func:`binary_frame`, as JSON (for clients that subscribe to it)."""
     return json.dumps(
         {
@@ -88,6 +107,7 @@ def json_frame(frame: PoseFrame, coords: CoordinateFrame, capture_unix: float, s
             "root": np.round(coords.position(frame.root_position), JSON_DECIMALS).tolist(),
             "rotations": np.round(coords.rotation(frame.rotations), JSON_DECIMALS).tolist(),
             "speaking": bool(frame.speaking),
+            "visemes": np.round(viseme_weights(frame, viseme_count), JSON_DECIMALS).tolist(),
         }
     )
 

@@ -91,7 +91,7 @@ class BatchWorker:
     def __call__(self, job: BatchJob) -> JobResult:
         """One file: never raises for a bad file, so the batch goes on."""
         try:
-            report = generate_to_files(self._session_for(job.settings(self.base)), job.audio, job.bvh, job.json)
+            report = generate_to_files(self._session_for(job.settings(self.base)), job.audio, [job.bvh], job.json)
         except UserError as error:
             return JobResult(str(job.audio), error=str(error))
         except Exception as error:  # any failure of one file is that file's result, never the batch's end
@@ -214,6 +214,8 @@ def _check_batch_flags(args: argparse.Namespace) -> argparse.Namespace:
         raise UserError(f"give either an audio file ({args.audio}) or --batch DIR_OR_CSV, not both")
     if args.json is not None:
         raise UserError("with --batch, -o is the output folder: use --with-json for NAME.json beside each NAME.bvh")
+    if args.vrma is not None:
+        raise UserError("--vrma names one file; it does not go with --batch")
     if args.output.exists() and not args.output.is_dir():
         raise UserError(f"with --batch, -o is the output folder, and {args.output} is a file")
     return argparse.Namespace(**{key: value for key, value in vars(args).items() if key != "func"})

@@ -40,8 +40,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                                      "--batch: a folder or CSV of files → a folder of BVHs")
     generate.add_argument("audio", type=Path, nargs="?", help="speech file (any format soundfile reads)")
     generate.add_argument("-o", "--output", type=Path, required=True,
-                          help="BVH file to write (with --batch: the output folder)")
+                          help="BVH file to write, or a VRM Animation when it ends in .vrma (with --batch: the "
+                          "output folder)")
     generate.add_argument("--json", type=Path, metavar="FILE", help="also write the pose stream as JSON")
+    generate.add_argument("--vrma", type=Path, metavar="FILE", help="also write the motion as VRM Animation (.vrma)")
     add_batch_arguments(generate)
     add_generation_arguments(generate)
     generate.set_defaults(func=run_generate)
@@ -83,8 +85,9 @@ def run_generate(args: argparse.Namespace) -> int:
         return run_batch(args)
     if args.audio is None:
         raise UserError("name an audio file, or a folder / CSV with --batch")
-    check_distinct([("audio", args.audio)], [("-o", args.output), ("--json", args.json)])
-    generate_to_files(build_session(args, MonotonicClock()), args.audio, args.output, args.json)
+    check_distinct([("audio", args.audio)], [("-o", args.output), ("--json", args.json), ("--vrma", args.vrma)])
+    motion_paths = [args.output] if args.vrma is None else [args.output, args.vrma]
+    generate_to_files(build_session(args, MonotonicClock()), args.audio, motion_paths, args.json)
     return 0
 
 

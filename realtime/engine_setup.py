@@ -7,6 +7,7 @@ from importlib import resources
 from pathlib import Path
 
 from gesturecast.arguments import finite_float, int_at_least, port_number
+from gesturecast.bridges.avatar_file import AVATAR_ENV_VAR, resolve_avatar
 from gesturecast.bridges.bvh_recorder import BvhRecorder
 from gesturecast.bridges.fanout import BridgeFanout
 from gesturecast.bridges.osc import OscBridge, OscConfig
@@ -146,6 +147,9 @@ def add_output_arguments(parser: argparse.ArgumentParser) -> None:
     group.add_argument("--osc-frame", choices=("unity", "unreal", "internal"), default="unity")
     group.add_argument("--ws", metavar="PORT", type=port_number(allow_any=True),
                        help="WebSocket stream + browser viewer on this port")
+    group.add_argument("--avatar", type=Path, metavar="FILE.vrm",
+                       help=f"VRM avatar the viewer shows (default: ${AVATAR_ENV_VAR}, else "
+                       "../shared/assets/cryptovoxels.vrm next to the checkout, else the stick figure)")
     group.add_argument("--host", default="127.0.0.1", help="listen address of the WebSocket server")
     add_access_arguments(group)
     group.add_argument("--bvh", type=Path, metavar="FILE", help="record the stream as BVH")
@@ -187,6 +191,8 @@ def vmc_config(args: argparse.Namespace) -> VmcConfig:
 def build_outputs(args: argparse.Namespace, session: GestureSession, clock: Clock) -> BridgeFanout:
     """The bridges the flags ask for, fanned out so that one failing output never stops the others."""
     bridges = []
+    if args.avatar is not None and args.ws is None:
+        raise UserError("--avatar sets the viewer's avatar: it goes with --ws PORT")
     if args.vmc:
         bridges.append(VmcBridge(vmc_config(args)))
     if args.osc:
@@ -196,7 +202,9 @@ def build_outputs(args: argparse.Namespace, session: GestureSession, clock: Cloc
     if args.ws is not None:
         config = WebSocketConfig(host=args.host, port=args.ws, token=server_token(args), fps=float(args.fps),
                                  style=session.controls.describe(), style_choices=tuple(session.bundle.styles.labels),
-                                 allow_origins=tuple(args.allow_origin), clock=clock.now)
+                                 allow_origins=tuple(args.allow_origin), avatar=resolve_avatar(args.avatar),
+                                 lipsync=bool(viseme_names(args)), viseme_names=viseme_names(args) or
+                                 WebSocketConfig.viseme_names, clock=clock.now)
         bridges.append(WebSocketBridge(config, on_control=session.controls.submit).start())
     if args.bvh is not None:
         bridges.append(BvhRecorder(args.bvh, fps=float(args.fps)))  # Frame Time of the output rate (60: upsampled)

@@ -40,7 +40,7 @@ def run_demo(args: argparse.Namespace) -> int:
     args.vmc, args.osc, args.osc_frame = f"127.0.0.1:{VMC_DEFAULT_PORT}", None, "unity"
     args.vmc_role, args.vmc_bones = MARIONETTE, None
     args.ws, args.host, args.token, args.fps = WS_DEFAULT_PORT, "127.0.0.1", None, 30
-    args.token_file, args.allow_origin = None, []
+    args.token_file, args.allow_origin, args.avatar = None, [], None  # avatar: the default lookup (docs/bridges.md)
     args.bvh = args.out / "demo.bvh"
     clock = MonotonicClock()
     session = build_session(args, clock)

@@ -1,68 +1,26 @@
-// gesturecast browser viewer: WebSocket client, forward kinematics and a tiny canvas 3D view.
-// Binary frame layout: docs/bridges.md (little-endian, 40-byte header, then float32 XYZW per joint).
-"use strict";
+// gesturecast browser viewer: WebSocket client, controls, and the two views (VRM avatar, stick figure).
+// Binary frame layout: docs/bridges.md (little-endian, 40-byte header, float32 XYZW per joint, then the
+// hello's viseme weights). The avatar view (avatar.js, three.js + three-vrm) is loaded only when there is an
+// avatar: the one the server offers at avatar.vrm, or a .vrm file dropped on the page (never uploaded).
+import { drawStickFigure, forwardKinematics } from "./stick.js";
 
 const HEADER_BYTES = 40;
 const MAGIC = "GCPF";
 const LATENCY_SMOOTHING = 0.1;
 const FPS_WINDOW_S = 1.0;
-const CAMERA_TARGET = [0, 1.0, 0];
 const DRAG_RADIANS_PER_PIXEL = 0.01;
 const MAX_PITCH = 1.4;
-const FOCAL_FRACTION = 1.6;
-const SLIDERS = ["guidance", "audio_guidance"];
-const BODY_LINE_PX = 4;
-const FINGER_LINE_PX = 1.5;  // finger bones (hello bones named Left/Right + Thumb/Index/Middle/Ring/Little)
-const JOINT_DOT_PX = 3;
-const FINGER_DOT_PX = 1;
-const FINGER_NAME = /(Thumb|Index|Middle|Ring|Little)(Proximal|Intermediate|Distal)$/;  // numeric control fields (ranges from the hello's control_schema)
+const SLIDERS = ["guidance", "audio_guidance"];  // numeric control fields (ranges from the hello's control_schema)
 
 const state = {
-  hello: null, pose: null, frames: 0, latencyMs: null, arrivals: [],
+  hello: null, frame: null, pose: null, frames: 0, latencyMs: null, arrivals: [], avatar: null,
   camera: { yaw: 0.5, pitch: 0.15, distance: 3.2 }, touchedSliders: new Set(), styleTouched: false,
 };
 const el = (id) => document.getElementById(id);
-
-// ---- quaternion / vector math (XYZW) ----
-function quatMul(a, b) {
-  return [
-    a[3] * b[0] + a[0] * b[3] + a[1] * b[2] - a[2] * b[1],
-    a[3] * b[1] - a[0] * b[2] + a[1] * b[3] + a[2] * b[0],
-    a[3] * b[2] + a[0] * b[1] - a[1] * b[0] + a[2] * b[3],
-    a[3] * b[3] - a[0] * b[0] - a[1] * b[1] - a[2] * b[2],
-  ];
-}
-function quatRotate(q, v) {
-  const u = [q[0], q[1], q[2]];
-  const t = scale(cross(u, v), 2);
-  return add(add(v, scale(t, q[3])), cross(u, t));
-}
-const add = (a, b) => [a[0] + b[0], a[1] + b[1], a[2] + b[2]];
-const sub = (a, b) => [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
-const scale = (a, s) => [a[0] * s, a[1] * s, a[2] * s];
-const dot = (a, b) => a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-const cross = (a, b) => [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
-const normalize = (a) => scale(a, 1 / Math.hypot(a[0], a[1], a[2]));
-const matVec = (m, v) => [dot(m[0], v), dot(m[1], v), dot(m[2], v)];
-
-// Joint positions from local rotations (parents come before children), in the internal frame.
-function forwardKinematics(hello, root, rotations) {
-  const globalRot = [];
-  const positions = [];
-  hello.parents.forEach((parent, j) => {
-    if (parent < 0) {
-      globalRot.push(rotations[j]);
-      positions.push(root);
-    } else {
-      globalRot.push(quatMul(globalRot[parent], rotations[j]));
-      positions.push(add(positions[parent], quatRotate(globalRot[parent], hello.offsets[j])));
-    }
-  });
-  return positions.map((p) => matVec(hello.to_internal, p));
-}
+window.gesturecastViewer = state;  // for the browser tests and the console
 
 // ---- messages ----
-function parseBinaryFrame(buffer, jointCount) {
+function parseBinaryFrame(buffer, jointCount, visemeCount) {
   const view = new DataView(buffer);
   const magic = String.fromCharCode(...new Uint8Array(buffer, 0, 4));
   if (magic !== MAGIC) throw new Error("bad frame magic " + magic);
@@ -73,6 +31,8 @@ function parseBinaryFrame(buffer, jointCount) {
     const base = HEADER_BYTES + 16 * j;
     rotations.push([0, 4, 8, 12].map((o) => view.getFloat32(base + o, true)));
   }
+  const visemeBase = HEADER_BYTES + 16 * count;
+  const visemes = Array.from({ length: visemeCount }, (_, k) => view.getFloat32(visemeBase + 4 * k, true));
   return {
     seq: view.getUint32(4, true),
     captureTime: view.getFloat64(8, true),
@@ -80,6 +40,7 @@ function parseBinaryFrame(buffer, jointCount) {
     root: [24, 28, 32].map((o) => view.getFloat32(o, true)),
     speaking: (view.getUint16(38, true) & 1) === 1,
     rotations,
+    visemes,
   };
 }
 
@@ -90,6 +51,7 @@ function onFrame(frame) {
   state.arrivals.push(nowS);
   while (state.arrivals.length && state.arrivals[0] < nowS - FPS_WINDOW_S) state.arrivals.shift();
   state.frames += 1;
+  state.frame = frame;
   state.pose = forwardKinematics(state.hello, frame.root, frame.rotations);
   el("frames").textContent = String(state.frames);
   el("latency").textContent = state.latencyMs.toFixed(1) + " ms";
@@ -134,7 +96,7 @@ function connect() {
   socket.onclose = () => { el("connection").textContent = "disconnected"; };
   socket.onmessage = (event) => {
     if (typeof event.data === "string") onText(JSON.parse(event.data));
-    else if (state.hello) onFrame(parseBinaryFrame(event.data, state.hello.bones.length));
+    else if (state.hello) onFrame(parseBinaryFrame(event.data, state.hello.bones.length, state.hello.visemes.length));
   };
   el("controls").addEventListener("submit", (event) => {
     event.preventDefault();
@@ -150,82 +112,99 @@ function connect() {
   });
 }
 
-// ---- drawing ----
-function project(point, canvas) {
-  const cam = state.camera;
-  const eye = add(CAMERA_TARGET, scale([
-    Math.sin(cam.yaw) * Math.cos(cam.pitch), Math.sin(cam.pitch), Math.cos(cam.yaw) * Math.cos(cam.pitch),
-  ], cam.distance));
-  const forward = normalize(sub(CAMERA_TARGET, eye));
-  const right = normalize(cross(forward, [0, 1, 0]));
-  const up = cross(right, forward);
-  const d = sub(point, eye);
-  const depth = dot(d, forward);
-  const focal = FOCAL_FRACTION * canvas.height / 2;
-  return [canvas.width / 2 + focal * dot(d, right) / depth, canvas.height / 2 - focal * dot(d, up) / depth];
-}
-
-function drawLine(ctx, canvas, a, b) {
-  const [pa, pb] = [project(a, canvas), project(b, canvas)];
-  ctx.beginPath();
-  ctx.moveTo(pa[0], pa[1]);
-  ctx.lineTo(pb[0], pb[1]);
-  ctx.stroke();
-}
-
-function drawFloor(ctx, canvas) {
-  ctx.strokeStyle = "#2e333b";
-  ctx.lineWidth = 1;
-  for (let i = -5; i <= 5; i++) {
-    drawLine(ctx, canvas, [i * 0.2, 0, -1], [i * 0.2, 0, 1]);
-    drawLine(ctx, canvas, [-1, 0, i * 0.2], [1, 0, i * 0.2]);
+// ---- the avatar: served at avatar.vrm, or dropped on the page ----
+async function avatarView() {
+  if (!state.avatar) {
+    const { AvatarView } = await import("./avatar.js");
+    state.avatar = new AvatarView(el("avatar"));
   }
+  return state.avatar;
 }
 
-function drawSkeleton(ctx, canvas) {
-  const { parents, bones } = state.hello;
-  ctx.lineCap = "round";
-  parents.forEach((parent, j) => {
-    if (parent < 0) return;
-    const name = bones[j];
-    ctx.lineWidth = FINGER_NAME.test(name) ? FINGER_LINE_PX : BODY_LINE_PX;
-    ctx.strokeStyle = name.startsWith("Left") ? "#4fc3f7" : name.startsWith("Right") ? "#ff8a65" : "#e4e6ea";
-    drawLine(ctx, canvas, state.pose[parent], state.pose[j]);
-  });
-  ctx.fillStyle = "#ffd54f";
-  state.pose.forEach((p, j) => {
-    const s = project(p, canvas);
-    ctx.beginPath();
-    ctx.arc(s[0], s[1], FINGER_NAME.test(bones[j]) ? FINGER_DOT_PX : JOINT_DOT_PX, 0, 2 * Math.PI);
-    ctx.fill();
+async function showAvatar(buffer, name) {
+  el("avatar-status").textContent = "loading " + name;
+  try {
+    await (await avatarView()).load(buffer);
+  } catch (error) {
+    el("avatar-status").textContent = `cannot show ${name}: ${error.message}`;
+    return;
+  }
+  el("avatar-status").textContent = name;
+  el("show-stick").checked = false;
+  document.body.dataset.avatar = "loaded";
+  showView();
+}
+
+async function loadServedAvatar() {
+  const response = await fetch("avatar.vrm");
+  if (!response.ok) {
+    el("avatar-status").textContent = "none: drop a .vrm file here";
+    document.body.dataset.avatar = "none";
+    return;
+  }
+  await showAvatar(await response.arrayBuffer(), "avatar.vrm (from the server)");
+}
+
+// A dropped .vrm becomes the avatar; a dropped .vrma plays on it once (then the stream takes over again).
+function enableDrop() {
+  const stage = el("stage-box");
+  stage.addEventListener("dragover", (event) => { event.preventDefault(); stage.classList.add("dragging"); });
+  stage.addEventListener("dragleave", () => stage.classList.remove("dragging"));
+  stage.addEventListener("drop", async (event) => {
+    event.preventDefault();
+    stage.classList.remove("dragging");
+    const file = event.dataTransfer.files[0];
+    if (!file) return;
+    if (file.name.toLowerCase().endsWith(".vrma") && state.avatar?.vrm) {
+      try {
+        const seconds = await state.avatar.playAnimation(await file.arrayBuffer());
+        el("avatar-status").textContent = `playing ${file.name} (${seconds.toFixed(1)} s)`;
+      } catch (error) {
+        el("avatar-status").textContent = `cannot play ${file.name}: ${error.message}`;
+      }
+    } else {
+      await showAvatar(await file.arrayBuffer(), file.name);
+    }
   });
 }
 
-function render() {
-  const canvas = el("stage");
-  const ctx = canvas.getContext("2d");
-  ctx.clearRect(0, 0, canvas.width, canvas.height);
-  drawFloor(ctx, canvas);
-  if (state.pose) drawSkeleton(ctx, canvas);
+// ---- drawing ----
+function showView() {
+  const stick = el("show-stick").checked || !state.avatar?.vrm;
+  el("stage").hidden = !stick;
+  el("avatar").hidden = stick;
+  el("drop-hint").hidden = Boolean(state.avatar?.vrm);
+}
+
+let lastRenderMs = performance.now();
+function render(nowMs) {
+  const seconds = Math.max(0, (nowMs - lastRenderMs) / 1000);
+  lastRenderMs = nowMs;
+  if (!el("stage").hidden) drawStickFigure(el("stage"), state.camera, state.hello, state.pose);
+  if (!el("avatar").hidden) state.avatar.render(state.camera, state.hello, state.frame, seconds);
   requestAnimationFrame(render);
 }
 
 function enableOrbit() {
-  const canvas = el("stage");
-  let last = null;
-  canvas.addEventListener("pointerdown", (e) => { last = [e.clientX, e.clientY]; canvas.setPointerCapture(e.pointerId); });
-  canvas.addEventListener("pointerup", () => { last = null; });
-  canvas.addEventListener("pointermove", (e) => {
-    if (!last) return;
-    const cam = state.camera;
-    cam.yaw -= (e.clientX - last[0]) * DRAG_RADIANS_PER_PIXEL;
-    cam.pitch = Math.max(-MAX_PITCH, Math.min(MAX_PITCH, cam.pitch + (e.clientY - last[1]) * DRAG_RADIANS_PER_PIXEL));
-    last = [e.clientX, e.clientY];
-  });
-  canvas.addEventListener("wheel", (e) => {
-    e.preventDefault();
-    state.camera.distance = Math.max(1, state.camera.distance * Math.exp(e.deltaY * 0.001));
-  }, { passive: false });
+  for (const canvas of [el("stage"), el("avatar")]) {
+    let last = null;
+    canvas.addEventListener("pointerdown", (e) => { last = [e.clientX, e.clientY]; canvas.setPointerCapture(e.pointerId); });
+    canvas.addEventListener("pointerup", () => { last = null; });
+    canvas.addEventListener("pointermove", (e) => {
+      if (!last) return;
+      const cam = state.camera;
+      cam.yaw -= (e.clientX - last[0]) * DRAG_RADIANS_PER_PIXEL;
+      cam.pitch = Math.max(-MAX_PITCH, Math.min(MAX_PITCH, cam.pitch + (e.clientY - last[1]) * DRAG_RADIANS_PER_PIXEL));
+      last = [e.clientX, e.clientY];
+    });
+    canvas.addEventListener("wheel", (e) => {
+      e.preventDefault();
+      state.camera.distance = Math.max(0.5, state.camera.distance * Math.exp(e.deltaY * 0.001));
+    }, { passive: false });
+  }
+}
+
+function enableControls() {
   el("style-select").addEventListener("change", () => { state.styleTouched = true; });
   for (const name of SLIDERS) {
     el(name).addEventListener("input", () => {
@@ -233,8 +212,13 @@ function enableOrbit() {
       state.touchedSliders.add(name);
     });
   }
+  el("show-stick").addEventListener("change", showView);
 }
 
 enableOrbit();
+enableControls();
+enableDrop();
+showView();
 connect();
+loadServedAvatar();
 requestAnimationFrame(render);

@@ -1,3 +1,4 @@
+import dataclasses
 import json
 import logging
 import socket
@@ -246,3 +247,25 @@ def test_viewer_page_is_served_over_http(bridge):
     assert '<canvas id="stage"' in page and "viewer.js" in page
     with urllib.request.urlopen(f"http://127.0.0.1:{bridge.port}/viewer.js", timeout=TIMEOUT_S) as response:
         assert "forwardKinematics" in response.read().decode()
+
+
+def test_lip_sync_names_the_visemes_in_the_hello_and_frames_carry_them():
+    weights = np.array([0.1, 0.2, 0.3, 0.4, 0.5])
+    server = WebSocketBridge(WebSocketConfig(port=0, lipsync=True, viseme_names=("aa", "ih", "ou", "ee", "oh")))
+    server.start()
+    try:
+        with connect(ws_url(server)) as client:
+            hello = hello_of(client)
+            wait_for_clients(server, 1)
+            server.send(dataclasses.replace(moving_frame(1), visemes=weights))
+            payload = next_binary(client)
+    finally:
+        server.close()
+    assert hello["visemes"] == ["aa", "ih", "ou", "ee", "oh"]
+    assert len(payload) == BINARY_HEADER.size + 16 * J + 4 * len(weights)
+    np.testing.assert_allclose(np.frombuffer(payload, dtype="<f4", offset=BINARY_HEADER.size + 16 * J), weights)
+
+
+def test_without_lip_sync_the_hello_names_no_visemes(bridge):
+    with connect(ws_url(bridge)) as client:
+        assert hello_of(client)["visemes"] == []

@@ -1,0 +1,128 @@
+"""VRM Animation files (``.vrma``): the pose stream as a glTF binary with the ``VRMC_vrm_animation`` extension.
+
+What the file holds (VRMC_vrm_animation 1.0 spec, github.com/vrm-c/vrm-specification):
+
+- one glTF node per bone of the skeleton (52: body and fingers), named and mapped to its VRM 1.0 humanoid
+  bone in ``extensions.VRMC_vrm_animation.humanoid.humanBones``; the rest pose is the skeleton's T-pose
+  (translation = rest offset, identity rotation), so a loader's rest correction
+  ``parentWorldRest · q · worldRestᵀ`` leaves the stream's local rotations as they are;
+- one animation, 30 fps (the stream's rate): a rotation channel per bone and the Hips translation
+  (metres, internal frame: right-handed, Y-up, facing +Z, as VRM 1.0);
+- with viseme weights (``PoseFrame.visemes``), the expression presets ``aa ih ou ee oh`` as nodes whose
+  translation x carries the weight (the spec's expression encoding), one translation channel each.
+
+Frames are kept in memory until :meth:`VrmaWriter.save` (52 bones · 16 bytes · 30 fps ≈ 25 kB per second);
+the file replaces its target in one step (:func:`gesturecast.files.atomic_file`).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from gesturecast.bridges.gltf_binary import FloatBuffer, glb_bytes
+from gesturecast.errors import UserError
+from gesturecast.files import atomic_file, check_output_target
+from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS, Skeleton
+from gesturecast.realtime.timing.frames import VISEME_NAMES, PoseFrame
+
+EXTENSION = "VRMC_vrm_animation"
+SPEC_VERSION = "1.0"
+VRMA_FPS = 30.0
+EXPRESSION_PRESETS = VISEME_NAMES["vrm1"]  # weight order a i u e o
+VRM1_THUMB_NAMES = {"ThumbProximal": "ThumbMetacarpal", "ThumbIntermediate": "ThumbProximal"}  # VRM 1.0 renames
+
+
+def vrm_bone_name(unity_name: str) -> str:
+    """Unity HumanBodyBones name -> VRM 1.0 humanoid bone name (lower camel case; the thumb is renamed:
+    Unity's proximal / intermediate thumb bones are VRM 1.0's metacarpal / proximal)."""
+    for unity, vrm in VRM1_THUMB_NAMES.items():
+        if unity_name.endswith(unity):
+            unity_name = unity_name[: -len(unity)] + vrm
+    return unity_name[0].lower() + unity_name[1:]
+
+
+def bone_nodes(skeleton: Skeleton) -> list[dict]:
+    """One node per joint (index = joint index): name, rest translation, children."""
+    nodes = [{"name": vrm_bone_name(name), "translation": skeleton.offsets[j].tolist()}
+             for j, name in enumerate(skeleton.names)]
+    for child, parent in enumerate(skeleton.parents):
+        if parent >= 0:
+            nodes[parent].setdefault("children", []).append(child)
+    return nodes
+
+
+def vrma_bytes(rotations: np.ndarray, root_positions: np.ndarray, visemes: np.ndarray | None,
+               skeleton: Skeleton = CANONICAL_WITH_HANDS, fps: float = VRMA_FPS) -> bytes:
+    """The .vrma file: rotations (T, J, 4) XYZW local, root_positions (T, 3) metres, visemes (T, 5) or None."""
+    buffer = FloatBuffer()
+    times = buffer.add(np.arange(len(rotations)) / fps, with_bounds=True)  # (T,) seconds
+    nodes = bone_nodes(skeleton)
+    channels = [(j, "rotation", buffer.add(rotations[:, j])) for j in range(skeleton.num_joints)]  # (T, 4) each
+    channels.append((0, "translation", buffer.add(root_positions)))  # (T, 3) Hips
+    extension = {"specVersion": SPEC_VERSION,
+                 "humanoid": {"humanBones": {node["name"]: {"node": j} for j, node in enumerate(nodes)}}}
+    if visemes is not None:
+        presets = {}
+        for k, name in enumerate(EXPRESSION_PRESETS):
+            presets[name] = {"node": len(nodes)}
+            weight_as_x = np.zeros((len(visemes), 3))  # (T, 3): translation x = weight
+            weight_as_x[:, 0] = visemes[:, k]
+            channels.append((len(nodes), "translation", buffer.add(weight_as_x)))
+            nodes.append({"name": f"expression_{name}"})
+        extension["expressions"] = {"preset": presets}
+    animation = {
+        "name": "gesturecast",
+        "samplers": [{"input": times, "output": output, "interpolation": "LINEAR"} for _, _, output in channels],
+        "channels": [{"sampler": i, "target": {"node": node, "path": path}}
+                     for i, (node, path, _) in enumerate(channels)],
+    }
+    document = {
+        "asset": {"version": "2.0", "generator": "gesturecast"},
+        "extensionsUsed": [EXTENSION],
+        "extensions": {EXTENSION: extension},
+        "scene": 0,
+        "scenes": [{"nodes": [0, *range(skeleton.num_joints, len(nodes))]}],
+        "nodes": nodes,
+        "animations": [animation],
+    }
+    return glb_bytes(document, buffer)
+
+
+class VrmaWriter:
+    """Append PoseFrame batches with :meth:`write`; :meth:`save` writes the .vrma (``generate --vrma``)."""
+
+    def __init__(self, path: str | Path, skeleton: Skeleton = CANONICAL_WITH_HANDS) -> None:
+        self.path = Path(path)
+        check_output_target(self.path)  # a folder or FIFO target is refused before any work
+        self.skeleton = skeleton
+        self.num_frames = 0
+        self._rotations: list[np.ndarray] = []
+        self._roots: list[np.ndarray] = []
+        self._visemes: list[np.ndarray] = []
+        self._has_visemes = False
+
+    def write(self, frames: list[PoseFrame]) -> None:
+        """Add frames (in stream order); frames without viseme weights count as a closed mouth."""
+        for frame in frames:
+            self._rotations.append(frame.rotations)
+            self._roots.append(frame.root_position)
+            self._visemes.append(np.zeros(len(EXPRESSION_PRESETS)) if frame.visemes is None else frame.visemes)
+            self._has_visemes |= frame.visemes is not None
+        self.num_frames += len(frames)
+
+    def save(self) -> None:
+        """Write the file (replacing ``path`` in one step)."""
+        if not self.num_frames:
+            raise UserError(f"cannot write {self.path}: no frames")
+        data = vrma_bytes(np.stack(self._rotations), np.stack(self._roots),  # (T, J, 4), (T, 3)
+                          np.stack(self._visemes) if self._has_visemes else None, self.skeleton)
+        with atomic_file(self.path, binary=True) as handle:
+            handle.write(data)
+
+    def __enter__(self) -> VrmaWriter:
+        return self
+
+    def __exit__(self, *exc_info: object) -> None:
+        self._rotations, self._roots, self._visemes = [], [], []

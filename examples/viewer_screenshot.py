@@ -1,0 +1,101 @@
+"""How docs/images/viewer-avatar.png was made: real generated frames on the viewer's avatar, mouth from loudness.
+
+    gesturecast generate gesturecast/samples/sample_speech.wav -o sample.bvh --json sample.json
+    python examples/viewer_screenshot.py gesturecast/samples/sample_speech.wav sample.json \\
+        --avatar ../shared/assets/cryptovoxels.vrm -o docs/images/viewer-avatar.png
+
+The frames of ``sample.json`` are real (the same session as ``live``). Their viseme weights are not: until
+lip sync computes them, the vowel "a" follows the loudness of the speech (RMS over each frame's 1/30 s,
+over 0.6 of the take's loudest frame). The picture shows the loud frame whose elbows bend most (mid-gesture,
+mouth open), held still, from a little to the avatar's left. Needs selenium and Debian's chromium.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import json
+import shutil
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+from gesturecast.bridges.websocket_server import WebSocketBridge, WebSocketConfig
+from gesturecast.models.motion.rotations import quat_to_axis_angle
+from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS as SKELETON
+from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio
+from gesturecast.realtime.timing.frames import PoseFrame
+
+FPS = 30
+LOUD_FRACTION = 0.6  # of the loudest frame's RMS: "a" fully open at and above it
+CAMERA = {"yaw": 0.35, "pitch": 0.12, "distance": 2.3}
+SETTLE_S = 1.0
+
+
+def loudness_weights(audio: np.ndarray, frames: int) -> np.ndarray:
+    """(frames,) 0..1: RMS of each frame's 1/30 s of audio, over LOUD_FRACTION of the loudest."""
+    hop = SAMPLE_RATE // FPS
+    rms = np.array([np.sqrt(np.mean(audio[k * hop:(k + 1) * hop] ** 2)) if k * hop < len(audio) else 0.0
+                    for k in range(frames)])
+    return np.clip(rms / (LOUD_FRACTION * rms.max()), 0.0, 1.0)
+
+
+def pick_frame(rotations: np.ndarray, weights: np.ndarray) -> int:
+    """The loud frame (mouth at least 0.8 open) whose elbows bend most."""
+    elbows = [SKELETON.index("LeftLowerArm"), SKELETON.index("RightLowerArm")]
+    bend = np.linalg.norm(quat_to_axis_angle(rotations[:, elbows]), axis=-1).sum(axis=1)  # (T,) radians
+    return int(np.argmax(np.where(weights >= 0.8, bend, -1.0)))
+
+
+def screenshot(frame: PoseFrame, avatar: Path, output: Path) -> None:
+    from selenium import webdriver
+
+    bridge = WebSocketBridge(WebSocketConfig(port=0, avatar=avatar, lipsync=True)).start()
+    options = webdriver.ChromeOptions()
+    options.binary_location = "/usr/bin/chromium"
+    profile = tempfile.mkdtemp(prefix="gesturecast-chromium-")
+    for flag in ("--headless", "--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
+                 "--window-size=1000,820", "--hide-scrollbars", f"--user-data-dir={profile}"):
+        options.add_argument(flag)
+    driver = webdriver.Chrome(service=webdriver.ChromeService(executable_path="/usr/bin/chromedriver"),
+                              options=options)
+    try:
+        driver.get(bridge.url)
+        while driver.execute_script("return document.body.dataset.avatar") is None:
+            time.sleep(0.1)
+        driver.execute_script("Object.assign(window.gesturecastViewer.camera, arguments[0])", CAMERA)
+        for seq in range(int(SETTLE_S * FPS)):
+            bridge.send(dataclasses.replace(frame, seq=seq, capture_time=time.monotonic()))
+            time.sleep(1 / FPS)
+        output.write_bytes(driver.get_screenshot_as_png())
+    finally:
+        driver.quit()
+        bridge.close()
+        shutil.rmtree(profile, ignore_errors=True)
+
+
+def main(argv: list[str]) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("audio", type=Path)
+    parser.add_argument("poses", type=Path, help="generate --json output of the same audio")
+    parser.add_argument("--avatar", type=Path, required=True)
+    parser.add_argument("-o", "--output", type=Path, required=True)
+    args = parser.parse_args(argv)
+    document = json.loads(args.poses.read_text())
+    rotations = np.array([f["rotations"] for f in document["frames"]])  # (T, J, 4)
+    weights = loudness_weights(load_audio(args.audio), len(rotations))  # (T,)
+    k = pick_frame(rotations, weights)
+    record = document["frames"][k]
+    visemes = np.array([weights[k], 0.0, 0.0, 0.0, 0.0])  # a i u e o
+    frame = PoseFrame(k, 0.0, 0.0, np.array(record["root"]), rotations[k], style="neutral",
+                      speaking=record["speaking"], visemes=visemes)
+    screenshot(frame, args.avatar, args.output)
+    print(f"frame {k} ({k / FPS:.2f} s), mouth a = {weights[k]:.2f} -> {args.output}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
