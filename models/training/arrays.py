@@ -31,6 +31,7 @@ class TrainingClip:
     variant: str
     motion: np.ndarray  # (T, D) float32 motion features (raw, not normalised)
     audio: np.ndarray | None  # (T, F) float32 audio features aligned with the motion, None without speech
+    voice_copy: bool = False  # a waveform-augmented repeat of another clip's motion (denoiser training only)
 
     @property
     def num_frames(self) -> int:
@@ -95,7 +96,7 @@ def load_training_clips(
                         else aligned_audio_features(voice_audio, len(features), feature_config)
                     )
                     clips.append(TrainingClip(record["name"], record["dataset"], canonical_style(record["style"]),
-                                              voice_tag, features, audio_features))
+                                              voice_tag, features, audio_features, voice_tag != tag))
     return clips
 
 

@@ -66,6 +66,11 @@ class TrainInputs:
     val: list[TrainingClip]
     feature_config: FeatureConfig
 
+    @property
+    def motion_train(self) -> list[TrainingClip]:
+        """The train clips without voice copies: every motion once (statistics, VQ-VAE, motion prompt)."""
+        return [clip for clip in self.train if not clip.voice_copy]
+
 
 def save_checkpoint(checkpoint: dict, path: Path) -> None:
     """Atomic write (temporary file renamed into place)."""
@@ -101,7 +106,7 @@ def hardware_summary() -> dict:
 
 
 def data_stage(inputs: TrainInputs) -> dict:
-    motion_stats = Normalizer.fit([clip.motion for clip in inputs.train], MOTION_STD_FLOOR)
+    motion_stats = Normalizer.fit([clip.motion for clip in inputs.motion_train], MOTION_STD_FLOOR)
     paired = [clip.audio for clip in inputs.train if clip.audio is not None]
     if not paired:
         raise UserError("the training split holds no take with speech audio; the model needs paired data")
@@ -110,7 +115,7 @@ def data_stage(inputs: TrainInputs) -> dict:
     trained = tuple(sorted({clip.style for clip in inputs.train}))
     table = StyleTable(labels, embeddings, trained, PROMPT_TEMPLATE)
     return {"motion_stats": motion_stats.to_dict(), "audio_stats": audio_stats.to_dict(),
-            "styles": table.to_dict(), "summary": dataset_summary(inputs.train, inputs.feature_config.fps)}
+            "styles": table.to_dict(), "summary": dataset_summary(inputs.motion_train, inputs.feature_config.fps)}
 
 
 def vq_config(preset: TrainPreset, feature_dim: int) -> VQVAEConfig:
@@ -131,7 +136,7 @@ def vq_joint_errors(model: MotionVQVAE, clips: list[np.ndarray], motion_stats: N
 
 
 def vqvae_stage(inputs: TrainInputs, preset: TrainPreset, motion_stats: Normalizer, progress: bool) -> dict:
-    train = [motion_stats.normalize(clip.motion) for clip in inputs.train]
+    train = [motion_stats.normalize(clip.motion) for clip in inputs.motion_train]
     val = [motion_stats.normalize(clip.motion) for clip in inputs.val if clip.num_frames >= preset.vq.downsample]
     config = vq_config(preset, train[0].shape[1])
     train_config = VQTrainConfig(window=preset.vq.window, batch_size=preset.vq.batch_size)
@@ -191,7 +196,7 @@ def denoiser_stage(inputs: TrainInputs, preset: TrainPreset, checkpoint: dict, p
 
 def prompt_stage(inputs: TrainInputs, preset: TrainPreset, checkpoint: dict) -> dict:
     styles = StyleTable.from_dict(checkpoint["stages"]["data"]["styles"])
-    usable = [clip for clip in inputs.train if clip.num_frames >= preset.prompt.clip_frames]
+    usable = [clip for clip in inputs.motion_train if clip.num_frames >= preset.prompt.clip_frames]
     config = MotionPromptConfig(feature_dim=usable[0].motion.shape[1], width=preset.prompt.width,
                                 embed_dim=styles.embeddings.shape[1])
     train_config = PromptTrainConfig(clip_frames=preset.prompt.clip_frames, batch_size=preset.prompt.batch_size,
