@@ -53,9 +53,14 @@ def band_levels_db(power: np.ndarray, bins: list[slice], taper: np.ndarray) -> n
     return DB_PER_POWER_DECADE * np.log10(np.maximum(levels, POWER_FLOOR))
 
 
-def _autocorrelation(windows: np.ndarray, length: int) -> np.ndarray:
-    """(T, N) → (T, length) linear (zero-padded) autocorrelation at lags 0 … length − 1."""
-    spectrum = np.fft.rfft(windows, n=2 * windows.shape[1], axis=-1)  # (T, N + 1)
+def padded_spectrum(windows: np.ndarray, taper: np.ndarray) -> np.ndarray:
+    """(T, N) → (T, N + 1) FFT of the tapered windows zero-padded to 2N: its even bins are the N-point FFT
+    (the power spectrum of the log-mel and the bands), all of it gives the linear autocorrelation."""
+    return np.fft.rfft(windows.astype(np.float64) * taper, n=2 * windows.shape[1], axis=-1)
+
+
+def autocorrelation(spectrum: np.ndarray, length: int) -> np.ndarray:
+    """(T, N + 1) zero-padded spectrum → (T, length) autocorrelation at lags 0 … length − 1."""
     return np.fft.irfft(spectrum.real**2 + spectrum.imag**2, axis=-1)[:, :length]
 
 
@@ -64,15 +69,10 @@ def first_peak(values: np.ndarray) -> np.ndarray:
 
     A periodic signal correlates as well at two and three periods as at one; taking the shortest lag
     whose peak is nearly the highest avoids octave-down errors (as YIN's absolute threshold does)."""
-    rows = np.arange(values.shape[0])
-    index = np.argmax(values >= OCTAVE_TOLERANCE * values.max(axis=1, keepdims=True), axis=1)  # (T,)
-    for _ in range(values.shape[1]):
-        climbing = (index + 1 < values.shape[1]) & (values[rows, np.minimum(index + 1, values.shape[1] - 1)]
-                                                     > values[rows, index])
-        if not climbing.any():
-            break
-        index = index + climbing
-    return index
+    inner = values[:, 1:-1]  # (T, L - 2)
+    peaks = (inner >= values[:, :-2]) & (inner > values[:, 2:])
+    peaks &= inner >= OCTAVE_TOLERANCE * values.max(axis=1, keepdims=True)
+    return np.where(peaks.any(axis=1), np.argmax(peaks, axis=1) + 1, np.argmax(values, axis=1))
 
 
 class PitchTracker:
@@ -83,7 +83,7 @@ class PitchTracker:
         self.taper = taper
         self.min_lag = int(np.floor(sample_rate / PITCH_RANGE_HZ[1]))
         self.max_lag = int(np.ceil(sample_rate / PITCH_RANGE_HZ[0]))
-        taper_ac = _autocorrelation(taper[None, :].astype(np.float64), self.max_lag + 2)[0]
+        taper_ac = autocorrelation(padded_spectrum(np.ones((1, len(taper))), taper), self.max_lag + 2)[0]
         self.taper_ac = taper_ac / taper_ac[0]  # (L,)
         self.rate = 1.0 / (time_constant_s * fps)
         self.reset()
@@ -91,9 +91,9 @@ class PitchTracker:
     def reset(self) -> None:
         self.mean_st = PRIOR_PITCH_ST
 
-    def f0_and_voicing(self, windows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(T, N) raw windows → f0 Hz (T,), voicing (T,) in [0, 1]."""
-        ac = _autocorrelation(windows.astype(np.float64) * self.taper, self.max_lag + 2)  # (T, L)
+    def f0_and_voicing(self, spectrum: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(T, N + 1) zero-padded spectra of the tapered windows → f0 Hz (T,), voicing (T,) in [0, 1]."""
+        ac = autocorrelation(spectrum, self.max_lag + 2)  # (T, L)
         energy = ac[:, :1]
         normalised = np.where(energy > SILENCE_POWER, ac / np.maximum(energy, SILENCE_POWER), 0.0) / self.taper_ac
         search = normalised[:, self.min_lag : self.max_lag + 1]  # (T, lags)
@@ -128,10 +128,11 @@ class ProsodyChannel:
         self.levels.reset()
         self.pitch.reset()
 
-    def update(self, windows: np.ndarray, power: np.ndarray, energy_db: np.ndarray,
+    def update(self, spectrum: np.ndarray, power: np.ndarray, energy_db: np.ndarray,
                speaking: np.ndarray) -> dict[str, np.ndarray]:
-        """windows (T, N), power (T, K), energy_db (T,), speaking (T,) → {"bands", "energy", "pitch", "voicing"}."""
-        f0, voicing = self.pitch.f0_and_voicing(windows)
+        """spectrum (T, N + 1) (:func:`padded_spectrum`), power (T, K), energy_db (T,), speaking (T,) →
+        {"bands", "energy", "pitch", "voicing"}."""
+        f0, voicing = self.pitch.f0_and_voicing(spectrum)
         voiced = (speaking > 0) & (voicing > VOICED_THRESHOLD)  # (T,) speech itself, not the pauses between words
         levels = np.concatenate([band_levels_db(power, self.bins, self.taper), energy_db[:, None]], axis=1)
         levels = self.levels.update(levels, voiced)  # (T, B + 1) dB relative to the voice's running mean

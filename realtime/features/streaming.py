@@ -42,7 +42,7 @@ import numpy as np
 
 from gesturecast.realtime.audio.files import SAMPLE_RATE
 from gesturecast.realtime.features import dsp
-from gesturecast.realtime.features.prosody import NUM_BANDS, ProsodyChannel
+from gesturecast.realtime.features.prosody import NUM_BANDS, ProsodyChannel, padded_spectrum
 from gesturecast.realtime.features.sample_history import SampleHistory
 from gesturecast.realtime.features.speaker_norm import SpeakerNormalizer, SpeakerNormConfig
 from gesturecast.realtime.features.vad import VadConfig, make_vad
@@ -176,7 +176,11 @@ class StreamingFeatureExtractor:
         windows = samples[self._history.relative(ends)[:, None] + self._window_offsets]  # (T, N)
         if not np.isfinite(windows).all():  # the windows cover every sample (frame < n_fft)
             raise ValueError("audio contains NaN/inf samples; sanitise the source before feature extraction")
-        power = dsp.power_spectrum(windows, self._taper)  # (T, K)
+        if self.config.kind == "prosody":
+            spectrum = padded_spectrum(windows, self._taper)  # (T, N + 1): one FFT for the power and the pitch
+            power = spectrum[:, ::2].real ** 2 + spectrum[:, ::2].imag ** 2  # (T, K)
+        else:
+            power = dsp.power_spectrum(windows, self._taper)  # (T, K)
         mel_db = dsp.mel_db(power, self._filterbank)  # (T, M)
         previous = mel_db[0] if self._previous_mel_db is None else self._previous_mel_db
         self._previous_mel_db = mel_db[-1]
@@ -184,7 +188,7 @@ class StreamingFeatureExtractor:
         speaking = self._vad.update(self._history, ends, energy_db)  # (T,)
         columns = {"onset": dsp.spectral_flux(mel_db, previous)[:, None], "speaking": speaking[:, None]}
         if self.config.kind == "prosody":
-            columns.update(self._prosody.update(windows, power, energy_db, speaking))
+            columns.update(self._prosody.update(spectrum, power, energy_db, speaking))
         else:
             columns.update(self._mel_columns(mel_db, energy_db, speaking))
         if self._embedding is not None:

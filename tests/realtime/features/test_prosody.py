@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio
-from gesturecast.realtime.features.prosody import PitchTracker
+from gesturecast.realtime.features.prosody import PitchTracker, padded_spectrum
 from gesturecast.realtime.features.streaming import FeatureConfig, StreamingFeatureExtractor, extract_features
 
 PROSODY = FeatureConfig(kind="prosody")
@@ -39,7 +39,7 @@ def test_pitch_tracker_finds_f0_and_voicing():
     tracker = PitchTracker(SAMPLE_RATE, taper, 3.0, 30)
     voiced = buzz(180.0, 0.5)[None, :1024]
     noise = np.random.default_rng(0).standard_normal((1, 1024)) * 0.1
-    f0, voicing = tracker.f0_and_voicing(np.concatenate([voiced, noise]))
+    f0, voicing = tracker.f0_and_voicing(padded_spectrum(np.concatenate([voiced, noise]), taper))
     assert f0[0] == pytest.approx(180.0, rel=0.01)
     assert voicing[0] > 0.9 > 0.5 > voicing[1]
 
