@@ -1,7 +1,8 @@
 """The conditions of ``gesturecast bench voices``: which audio the model hears, and what it is scored against.
 
-- For the held-out test segment of every paired take (seen speakers, unseen sentences): the original
-  and nine transformed versions (:data:`TRANSFORMS`, waveform DSP of
+- For the held-out test segment of every paired take (seen speakers, unseen sentences) — the cached
+  takes' test segments and the final 15 % of the two ``zeggs_upper`` takes (the split rule of the cache;
+  that data is not trained on) — the original and nine transformed versions (:data:`TRANSFORMS`, waveform DSP of
   :mod:`gesturecast.models.dataset.voice_transforms`). The motion generated for a transformed version
   is scored against the **original** audio's loudness and onsets: the transforms keep words, timing
   and prosody, so the motion should follow the same envelope.
@@ -18,9 +19,11 @@ from pathlib import Path
 import numpy as np
 
 from gesturecast.models.dataset import voice_transforms as vt
+from gesturecast.models.dataset.cache import DEFAULT_SPLIT
 from gesturecast.models.dataset.sources import SHOW_HELD_OUT_SPEAKERS, show_speaker
+from gesturecast.models.generator.styles import canonical_style
 from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio
-from gesturecast.tools.eval.clips import held_out_clips
+from gesturecast.tools.eval.clips import EvalClip, held_out_clips
 
 SR = SAMPLE_RATE
 FORMANT_FACTOR = 1.15  # ±15 % vocal-tract length: about the adult female / male difference
@@ -29,6 +32,8 @@ JOIN_GAP_S = 1.5
 FLIRTY = "zeggs/037_Flirty_1_x_1_0.wav"
 ESPEAK = "speech/*.wav"
 SHOW = "show/*.wav"
+ZEGGS_UPPER = "zeggs_upper/*.wav"
+ZEGGS_UPPER_STYLE = "Neutral"  # both takes (zeggs_upper/README.md)
 
 Transform = Callable[[np.ndarray], np.ndarray]
 TRANSFORMS: dict[str, Transform] = {
@@ -56,10 +61,20 @@ class VoiceCase:
     positions: np.ndarray | None = None  # (T, J, 3) real motion (originals of paired takes only)
 
 
-def transformed_cases(cache: Path, transforms: dict[str, Transform]) -> list[VoiceCase]:
+def upper_body_held_out(shared: Path) -> list[EvalClip]:
+    """The final ``paired_test_fraction`` of every zeggs_upper take's speech (no motion: scored on audio only)."""
+    clips = []
+    for path in sorted(shared.glob(ZEGGS_UPPER)):
+        audio = load_audio(path)
+        start = int(round(len(audio) * (1.0 - DEFAULT_SPLIT.paired_test_fraction)))
+        clips.append(EvalClip(f"zeggs_upper/{path.stem}[test]", audio[start:], canonical_style(ZEGGS_UPPER_STYLE)))
+    return clips
+
+
+def transformed_cases(cache: Path, shared: Path, transforms: dict[str, Transform]) -> list[VoiceCase]:
     """Original + every transform of every held-out paired segment."""
     cases = []
-    for clip in held_out_clips(cache):
+    for clip in [*held_out_clips(cache), *upper_body_held_out(shared)]:
         cases.append(VoiceCase(ORIGINAL, clip.name, clip.audio, clip.audio, clip.style, clip.positions))
         cases += [VoiceCase(name, clip.name, transform(clip.audio), clip.audio, clip.style)
                   for name, transform in transforms.items()]

@@ -158,7 +158,7 @@ def voices_report(bundle_dir: Path, cache: Path, shared: Path, seeds: list[int],
     bundle = load_bundle(bundle_dir)
     sampler = SamplerConfig("ddim", steps)
     started = time.perf_counter()
-    cases = [*transformed_cases(cache, TRANSFORMS), *unseen_cases(shared)]
+    cases = [*transformed_cases(cache, shared, TRANSFORMS), *unseen_cases(shared)]
     references = {case.file: case.reference for case in cases}
     rows, real, first_motion = [], [], {}
     for case in cases:

@@ -38,6 +38,7 @@ def voices_inputs(tmp_path_factory, shared_data) -> tuple[Path, Path]:
     cut_voice(shared_data / "show" / "seth_98201-00_04_32-00_04_42.wav", shared / "show" / "seth_1.wav", 2.5)
     cut_voice(shared_data / "show" / "oliver_214542-00_01_17-00_01_27.wav", shared / "show" / "oliver_1.wav", 2.5)
     cut_voice(shared_data / "zeggs" / "037_Flirty_1_x_1_0.wav", shared / "zeggs" / "037_Flirty_1_x_1_0.wav", 3.0)
+    cut_voice(shared_data / "zeggs_upper" / "001_Neutral_0_x_1_0.wav", shared / "zeggs_upper" / "001_x.wav", 14.0)
     for name in ("tts_01_en-us.wav", "tts_03_en-gb.wav"):
         cut_voice(shared_data / "speech" / name, shared / "speech" / name, 2.5)
     return root / "dataset", shared
@@ -56,9 +57,10 @@ def test_bench_voices_scores_every_condition(tiny_model, voices_inputs, tmp_path
     assert set(conditions) == expected
     assert conditions["show held-out speakers"]["files"] == 1  # oliver is not a held-out speaker
     assert conditions["original"]["ratio_to_original"] == 1.0
+    assert conditions["original"]["files"] == 2  # the cached take's test segment and zeggs_upper's final 15 %
     for name in TRANSFORMS:
         row = conditions[name]
-        assert row["rows"] == 2 and np.isfinite(row["chance"])
+        assert row["rows"] == 4 and np.isfinite(row["chance"])
         if row["r"] is not None and conditions["original"]["r"] > 0:
             assert row["ratio_to_original"] == pytest.approx(row["r"] / conditions["original"]["r"], abs=2e-3)
     assert conditions["espeak joined"]["rest"] is not None  # 1.5 s pauses
