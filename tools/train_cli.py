@@ -38,6 +38,14 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                              "(default: the preset's)")
     parser.add_argument("--speaker-norm", action="store_true",
                         help="listen to speaker-normalised log-mel / energy (docs/generator.md; off in the default)")
+    parser.add_argument("--front-end", choices=("mel", "prosody"), default=None,
+                        help="speech features: log-mel or prosody (default: the preset's; docs/voices.md)")
+    parser.add_argument("--speech-embedding", action=argparse.BooleanOptionalAction, default=None,
+                        help="add the packaged 96-d speech embedding to the features (default: the preset's)")
+    parser.add_argument("--voice-copies", type=int, default=None,
+                        help="waveform-augmented voice copies per paired train clip (default: the preset's)")
+    parser.add_argument("--vq-from", type=Path, default=None,
+                        help="reuse the VQ-VAE of this finished work folder instead of training one")
     parser.add_argument("--vq-steps", type=int, default=None)
     parser.add_argument("--denoiser-steps", type=int, default=None)
     parser.add_argument("--prompt-steps", type=int, default=None)
@@ -50,14 +58,16 @@ def run_train(args: argparse.Namespace) -> int:
     from gesturecast.models.training.pipeline import run_training
 
     preset = get_preset(args.preset, seed=args.seed, audio_lookahead=args.lookahead, threads=args.threads,
-                        audio_augmentation=args.audio_augmentation,
+                        audio_augmentation=args.audio_augmentation, voice_copies=args.voice_copies,
+                        front_end=args.front_end, speech_embedding=args.speech_embedding,
                         lookahead_truncation=args.lookahead_truncation, vq_steps=args.vq_steps,
                         denoiser_steps=args.denoiser_steps, prompt_steps=args.prompt_steps)
     work_dir = args.work_dir or DEFAULT_WORK_ROOT / preset.name
     started = time.perf_counter()
-    features = FeatureConfig(speaker_norm=SpeakerNormConfig(enabled=args.speaker_norm))
+    features = FeatureConfig(speaker_norm=SpeakerNormConfig(enabled=args.speaker_norm), kind=preset.front_end,
+                             speech_embedding=preset.speech_embedding)
     checkpoint = run_training(preset, args.data, work_dir, resume=args.resume, progress=not args.no_progress,
-                              feature_config=features)
+                              feature_config=features, vq_from=args.vq_from)
     if args.out is not None:
         export_bundle(checkpoint, args.out)
         LOGGER.info("bundle written to %s", args.out)

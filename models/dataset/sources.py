@@ -33,6 +33,13 @@ LOGGER = logging.getLogger(__name__)
 ZEGGS_INFO = "info.csv"
 BEAT_STYLE = "conversation"
 _BANDAI_NAME = re.compile(r"^dataset-(\d+)_(?P<content>[^_]+)_(?P<style>[^_]+)_\d+$")
+# SHOW (TalkSHOW) clips are split by speaker (the file-name prefix): these voices are never trained on
+SHOW_HELD_OUT_SPEAKERS = ("seth", "chemistry")
+
+
+def show_speaker(stem: str) -> str:
+    """The speaker of a SHOW clip: its file-name prefix (``seth_98201-00_04_32-00_04_42`` → ``seth``)."""
+    return stem.split("_", 1)[0]
 
 
 @dataclass(frozen=True)

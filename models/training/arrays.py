@@ -16,6 +16,7 @@ from tqdm import tqdm
 
 from gesturecast.models.dataset.augment import AugmentConfig, augmented_variants, slice_audio
 from gesturecast.models.dataset.cache import load_take, read_index
+from gesturecast.models.dataset.voice_transforms import random_voice
 from gesturecast.models.generator.styles import canonical_style
 from gesturecast.models.motion.motion_features import motion_to_features
 from gesturecast.realtime.audio.files import SAMPLE_RATE
@@ -30,6 +31,7 @@ class TrainingClip:
     variant: str
     motion: np.ndarray  # (T, D) float32 motion features (raw, not normalised)
     audio: np.ndarray | None  # (T, F) float32 audio features aligned with the motion, None without speech
+    voice_copy: bool = False  # a waveform-augmented repeat of another clip's motion (denoiser training only)
 
     @property
     def num_frames(self) -> int:
@@ -53,6 +55,14 @@ def augmentation(has_audio: bool, split: str, mirror_motion_only: bool, paired_s
     return AugmentConfig(mirror=mirror_motion_only, speeds=())
 
 
+def voice_variants(tag: str, audio: np.ndarray | None, copies: int,
+                   rng: np.random.Generator) -> list[tuple[str, np.ndarray | None]]:
+    """The variant's own audio, then ``copies`` random new voices of it (none without audio)."""
+    if audio is None:
+        return [(tag, None)]
+    return [(tag, audio), *((f"{tag}+voice{i}", random_voice(audio, SAMPLE_RATE, rng)) for i in range(copies))]
+
+
 def load_training_clips(
     cache_dir: Path,
     split: str,
@@ -60,9 +70,13 @@ def load_training_clips(
     mirror_motion_only: bool = True,
     paired_speeds: tuple[float, ...] = (),
     progress: bool = True,
+    voice_copies: int = 0,
+    seed: int = 0,
 ) -> list[TrainingClip]:
     """Every segment of ``split`` in the cache, augmented for training, with audio features."""
     clips = []
+    rng = np.random.default_rng(seed)
+    copies = voice_copies if split == "train" else 0
     records = read_index(cache_dir)["takes"]
     for record in tqdm(records, desc=f"load {split}", unit="take", disable=not progress):
         segments = [s for s in record["segments"] if s["split"] == split]
@@ -76,12 +90,13 @@ def load_training_clips(
                                                                 SAMPLE_RATE)
             for tag, variant, variant_audio in augmented_variants(part, part_audio, augment, SAMPLE_RATE):
                 features = motion_to_features(variant)  # (T, D)
-                audio_features = (
-                    None if variant_audio is None
-                    else aligned_audio_features(variant_audio, len(features), feature_config)
-                )
-                clips.append(TrainingClip(record["name"], record["dataset"], canonical_style(record["style"]), tag,
-                                          features, audio_features))
+                for voice_tag, voice_audio in voice_variants(tag, variant_audio, copies, rng):
+                    audio_features = (
+                        None if voice_audio is None
+                        else aligned_audio_features(voice_audio, len(features), feature_config)
+                    )
+                    clips.append(TrainingClip(record["name"], record["dataset"], canonical_style(record["style"]),
+                                              voice_tag, features, audio_features, voice_tag != tag))
     return clips
 
 

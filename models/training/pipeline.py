@@ -66,6 +66,11 @@ class TrainInputs:
     val: list[TrainingClip]
     feature_config: FeatureConfig
 
+    @property
+    def motion_train(self) -> list[TrainingClip]:
+        """The train clips without voice copies: every motion once (statistics, VQ-VAE, motion prompt)."""
+        return [clip for clip in self.train if not clip.voice_copy]
+
 
 def save_checkpoint(checkpoint: dict, path: Path) -> None:
     """Atomic write (temporary file renamed into place)."""
@@ -101,7 +106,7 @@ def hardware_summary() -> dict:
 
 
 def data_stage(inputs: TrainInputs) -> dict:
-    motion_stats = Normalizer.fit([clip.motion for clip in inputs.train], MOTION_STD_FLOOR)
+    motion_stats = Normalizer.fit([clip.motion for clip in inputs.motion_train], MOTION_STD_FLOOR)
     paired = [clip.audio for clip in inputs.train if clip.audio is not None]
     if not paired:
         raise UserError("the training split holds no take with speech audio; the model needs paired data")
@@ -110,7 +115,7 @@ def data_stage(inputs: TrainInputs) -> dict:
     trained = tuple(sorted({clip.style for clip in inputs.train}))
     table = StyleTable(labels, embeddings, trained, PROMPT_TEMPLATE)
     return {"motion_stats": motion_stats.to_dict(), "audio_stats": audio_stats.to_dict(),
-            "styles": table.to_dict(), "summary": dataset_summary(inputs.train, inputs.feature_config.fps)}
+            "styles": table.to_dict(), "summary": dataset_summary(inputs.motion_train, inputs.feature_config.fps)}
 
 
 def vq_config(preset: TrainPreset, feature_dim: int) -> VQVAEConfig:
@@ -131,7 +136,7 @@ def vq_joint_errors(model: MotionVQVAE, clips: list[np.ndarray], motion_stats: N
 
 
 def vqvae_stage(inputs: TrainInputs, preset: TrainPreset, motion_stats: Normalizer, progress: bool) -> dict:
-    train = [motion_stats.normalize(clip.motion) for clip in inputs.train]
+    train = [motion_stats.normalize(clip.motion) for clip in inputs.motion_train]
     val = [motion_stats.normalize(clip.motion) for clip in inputs.val if clip.num_frames >= preset.vq.downsample]
     config = vq_config(preset, train[0].shape[1])
     train_config = VQTrainConfig(window=preset.vq.window, batch_size=preset.vq.batch_size)
@@ -191,7 +196,7 @@ def denoiser_stage(inputs: TrainInputs, preset: TrainPreset, checkpoint: dict, p
 
 def prompt_stage(inputs: TrainInputs, preset: TrainPreset, checkpoint: dict) -> dict:
     styles = StyleTable.from_dict(checkpoint["stages"]["data"]["styles"])
-    usable = [clip for clip in inputs.train if clip.num_frames >= preset.prompt.clip_frames]
+    usable = [clip for clip in inputs.motion_train if clip.num_frames >= preset.prompt.clip_frames]
     config = MotionPromptConfig(feature_dim=usable[0].motion.shape[1], width=preset.prompt.width,
                                 embed_dim=styles.embeddings.shape[1])
     train_config = PromptTrainConfig(clip_frames=preset.prompt.clip_frames, batch_size=preset.prompt.batch_size,
@@ -227,12 +232,27 @@ def open_checkpoint(path: Path, preset: TrainPreset, feature_config: FeatureConf
     return checkpoint
 
 
+def reuse_vqvae(checkpoint: dict, vq_from: Path) -> None:
+    """Take the finished VQ-VAE stage of another run trained on the same motion (same motion statistics)."""
+    other = load_checkpoint(vq_from / CHECKPOINT_FILE)
+    if "vqvae" not in other["stages"]:
+        raise UserError(f"{vq_from} has no finished VQ-VAE stage to reuse")
+    if other["stages"]["data"]["motion_stats"] != checkpoint["stages"]["data"]["motion_stats"]:
+        raise UserError(f"{vq_from} was trained on other motion (its motion statistics differ)")
+    checkpoint["stages"]["vqvae"] = other["stages"]["vqvae"]
+    checkpoint["stage_seconds"]["vqvae"] = 0.0
+    checkpoint["vq_from"] = str(vq_from)
+    logger.info("VQ-VAE reused from %s", vq_from)
+
+
 def run_training(preset: TrainPreset, cache_dir: Path, work_dir: Path, resume: bool = False,
-                 progress: bool = True, feature_config: FeatureConfig | None = None) -> dict:
+                 progress: bool = True, feature_config: FeatureConfig | None = None,
+                 vq_from: Path | None = None) -> dict:
     """Run every unfinished stage, saving ``work_dir/checkpoint.pt`` after each; returns the checkpoint.
 
     ``feature_config``: the audio features the model listens to (default ``FeatureConfig()``); it is stored in
-    the checkpoint and the bundle, so the live runtime computes the same features."""
+    the checkpoint and the bundle, so the live runtime computes the same features. ``vq_from``: a work folder
+    whose VQ-VAE stage is reused instead of training one (the representation study trains it once)."""
     torch.set_num_threads(preset.threads)
     feature_config = feature_config or FeatureConfig()
     path = work_dir / CHECKPOINT_FILE
@@ -240,7 +260,8 @@ def run_training(preset: TrainPreset, cache_dir: Path, work_dir: Path, resume: b
     started = time.perf_counter()
     kwargs = {"mirror_motion_only": preset.mirror_motion_only, "paired_speeds": preset.paired_speeds,
               "progress": progress}
-    inputs = TrainInputs(load_training_clips(cache_dir, "train", feature_config, **kwargs),
+    inputs = TrainInputs(load_training_clips(cache_dir, "train", feature_config, **kwargs,
+                                             voice_copies=preset.voice_copies, seed=preset.seed),
                          load_training_clips(cache_dir, "val", feature_config, **kwargs), feature_config)
     checkpoint["stage_seconds"]["load"] = time.perf_counter() - started
     stage_functions = {
@@ -256,6 +277,8 @@ def run_training(preset: TrainPreset, cache_dir: Path, work_dir: Path, resume: b
         stage_started = time.perf_counter()
         checkpoint["stages"][stage] = stage_functions[stage]()
         checkpoint["stage_seconds"][stage] = time.perf_counter() - stage_started
+        if stage == "data" and vq_from is not None:
+            reuse_vqvae(checkpoint, vq_from)
         save_checkpoint(checkpoint, path)
         logger.info("stage %s done in %.1f s", stage, checkpoint["stage_seconds"][stage])
     checkpoint["summary"] = {"git_commit": git_commit(), "hardware": hardware_summary(),

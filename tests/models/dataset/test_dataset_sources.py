@@ -99,3 +99,11 @@ def test_augmented_variants_tags_and_audio_sharing():
     assert tags == ["", "speed0.9", "speed1.1", "mirror", "mirror+speed0.9", "mirror+speed1.1"]
     for _, motion, variant_audio in variants:
         assert variant_audio.shape[0] == audio_samples_for_frames(motion.num_frames, 30.0, RATE)
+
+
+def test_show_clips_are_split_by_the_speaker_prefix(shared_data):
+    from gesturecast.models.dataset.sources import SHOW_HELD_OUT_SPEAKERS, show_speaker
+
+    speakers = {show_speaker(path.stem) for path in (shared_data / "show").glob("*.wav")}
+    assert {"oliver", "seth", "conan", "chemistry", "unknown"} == speakers
+    assert set(SHOW_HELD_OUT_SPEAKERS) < speakers  # held out entirely, others left to train on

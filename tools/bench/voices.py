@@ -1,0 +1,197 @@
+"""``gesturecast bench voices``: does the motion follow the speech whoever speaks, and through any channel?
+
+For every condition of :mod:`gesturecast.tools.bench.voice_conditions` and every seed, motion is
+generated through the product's offline path (``run_offline``, DDIM K, the bundle's guidance) and scored:
+
+- ``r``: the speech-following measure (:mod:`gesturecast.models.evaluation.speech_following`: Pearson r of
+  smoothed upper-body speed vs the reference speech's loudness, best lag within ±0.5 s);
+- ``chance``: the same measure of the same generated motion against the reference audio of every *other*
+  recording of the run (both cropped to the shorter), averaged: what r is when the motion has nothing to do
+  with the speech; ``margin`` = r − chance;
+- ``ratio``: a transform's r over the original's r on the same held-out segments (target ≥ 0.9);
+- ``bc``: BEAT beat consistency against the reference speech's onsets;
+- ``rest``: mean upper-body speed in the reference's pauses (the runtime's speaking flag off) over its
+  mean speed while speaking (< 1: the avatar calms down in pauses); only where ≥ 1 s of pause exists.
+One JSON object (``--json``) and a picture (``--plot``); nothing is asserted. Definitions: docs/voices.md.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+from pathlib import Path
+
+import numpy as np
+
+from gesturecast.files import write_text_atomic
+from gesturecast.models.dataset.augment import audio_samples_for_frames
+from gesturecast.models.evaluation.beat_consistency import beat_consistency, speech_onsets
+from gesturecast.models.evaluation.speech_following import (
+    FollowingConfig,
+    frame_energy_db,
+    moving_average,
+    speech_following,
+    upper_body_speed,
+)
+from gesturecast.models.generator.diffusion import SamplerConfig
+from gesturecast.models.motion.motion import MOTION_FPS
+from gesturecast.realtime.audio.files import SAMPLE_RATE
+from gesturecast.realtime.engine_setup import DEFAULT_AUDIO_GUIDANCE, DEFAULT_MODEL_DIR, load_bundle
+from gesturecast.realtime.features.streaming import extract_features, speaking_flags
+from gesturecast.tools.bench.voice_conditions import (
+    ORIGINAL,
+    TRANSFORMS,
+    VoiceCase,
+    transformed_cases,
+    unseen_cases,
+)
+from gesturecast.tools.data_cli import DEFAULT_CACHE, DEFAULT_SHARED
+from gesturecast.tools.eval.clips import EvalClip
+from gesturecast.tools.eval.generate import generate_offline
+from gesturecast.tools.render.plot_voices import VoiceTrace, plot_voice_traces
+
+DEFAULT_SEEDS = "0,1,2"
+MIN_PAUSE_S = 1.0
+PLOT_SECONDS = 20.0
+PLOT_UNSEEN = ("show held-out speakers", "flirty", "espeak joined")  # the first present is pictured
+FOLLOWING = FollowingConfig()
+
+
+def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
+    parser = bench_subparsers.add_parser("voices", help="speech following under voice and channel changes (JSON)")
+    parser.add_argument("--bundle", type=Path, default=DEFAULT_MODEL_DIR, help="model bundle (default: bundled)")
+    parser.add_argument("--cache", type=Path, default=DEFAULT_CACHE, help="dataset cache (held-out segments)")
+    parser.add_argument("--shared", type=Path, default=DEFAULT_SHARED, help="shared data folder (unseen voices)")
+    parser.add_argument("--seeds", default=DEFAULT_SEEDS, help="comma-separated generation seeds")
+    parser.add_argument("--steps", type=int, default=4, help="DDIM steps K")
+    parser.add_argument("--audio-guidance", type=float, default=DEFAULT_AUDIO_GUIDANCE,
+                        help="audio guidance scale s_a (1: off)")
+    parser.add_argument("--json", type=Path, help="also write the result here")
+    parser.add_argument("--plot", type=Path, help="PNG: loudness and generated speed for three voices")
+    parser.set_defaults(func=run_bench)
+
+
+def crop_audio(audio: np.ndarray, frames: int) -> np.ndarray:
+    return audio[: audio_samples_for_frames(frames, MOTION_FPS, SAMPLE_RATE)]
+
+
+def following_r(positions: np.ndarray, reference: np.ndarray) -> float:
+    """r_best of motion against speech, both cropped to the shorter of the two."""
+    frames = min(len(positions), int(len(reference) * MOTION_FPS // SAMPLE_RATE))
+    return speech_following(positions[:frames], crop_audio(reference, frames), SAMPLE_RATE, MOTION_FPS,
+                            FOLLOWING).best_correlation
+
+
+def chance_r(positions: np.ndarray, own_file: str, references: dict[str, np.ndarray]) -> float:
+    values = [following_r(positions, audio) for name, audio in references.items() if name != own_file]
+    finite = [v for v in values if np.isfinite(v)]
+    return float(np.mean(finite)) if finite else float("nan")
+
+
+def rest_ratio(positions: np.ndarray, reference: np.ndarray) -> float:
+    """Mean upper-body speed in pauses / while speaking (NaN with < MIN_PAUSE_S of pause)."""
+    speaking = speaking_flags(extract_features(reference))[: len(positions)]  # (T',)
+    speed = upper_body_speed(positions[: len(speaking)], MOTION_FPS)
+    if (~speaking).sum() < MIN_PAUSE_S * MOTION_FPS or not speaking.any():
+        return float("nan")
+    return float(speed[~speaking].mean() / speed[speaking].mean())
+
+
+def score_case(positions: np.ndarray, case: VoiceCase, onsets: np.ndarray, references: dict[str, np.ndarray]) -> dict:
+    values = {"r": following_r(positions, case.reference), "chance": chance_r(positions, case.file, references),
+              "bc": beat_consistency(positions, MOTION_FPS, onsets), "rest": rest_ratio(positions, case.reference)}
+    return {key: None if not np.isfinite(value) else round(float(value), 4) for key, value in values.items()}
+
+
+def _mean(rows: list[dict], key: str) -> float | None:
+    values = [row[key] for row in rows if row[key] is not None]
+    return round(float(np.mean(values)), 4) if values else None
+
+
+def condition_summary(rows: list[dict], original_r: dict[str, float]) -> dict:
+    """One condition's means; the seed spread is the s.d. of the per-seed means of r."""
+    per_seed = [_mean([row for row in rows if row["seed"] == seed], "r") for seed in sorted({r["seed"] for r in rows})]
+    per_seed = [value for value in per_seed if value is not None]
+    r, chance = _mean(rows, "r"), _mean(rows, "chance")
+    originals = [original_r[row["file"]] for row in rows if row["file"] in original_r]
+    ratio = None if r is None or not originals or np.mean(originals) <= 0 else round(r / float(np.mean(originals)), 3)
+    return {"r": r, "r_seed_sd": round(float(np.std(per_seed)), 4) if per_seed else None, "chance": chance,
+            "margin": None if r is None or chance is None else round(r - chance, 4), "ratio_to_original": ratio,
+            "bc": _mean(rows, "bc"), "rest": _mean(rows, "rest"), "files": len({row["file"] for row in rows}),
+            "rows": len(rows)}
+
+
+def summarise(rows: list[dict]) -> dict:
+    by_condition: dict[str, list[dict]] = {}
+    for row in rows:
+        by_condition.setdefault(row["condition"], []).append(row)
+    originals = by_condition.get(ORIGINAL, [])
+    original_r = {name: _mean([row for row in originals if row["file"] == name], "r")
+                  for name in {row["file"] for row in originals}}
+    original_r = {name: value for name, value in original_r.items() if value is not None}
+    order = [ORIGINAL, *TRANSFORMS, *sorted(set(by_condition) - {ORIGINAL, *TRANSFORMS})]
+    return {name: condition_summary(by_condition[name], original_r) for name in order if name in by_condition}
+
+
+def trace(title: str, audio: np.ndarray, positions: np.ndarray) -> VoiceTrace:
+    frames = min(len(positions), int(PLOT_SECONDS * MOTION_FPS))
+    width = int(round(FOLLOWING.smooth_s * MOTION_FPS)) | 1
+    loudness = frame_energy_db(audio, SAMPLE_RATE, MOTION_FPS, frames, FOLLOWING.floor_db)
+    speed = upper_body_speed(positions[:frames], MOTION_FPS)
+    return VoiceTrace(title, moving_average(loudness, width), moving_average(speed, width), MOTION_FPS)
+
+
+def picture(cases: list[VoiceCase], motion: dict[tuple[str, str], np.ndarray], out: Path, bundle: Path) -> Path:
+    """Original voice, its −4 st shift and the first unseen voice of PLOT_UNSEEN (seed of the first row)."""
+    first = next(case for case in cases if case.condition == ORIGINAL)
+    chosen = [first, next(c for c in cases if c.condition == "pitch -4 st" and c.file == first.file)]
+    chosen += [next(c for c in cases if c.condition == group) for group in PLOT_UNSEEN
+               if any(c.condition == group for c in cases)][:1]
+    traces = [trace(f"{case.condition}: {case.file}", case.heard, motion[(case.condition, case.file)])
+              for case in chosen]
+    return plot_voice_traces(traces, out, f"bench voices: {bundle}")
+
+
+def voices_report(bundle_dir: Path, cache: Path, shared: Path, seeds: list[int], steps: int,
+                  audio_guidance: float = DEFAULT_AUDIO_GUIDANCE, plot: Path | None = None) -> dict:
+    bundle = load_bundle(bundle_dir)
+    sampler = SamplerConfig("ddim", steps)
+    started = time.perf_counter()
+    cases = [*transformed_cases(cache, shared, TRANSFORMS), *unseen_cases(shared)]
+    references = {case.file: case.reference for case in cases}
+    rows, real, first_motion = [], [], {}
+    for case in cases:
+        onsets = speech_onsets(case.reference, SAMPLE_RATE)
+        if case.positions is not None:
+            real.append({"condition": case.condition, "file": case.file, "seed": -1,
+                         **score_case(case.positions, case, onsets, references)})
+        for seed in seeds:
+            clip = EvalClip(case.file, case.heard, case.style)
+            positions = generate_offline(bundle, sampler, clip, case.style, seed, audio_guidance).positions
+            first_motion.setdefault((case.condition, case.file), positions)
+            rows.append({"condition": case.condition, "file": case.file, "seed": seed,
+                         **score_case(positions, case, onsets, references)})
+    report = {
+        "bundle": str(bundle_dir), "sampler": f"ddim K={steps}", "audio_guidance": audio_guidance, "seeds": seeds,
+        "metric": "r: Pearson r of smoothed upper-body speed vs the clean reference speech's RMS dB, best lag "
+                  "within ±0.5 s; chance: the same motion against the other recordings; ratio: r / r(original) "
+                  "on the same files; rest: speed in pauses / while speaking; bc: BEAT beat consistency",
+        "conditions": summarise(rows),
+        "real_motion": summarise(real),
+        "per_file": rows,
+        "seconds": round(time.perf_counter() - started, 1),
+    }
+    if plot is not None:
+        report["plot"] = str(picture(cases, first_motion, plot, bundle_dir))
+    return report
+
+
+def run_bench(args: argparse.Namespace) -> int:
+    seeds = [int(value) for value in args.seeds.split(",")]
+    report = voices_report(args.bundle, args.cache, args.shared, seeds, args.steps, args.audio_guidance, args.plot)
+    text = json.dumps(report, indent=1)
+    if args.json is not None:
+        write_text_atomic(args.json, text + "\n")
+    print(text)
+    return 0
