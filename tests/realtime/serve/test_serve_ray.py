@@ -161,6 +161,7 @@ def test_full_replicas_refuse_a_new_stream_with_1013(cluster):
 
 def test_scaling_down_lets_running_streams_finish(cluster, speech):
     args, url = cluster
+    assert run(every_replica_answers(url, args.replicas))  # the previous test's streams have left both replicas
 
     async def scale_down_midway():
         running = asyncio.ensure_future(streams(url, speech, PACED_CHUNK, True, [None, None]))
