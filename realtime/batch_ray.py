@@ -40,13 +40,13 @@ def import_ray():
 def job_row(job: BatchJob) -> dict:
     """A job as a Ray Data row (strings only)."""
     return {"audio": str(job.audio), "bvh": str(job.bvh), "json": NO_JSON if job.json is None else str(job.json),
-            "overrides": json.dumps(job.overrides)}
+            "vrma": NO_JSON if job.vrma is None else str(job.vrma), "overrides": json.dumps(job.overrides)}
 
 
 def row_job(row: dict) -> BatchJob:
     """The job of a row made by :func:`job_row`."""
     return BatchJob(Path(row["audio"]), Path(row["bvh"]), Path(row["json"]) if row["json"] != NO_JSON else None,
-                    json.loads(row["overrides"]))
+                    json.loads(row["overrides"]), Path(row["vrma"]) if row["vrma"] != NO_JSON else None)
 
 
 class RayBatchActor:
