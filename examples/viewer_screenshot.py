@@ -1,13 +1,13 @@
-"""How docs/images/viewer-avatar.png was made: real generated frames on the viewer's avatar, mouth from loudness.
+"""How docs/images/viewer-avatar.png was made: real generated frames and lip sync on the viewer's avatar.
 
     gesturecast generate gesturecast/samples/sample_speech.wav -o sample.bvh --json sample.json
-    python examples/viewer_screenshot.py gesturecast/samples/sample_speech.wav sample.json \\
+    python examples/viewer_screenshot.py sample.json \\
         --avatar ../shared/assets/cryptovoxels.vrm -o docs/images/viewer-avatar.png
 
-The frames of ``sample.json`` are real (the same session as ``live``). Their viseme weights are not: until
-lip sync computes them, the vowel "a" follows the loudness of the speech (RMS over each frame's 1/30 s,
-over 0.6 of the take's loudest frame). The picture shows the loud frame whose elbows bend most (mid-gesture,
-mouth open), held still, from a little to the avatar's left. Needs selenium and Debian's chromium.
+The frames of ``sample.json`` are real (the same session as ``live``), with the viseme weights of its lip
+sync (``--lipsync vrm0``, docs/lipsync.md). The picture shows the frame with the mouth at least 0.8 of its
+widest opening whose elbows bend most (mid-gesture, mouth open), held still, from a little to the avatar's
+left. Needs selenium and Debian's chromium.
 """
 
 from __future__ import annotations
@@ -26,28 +26,19 @@ import numpy as np
 from gesturecast.bridges.websocket_server import WebSocketBridge, WebSocketConfig
 from gesturecast.models.motion.rotations import quat_to_axis_angle
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS as SKELETON
-from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio
 from gesturecast.realtime.timing.frames import PoseFrame
 
 FPS = 30
-LOUD_FRACTION = 0.6  # of the loudest frame's RMS: "a" fully open at and above it
+OPEN_FRACTION = 0.8  # of the widest mouth opening in the take: the frames the picture chooses from
 CAMERA = {"yaw": 0.35, "pitch": 0.12, "distance": 2.3}
 SETTLE_S = 1.0
 
 
-def loudness_weights(audio: np.ndarray, frames: int) -> np.ndarray:
-    """(frames,) 0..1: RMS of each frame's 1/30 s of audio, over LOUD_FRACTION of the loudest."""
-    hop = SAMPLE_RATE // FPS
-    rms = np.array([np.sqrt(np.mean(audio[k * hop:(k + 1) * hop] ** 2)) if k * hop < len(audio) else 0.0
-                    for k in range(frames)])
-    return np.clip(rms / (LOUD_FRACTION * rms.max()), 0.0, 1.0)
-
-
-def pick_frame(rotations: np.ndarray, weights: np.ndarray) -> int:
-    """The loud frame (mouth at least 0.8 open) whose elbows bend most."""
+def pick_frame(rotations: np.ndarray, opening: np.ndarray) -> int:
+    """The open-mouthed frame (``OPEN_FRACTION`` of the widest opening) whose elbows bend most."""
     elbows = [SKELETON.index("LeftLowerArm"), SKELETON.index("RightLowerArm")]
     bend = np.linalg.norm(quat_to_axis_angle(rotations[:, elbows]), axis=-1).sum(axis=1)  # (T,) radians
-    return int(np.argmax(np.where(weights >= 0.8, bend, -1.0)))
+    return int(np.argmax(np.where(opening >= OPEN_FRACTION * opening.max(), bend, -1.0)))
 
 
 def screenshot(frame: PoseFrame, avatar: Path, output: Path) -> None:
@@ -79,21 +70,19 @@ def screenshot(frame: PoseFrame, avatar: Path, output: Path) -> None:
 
 def main(argv: list[str]) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("audio", type=Path)
     parser.add_argument("poses", type=Path, help="generate --json output of the same audio")
     parser.add_argument("--avatar", type=Path, required=True)
     parser.add_argument("-o", "--output", type=Path, required=True)
     args = parser.parse_args(argv)
     document = json.loads(args.poses.read_text())
     rotations = np.array([f["rotations"] for f in document["frames"]])  # (T, J, 4)
-    weights = loudness_weights(load_audio(args.audio), len(rotations))  # (T,)
-    k = pick_frame(rotations, weights)
+    visemes = np.array([f["visemes"] for f in document["frames"]])  # (T, 5) a i u e o
+    k = pick_frame(rotations, visemes.sum(axis=1))
     record = document["frames"][k]
-    visemes = np.array([weights[k], 0.0, 0.0, 0.0, 0.0])  # a i u e o
     frame = PoseFrame(k, 0.0, 0.0, np.array(record["root"]), rotations[k], style="neutral",
-                      speaking=record["speaking"], visemes=visemes)
+                      speaking=record["speaking"], visemes=visemes[k])
     screenshot(frame, args.avatar, args.output)
-    print(f"frame {k} ({k / FPS:.2f} s), mouth a = {weights[k]:.2f} -> {args.output}")
+    print(f"frame {k} ({k / FPS:.2f} s), visemes a i u e o = {np.round(visemes[k], 2).tolist()} -> {args.output}")
     return 0
 
 

@@ -57,6 +57,8 @@ def add_batch_arguments(parser: argparse.ArgumentParser) -> None:
     group.add_argument("--workers", type=int_at_least(1), default=os.cpu_count() or 1,
                        help="worker processes (or Ray actors) for --batch (default: every core)")
     group.add_argument("--with-json", action="store_true", help="with --batch: also write NAME.json beside NAME.bvh")
+    group.add_argument("--with-vrma", action="store_true",
+                       help="with --batch: also write NAME.vrma (VRM Animation) beside NAME.bvh")
     group.add_argument("--ray", action="store_true",
                        help="with --batch: run on Ray Data (pip install 'gesturecast[scale]') instead of processes")
 
@@ -91,7 +93,8 @@ class BatchWorker:
     def __call__(self, job: BatchJob) -> JobResult:
         """One file: never raises for a bad file, so the batch goes on."""
         try:
-            report = generate_to_files(self._session_for(job.settings(self.base)), job.audio, [job.bvh], job.json)
+            session = self._session_for(job.settings(self.base))
+            report = generate_to_files(session, job.audio, job.motion_paths(), job.json)
         except UserError as error:
             return JobResult(str(job.audio), error=str(error))
         except Exception as error:  # any failure of one file is that file's result, never the batch's end
@@ -188,9 +191,9 @@ class BatchSummary:
 def run_batch(args: argparse.Namespace) -> int:
     """``generate --batch``: check everything, run what is not finished, write the summary."""
     base = _check_batch_flags(args)
-    jobs = find_jobs(args.batch, args.output, args.with_json)
+    jobs = find_jobs(args.batch, args.output, args.with_json, args.with_vrma)
     summary_path = args.output / SUMMARY_NAME
-    if any(summary_path in (job.bvh, job.json) for job in jobs):
+    if any(summary_path in job.outputs() for job in jobs):
         raise UserError(f"an input would write {summary_path}, the batch summary; rename it")
     run = _ray_runner() if args.ray else run_with_processes
     build_session(base, MonotonicClock())  # the model and the command's style, checked once before any worker
@@ -215,7 +218,7 @@ def _check_batch_flags(args: argparse.Namespace) -> argparse.Namespace:
     if args.json is not None:
         raise UserError("with --batch, -o is the output folder: use --with-json for NAME.json beside each NAME.bvh")
     if args.vrma is not None:
-        raise UserError("--vrma names one file; it does not go with --batch")
+        raise UserError("--vrma names one file; with --batch use --with-vrma for NAME.vrma beside each NAME.bvh")
     if args.output.exists() and not args.output.is_dir():
         raise UserError(f"with --batch, -o is the output folder, and {args.output} is a file")
     return argparse.Namespace(**{key: value for key, value in vars(args).items() if key != "func"})

@@ -4,7 +4,7 @@ A **folder** gives every audio file under it (any depth, by extension, sorted), 
 style flags. A **CSV** gives one file per row; ``path`` (relative to the CSV's folder) is required,
 the other columns (:data:`CSV_COLUMNS`) set that file's style options; an empty cell keeps the
 flag's value. Outputs mirror the input's relative path under the output folder with ``.bvh`` (and
-``.json``) in place of the audio suffix. Everything here is checked before any file is generated:
+``.json`` / ``.vrma``) in place of the audio suffix. Everything here is checked before any file is generated:
 an unknown column, a bad value, two inputs with the same output, or an output that is an input is one
 :class:`UserError` line. A missing or broken audio file is not: it fails only its own job.
 """
@@ -25,6 +25,7 @@ from gesturecast.files import check_distinct
 AUDIO_SUFFIXES = (".wav", ".flac", ".ogg", ".oga", ".opus", ".mp3", ".aiff", ".aif", ".au", ".caf", ".w64")
 BVH_SUFFIX = ".bvh"
 JSON_SUFFIX = ".json"
+VRMA_SUFFIX = ".vrma"
 PATH_COLUMN = "path"
 # CSV column -> (attribute of the generate flags it overrides, parser of its text; the flag's own type)
 CSV_COLUMNS: dict[str, tuple[str, Callable[[str], object]]] = {
@@ -46,24 +47,34 @@ class BatchJob:
     bvh: Path
     json: Path | None = None
     overrides: dict = field(default_factory=dict)  # flag attribute -> value
+    vrma: Path | None = None
+
+    def motion_paths(self) -> list[Path]:
+        """The motion files: the BVH, and the VRM Animation when asked for."""
+        return [self.bvh] if self.vrma is None else [self.bvh, self.vrma]
+
+    def outputs(self) -> list[Path]:
+        """Every file this job writes: the BVH, then the JSON and the VRM Animation when asked for."""
+        return [path for path in (self.bvh, self.json, self.vrma) if path is not None]
 
     def finished(self) -> bool:
         """Every output exists; they are written atomically, so existing means complete (resumable)."""
-        return self.bvh.is_file() and (self.json is None or self.json.is_file())
+        return all(path.is_file() for path in self.outputs())
 
     def settings(self, base: argparse.Namespace) -> argparse.Namespace:
         """The generate flags for this file: ``base`` with this row's overrides."""
         return argparse.Namespace(**{**vars(base), **self.overrides})
 
 
-def find_jobs(source: Path, output_dir: Path, with_json: bool) -> list[BatchJob]:
+def find_jobs(source: Path, output_dir: Path, with_json: bool, with_vrma: bool = False) -> list[BatchJob]:
     """The jobs of a folder or a CSV file (see the module docstring), checked for clashing outputs."""
     if source.is_dir():
-        jobs = [_job(path, path.relative_to(source), output_dir, with_json, {}) for path in _audio_files(source)]
+        extras = (with_json, with_vrma)
+        jobs = [_job(path, path.relative_to(source), output_dir, extras, {}) for path in _audio_files(source)]
         if not jobs:
             raise UserError(f"no audio files ({', '.join(AUDIO_SUFFIXES)}) under {source}")
     elif source.is_file():
-        jobs = _csv_jobs(source, output_dir, with_json)
+        jobs = _csv_jobs(source, output_dir, (with_json, with_vrma))
     else:
         raise UserError(f"--batch {source}: no such folder or CSV file")
     _check_outputs(jobs)
@@ -74,12 +85,15 @@ def _audio_files(folder: Path) -> list[Path]:
     return sorted(p for p in folder.rglob("*") if p.suffix.lower() in AUDIO_SUFFIXES and p.is_file())
 
 
-def _job(audio: Path, relative: Path, output_dir: Path, with_json: bool, overrides: dict) -> BatchJob:
+def _job(audio: Path, relative: Path, output_dir: Path, extras: tuple[bool, bool], overrides: dict) -> BatchJob:
+    """``extras``: whether the job also writes NAME.json and NAME.vrma beside NAME.bvh."""
+    with_json, with_vrma = extras
     bvh = output_dir / relative.with_suffix(BVH_SUFFIX)
-    return BatchJob(audio, bvh, bvh.with_suffix(JSON_SUFFIX) if with_json else None, overrides)
+    return BatchJob(audio, bvh, bvh.with_suffix(JSON_SUFFIX) if with_json else None, overrides,
+                    bvh.with_suffix(VRMA_SUFFIX) if with_vrma else None)
 
 
-def _csv_jobs(table: Path, output_dir: Path, with_json: bool) -> list[BatchJob]:
+def _csv_jobs(table: Path, output_dir: Path, extras: tuple[bool, bool]) -> list[BatchJob]:
     try:
         with table.open(newline="", encoding="utf-8-sig") as handle:
             rows = list(csv.DictReader(handle))
@@ -92,16 +106,16 @@ def _csv_jobs(table: Path, output_dir: Path, with_json: bool) -> list[BatchJob]:
     if unknown:
         raise UserError(f"--batch {table}: unknown column(s) {', '.join(unknown)}; "
                         f"known: {PATH_COLUMN}, {', '.join(CSV_COLUMNS)}")
-    return [_csv_job(table, line, row, output_dir, with_json)
+    return [_csv_job(table, line, row, output_dir, extras)
             for line, row in enumerate(rows, start=2)]  # line 1 is the header
 
 
-def _csv_job(table: Path, line: int, row: dict, output_dir: Path, with_json: bool) -> BatchJob:
+def _csv_job(table: Path, line: int, row: dict, output_dir: Path, extras: tuple[bool, bool]) -> BatchJob:
     written = (row.get(PATH_COLUMN) or "").strip()
     if not written:
         raise UserError(f"--batch {table} line {line}: empty '{PATH_COLUMN}'")
     audio = table.parent / written
-    return _job(audio, _output_name(table.parent, audio), output_dir, with_json, _overrides(table, line, row))
+    return _job(audio, _output_name(table.parent, audio), output_dir, extras, _overrides(table, line, row))
 
 
 def _output_name(base: Path, audio: Path) -> Path:
@@ -128,10 +142,8 @@ def _check_outputs(jobs: list[BatchJob]) -> None:
     """Two jobs writing the same file, or an output that is an input, is refused before any work."""
     owners: dict[str, Path] = {}
     for job in jobs:
-        check_distinct([("audio", job.audio)], [("output", job.bvh), ("output", job.json)])
-        for output in (job.bvh, job.json):
-            if output is None:
-                continue
+        check_distinct([("audio", job.audio)], [("output", output) for output in job.outputs()])
+        for output in job.outputs():
             key = os.path.realpath(output)
             if key in owners:
                 raise UserError(f"{owners[key]} and {job.audio} would both write {output}; rename one of them")

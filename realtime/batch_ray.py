@@ -23,7 +23,7 @@ from gesturecast.realtime.batch_jobs import BatchJob
 logger = logging.getLogger(__name__)
 
 FILES_PER_CALL = 1  # one file per actor call: a long file never holds short ones back
-NO_JSON = ""  # a job without a JSON output, in a row (Ray rows hold no None)
+NO_FILE = ""  # an output a job does not write (JSON, VRMA), in a row (Ray rows hold no None)
 INSTALL_HINT = "pip install 'gesturecast[scale]'"
 
 
@@ -39,14 +39,14 @@ def import_ray():
 
 def job_row(job: BatchJob) -> dict:
     """A job as a Ray Data row (strings only)."""
-    return {"audio": str(job.audio), "bvh": str(job.bvh), "json": NO_JSON if job.json is None else str(job.json),
-            "overrides": json.dumps(job.overrides)}
+    return {"audio": str(job.audio), "bvh": str(job.bvh), "json": NO_FILE if job.json is None else str(job.json),
+            "vrma": NO_FILE if job.vrma is None else str(job.vrma), "overrides": json.dumps(job.overrides)}
 
 
 def row_job(row: dict) -> BatchJob:
     """The job of a row made by :func:`job_row`."""
-    return BatchJob(Path(row["audio"]), Path(row["bvh"]), Path(row["json"]) if row["json"] != NO_JSON else None,
-                    json.loads(row["overrides"]))
+    return BatchJob(Path(row["audio"]), Path(row["bvh"]), Path(row["json"]) if row["json"] != NO_FILE else None,
+                    json.loads(row["overrides"]), Path(row["vrma"]) if row["vrma"] != NO_FILE else None)
 
 
 class RayBatchActor:

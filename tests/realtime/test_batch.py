@@ -56,7 +56,8 @@ def read_summary(folder: Path) -> dict:
 def test_a_folder_batch_writes_what_generate_writes_lists_bad_files_and_resumes(tiny_model, clips, tmp_path):
     out = tmp_path / "out"
     model = ["--model", str(tiny_model[1])]
-    result = run_cli("generate", "--batch", str(clips), "-o", str(out), "--with-json", "--workers", "2", *model)
+    result = run_cli("generate", "--batch", str(clips), "-o", str(out), "--with-json", "--with-vrma", "--workers", "2",
+                     *model)
     assert result.returncode == BATCH_FAILED_EXIT, result.stderr[-3000:]
     summary = read_summary(out)
     assert (summary["files"], summary["generated"], summary["skipped"], summary["failed"]) == (4, 2, 0, 2)
@@ -69,8 +70,8 @@ def test_a_folder_batch_writes_what_generate_writes_lists_bad_files_and_resumes(
     single = tmp_path / "single"
     for audio, name in ((clips / "a.wav", "a"), (clips / "sub" / "b.wav", "sub/b")):
         assert run_cli("generate", str(audio), "-o", f"{single}/{name}.bvh", "--json", f"{single}/{name}.json",
-                       *model).returncode == 0
-        for suffix in (".bvh", ".json"):
+                       "--vrma", f"{single}/{name}.vrma", *model).returncode == 0
+        for suffix in (".bvh", ".json", ".vrma"):
             assert (out / f"{name}{suffix}").read_bytes() == (single / f"{name}{suffix}").read_bytes()
 
     finished = {p: p.stat().st_mtime_ns for p in out.rglob("*.bvh")}
@@ -107,6 +108,7 @@ def test_csv_rows_set_each_file_s_style_and_seed(tiny_model, clips, tmp_path):
     ("file\na.wav\n", [], "needs a header row with a 'path' column"),
     ("path\na.wav\nsub/../a.wav\n", [], "would both write"),
     ("path\na.wav\n", ["--json", "x.json"], "use --with-json"),
+    ("path\na.wav\n", ["--vrma", "x.vrma"], "use --with-vrma"),
     ("path\na.wav\n", ["a.wav"], "not both"),
 ])
 def test_bad_batch_input_is_one_line_before_any_work(tiny_model, tmp_path, table, extra, message):
@@ -128,6 +130,9 @@ def test_a_folder_s_jobs_mirror_its_tree_and_a_missing_source_is_refused(tmp_pat
     assert [(j.audio.relative_to(tmp_path), j.bvh.relative_to(tmp_path), j.json.relative_to(tmp_path))
             for j in jobs] == [(Path("in/b.WAV"), Path("out/b.bvh"), Path("out/b.json")),
                                (Path("in/deep/a.flac"), Path("out/deep/a.bvh"), Path("out/deep/a.json"))]
+    with_vrma = find_jobs(tmp_path / "in", tmp_path / "out", with_json=False, with_vrma=True)
+    assert [j.motion_paths() for j in with_vrma] == [[tmp_path / "out/b.bvh", tmp_path / "out/b.vrma"],
+                                                     [tmp_path / "out/deep/a.bvh", tmp_path / "out/deep/a.vrma"]]
     with pytest.raises(UserError, match="no such folder or CSV"):
         find_jobs(tmp_path / "missing", tmp_path / "out", with_json=False)
     (tmp_path / "nothing").mkdir()
