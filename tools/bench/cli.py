@@ -20,10 +20,10 @@ BENCH_MODULES: tuple[str, ...] = (
     "gesturecast.tools.bench.serve",
     "gesturecast.tools.bench.memory",
     "gesturecast.tools.bench.following",
-    "gesturecast.tools.bench.voices",
+    "gesturecast.tools.bench.speech.voices",
     "gesturecast.tools.bench.denoising",
     "gesturecast.tools.bench.root",
-    "gesturecast.tools.bench.lipsync",
+    "gesturecast.tools.bench.speech.lipsync",
 )
 
 

@@ -1,6 +1,6 @@
 """``gesturecast bench lipsync --json``: how right, how loud-following and how cheap the viseme weights are.
 
-- **Vowel accuracy** on the espeak-ng set (:mod:`gesturecast.tools.bench.lipsync_set`): per labelled frame,
+- **Vowel accuracy** on the espeak-ng set (:mod:`gesturecast.tools.bench.speech.lipsync_set`): per labelled frame,
   the class of :func:`mouth_class` (argmax vowel, or closed when the opening is below ``SILENT_MOUTH``) vs
   the label (5 vowels + silence); per voice, overall, vowels only, and the 6 × 6 confusion matrix.
 - **Mouth opening vs loudness** on real speech: Pearson r between the opening (sum of the weights) and the
@@ -28,7 +28,7 @@ from gesturecast.realtime.features.dsp import frame_boundary
 from gesturecast.realtime.features.lipsync import SILENT_MOUTH, LipSyncConfig, mouth_class
 from gesturecast.realtime.features.streaming import FeatureConfig, StreamingFeatureExtractor, speaking_flags
 from gesturecast.realtime.timing.frames import VISEME_VOWELS
-from gesturecast.tools.bench.lipsync_set import SET_DIR, SILENCE, UNLABELLED, VOICES, WORDS, Utterance, vowel_set
+from gesturecast.tools.bench.speech.lipsync_set import SET_DIR, SILENCE, UNLABELLED, VOICES, WORDS, Utterance, vowel_set
 
 SHARED_DATA = Path("/work/shared/data")
 DEFAULT_SPEECH = ("zeggs/067_Speech_2_x_1_0.wav", "beat2/2_scott_0_1_1.wav", "show/*.wav")

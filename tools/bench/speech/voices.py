@@ -1,6 +1,6 @@
 """``gesturecast bench voices``: does the motion follow the speech whoever speaks, and through any channel?
 
-For every condition of :mod:`gesturecast.tools.bench.voice_conditions` and every seed, motion is
+For every condition of :mod:`gesturecast.tools.bench.speech.voice_conditions` and every seed, motion is
 generated through the product's offline path (``run_offline``, DDIM K, the bundle's guidance) and scored:
 
 - ``r``: the speech-following measure (:mod:`gesturecast.models.evaluation.speech_following`: Pearson r of
@@ -39,7 +39,7 @@ from gesturecast.models.motion.motion import MOTION_FPS
 from gesturecast.realtime.audio.files import SAMPLE_RATE
 from gesturecast.realtime.engine_setup import DEFAULT_AUDIO_GUIDANCE, DEFAULT_MODEL_DIR, load_bundle
 from gesturecast.realtime.features.streaming import extract_features, speaking_flags
-from gesturecast.tools.bench.voice_conditions import (
+from gesturecast.tools.bench.speech.voice_conditions import (
     ORIGINAL,
     TRANSFORMS,
     VoiceCase,

@@ -4,8 +4,8 @@ import shutil
 
 import pytest
 
-from gesturecast.tools.bench.lipsync import CLASSES, benchmark
-from gesturecast.tools.bench.lipsync_set import SILENCE, UNLABELLED, vowel_set
+from gesturecast.tools.bench.speech.lipsync import CLASSES, benchmark
+from gesturecast.tools.bench.speech.lipsync_set import SILENCE, UNLABELLED, vowel_set
 
 pytestmark = pytest.mark.skipif(shutil.which("espeak-ng") is None, reason="espeak-ng is not installed")
 CLIP = "show/conan_115563-00_01_35-00_01_45.wav"
