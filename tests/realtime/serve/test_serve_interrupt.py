@@ -8,7 +8,7 @@ import time
 from gesturecast.tools.bench.serve_client import stream_audio
 
 START_BOUND_S = 90.0  # model load on a loaded 2-core machine
-INTERRUPT_BOUND_S = 5.0  # serve closes in well under a second here; generous for shared CI cores
+INTERRUPT_BOUND_S = 15.0  # serve closes in well under a second here; generous for shared, loaded CI cores
 STREAMING_S = 2.0
 
 
