@@ -23,7 +23,7 @@ import torch
 from gesturecast.models.generator.denoiser_config import DenoiserConfig, sequence_audio
 from gesturecast.models.generator.diffusion import get_schedule
 from gesturecast.models.networks.denoiser import CausalDenoiser
-from gesturecast.models.networks.vqvae import vqvae_from_checkpoint
+from gesturecast.models.networks.part_vqvae import load_motion_vq
 from gesturecast.models.runtime.bundle import Normalizer, StyleTable
 from gesturecast.models.training.arrays import load_training_clips
 from gesturecast.models.training.denoiser_objective import DenoiserTrainConfig, training_loss
@@ -48,7 +48,7 @@ def held_out_windows(checkpoint: dict, cache_dir: Path, config: HeldOutConfig) -
     stages = checkpoint["stages"]
     feature_config = FeatureConfig.from_dict(checkpoint["feature_config"])
     den_config = DenoiserConfig.from_dict(stages["denoiser"]["config"])
-    vq = vqvae_from_checkpoint(stages["vqvae"]["model"])
+    vq = load_motion_vq(stages["vqvae"]["model"])
     motion_stats = Normalizer.from_dict(stages["data"]["motion_stats"])
     latent_stats = Normalizer.from_dict(stages["denoiser"]["latent_stats"])
     audio_stats = FeatureStats.from_dict(stages["data"]["audio_stats"])

@@ -21,10 +21,11 @@ from gesturecast.models.export.motion_prompt import export_motion_prompt
 from gesturecast.models.export.onnx_half import round_weights_to_half, store_weights_in_half
 from gesturecast.models.export.vq import export_vq_decoder_step
 from gesturecast.models.generator.denoiser_config import DenoiserConfig
+from gesturecast.models.motion.body_parts import body_parts
 from gesturecast.models.generator.diffusion import DEFAULT_NUM_TIMESTEPS, DEFAULT_SCHEDULE
 from gesturecast.models.networks.denoiser import CausalDenoiser
 from gesturecast.models.networks.motion_prompt import MotionPromptConfig, MotionPromptEncoder
-from gesturecast.models.networks.vqvae import MotionVQVAE, vqvae_from_checkpoint
+from gesturecast.models.networks.part_vqvae import PartVQVAE, PartVQVAEConfig, load_motion_vq
 from gesturecast.models.runtime.bundle import LICENSE_NOTE, ONNX_FILES, write_manifest
 from gesturecast.models.training.pipeline import STAGES
 
@@ -37,17 +38,15 @@ WEIGHTS_NOTE = "rounded to float16 and stored as float16; onnxruntime computes i
 class VQEncodeGraph(nn.Module):
     """features (B, T, D) → quantized latents (B, T/d, C): encoder + nearest codebook vector."""
 
-    def __init__(self, model: MotionVQVAE):
+    def __init__(self, model: PartVQVAE):
         super().__init__()
-        self.encoder = model.encoder
-        self.quantizer = model.quantizer
+        self.model = model
 
     def forward(self, features: torch.Tensor) -> torch.Tensor:
-        pre = self.encoder(features)  # (B, N, C)
-        return self.quantizer.lookup(self.quantizer.nearest_codes(pre))  # (B, N, C)
+        return self.model.quantized_latents(features)  # (B, N, C)
 
 
-def export_vq_encoder(model: MotionVQVAE, path: Path) -> Path:
+def export_vq_encoder(model: PartVQVAE, path: Path) -> Path:
     example = torch.zeros(1, EXAMPLE_LATENTS * model.config.downsample, model.config.feature_dim)
     with torch.no_grad():
         torch.onnx.export(VQEncodeGraph(model.eval()), (example,), str(path), input_names=["features"],
@@ -57,13 +56,16 @@ def export_vq_encoder(model: MotionVQVAE, path: Path) -> Path:
     return path
 
 
-def models_from_checkpoint(checkpoint: dict) -> tuple[MotionVQVAE, CausalDenoiser, MotionPromptEncoder]:
+def models_from_checkpoint(checkpoint: dict) -> tuple[PartVQVAE, CausalDenoiser, MotionPromptEncoder]:
     """Rebuild the three torch models from a training checkpoint's plain data."""
     stages = checkpoint["stages"]
     missing = [stage for stage in STAGES if stage not in stages]
     if missing:
         raise UserError(f"the checkpoint has not finished training (missing {', '.join(missing)}); run train --resume")
-    vqvae = vqvae_from_checkpoint(stages["vqvae"]["model"])
+    vqvae = load_motion_vq(stages["vqvae"]["model"])
+    if not isinstance(vqvae, PartVQVAE):
+        raise UserError("the checkpoint has one whole-body VQ-VAE (checkpoint format 1); bundles since format 2 "
+                        "need one per body part: retrain with `gesturecast train`")
     denoiser = CausalDenoiser(DenoiserConfig.from_dict(stages["denoiser"]["config"]))
     denoiser.load_state_dict(stages["denoiser"]["state"])
     prompt = MotionPromptEncoder(MotionPromptConfig(**stages["motion_prompt"]["config"]))
@@ -71,7 +73,7 @@ def models_from_checkpoint(checkpoint: dict) -> tuple[MotionVQVAE, CausalDenoise
     return vqvae, denoiser.eval(), prompt.eval()
 
 
-def bundle_models(checkpoint: dict) -> tuple[MotionVQVAE, CausalDenoiser, MotionPromptEncoder]:
+def bundle_models(checkpoint: dict) -> tuple[PartVQVAE, CausalDenoiser, MotionPromptEncoder]:
     """The torch models exactly as a bundle ships them: the checkpoint's weights rounded to float16."""
     vqvae, denoiser, prompt = models_from_checkpoint(checkpoint)
     return round_weights_to_half(vqvae), round_weights_to_half(denoiser), round_weights_to_half(prompt)
@@ -93,23 +95,32 @@ def training_summary(checkpoint: dict) -> dict:
         "final_losses": {"vqvae": stages["vqvae"]["metrics"]["final_losses"],
                          "denoiser": stages["denoiser"]["metrics"]["final_loss"],
                          "motion_prompt": stages["motion_prompt"]["metrics"]["final_loss"]},
-        "vqvae_validation": {**stages["vqvae"]["metrics"].get("val", {}),
-                             **stages["vqvae"]["metrics"].get("val_joint_errors", {})},
+        "vqvae_validation": {"parts": stages["vqvae"]["metrics"].get("val", {}),
+                             **stages["vqvae"]["metrics"].get("val_joint_errors", {}),
+                             "part_joint_errors": stages["vqvae"]["metrics"].get("val_part_joint_errors", {})},
         **checkpoint.get("summary", {}),
     }
+
+
+def body_parts_manifest(config: PartVQVAEConfig) -> dict:
+    """Each part's joints and its channels [start, end) of the stacked latent (what per-part styles mask)."""
+    slices = config.latent_slices()
+    return {part.name: {"joints": list(part.joints), "latent_channels": [slices[part.name].start,
+                                                                           slices[part.name].stop]}
+            for part in body_parts(config.parts)}
 
 
 def bundle_manifest(checkpoint: dict) -> dict:
     stages = checkpoint["stages"]
     denoiser = stages["denoiser"]["config"]
-    vq = stages["vqvae"]["model"]["config"]
+    vq = PartVQVAEConfig.from_dict(stages["vqvae"]["model"]["config"])
     return {
         "fps": checkpoint["feature_config"]["fps"],
         "frames_per_latent": denoiser["frames_per_latent"],
         "audio_lookahead": denoiser["audio_lookahead"],
         "audio_window": denoiser["audio_window"],
         "audio_features": checkpoint["feature_config"],
-        "motion_feature_dim": vq["feature_dim"],
+        "motion_feature_dim": vq.feature_dim,
         "motion_stats": stages["data"]["motion_stats"],
         "latent_stats": stages["denoiser"]["latent_stats"],
         "audio_stats": stages["data"]["audio_stats"],
@@ -117,7 +128,8 @@ def bundle_manifest(checkpoint: dict) -> dict:
         "guidance": {"default_scale": checkpoint["preset"]["default_guidance"]},
         "diffusion": {"schedule": DEFAULT_SCHEDULE, "num_timesteps": DEFAULT_NUM_TIMESTEPS, "prediction": "x0"},
         "denoiser": denoiser,
-        "vqvae": vq,
+        "vqvae": vq.to_dict(),
+        "body_parts": body_parts_manifest(vq),
         "motion_prompt": stages["motion_prompt"]["config"],
         "files": dict(ONNX_FILES),
         "weights": WEIGHTS_NOTE,

@@ -166,6 +166,10 @@ class MotionVQVAE(nn.Module):
         out: QuantizerOutput = self.quantizer(pre)
         return VQEncoding(pre, out.quantized, out.codes, out.commitment_loss)
 
+    def quantized_latents(self, x: torch.Tensor) -> torch.Tensor:
+        """x (B, T, D) → the nearest code vectors (B, T/d, C), no statistics updated (the encoder export)."""
+        return self.quantizer.lookup(self.quantizer.nearest_codes(self.encoder(x)))
+
     def decode(self, latents: torch.Tensor) -> torch.Tensor:
         """Latents (B, N, C), quantized or not → features (B, N·d, D)."""
         return self.decoder(latents)

@@ -9,7 +9,8 @@ Layout of a bundle directory (e.g. ``models/weights/default/``)::
                         training summary and license
     denoiser.onnx       one causal denoiser step (KV cache in/out), see export_denoiser
     denoiser_condition.onnx  a frame's condition (audio token + style modulations), once per latent
-    vq_decoder.onnx     one streaming VQ decoder step (state in/out)
+    vq_decoder.onnx     one streaming VQ decoder step (state in/out) of the stacked latent: the body
+                        parts' code vectors side by side, channels per part in ``body_parts``
     vq_encoder.onnx     motion features (1, T, D) → quantized latents (1, T/d, C), for seed gestures
     motion_prompt.onnx  motion features (1, T, D) → (1, S) style embedding
 
@@ -37,7 +38,7 @@ from gesturecast.realtime.features.streaming import FeatureConfig
 
 logger = logging.getLogger(__name__)
 
-BUNDLE_FORMAT_VERSION = 1
+BUNDLE_FORMAT_VERSION = 2  # 2: one VQ-VAE per body part, stacked latents (``body_parts``)
 MANIFEST_FILE = "model.json"
 ONNX_FILES = {
     "denoiser": "denoiser.onnx",
@@ -141,7 +142,8 @@ def read_manifest(directory: Path) -> dict:
         raise UserError(f"{path} is not a model manifest (a JSON object is expected); re-export the bundle")
     version = manifest.get("format_version")
     if version != BUNDLE_FORMAT_VERSION:
-        raise UserError(f"{path} has format version {version!r}; this gesturecast reads {BUNDLE_FORMAT_VERSION}")
+        raise UserError(f"{path} has format version {version!r}; this gesturecast reads {BUNDLE_FORMAT_VERSION} "
+                        "(one VQ-VAE per body part): retrain with `gesturecast train` and export it")
     missing = [name for name in ONNX_FILES.values() if not (Path(directory) / name).is_file()]
     if missing:
         raise UserError(f"model bundle {directory} is incomplete: missing {', '.join(missing)}")
@@ -162,6 +164,7 @@ class ModelBundle:
     styles: StyleTable
     default_guidance: float
     schedule_name: str
+    part_channels: dict[str, slice]  # each body part's channels of the stacked latent
 
     @classmethod
     def load(cls, directory: Path | str) -> ModelBundle:
@@ -189,6 +192,7 @@ class ModelBundle:
             styles=StyleTable.from_dict(manifest["styles"]),
             default_guidance=float(manifest["guidance"]["default_scale"]),
             schedule_name=manifest["diffusion"]["schedule"],
+            part_channels={name: slice(*part["latent_channels"]) for name, part in manifest["body_parts"].items()},
         )
 
     def check_finite(self) -> None:

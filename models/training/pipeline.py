@@ -30,6 +30,7 @@ import numpy as np
 import torch
 
 from gesturecast.errors import UserError
+from gesturecast.models.motion.body_parts import PART_NAMES, body_parts
 from gesturecast.models.generator.denoiser_config import DenoiserConfig
 from gesturecast.models.generator.style_text import PROMPT_TEMPLATE, StyleTextEmbedder, vocabulary_embeddings
 from gesturecast.models.networks.motion_prompt import (
@@ -38,7 +39,8 @@ from gesturecast.models.networks.motion_prompt import (
     PromptTrainConfig,
     train_motion_prompt,
 )
-from gesturecast.models.networks.vqvae import MotionVQVAE, VQVAEConfig, vqvae_checkpoint, vqvae_from_checkpoint
+from gesturecast.models.networks.part_vqvae import PartVQVAE, PartVQVAEConfig, load_motion_vq, motion_vq_checkpoint
+from gesturecast.models.networks.vqvae import VQVAEConfig
 from gesturecast.models.runtime.bundle import Normalizer, StyleTable
 from gesturecast.models.training.arrays import TrainingClip, dataset_summary, load_training_clips
 from gesturecast.models.training.audio_augment import AudioAugmentConfig, FeatureAugmenter
@@ -51,7 +53,7 @@ from gesturecast.realtime.features.streaming import FeatureConfig
 
 logger = logging.getLogger(__name__)
 
-CHECKPOINT_FORMAT_VERSION = 1
+CHECKPOINT_FORMAT_VERSION = 2  # 2: one VQ-VAE per body part
 CHECKPOINT_FILE = "checkpoint.pt"
 MOTION_STD_FLOOR = 1e-2  # near-constant rotation channels are not amplified into noise
 STAGES = ("data", "vqvae", "denoiser", "motion_prompt")
@@ -118,35 +120,57 @@ def data_stage(inputs: TrainInputs) -> dict:
             "styles": table.to_dict(), "summary": dataset_summary(inputs.motion_train, inputs.feature_config.fps)}
 
 
-def vq_config(preset: TrainPreset, feature_dim: int) -> VQVAEConfig:
+def part_vq_config(preset: TrainPreset) -> PartVQVAEConfig:
+    """One VQ-VAE config per body part, sized by the preset (same d, codebook size and depth for all)."""
     vq = preset.vq
-    return VQVAEConfig(feature_dim=feature_dim, hidden_dim=vq.hidden_dim, latent_dim=vq.latent_dim,
-                       downsample=vq.downsample, res_blocks_per_stage=vq.res_blocks_per_stage,
-                       codebook_size=vq.codebook_size)
+    configs = tuple(
+        VQVAEConfig(feature_dim=part.feature_dim, hidden_dim=hidden, latent_dim=latent, downsample=vq.downsample,
+                    res_blocks_per_stage=vq.res_blocks_per_stage, codebook_size=vq.codebook_size)
+        for part, hidden, latent in zip(body_parts(), vq.hidden_dims, vq.latent_dims, strict=True)
+    )
+    return PartVQVAEConfig(PART_NAMES, configs)
 
 
-def vq_joint_errors(model: MotionVQVAE, clips: list[np.ndarray], motion_stats: Normalizer) -> dict[str, float]:
-    """Mean held-out joint errors (cm, degrees) over up to MAX_EVAL_CLIPS clips."""
+def vq_joint_errors(model: PartVQVAE, clips: list[np.ndarray], motion_stats: Normalizer,
+                    joints: tuple[str, ...] | None = None) -> dict[str, float]:
+    """Mean held-out joint errors (cm, degrees) over up to MAX_EVAL_CLIPS clips (of ``joints`` when given)."""
     errors = []
     for clip in clips[:MAX_EVAL_CLIPS]:
         reconstruction, _ = reconstruct(model, clip)  # (T', D)
         errors.append(joint_errors(motion_stats.denormalize(clip[: len(reconstruction)]),
-                                   motion_stats.denormalize(reconstruction)))
+                                   motion_stats.denormalize(reconstruction), joints))
     return {key: float(np.mean([e[key] for e in errors])) for key in errors[0]} if errors else {}
 
 
 def vqvae_stage(inputs: TrainInputs, preset: TrainPreset, motion_stats: Normalizer, progress: bool) -> dict:
+    """One VQ-VAE per body part on that part's feature columns; held-out errors for the whole body and per part."""
     train = [motion_stats.normalize(clip.motion) for clip in inputs.motion_train]
     val = [motion_stats.normalize(clip.motion) for clip in inputs.val if clip.num_frames >= preset.vq.downsample]
-    config = vq_config(preset, train[0].shape[1])
+    config = part_vq_config(preset)
     train_config = VQTrainConfig(window=preset.vq.window, batch_size=preset.vq.batch_size)
-    model, metrics = train_vqvae(train, config, preset.vq.steps, preset.seed, progress, val or None, train_config)
-    metrics["val_joint_errors"] = vq_joint_errors(model, val, motion_stats)
-    return {"model": vqvae_checkpoint(model), "metrics": metrics}
+    models, part_metrics = [], {}
+    for part, part_config in zip(body_parts(config.parts), config.part_configs, strict=True):
+        columns = list(part.columns)
+        part_model, metrics = train_vqvae([clip[:, columns] for clip in train], part_config, preset.vq.steps,
+                                          preset.seed, progress, [clip[:, columns] for clip in val] or None,
+                                          train_config)
+        models.append(part_model)
+        part_metrics[part.name] = metrics
+    model = PartVQVAE(config, models)
+    metrics = {
+        "parts": part_metrics,
+        "parameters": sum(m["parameters"] for m in part_metrics.values()),
+        "final_losses": {name: m["final_losses"] for name, m in part_metrics.items()},
+        "val": {name: m["val"] for name, m in part_metrics.items() if "val" in m},
+        "val_joint_errors": vq_joint_errors(model, val, motion_stats),
+        "val_part_joint_errors": {part.name: vq_joint_errors(model, val, motion_stats, part.joints)
+                                  for part in model.parts},
+    }
+    return {"model": motion_vq_checkpoint(model), "metrics": metrics}
 
 
-def encode_latents(model: MotionVQVAE, motion: np.ndarray) -> np.ndarray:
-    """(T, D) normalised features → (T // d, C) quantized latents."""
+def encode_latents(model: PartVQVAE, motion: np.ndarray) -> np.ndarray:
+    """(T, D) normalised features → (T // d, C) quantized latents (the parts' stacked)."""
     d = model.config.downsample
     usable = len(motion) - len(motion) % d
     with torch.no_grad():
@@ -154,7 +178,7 @@ def encode_latents(model: MotionVQVAE, motion: np.ndarray) -> np.ndarray:
     return encoding.quantized[0].numpy()
 
 
-def latent_clips(inputs: TrainInputs, model: MotionVQVAE, stats: dict, styles: StyleTable) -> tuple[list, Normalizer]:
+def latent_clips(inputs: TrainInputs, model: PartVQVAE, stats: dict, styles: StyleTable) -> tuple[list, Normalizer]:
     motion_stats = Normalizer.from_dict(stats["motion_stats"])
     audio_stats = FeatureStats.from_dict(stats["audio_stats"])
     encoded = [encode_latents(model, motion_stats.normalize(clip.motion)) for clip in inputs.train]
@@ -178,7 +202,7 @@ def denoiser_config(preset: TrainPreset, latent_dim: int, audio_dim: int, style_
 
 def denoiser_stage(inputs: TrainInputs, preset: TrainPreset, checkpoint: dict, progress: bool) -> dict:
     stages = checkpoint["stages"]
-    model = vqvae_from_checkpoint(stages["vqvae"]["model"])
+    model = load_motion_vq(stages["vqvae"]["model"])
     styles = StyleTable.from_dict(stages["data"]["styles"])
     clips, latent_stats = latent_clips(inputs, model, stages["data"], styles)
     config = denoiser_config(preset, model.config.latent_dim, inputs.feature_config.num_features,

@@ -15,8 +15,10 @@ from gesturecast.errors import UserError
 
 @dataclass(frozen=True)
 class VQPreset:
-    hidden_dim: int
-    latent_dim: int
+    """One VQ-VAE per body part (models/motion/body_parts.py: arms, torso, legs), sizes in that order."""
+
+    hidden_dims: tuple[int, ...]
+    latent_dims: tuple[int, ...]  # the stacked latent has sum(latent_dims) channels
     codebook_size: int
     res_blocks_per_stage: int
     downsample: int
@@ -73,7 +75,8 @@ class TrainPreset:
         return cls(
             **{
                 **values,
-                "vq": VQPreset(**values["vq"]),
+                "vq": VQPreset(**{**values["vq"], "hidden_dims": tuple(values["vq"]["hidden_dims"]),
+                                  "latent_dims": tuple(values["vq"]["latent_dims"])}),
                 "denoiser": DenoiserPreset(**values["denoiser"]),
                 "prompt": PromptPreset(**values["prompt"]),
                 "paired_speeds": tuple(values["paired_speeds"]),
@@ -83,8 +86,8 @@ class TrainPreset:
 
 TINY = TrainPreset(
     name="tiny",
-    vq=VQPreset(hidden_dim=32, latent_dim=8, codebook_size=32, res_blocks_per_stage=1, downsample=4, steps=12,
-                batch_size=4, window=32),
+    vq=VQPreset(hidden_dims=(32, 16, 16), latent_dims=(4, 2, 2), codebook_size=32, res_blocks_per_stage=1,
+                downsample=4, steps=12, batch_size=4, window=32),
     denoiser=DenoiserPreset(width=32, num_layers=1, num_heads=2, window=4, audio_window=16, steps=40, batch_size=4,
                             sequence_latents=6, learning_rate=1e-3, paired_fraction=0.5),
     prompt=PromptPreset(width=16, steps=5, batch_size=4, clip_frames=32),
@@ -94,8 +97,8 @@ TINY = TrainPreset(
 
 DEFAULT = TrainPreset(
     name="default",
-    vq=VQPreset(hidden_dim=128, latent_dim=32, codebook_size=512, res_blocks_per_stage=2, downsample=4, steps=2000,
-                batch_size=32, window=64),
+    vq=VQPreset(hidden_dims=(128, 64, 64), latent_dims=(16, 8, 8), codebook_size=512, res_blocks_per_stage=2,
+                downsample=4, steps=2000, batch_size=32, window=64),
     denoiser=DenoiserPreset(width=128, num_layers=4, num_heads=4, window=16, audio_window=16, steps=6000,
                             batch_size=32, sequence_latents=16, learning_rate=3e-4, paired_fraction=0.5),
     prompt=PromptPreset(width=128, steps=400, batch_size=32, clip_frames=90),

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from gesturecast.models.motion.motion_features import ROOT_VELOCITY, ROOT_YAW_RATE, features_to_motion
+from gesturecast.models.motion.skeleton import CANONICAL
 
 CENTIMETRES_PER_METRE = 100.0
 
@@ -23,15 +24,16 @@ def in_facing_frame(features: np.ndarray) -> np.ndarray:
     return still
 
 
-def joint_errors(reference: np.ndarray, reconstruction: np.ndarray) -> dict[str, float]:
+def joint_errors(reference: np.ndarray, reconstruction: np.ndarray,
+                 joints: tuple[str, ...] | None = None) -> dict[str, float]:
     """Mean root-relative joint position error (cm) and mean local rotation error (degrees) of two (T, D)
-    denormalised feature clips, both seen in their own facing frame (root drift is not counted)."""
+    denormalised feature clips, both seen in their own facing frame (root drift is not counted); over the
+    named canonical ``joints`` only when given (a body part's)."""
     motion_a = features_to_motion(in_facing_frame(reference))
     motion_b = features_to_motion(in_facing_frame(reconstruction))
-    positions_a = motion_a.positions() - motion_a.root_position[:, None]  # (T, J, 3)
-    positions_b = motion_b.positions() - motion_b.root_position[:, None]  # (T, J, 3)
+    picked = slice(None) if joints is None else [CANONICAL.index(joint) for joint in joints]
+    positions_a = (motion_a.positions() - motion_a.root_position[:, None])[:, picked]  # (T, J', 3)
+    positions_b = (motion_b.positions() - motion_b.root_position[:, None])[:, picked]  # (T, J', 3)
     position_error = np.linalg.norm(positions_a - positions_b, axis=-1).mean() * CENTIMETRES_PER_METRE
-    return {
-        "position_cm": float(position_error),
-        "rotation_deg": float(rotation_angle_degrees(motion_a.rotations, motion_b.rotations).mean()),
-    }
+    rotation_error = rotation_angle_degrees(motion_a.rotations[:, picked], motion_b.rotations[:, picked])  # (T, J')
+    return {"position_cm": float(position_error), "rotation_deg": float(rotation_error.mean())}
