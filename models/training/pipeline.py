@@ -30,9 +30,9 @@ import numpy as np
 import torch
 
 from gesturecast.errors import UserError
-from gesturecast.models.motion.body_parts import PART_NAMES, body_parts
 from gesturecast.models.generator.denoiser_config import DenoiserConfig
 from gesturecast.models.generator.style_text import PROMPT_TEMPLATE, StyleTextEmbedder, vocabulary_embeddings
+from gesturecast.models.motion.body_parts import PART_NAMES, body_parts
 from gesturecast.models.networks.motion_prompt import (
     MotionPromptConfig,
     MotionPromptEncoder,
