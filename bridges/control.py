@@ -95,9 +95,36 @@ class ChoiceField:
         return {"type": "choice", "choices": list(self.choices)}
 
 
-CONTROL_FIELDS: dict[str, TextField | NumberField | ChoiceField] = {
+MAX_PARTS = 8
+MAX_PART_NAME_CHARS = 32
+
+
+@dataclass(frozen=True)
+class PartStylesField:
+    """``{"arms": "happy", "torso": "text:tired"}``: a style per body part (GestureDiffuCLIP §6.3); ``{}`` gives
+    the whole body one style again. Part names are checked against the model when the control is applied."""
+
+    style: StyleField
+
+    def check(self, name: str, value: object) -> dict[str, str]:
+        if not isinstance(value, dict):
+            raise ControlError(f'{name} must be an object of body part → style, e.g. {{"arms": "happy"}}')
+        if len(value) > MAX_PARTS:
+            raise ControlError(f"{name} names more than {MAX_PARTS} body parts")
+        for part, style in value.items():
+            if not part.strip() or len(part) > MAX_PART_NAME_CHARS:
+                raise ControlError(f"{name}: a body part name must be 1..{MAX_PART_NAME_CHARS} characters")
+            self.style.check(f"{name}.{part:.32}", style)
+        return dict(value)
+
+    def describe(self) -> dict:
+        return {"type": "parts", "max_parts": MAX_PARTS, "style": self.style.describe()}
+
+
+CONTROL_FIELDS: dict[str, TextField | NumberField | ChoiceField | PartStylesField] = {
     "style": StyleField(MAX_STYLE_CHARS),
     "style2": StyleField(MAX_STYLE_CHARS),
+    "part_styles": PartStylesField(StyleField(MAX_STYLE_CHARS)),
     "prompt": TextField(MAX_PROMPT_CHARS),
     "guidance": NumberField(*GUIDANCE_RANGE),
     "audio_guidance": NumberField(*GUIDANCE_RANGE),  # s_a: how strongly the motion follows the speech

@@ -51,6 +51,7 @@ def hello_message(
     control_schema: dict,
     token_required: bool,
     visemes: Sequence[str] = (),
+    body_parts: Sequence[str] = (),
 ) -> str:
     """The first message on every connection: everything a client needs to interpret frames."""
     return json.dumps(
@@ -70,6 +71,7 @@ def hello_message(
             "control_schema": control_schema,
             "token_required": token_required,
             "visemes": list(visemes),
+            "body_parts": list(body_parts),  # what a part_styles control may name
         }
     )
 

@@ -32,6 +32,7 @@ CSV_COLUMNS: dict[str, tuple[str, Callable[[str], object]]] = {
     "style": ("style", str),
     "prompt": ("prompt", str),
     "style2": ("style2", str),
+    "part_style": ("part_style", str.split),  # space-separated PART=STYLE pairs, as --part-style takes them
     "gamma": ("gamma", finite_float()),
     "guidance": ("guidance", finite_float()),
     "audio_guidance": ("audio_guidance", finite_float()),

@@ -23,7 +23,7 @@ from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.realtime.generator import SINGLE_STYLE, Generator, GeneratorSettings
 from gesturecast.realtime.seed_motion import load_seed_motion
 from gesturecast.realtime.session import GestureSession, SessionConfig
-from gesturecast.realtime.style_prompts import StylePrompt
+from gesturecast.realtime.style_prompts import StylePrompt, parse_part_styles
 from gesturecast.realtime.timing.clock import Clock
 from gesturecast.realtime.timing.frames import VISEME_NAMES
 from gesturecast.realtime.timing.latency import LATENCY_SETTINGS, QUALITY, LatencyBudget, LatencySetting
@@ -43,6 +43,9 @@ def add_generation_arguments(parser: argparse.ArgumentParser) -> None:
                        "or motion:CLIP.bvh")
     group.add_argument("--prompt", help="free-text style prompt (same as --style text:...)")
     group.add_argument("--motion-prompt", type=Path, help="a BVH/NPZ clip whose style to imitate")
+    group.add_argument("--part-style", nargs="+", default=[], metavar="PART=STYLE",
+                       help="a style per body part (arms, torso, legs), e.g. arms=happy \"legs=text:tired\"; "
+                            "parts not named follow --style (docs/part-styles.md)")
     group.add_argument("--style2", help="second style for γ interpolation/extrapolation")
     group.add_argument("--gamma", type=finite_float(), default=SINGLE_STYLE,
                        help="x̂0 = γ·D(style) + (1 − γ)·D(style2)")
@@ -114,6 +117,7 @@ def generator_settings(args: argparse.Namespace, bundle: ModelBundle) -> Generat
         threads=args.threads,
         audio_guidance=args.audio_guidance,
         lookahead=lookahead,
+        part_styles=parse_part_styles(args.part_style),
     )
 
 
@@ -202,6 +206,7 @@ def build_outputs(args: argparse.Namespace, session: GestureSession, clock: Cloc
     if args.ws is not None:
         config = WebSocketConfig(host=args.host, port=args.ws, token=server_token(args), fps=float(args.fps),
                                  style=session.controls.describe(), style_choices=tuple(session.bundle.styles.labels),
+                                 body_parts=tuple(session.bundle.part_channels),
                                  allow_origins=tuple(args.allow_origin), avatar=resolve_avatar(args.avatar),
                                  lipsync=bool(viseme_names(args)), viseme_names=viseme_names(args) or
                                  WebSocketConfig.viseme_names, clock=clock.now)

@@ -5,11 +5,12 @@ numpy + onnxruntime only (no torch). Per step (GestureDiffuCLIP §3.2, run autor
 1. draw x_T ~ N(0, I) for the new latent from the generator's own seeded RNG, and compute the
    rows' condition (audio-window token + style modulations) once — it is the same at every step;
 2. run the sampler (K-step DDIM, or the 1000-step DDPM path) — each step is ONE batched denoiser
-   call whose rows are [style 1, style 2 (only with γ), null style (only with guidance s ≠ 1),
-   style 1 without the audio (only with audio guidance s_a ≠ 1)], all conditioned on the clean
-   past latents through the KV cache and on that condition; the rows are combined as
-   x̂0 = γ·D(c1) + (1 − γ)·D(c2) (DiffuseStyleGesture), then x̂0 = D(∅) + s·(x̂0 − D(∅))
-   (classifier-free guidance, Ho & Salimans 2022 eq. 6), then x̂0 += (s_a − 1)·(D(c1) − D(c1, ∅a));
+   call whose rows are [style 1 and one row per other body-part prompt, style 2 (only with γ), null
+   style (only with guidance s ≠ 1), style 1 without the audio (only with audio guidance s_a ≠ 1)],
+   all conditioned on the clean past latents through the KV cache and on that condition; the rows
+   are combined by :mod:`gesturecast.realtime.style_mixture`: part fusion E = Σ_o E_o · M_o
+   (GestureDiffuCLIP §6.3), x̂0 = γ·x̂0 + (1 − γ)·D(c2) (DiffuseStyleGesture), classifier-free
+   guidance (Ho & Salimans 2022 eq. 6), audio guidance, and with part prompts the smoothness term;
 3. commit the clean latent to the history (folded into the next denoiser call) and decode it with
    the streaming VQ decoder into d motion-feature frames (denormalised, canonical layout).
 
@@ -37,22 +38,28 @@ from gesturecast.models.generator.denoiser_config import (
 from gesturecast.models.generator.diffusion import (
     CLEAN_TIMESTEP,
     SamplerConfig,
-    classifier_free_guidance,
     get_schedule,
     sampler_step,
     sampling_plan,
-    style_interpolation,
 )
 from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.models.runtime.denoiser import FrameInputs, roll_cache
 from gesturecast.models.runtime.ort_session import DEFAULT_THREADS
-from gesturecast.realtime.style_prompts import StylePrompt, StyleResolver
+from gesturecast.realtime.style_mixture import (
+    NO_GUIDANCE,
+    SEAM_SMOOTHING,
+    SINGLE_STYLE,
+    RowLayout,
+    combine_rows,
+    part_mixture,
+    row_layout,
+    smooth_seams,
+)
+from gesturecast.realtime.style_prompts import PartStyles, StylePrompt, StyleResolver
 
 logger = logging.getLogger(__name__)
 
 NEUTRAL_STYLE = StylePrompt("label", "neutral")
-NO_GUIDANCE = 1.0  # s = 1 is the conditional prediction alone: no null-style row needed
-SINGLE_STYLE = 1.0  # γ = 1 is style 1 alone: no second-style row needed
 
 
 @dataclass(frozen=True)
@@ -66,6 +73,8 @@ class GeneratorSettings:
     threads: int = DEFAULT_THREADS
     audio_guidance: float = NO_GUIDANCE  # s_a: > 1 strengthens the speech's pull on the motion (extra row)
     lookahead: int | None = None  # δ: audio look-ahead frames heard (None = the model's δa; docs/latency.md)
+    part_styles: PartStyles = ()  # (body part, prompt) pairs; parts not named follow ``style``
+    seam_smoothing: float = SEAM_SMOOTHING  # λ of the smoothness term (with more than one part prompt)
 
 
 @dataclass(frozen=True)
@@ -75,61 +84,6 @@ class HistoryFrame:
     latent: np.ndarray  # (C,)
     window: np.ndarray  # (A, F)
     audio_present: float
-
-
-@dataclass(frozen=True)
-class RowLayout:
-    """The rows of one batched denoiser call: style embeddings (B, S), style_present (B,), and hears_audio (B,)
-    (0 on the audio-null row of audio guidance). Row order: c1, [c2], [null style], [c1 without audio]."""
-
-    styles: np.ndarray
-    style_present: np.ndarray
-    hears_audio: np.ndarray
-    has_second: bool
-    has_null: bool
-    has_audio_null: bool
-
-    @property
-    def batch(self) -> int:
-        return int(self.styles.shape[0])
-
-    @property
-    def null_row(self) -> int:
-        return self.batch - 1 - int(self.has_audio_null)
-
-    def same_rows(self, other: RowLayout) -> bool:
-        return (self.has_second, self.has_null, self.has_audio_null) == (
-            other.has_second, other.has_null, other.has_audio_null)
-
-
-def row_layout(style: np.ndarray, second: np.ndarray | None, gamma: float, guidance: float,
-               audio_guidance: float = NO_GUIDANCE) -> RowLayout:
-    has_second = second is not None and gamma != SINGLE_STYLE
-    has_null = guidance != NO_GUIDANCE
-    has_audio_null = audio_guidance != NO_GUIDANCE
-    rows = [style] + ([second] if has_second else []) + ([np.zeros_like(style)] if has_null else [])
-    present = [1.0] + ([1.0] if has_second else []) + ([0.0] if has_null else [])
-    hears = [1.0] * len(rows)
-    if has_audio_null:
-        rows, present, hears = rows + [style], present + [1.0], hears + [0.0]
-    return RowLayout(np.stack(rows).astype(np.float32), np.asarray(present, np.float32), np.asarray(hears, np.float32),
-                     has_second, has_null, has_audio_null)
-
-
-def combine_rows(x0_rows: np.ndarray, layout: RowLayout, gamma: float, guidance: float,
-                 audio_guidance: float = NO_GUIDANCE) -> np.ndarray:
-    """(B, C) per-row x0 predictions → the guided (C,) prediction: γ mix, then style CFG, then audio guidance
-
-    x̂0 ← x̂0 + (s_a − 1)·(D(c1, a) − D(c1, ∅a)) — a second, additive guidance term in the manner of
-    InstructPix2Pix (Brooks et al. 2023, eq. 3) with the speech as its condition; s_a = 1 adds nothing.
-    """
-    x0 = x0_rows.astype(np.float64)
-    guided = style_interpolation(x0[0], x0[1], gamma) if layout.has_second else x0[0]
-    if layout.has_null:
-        guided = classifier_free_guidance(x0[layout.null_row], guided, guidance)
-    if layout.has_audio_null:
-        guided = guided + (audio_guidance - NO_GUIDANCE) * (x0[0] - x0[-1])
-    return guided
 
 
 def check_lookahead(config: DenoiserConfig, lookahead: int) -> None:
@@ -160,8 +114,8 @@ class Generator:
         self.decoder = bundle.vq_decoder(self.settings.threads)
         self.styles = StyleResolver(bundle, self.settings.threads)
         self.history: deque[HistoryFrame] = deque(maxlen=self.config.window)
-        self._style = self.styles.embed(self.settings.style)
         self._second = None if self.settings.second_style is None else self.styles.embed(self.settings.second_style)
+        self._set_mixture_values(*self.part_mixture(self.settings.style, self.settings.part_styles))
         self._plan = sampling_plan(self.schedule.num_timesteps, self.settings.sampler)
         self.layout = self._make_layout()
         self.reset(self.settings.seed)
@@ -172,8 +126,13 @@ class Generator:
 
     @property
     def style_embedding(self) -> np.ndarray:
-        """(S,) embedding of style c1."""
-        return self._style
+        """(S,) embedding of style c1 (the base style of a part mixture)."""
+        return self._mixture_embeddings[0]
+
+    @property
+    def mixture(self) -> tuple[list[StylePrompt], np.ndarray]:
+        """The style rows' prompts (R) and their latent-channel weights W (R, C) (style_mixture.py)."""
+        return list(self._mixture_prompts), self._weights.copy()
 
     @property
     def second_style_embedding(self) -> np.ndarray | None:
@@ -185,7 +144,18 @@ class Generator:
         return self.config.latent_dim
 
     def _make_layout(self) -> RowLayout:
-        return row_layout(self._style, self._second, self.settings.gamma, self.guidance, self.settings.audio_guidance)
+        return row_layout(self._mixture_embeddings, self._second, self.settings.gamma, self.guidance,
+                          self.settings.audio_guidance)
+
+    def part_mixture(self, style: StylePrompt, part_styles: PartStyles) -> tuple[list[StylePrompt], np.ndarray]:
+        """The mixture (prompts, W) of a base style and per-part prompts for this model's body parts; UserError
+        for a part the model does not have."""
+        return part_mixture(style, dict(part_styles), self.bundle.part_channels, self.latent_dim)
+
+    def _set_mixture_values(self, prompts: list[StylePrompt], weights: np.ndarray) -> None:
+        self._mixture_embeddings = np.stack([self.styles.embed(prompt) for prompt in prompts])  # (R, S)
+        self._mixture_prompts = list(prompts)
+        self._weights = np.asarray(weights, np.float32)  # (R, C)
 
     def reset(self, seed: int | None = None, seed_pose: np.ndarray | None = None) -> None:
         """Start a new stream: fresh RNG (``seed``, default the settings' seed), empty history and decoder
@@ -239,10 +209,26 @@ class Generator:
             self._rebuild_cache()
 
     def set_style(self, style: StylePrompt, second_style: StylePrompt | None = None, gamma: float = SINGLE_STYLE):
-        """Change the style from the next latent on (history keeps the style it was made with)."""
-        self._style = self.styles.embed(style)
+        """Change the (base) style from the next latent on (history keeps the style it was made with); named
+        part styles stay."""
         self._second = None if second_style is None else self.styles.embed(second_style)
         self.settings = replace(self.settings, style=style, second_style=second_style, gamma=gamma)
+        self._set_mixture_values(*self.part_mixture(style, self.settings.part_styles))
+        self._apply_layout()
+
+    def set_mixture_weights(self, weights: np.ndarray) -> None:
+        """New channel weights W (R, C) for the same style rows (a ramp step; no re-embedding, no cache change)."""
+        self._weights = np.asarray(weights, np.float32)
+
+    def set_part_styles(self, part_styles: PartStyles) -> None:
+        """Give body parts their own prompts from the next latent on (no parts: one style again)."""
+        self.settings = replace(self.settings, part_styles=tuple(part_styles))
+        self.set_mixture(*self.part_mixture(self.settings.style, part_styles))
+
+    def set_mixture(self, prompts: list[StylePrompt], weights: np.ndarray) -> None:
+        """Use these style rows (R prompts, the base style first) with latent-channel weights W (R, C); a ramp
+        of W between two mixtures blends a part-style change in (session_controls.py)."""
+        self._set_mixture_values(prompts, weights)
         self._apply_layout()
 
     def set_gamma(self, gamma: float) -> None:
@@ -281,7 +267,10 @@ class Generator:
         for t, t_prev in self._plan:
             rows = np.broadcast_to(x, (layout.batch, self.latent_dim))  # (B, C)
             x0_rows = self.denoiser.step(rows, t, condition)
-            x0 = combine_rows(x0_rows, layout, self.settings.gamma, self.guidance, self.settings.audio_guidance)  # (C,)
+            x0 = combine_rows(x0_rows, layout, self.settings.gamma, self.guidance, self.settings.audio_guidance,
+                              self._weights)  # (C,)
+            if layout.mixture_rows > 1:
+                x0 = smooth_seams(x0, [h.latent for h in list(self.history)[-2:]], self.settings.seam_smoothing)
             x = sampler_step(self.schedule, self.settings.sampler, x0, t, t_prev, x, self._noise(t_prev))
         self.denoiser.commit(np.broadcast_to(x, (layout.batch, self.latent_dim)), condition)
         latent = x.astype(np.float32)  # (C,)

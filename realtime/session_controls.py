@@ -1,19 +1,24 @@
-"""Live changes of style, guidance, audio guidance, γ and root mode, blended in over a short stream time (no pop).
+"""Live changes of style, part styles, guidance, audio guidance, γ and root mode, blended in over a short stream
+time (no pop).
 
 Controls arrive from any thread (WebSocket clients, the CLI) and are applied by the session
 between latent steps. Numbers (guidance s, audio guidance s_a, γ) move along a smoothstep ramp. A new style with no
 second style is blended with DiffuseStyleGesture's own mechanism: the generator runs
-x̂0 = γ·D(new) + (1 − γ)·D(old) while γ ramps 0 → 1, then drops the old style.
+x̂0 = γ·D(new) + (1 − γ)·D(old) while γ ramps 0 → 1, then drops the old style. While body parts have their own
+prompts, style and part-style changes ramp the part mixture's channel weights W instead (a soft mask moving from
+the old prompts' channels to the new ones, style_mixture.py), then drop the prompts no channel uses.
 """
 
 from __future__ import annotations
 
 import threading
 from collections import deque
+from dataclasses import replace
 
 from gesturecast.models.motion.root_anchor import RootAnchor, RootMode
 from gesturecast.realtime.generator import SINGLE_STYLE, Generator
-from gesturecast.realtime.style_prompts import StylePrompt
+from gesturecast.realtime.style_mixture import align_mixtures, drop_unused_rows
+from gesturecast.realtime.style_prompts import PartStyles, StylePrompt, parse_part_styles
 from gesturecast.realtime.transitions import DEFAULT_RAMP_S, Ramp
 
 MAX_PENDING_CONTROLS = 32  # bounded inbox: the oldest unapplied control is dropped first
@@ -32,13 +37,17 @@ class SessionControls:
         self._audio_guidance = Ramp(generator.settings.audio_guidance, fade_s)
         self._gamma = Ramp(generator.settings.gamma, fade_s)
         self._blending_from: StylePrompt | None = None  # old style while a style change blends in
+        self._mixture_ramp: Ramp | None = None  # W (R, C) flattened, while a part-style change blends in
 
     def submit(self, control: dict) -> None:
-        """Queue a schema-checked control message (keys: style, prompt, style2, guidance, audio_guidance,
-        gamma, root); thread-safe. Its styles are resolved first, so one the model cannot embed raises
-        UserError here (the caller answers the client) instead of failing the stream when applied."""
+        """Queue a schema-checked control message (keys: style, prompt, style2, part_styles, guidance,
+        audio_guidance, gamma, root); thread-safe. Its styles and body parts are resolved first, so one the model
+        cannot use raises UserError here (the caller answers the client) instead of failing the stream when
+        applied."""
         for prompt in _prompts_of(control):
             self.generator.styles.embed(prompt)
+        if "part_styles" in control:
+            self.generator.part_mixture(self.generator.settings.style, parse_part_styles(control["part_styles"]))
         with self._lock:
             self._inbox.append(dict(control))
 
@@ -50,6 +59,7 @@ class SessionControls:
         for control in pending:
             self._apply(control, t)
         self._update_style_blend(t)
+        self._update_mixture_blend(t)
         guidance = float(self._guidance.value(t))
         if guidance != self.generator.guidance:
             self.generator.set_guidance(guidance)
@@ -63,6 +73,8 @@ class SessionControls:
         """The style in effect, for display (``happy``, ``text:calm``, ``happy→sad γ=0.5``)."""
         settings = self.generator.settings
         name = _prompt_name(settings.style)
+        if settings.part_styles:
+            name += " " + " ".join(f"{part}={_prompt_name(prompt)}" for part, prompt in settings.part_styles)
         if settings.second_style is None or self._blending_from is not None:
             return name
         return f"{name}→{_prompt_name(settings.second_style)} γ={settings.gamma:.2f}"
@@ -77,7 +89,10 @@ class SessionControls:
         if "gamma" in control:
             self._gamma.set_target(float(control["gamma"]), t)
         new_style = _style_from_control(control)
-        if "style2" in control:
+        if "part_styles" in control or (self.generator.settings.part_styles and new_style is not None):
+            parts = parse_part_styles(control["part_styles"]) if "part_styles" in control else None
+            self._start_mixture_blend(new_style or self.generator.settings.style, parts, t)
+        elif "style2" in control:
             self._blending_from = None
             style = new_style or self.generator.settings.style
             self.generator.set_style(style, StylePrompt.parse(control["style2"]), float(self._gamma.value(t)))
@@ -93,6 +108,31 @@ class SessionControls:
         self._blend = Ramp(0.0, self.fade_s, t)
         self._blend.set_target(SINGLE_STYLE, t)
         self.generator.set_style(new_style, self._blending_from, 0.0)
+
+    def _start_mixture_blend(self, style: StylePrompt, part_styles: PartStyles | None, t: float) -> None:
+        """Ramp W from the mixture in effect to the one of ``style`` and ``part_styles`` (None: keep the parts)."""
+        generator = self.generator
+        parts = generator.settings.part_styles if part_styles is None else part_styles
+        if self._blending_from is not None:  # a γ style blend still running ends here
+            self._blending_from = None
+            generator.set_style(generator.settings.style)
+        old_prompts, old_weights = generator.mixture
+        union, start, target = align_mixtures(old_prompts, old_weights, *generator.part_mixture(style, parts))
+        generator.set_mixture(union, start)
+        generator.settings = replace(generator.settings, style=style, part_styles=tuple(parts))
+        self._mixture_ramp = Ramp(start, self.fade_s, t)
+        self._mixture_ramp.set_target(target, t)
+
+    def _update_mixture_blend(self, t: float) -> None:
+        if self._mixture_ramp is None:
+            return
+        weights = self._mixture_ramp.value(t).astype("float32")  # (R, C)
+        if self._mixture_ramp.done(t):
+            self._mixture_ramp = None
+            self.generator.set_mixture(*drop_unused_rows(self.generator.mixture[0], weights,
+                                                         self.generator.settings.style))
+        else:
+            self.generator.set_mixture_weights(weights)
 
     def _update_style_blend(self, t: float) -> None:
         if self._blending_from is None:

@@ -7,12 +7,14 @@ Three kinds of prompt (GestureDiffuCLIP §4.1: text, motion; DiffuseStyleGesture
 - ``text``: any free text → wordllama embedding of the same prompt template used in training;
 - ``motion``: a BVH/NPZ clip of any supported skeleton → canonical features → motion_prompt.onnx.
 
-On the command line: ``happy``, ``text:calm and slow``, ``motion:clip.bvh``.
+On the command line: ``happy``, ``text:calm and slow``, ``motion:clip.bvh``; per body part (GestureDiffuCLIP
+§6.3): ``--part-style arms=happy "torso=text:tired and bent"``.
 """
 
 from __future__ import annotations
 
 import threading
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -24,6 +26,8 @@ from gesturecast.models.runtime.ort_session import DEFAULT_THREADS
 
 STYLE_KINDS = ("label", "text", "motion")
 KIND_SEPARATOR = ":"
+PART_SEPARATOR = "="
+PartStyles = tuple[tuple[str, "StylePrompt"], ...]  # (body part, prompt) pairs, each part once
 
 
 @dataclass(frozen=True)
@@ -44,6 +48,24 @@ class StylePrompt:
         if separator and kind in ("text", "motion"):
             return cls(kind, value)
         return cls("label", spec)
+
+
+def parse_part_styles(specs: Iterable[str] | Mapping[str, str]) -> PartStyles:
+    """``["arms=happy", "legs=text:tired"]`` or ``{"arms": "happy"}`` → ((part, prompt), ...); a spec without
+    ``=`` or a part named twice raises UserError (part names are checked against the model later)."""
+    pairs = list(specs.items()) if isinstance(specs, Mapping) else [_split_part_spec(spec) for spec in specs]
+    parts = [part for part, _ in pairs]
+    repeated = sorted({part for part in parts if parts.count(part) > 1})
+    if repeated:
+        raise UserError(f"body part {repeated[0]!r} is given two styles")
+    return tuple((part, StylePrompt.parse(spec)) for part, spec in pairs)
+
+
+def _split_part_spec(spec: str) -> tuple[str, str]:
+    part, separator, style = spec.partition(PART_SEPARATOR)
+    if not separator or not part.strip():
+        raise UserError(f"a part style is PART=STYLE (e.g. arms=happy), got {spec!r:.60}")
+    return part.strip(), style
 
 
 class StyleResolver:

@@ -15,6 +15,7 @@ const SLIDERS = ["guidance", "audio_guidance"];  // numeric control fields (rang
 const state = {
   hello: null, frame: null, pose: null, frames: 0, latencyMs: null, arrivals: [], avatar: null,
   camera: { yaw: 0.5, pitch: 0.15, distance: 3.2 }, touchedSliders: new Set(), styleTouched: false,
+  partsTouched: false,
 };
 const el = (id) => document.getElementById(id);
 window.gesturecastViewer = state;  // for the browser tests and the console
@@ -72,6 +73,33 @@ function onHello(hello) {
   }
   const root = hello.control_schema.root;  // bounded (in place), free or locked
   if (root) for (const choice of root.choices) el("root").add(new Option(choice, choice));
+  addPartSelectors(hello.body_parts || [], hello.style_choices);
+}
+
+// One style selector per body part (GestureDiffuCLIP §6.3); "(whole-body style)" lets the part follow the style.
+function addPartSelectors(parts, choices) {
+  const box = el("part-styles");
+  for (const part of parts) {
+    const select = document.createElement("select");
+    select.id = "part-" + part;
+    select.add(new Option("(whole-body style)", ""));
+    for (const choice of choices) select.add(new Option(choice, choice));
+    select.addEventListener("change", () => { state.partsTouched = true; });
+    const label = document.createElement("label");
+    label.append(part + " ", select);
+    box.append(label);
+  }
+  box.hidden = parts.length === 0;
+}
+
+// The part_styles control field: every part given its own style ({} sends the whole body back to one style).
+function partStyles() {
+  const chosen = {};
+  for (const part of state.hello.body_parts || []) {
+    const value = el("part-" + part).value;
+    if (value) chosen[part] = value;
+  }
+  return chosen;
 }
 
 // The style in effect: shown as text, and picked in the dropdown when it is one of the labels.
@@ -106,6 +134,7 @@ function connect() {
     if (text) control.prompt = text;
     else if (state.styleTouched && el("style-select").value) control.style = el("style-select").value;
     if (el("root").value) control.root = el("root").value;
+    if (state.partsTouched) control.part_styles = partStyles();
     const token = new URLSearchParams(location.search).get("token");
     if (token) control.token = token;
     socket.send(JSON.stringify(control));

@@ -2,7 +2,7 @@
 
 Client → server:
 
-- ``{"type": "start", "style"?, "prompt"?, "style2"?, "gamma"?, "guidance"?, "audio_guidance"?, "seed"?,
+- ``{"type": "start", "style"?, "prompt"?, "style2"?, "part_styles"?, "gamma"?, "guidance"?, "audio_guidance"?, "seed"?,
   "latency"?, "audio_format"?, "token"?}`` — optional before the first audio (defaults: the server's style and
   latency setting, ``f32le``); ``latency`` is ``low``, ``balanced`` or ``quality`` (docs/latency.md); carries the
   token when the server requires one.
@@ -29,7 +29,7 @@ from gesturecast.bridges.control import CONTROL_FIELDS, ControlError, validate_c
 from gesturecast.errors import UserError
 from gesturecast.realtime.audio.files import SAMPLE_RATE
 from gesturecast.realtime.audio.pcm import PCM16_FULL_SCALE
-from gesturecast.realtime.style_prompts import StylePrompt
+from gesturecast.realtime.style_prompts import PartStyles, StylePrompt, parse_part_styles
 from gesturecast.realtime.timing.latency import LATENCY_SETTINGS
 
 AUDIO_FORMATS = {"f32le": np.dtype("<f4"), "s16le": np.dtype("<i2")}
@@ -48,6 +48,7 @@ class StreamOptions:
 
     style: StylePrompt | None = None
     second_style: StylePrompt | None = None
+    part_styles: PartStyles | None = None
     gamma: float | None = None
     guidance: float | None = None
     audio_guidance: float | None = None
@@ -61,6 +62,14 @@ def client_style(spec: str) -> StylePrompt:
     """A style from a client (``motion:`` styles are already refused by the control schema)."""
     try:
         return StylePrompt.parse(spec)
+    except UserError as error:
+        raise ControlError(str(error)) from None
+
+
+def client_part_styles(specs: dict[str, str]) -> PartStyles:
+    """Part styles from a client (their styles already checked by the control schema)."""
+    try:
+        return parse_part_styles(specs)
     except UserError as error:
         raise ControlError(str(error)) from None
 
@@ -95,6 +104,7 @@ def parse_start(message: dict) -> StreamOptions:
     return StreamOptions(
         style=style,
         second_style=client_style(control["style2"]) if "style2" in control else None,
+        part_styles=client_part_styles(control["part_styles"]) if "part_styles" in control else None,
         gamma=control.get("gamma"),
         guidance=control.get("guidance"),
         audio_guidance=control.get("audio_guidance"),

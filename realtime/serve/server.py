@@ -238,7 +238,8 @@ class GestureServer:
         styles = tuple(self.sessions.bundle.styles.labels)
         viewer = ws_protocol.hello_message(CANONICAL_WITH_HANDS, self.coords, self.config.stream.output_fps,
                                            self.sessions.defaults.style.value, styles, control_schema(),
-                                           self.access.token_required)
+                                           self.access.token_required,
+                                           body_parts=tuple(self.sessions.bundle.part_channels))
         return hello(viewer, stream_id, self.sessions.budget.total_ms)
 
     async def _refuse(self, websocket: ServerConnection, reason: str, code: CloseCode) -> None:

@@ -45,6 +45,7 @@ class StreamSessions:
         chosen = {
             "style": options.style,
             "second_style": options.second_style,
+            "part_styles": options.part_styles,
             "gamma": options.gamma,
             "guidance": options.guidance,
             "audio_guidance": options.audio_guidance,
