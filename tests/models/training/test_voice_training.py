@@ -40,8 +40,10 @@ def test_prosody_run_reuses_the_vqvae_and_exports_its_front_end(tiny_model, tmp_
     preset = get_preset("tiny", front_end="prosody", voice_copies=1)
     trained = run_training(preset, cache, tmp_path / "work", progress=False, feature_config=PROSODY,
                            vq_from=bundle_dir.parent / "work")
-    for key, value in checkpoint["stages"]["vqvae"]["model"]["state"].items():
-        torch.testing.assert_close(trained["stages"]["vqvae"]["model"]["state"][key], value, rtol=0, atol=0)
+    reused = trained["stages"]["vqvae"]["model"]["parts"]
+    for original, copy in zip(checkpoint["stages"]["vqvae"]["model"]["parts"], reused, strict=True):
+        for key, value in original["state"].items():
+            torch.testing.assert_close(copy["state"][key], value, rtol=0, atol=0)
     bundle = ModelBundle.load(export_bundle(trained, tmp_path / "bundle"))
     assert bundle.feature_config == PROSODY
     assert ModelBundle.load(bundle_dir).feature_config.kind == "mel"
