@@ -20,7 +20,7 @@ from gesturecast.realtime.generator import Generator, GeneratorSettings
 from gesturecast.realtime.serve.server import GestureServer, ServeConfig
 from gesturecast.realtime.serve.setup import StreamSessions
 from gesturecast.realtime.session import GestureSession, SessionConfig
-from gesturecast.realtime.style_prompts import StylePrompt
+from gesturecast.realtime.style_prompts import StylePrompt, parse_part_styles
 from gesturecast.realtime.timing.clock import FakeClock, MonotonicClock
 from gesturecast.realtime.timing.latency import LATENCY_SETTINGS, LatencyBudget
 from gesturecast.tools.bench.serve_client import stream_audio
@@ -61,11 +61,12 @@ def running_server(bundle, **config):
         server.close()
 
 
-def solo_poses(bundle, audio, style="neutral", guidance=1.5, seed=0, root="bounded", latency=None) -> np.ndarray:
+def solo_poses(bundle, audio, style="neutral", guidance=1.5, seed=0, root="bounded", latency=None,
+               part_styles=None) -> np.ndarray:
     """The same stream through one session alone, as the float32 the wire carries."""
     lookahead = None if latency is None else LATENCY_SETTINGS[latency].lookahead_for(bundle.audio_lookahead)
     settings = GeneratorSettings(SamplerConfig("ddim", 2), guidance, StylePrompt("label", style), seed=seed,
-                                 lookahead=lookahead)
+                                 lookahead=lookahead, part_styles=parse_part_styles(part_styles or {}))
     session = GestureSession(bundle, Generator(bundle, settings), budget(bundle), FakeClock(),
                              SessionConfig(root_mode=RootMode(root)))
     frames = session.push(AudioChunk(audio, 0, 0.0)) + session.finish()
@@ -73,7 +74,8 @@ def solo_poses(bundle, audio, style="neutral", guidance=1.5, seed=0, root="bound
 
 
 def test_concurrent_streams_equal_each_stream_served_alone(bundle, speech):
-    starts = [{"seed": 1, "latency": "low"}, {"seed": 2, "style": "old", "root": "free"},
+    starts = [{"seed": 1, "latency": "low", "part_styles": {"arms": "happy"}},
+              {"seed": 2, "style": "old", "root": "free"},
               {"seed": 3, "guidance": 1.0, "root": "locked", "latency": "balanced"}]
 
     async def clients(url):
@@ -89,6 +91,7 @@ def test_concurrent_streams_equal_each_stream_served_alone(bundle, speech):
         assert result.stats["late_releases"] >= 0  # reported (its value depends on the machine's load)
         assert [result.stats[name] for name in ("outbox_drops", "slow_client_skips", "nonfinite_poses")] == [0, 0, 0]
         assert result.hello["stream"] == result.stats["stream"]
+        assert result.hello["body_parts"] == ["arms", "torso", "legs"]
         np.testing.assert_array_equal(result.poses(), solo_poses(bundle, audio, **start))
         assert [f.seq for f in result.frames] == list(range(len(result.frames)))
     budgets = [next(m for m in result.messages if m["type"] == "started")["latency_budget_ms"] for result in results]
@@ -158,6 +161,8 @@ BAD_MESSAGES = [
     (json.dumps({"type": "control", "style": "motion:/etc/passwd"}), "motion prompts"),
     (json.dumps({"type": "control", "guidance": "loud"}), "finite number"),
     (json.dumps({"type": "start"}), "already started"),
+    (json.dumps({"type": "control", "part_styles": {"tail": "happy"}}), "unknown body part 'tail'"),
+    (json.dumps({"type": "control", "part_styles": "happy"}), "must be an object"),
 ]
 
 
