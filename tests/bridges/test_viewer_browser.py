@@ -95,3 +95,37 @@ def test_viewer_root_selector_sends_the_chosen_root_mode(driver):
     finally:
         bridge.close()
     assert received[0] == {"root": "locked"}
+
+
+def test_viewer_part_selectors_send_part_styles(driver):
+    received: list[dict] = []
+    config = WebSocketConfig(port=0, style_choices=("relaxed", "happy", "old"), body_parts=("arms", "torso", "legs"))
+    bridge = WebSocketBridge(config, on_control=received.append).start()
+    try:
+        driver.get(bridge.url)
+        wait_for(lambda: driver.execute_script("return document.getElementById('part-legs') !== null"))
+        hidden = driver.execute_script("return document.getElementById('part-styles').hidden")
+        driver.find_element("id", "part-arms").send_keys("happy")
+        driver.find_element("id", "part-legs").send_keys("old")
+        driver.find_element("id", "apply").click()
+        wait_for(lambda: len(received) >= 1)
+        driver.find_element("id", "part-arms").send_keys("(whole")
+        driver.find_element("id", "part-legs").send_keys("(whole")
+        driver.find_element("id", "apply").click()
+        wait_for(lambda: len(received) >= 2)
+    finally:
+        bridge.close()
+    assert not hidden
+    assert received[0] == {"part_styles": {"arms": "happy", "legs": "old"}}
+    assert received[1] == {"part_styles": {}}  # every part back on the whole-body style
+
+
+def test_viewer_without_body_parts_shows_no_part_selectors(driver):
+    bridge = WebSocketBridge(WebSocketConfig(port=0, style_choices=("relaxed",))).start()
+    try:
+        driver.get(bridge.url)
+        wait_for(lambda: driver.execute_script("return document.getElementById('style-select').options.length") > 1)
+        hidden = driver.execute_script("return document.getElementById('part-styles').hidden")
+    finally:
+        bridge.close()
+    assert hidden
