@@ -85,7 +85,8 @@ def test_csv_rows_set_each_file_s_style_and_seed(tiny_model, clips, tmp_path):
     table = tmp_path / "lines.csv"
     (tmp_path / "x.wav").symlink_to(clips / "a.wav")
     (tmp_path / "y.wav").symlink_to(clips / "a.wav")
-    table.write_text(f"path,style,seed\n{clips / 'a.wav'},old,3\nx.wav,,\ny.wav,,\n")
+    table.write_text(f"path,style,seed,part_style\n{clips / 'a.wav'},old,3,arms=happy legs=neutral\nx.wav,,,\n"
+                     "y.wav,,,\n")
     out = tmp_path / "out"
     model = ["--model", str(tiny_model[1])]
     result = run_cli("generate", "--batch", str(table), "-o", str(out), "--workers", "1", "--style", "neutral", *model)
@@ -94,7 +95,7 @@ def test_csv_rows_set_each_file_s_style_and_seed(tiny_model, clips, tmp_path):
     styled = tmp_path / "styled.bvh"
     plain = tmp_path / "plain.bvh"
     assert run_cli("generate", str(clips / "a.wav"), "-o", str(styled), "--style", "old", "--seed", "3",
-                   *model).returncode == 0
+                   "--part-style", "arms=happy", "legs=neutral", *model).returncode == 0
     assert run_cli("generate", str(clips / "a.wav"), "-o", str(plain), "--style", "neutral", *model).returncode == 0
     assert (out / "a.bvh").read_bytes() == styled.read_bytes()  # outside the CSV's folder: named by the file
     assert (out / "x.bvh").read_bytes() == plain.read_bytes()  # empty cells: the command's flags
