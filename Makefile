@@ -26,7 +26,7 @@ $(STAMP_DEV): pyproject.toml | $(BIN)/python
 SYSTEM_PACKAGES := libportaudio2 chromium chromium-driver pulseaudio pulseaudio-utils libasound2-plugins espeak-ng
 system-deps:
 	@if ! ldconfig -p | grep -q libportaudio.so.2 || ! command -v chromedriver >/dev/null \
-		|| ! command -v pulseaudio >/dev/null || ! command -v pactl >/dev/null \
+		|| ! command -v pulseaudio >/dev/null || ! command -v pactl >/dev/null || ! command -v espeak-ng >/dev/null \
 		|| ! ls /usr/lib/*/alsa-lib/libasound_module_pcm_pulse.so >/dev/null 2>&1; then \
 		if [ "$$(id -u)" = 0 ]; then \
 			apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq \
