@@ -12,6 +12,9 @@ from gesturecast.bridges.control import ControlError, control_schema, validate_c
          {"style": "a", "style2": "b", "gamma": 1.5}),
         ({"type": "control", "prompt": "sweeping arms", "gamma": -2.0}, {"prompt": "sweeping arms", "gamma": -2.0}),
         ({"type": "control", "root": "locked"}, {"root": "locked"}),
+        ({"type": "control", "part_styles": {"arms": "happy", "legs": "text:tired"}},
+         {"part_styles": {"arms": "happy", "legs": "text:tired"}}),
+        ({"type": "control", "part_styles": {}}, {"part_styles": {}}),
     ],
 )
 def test_valid_controls(message, expected):
@@ -35,6 +38,11 @@ def test_valid_controls(message, expected):
         ({"type": "control", "style2": " motion:clip.bvh"}, "style2: motion prompts"),
         ({"type": "control", "root": "pinned"}, "root must be one of bounded, free, locked"),
         ({"type": "control", "root": 1}, "root must be one of"),
+        ({"type": "control", "part_styles": ["arms=happy"]}, "part_styles must be an object"),
+        ({"type": "control", "part_styles": {"arms": 3}}, "part_styles.arms must be a string"),
+        ({"type": "control", "part_styles": {"arms": "motion:/etc/passwd"}}, "part_styles.arms: motion prompts"),
+        ({"type": "control", "part_styles": {" ": "happy"}}, "body part name must be"),
+        ({"type": "control", "part_styles": {f"p{i}": "happy" for i in range(9)}}, "more than 8 body parts"),
     ],
 )
 def test_invalid_controls(message, reason):
@@ -44,6 +52,7 @@ def test_invalid_controls(message, reason):
 
 def test_schema_lists_every_field():
     schema = control_schema()
-    assert set(schema) == {"style", "style2", "prompt", "guidance", "audio_guidance", "gamma", "root"}
+    assert set(schema) == {"style", "style2", "part_styles", "prompt", "guidance", "audio_guidance", "gamma", "root"}
+    assert schema["part_styles"]["type"] == "parts" and schema["part_styles"]["max_parts"] == 8
     assert schema["root"] == {"type": "choice", "choices": ["bounded", "free", "locked"]}
     assert schema["guidance"] == {"type": "number", "min": 0.0, "max": 10.0}
