@@ -2,7 +2,8 @@
 
 By default the file is retargeted onto the canonical skeleton (what the model sees; a BVH written by
 gesturecast keeps its finger joints); ``--raw`` draws the BVH's own skeleton instead, in its file units.
-``--wrists`` draws the wrist trajectories of one or more files side by side instead (:mod:`wrists`).
+``--wrists`` draws the wrist trajectories of one or more files side by side instead (:mod:`wrists`);
+``--compare`` draws several files as rows of one PNG, at the same times (:mod:`compare`).
 """
 
 from __future__ import annotations
@@ -20,6 +21,7 @@ from gesturecast.errors import UserError
 from gesturecast.files import check_distinct
 from gesturecast.models.motion.rotations import quat_identity, quat_mul, quat_rotate
 from gesturecast.tools.render.animation import RenderConfig, render_positions
+from gesturecast.tools.render.compare import CompareRow, render_comparison
 from gesturecast.tools.render.wrists import WristTrack, body_frame_wrists, plot_wrists
 
 log = logging.getLogger(__name__)
@@ -55,7 +57,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         "automatically (docs/retargeting.md)")
     parser.add_argument("--wrists", action="store_true", help="draw the wrist trajectories of every input side by "
                         f"side (a PNG; --seconds defaults to {DEFAULT_WRIST_SECONDS:g})")
-    parser.add_argument("--labels", help="with --wrists: comma-separated column titles (default: the file names)")
+    parser.add_argument("--compare", action="store_true", help="draw every input as one row of a PNG, at the same "
+                        "times (--sheet-frames per row), e.g. one speech in several styles")
+    parser.add_argument("--labels", help="with --wrists / --compare: comma-separated titles (default: the file names)")
     parser.set_defaults(func=run_render)
 
 
@@ -66,8 +70,10 @@ def run_render(args: argparse.Namespace) -> int:
     check_distinct([("input", path) for path in args.input], [("-o", args.output)])
     if args.wrists:
         return run_wrists(args)
+    if args.compare:
+        return run_compare(args)
     if len(args.input) > 1:
-        raise UserError(f"{len(args.input)} motion files given: several are drawn only with --wrists")
+        raise UserError(f"{len(args.input)} motion files given: several are drawn only with --wrists or --compare")
     (path,) = args.input
     clip = load_raw_bvh(path) if args.raw else load_canonical(path, args.joint_map)
     first, positions = select_time_range(clip.positions, clip.fps, args.start, args.seconds)
@@ -95,6 +101,22 @@ def run_wrists(args: argparse.Namespace) -> int:
         first, wrists = select_time_range(body_frame_wrists(motion), motion.fps, args.start, seconds)
         tracks.append(WristTrack(label, wrists, motion.fps, first / motion.fps))
     log.info("wrote %s", plot_wrists(tracks, args.output))
+    return 0
+
+
+def run_compare(args: argparse.Namespace) -> int:
+    """Every input as one row of a PNG, drawn at the same clip times."""
+    if args.output.suffix.lower() != ".png":
+        raise UserError(f"--compare writes a .png, not '{args.output.suffix}'")
+    rows, rates = [], set()
+    for path, label in zip(args.input, wrist_labels(args.labels, args.input), strict=True):
+        clip = load_canonical(path, args.joint_map)
+        _, positions = select_time_range(clip.positions, clip.fps, args.start, args.seconds)
+        rows.append(CompareRow(label, positions, clip.parents, clip.names))
+        rates.add(clip.fps)
+    if len(rates) > 1:
+        raise UserError(f"--compare needs files of one frame rate, got {sorted(rates)} fps")
+    log.info("wrote %s", render_comparison(rows, args.output, rates.pop(), args.start, args.sheet_frames))
     return 0
 
 

@@ -100,3 +100,33 @@ def test_focus_on_a_hand_of_our_own_bvh_draws_its_fingers_zoomed(tmp_path):
     with pytest.raises(UserError, match="--focus LeftPinky: no such joint"):
         render_cli.run_render(parse([str(tmp_path / "hands.bvh"), "-o", str(tmp_path / "x.png"),
                                      "--focus", "LeftPinky"]))
+
+
+def test_compare_draws_one_row_per_file_at_the_same_times(tmp_path):
+    """Two clips → a PNG of two rows of N frames; the still clip's row differs from the moving one's only
+    where the arm moves; mismatched labels and non-PNG outputs are one-line errors."""
+    from gesturecast.models.motion.motion import Motion
+    from gesturecast.models.motion.retarget import motion_to_bvh
+
+    frames = 20
+    still = quat_from_axis_angle(np.zeros((frames, CANONICAL.num_joints, 3)))
+    raised = np.zeros((frames, CANONICAL.num_joints, 3))
+    raised[:, CANONICAL.index("LeftUpperArm"), 2] = np.linspace(0.0, 1.2, frames)  # the left arm rises
+    root = np.tile(CANONICAL.offsets[0], (frames, 1))
+    motion_to_bvh(Motion(still, root), tmp_path / "still.bvh")
+    motion_to_bvh(Motion(quat_from_axis_angle(raised), root), tmp_path / "raise.bvh")
+    out = tmp_path / "compare.png"
+    inputs = [str(tmp_path / "still.bvh"), str(tmp_path / "raise.bvh")]
+    args = parse([*inputs, "-o", str(out), "--compare", "--sheet-frames", "3", "--labels", "still,raise"])
+    assert render_cli.run_render(args) == 0
+    sheet = np.asarray(Image.open(out).convert("L")).astype(int)  # (H, W)
+    height, width = sheet.shape
+    top, bottom = sheet[: height // 2], sheet[height // 2 : height // 2 * 2]
+    first_column = slice(0, width // 3)
+    last_column = slice(2 * width // 3, width)
+    assert np.abs(top[:, first_column] - bottom[:, first_column]).sum() < np.abs(
+        top[:, last_column] - bottom[:, last_column]).sum()  # same pose at the start, different at the end
+    with pytest.raises(UserError, match="--labels has 1 names for 2 files"):
+        render_cli.run_render(parse([*inputs, "-o", str(out), "--compare", "--labels", "one"]))
+    with pytest.raises(UserError, match="--compare writes a .png"):
+        render_cli.run_render(parse([*inputs, "-o", str(tmp_path / "x.gif"), "--compare"]))
