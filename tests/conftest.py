@@ -35,6 +35,18 @@ def tiny_model(tmp_path_factory, shared_data):
     return train_tiny_bundle(tmp_path_factory.mktemp("tiny_model"), shared_data / "zeggs")
 
 
+@pytest.fixture(scope="session")
+def tiny_model_full_lookahead(tmp_path_factory, shared_data):
+    """The tiny model trained without look-ahead truncation: it serves only --latency quality (δ = δa)."""
+    helpers = str(REPO_ROOT / "tests" / "models")
+    if helpers not in sys.path:
+        sys.path.insert(0, helpers)
+    from train_fixtures import train_tiny_bundle
+
+    return train_tiny_bundle(tmp_path_factory.mktemp("tiny_full_lookahead"), shared_data / "zeggs",
+                             lookahead_truncation=False)
+
+
 @pytest.fixture
 def virtual_mic():
     """A running private PulseAudio whose default source is a FIFO (tools/bench/virtual_mic.py), torn down

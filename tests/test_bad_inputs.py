@@ -125,7 +125,6 @@ BAD_INPUTS: dict[str, BadInput] = {
     "audio guidance nan": BadInput(f"{GENERATE} --audio-guidance nan", "--audio-guidance: must be a finite"),
     "gamma nan": BadInput(f"{GENERATE} --gamma nan", "--gamma: must be a finite number"),
     "lookahead -1": BadInput(f"{GENERATE} --lookahead -1", "--lookahead: must be an integer ≥ 0"),
-    "latency low, old model": BadInput(f"{GENERATE} --latency low", "trained without look-ahead truncation"),
     "latency unknown": BadInput(f"{GENERATE} --latency fast", "--latency: invalid choice"),
     "ws port 70000": BadInput("live --input {speech} --ws 70000", "--ws: must be an integer from 0 to 65535"),
     "serve port 70000": BadInput("serve --port 70000", "--port: must be an integer from 0 to 65535"),
@@ -178,13 +177,24 @@ def test_bad_input_is_one_line_with_exit_code_2(case: BadInput, speech: Path, tm
     made = case.make(tmp_path) if case.make is not None else tmp_path / "unused"
     out = tmp_path / "out.gif" if case.argv.startswith("render") else tmp_path / "out.bvh"
     argv = case.argv.format(speech=speech, model=DEFAULT_MODEL_DIR, bundle=made, file=made, out=out).split()
+    assert_one_line_error(argv, case.expected, out, capsys)
+
+
+def assert_one_line_error(argv: list[str], expected: str, out: Path, capsys) -> None:
     code = run_cli(argv)
     error = capsys.readouterr().err.strip()
     assert code == USER_ERROR_EXIT_CODE, error
     assert error.startswith(f"gesturecast {argv[0]}: error: "), error
     assert "\n" not in error and "Traceback" not in error
-    assert case.expected in error
+    assert expected in error
     assert not out.exists()
+
+
+def test_latency_low_on_a_model_without_lookahead_truncation_is_one_line(tiny_model_full_lookahead, speech,
+                                                                          tmp_path, capsys):
+    out = tmp_path / "out.bvh"
+    argv = f"{GENERATE} --latency low".format(speech=speech, model=tiny_model_full_lookahead[1], out=out).split()
+    assert_one_line_error(argv, "trained without look-ahead truncation", out, capsys)
 
 
 def test_bad_flag_from_the_installed_script_is_one_line(tmp_path):

@@ -32,8 +32,8 @@ def build_tiny_cache(root: Path, shared_zeggs: Path) -> Path:
     return cache
 
 
-def train_tiny_bundle(root: Path, shared_zeggs: Path, seed: int = 0) -> tuple[dict, Path]:
-    """(training checkpoint, bundle directory) of the tiny preset on the tiny cache."""
+def train_tiny_bundle(root: Path, shared_zeggs: Path, seed: int = 0, **preset_overrides) -> tuple[dict, Path]:
+    """(training checkpoint, bundle directory) of the tiny preset (with ``preset_overrides``) on the tiny cache."""
     cache = build_tiny_cache(root, shared_zeggs)
-    checkpoint = run_training(get_preset("tiny", seed=seed), cache, root / "work", progress=False)
+    checkpoint = run_training(get_preset("tiny", seed=seed, **preset_overrides), cache, root / "work", progress=False)
     return checkpoint, export_bundle(checkpoint, root / "bundle")

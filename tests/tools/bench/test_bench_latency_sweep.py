@@ -6,18 +6,18 @@ import soundfile
 
 from gesturecast.cli import main
 from gesturecast.realtime.audio.files import SAMPLE_RATE
-from gesturecast.realtime.engine_setup import DEFAULT_MODEL_DIR
 
 SECONDS = 4.0  # enough for the following score (it skips 0.5 s at each end and smooths over 0.5 s)
 
 
 def test_sweep_reports_each_setting_of_a_truncation_model_and_skips_what_an_old_model_cannot(
-        tiny_model, speech_16k, tmp_path, capsys):
+        tiny_model, tiny_model_full_lookahead, speech_16k, tmp_path, capsys):
     audio = tmp_path / "speech.wav"
     soundfile.write(audio, speech_16k[: int(SECONDS * SAMPLE_RATE)], SAMPLE_RATE, subtype="FLOAT")
     out = tmp_path / "sweep"
-    args = ["bench", "latency", str(audio), "--sweep", "--model", str(tiny_model[1]), "--sweep-models",
-            str(DEFAULT_MODEL_DIR), "--steps", "2", "--out", str(out), "--json"]
+    old = str(tiny_model_full_lookahead[1])
+    args = ["bench", "latency", str(audio), "--sweep", "--model", str(tiny_model[1]), "--sweep-models", old,
+            "--steps", "2", "--out", str(out), "--json"]
     assert main(args) == 0
     rows = json.loads(capsys.readouterr().out)["settings"]
     tiny = [row for row in rows if row["model"] == str(tiny_model[1])]
@@ -28,7 +28,7 @@ def test_sweep_reports_each_setting_of_a_truncation_model_and_skips_what_an_old_
     for row in tiny:
         assert row["frames"] == int(SECONDS * 30) and row["end_to_end_ms"]["p95"] > 0
         assert -1.0 <= row["following"]["r_best"] <= 1.0 and row["late_frames"] >= 0
-    default = [row for row in rows if row["model"] == str(DEFAULT_MODEL_DIR)]
+    default = [row for row in rows if row["model"] == old]
     assert ["skipped" in row for row in default] == [True, True, False]
     assert "without look-ahead truncation" in default[0]["skipped"]
     assert (out / "latency_settings.md").read_text().count("\n") == 2 + len(rows)
