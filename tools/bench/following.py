@@ -45,6 +45,7 @@ def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--steps", type=int, default=4, help="DDIM steps K")
     parser.add_argument("--audio-guidance", type=float, default=DEFAULT_AUDIO_GUIDANCE,
                         help="audio guidance scale s_a (1: off)")
+    parser.add_argument("--guidance", type=float, help="style guidance scale s (default: the model's)")
     parser.add_argument("--latency", choices=tuple(LATENCY_SETTINGS), default=QUALITY.name,
                         help="latency setting whose look-ahead the motion is generated with (docs/latency.md)")
     parser.add_argument("--json", type=Path, help="also write the result here")
@@ -86,7 +87,8 @@ def summarise(rows: list[dict]) -> dict:
 
 
 def following_report(bundle_dir: Path, cache: Path, shared: Path, seeds: list[int], steps: int,
-                     audio_guidance: float = DEFAULT_AUDIO_GUIDANCE, latency: str = QUALITY.name) -> dict:
+                     audio_guidance: float = DEFAULT_AUDIO_GUIDANCE, latency: str = QUALITY.name,
+                     guidance: float | None = None) -> dict:
     bundle = load_bundle(bundle_dir)
     lookahead = LATENCY_SETTINGS[latency].lookahead_for(bundle.audio_lookahead)
     check_lookahead(bundle.denoiser_config, lookahead)
@@ -102,13 +104,14 @@ def following_report(bundle_dir: Path, cache: Path, shared: Path, seeds: list[in
         if clip.positions is not None:
             real.append({"file": clip.name, "group": group_of(clip), **score(clip.positions, clip.audio, onsets)})
         for seed in seeds:
-            generated = generate_offline(bundle, sampler, clip, clip.style, seed, audio_guidance, lookahead)
+            generated = generate_offline(bundle, sampler, clip, clip.style, seed, audio_guidance, lookahead, guidance)
             rows.append({"file": clip.name, "group": group_of(clip), "seed": seed,
                          **score(generated.positions, clip.audio, onsets)})
     return {
         "bundle": str(bundle_dir),
         "sampler": f"ddim K={steps}",
         "audio_guidance": audio_guidance,
+        "guidance": bundle.default_guidance if guidance is None else guidance,
         "latency": latency,
         "lookahead_frames": lookahead,
         "seeds": seeds,
@@ -124,7 +127,7 @@ def following_report(bundle_dir: Path, cache: Path, shared: Path, seeds: list[in
 def run_bench(args: argparse.Namespace) -> int:
     seeds = [int(value) for value in args.seeds.split(",")]
     report = following_report(args.bundle, args.cache, args.shared, seeds, args.steps, args.audio_guidance,
-                              args.latency)
+                              args.latency, args.guidance)
     text = json.dumps(report, indent=1)
     if args.json is not None:
         write_text_atomic(args.json, text + "\n")

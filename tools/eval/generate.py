@@ -48,9 +48,10 @@ class Generated:
 
 
 def _session(bundle: ModelBundle, sampler: SamplerConfig, style: str, seed: int, clock: FakeClock,
-             audio_guidance: float = DEFAULT_AUDIO_GUIDANCE, lookahead: int | None = None) -> GestureSession:
+             audio_guidance: float = DEFAULT_AUDIO_GUIDANCE, lookahead: int | None = None,
+             guidance: float | None = None) -> GestureSession:
     settings = GeneratorSettings(sampler=sampler, style=StylePrompt("label", style), seed=seed, threads=1,
-                                 audio_guidance=audio_guidance, lookahead=lookahead)
+                                 audio_guidance=audio_guidance, lookahead=lookahead, guidance=guidance)
     generator = Generator(bundle, settings)
     budget = LatencyBudget(bundle.frames_per_latent, generator.lookahead, LATENCY_MARGIN_MS,
                            smoothing_frames=DEFAULT_SMOOTHING_FRAMES)
@@ -71,12 +72,12 @@ def _with_wav(audio: np.ndarray, run):
 
 def generate_offline(
     bundle: ModelBundle, sampler: SamplerConfig, clip: EvalClip, style: str, seed: int = 0,
-    audio_guidance: float = DEFAULT_AUDIO_GUIDANCE, lookahead: int | None = None,
+    audio_guidance: float = DEFAULT_AUDIO_GUIDANCE, lookahead: int | None = None, guidance: float | None = None,
 ) -> Generated:
     """Motion for the clip's audio in ``style`` through ``run_offline`` (the `generate` path), at look-ahead
-    ``lookahead`` (default: the model's δa)."""
+    ``lookahead`` (default: the model's δa) and style guidance ``guidance`` (default: the model's)."""
     start = time.perf_counter()
-    session = _session(bundle, sampler, style, seed, FakeClock(), audio_guidance, lookahead)
+    session = _session(bundle, sampler, style, seed, FakeClock(), audio_guidance, lookahead, guidance)
     frames, _ = _with_wav(clip.audio, lambda path: run_offline(session, FastFileSource(path)))
     return Generated(_positions(frames), time.perf_counter() - start)
 
