@@ -1,0 +1,49 @@
+"""The generations a style study needs, each made once: one speech clip, many style requests.
+
+A :class:`StyleRequest` is one way of asking for a style (a prompt, a guidance scale s, per-part prompts,
+the seam smoothing λ, a seed); :class:`StudyRuns` generates it through the product's offline session
+(:func:`gesturecast.tools.eval.generate.generate_offline`, DDIM K steps) and remembers the result,
+so the single-style runs of the accuracy sweep are reused by the motion-prompt and per-part comparisons.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from gesturecast.models.generator.diffusion import SamplerConfig
+from gesturecast.models.runtime.bundle import ModelBundle
+from gesturecast.realtime.style_mixture import SEAM_SMOOTHING
+from gesturecast.realtime.style_prompts import PartStyles, StylePrompt
+from gesturecast.tools.eval.clips import EvalClip
+from gesturecast.tools.eval.generate import Generated, generate_offline
+
+
+@dataclass(frozen=True)
+class StyleRequest:
+    style: StylePrompt
+    guidance: float
+    part_styles: PartStyles = ()
+    seam_smoothing: float = SEAM_SMOOTHING
+    seed: int = 0
+
+
+def label(style: str, guidance: float, seed: int = 0) -> StyleRequest:
+    return StyleRequest(StylePrompt("label", style), guidance, seed=seed)
+
+
+@dataclass
+class StudyRuns:
+    bundle: ModelBundle
+    clip: EvalClip  # the speech every style is generated on
+    sampler: SamplerConfig
+    results: dict[tuple[str, StyleRequest], Generated] = field(default_factory=dict)
+
+    def generate(self, request: StyleRequest, clip: EvalClip | None = None) -> Generated:
+        """The motion for ``request`` on ``clip`` (default: the study's clip), generated at most once."""
+        clip = self.clip if clip is None else clip
+        key = (clip.name, request)
+        if key not in self.results:
+            self.results[key] = generate_offline(
+                self.bundle, self.sampler, clip, request.style, request.seed, guidance=request.guidance,
+                part_styles=request.part_styles, seam_smoothing=request.seam_smoothing)
+        return self.results[key]
