@@ -103,6 +103,8 @@ def test_part_styles_report_every_part_seam_and_cost(quick_study):
             assert signature["closer_to_own"] == (signature["to_own"] < signature["to_other"])
         assert set(pair["seams"]["per_part"]) == {"0", "0.2"}
         assert pair["seams"]["per_part"]["0"] != pair["seams"]["per_part"]["0.2"]  # λ changes the motion
+        rows = pair["compute"]["denoiser_rows"]
+        assert rows["per_part"] == rows["single_style"] + 1  # one more prompt, one more row
     assert study["closer_to_own"]["parts"] == 9
     assert study["rtf"]["single_style"] > 0.0 and study["rtf"]["per_part"] > 0.0
     assert (out / "styles.png").stat().st_size > 0 and (out / "styles_parts.png").stat().st_size > 0

@@ -8,8 +8,9 @@ For a pair "``part`` = prompt, every other part = rest" at the bundle's guidance
 - ``seams``: :func:`seam_roughness` of the per-part result with the smoothness term off (λ = 0) and at the
   product's λ, and of the two single-style runs;
 - ``metrics``: :func:`motion_metrics` of the per-part result (product λ) and of the single-style runs;
-- ``compute``: wall seconds per generated second, session setup excluded (each distinct prompt is one more
-  row of the batched denoiser call).
+- ``compute``: wall seconds per generated second, session setup excluded, of the base style alone and of
+  the per-part request, generated afresh back to back ``TIMING_REPEATS`` times (median), with the rows of
+  the batched denoiser call each needs (each distinct prompt is one more row).
 """
 
 from __future__ import annotations
@@ -27,6 +28,7 @@ from gesturecast.tools.eval.generate import Generated
 from gesturecast.tools.eval.metrics import EvalNetworks, motion_metrics
 
 SEAM_SMOOTHINGS = (0.0, SEAM_SMOOTHING)  # the smoothness term off, and the product's λ
+TIMING_REPEATS = 3  # fresh generations per request for the compute cost (median)
 
 
 @dataclass(frozen=True)
@@ -54,11 +56,6 @@ def part_request(pair: PartPair, guidance: float, seam_smoothing: float, seed: i
                         seam_smoothing, seed)
 
 
-def real_time_factor(generated: Generated, seconds: float) -> float:
-    """Wall seconds per generated second, session setup excluded."""
-    return (generated.compute_s - generated.setup_s) / seconds
-
-
 def _signature(generated: Generated, part: str) -> np.ndarray:
     return part_signature(generated.rotations, generated.positions, part)
 
@@ -76,24 +73,36 @@ def seams(per_part: dict[float, Generated], single: dict[str, Generated]) -> dic
             "single_style_border_mean": float(np.mean([s["border"] for s in single_seams.values()]))}
 
 
-def pair_entry(runs: StudyRuns, networks: EvalNetworks, pair: PartPair, guidance: float, seed: int) -> dict:
+def compute_cost(runs: StudyRuns, pair: PartPair, guidance: float, seed: int, repeats: int) -> dict:
+    """Median real-time factors of the base style alone and of the per-part request, timed alternately."""
+    requests = {"single_style": label(pair.rest, guidance, seed),
+                "per_part": part_request(pair, guidance, SEAM_SMOOTHING, seed)}
+    times: dict[str, list[float]] = {kind: [] for kind in requests}
+    for _ in range(repeats):
+        for kind, request in requests.items():
+            times[kind].append(runs.real_time_factor(request))
+    return {"rtf": {kind: float(np.median(values)) for kind, values in times.items()},
+            "denoiser_rows": {kind: runs.denoiser_rows(request) for kind, request in requests.items()}}
+
+
+def pair_entry(runs: StudyRuns, networks: EvalNetworks, pair: PartPair, guidance: float, seed: int,
+               timing_repeats: int) -> dict:
     single = {style: runs.generate(label(style, guidance, seed)) for style in (pair.prompt, pair.rest)}
     per_part = {value: runs.generate(part_request(pair, guidance, value, seed)) for value in SEAM_SMOOTHINGS}
-    result, audio, seconds = per_part[SEAM_SMOOTHING], [runs.clip.audio], runs.clip.seconds
+    result, audio = per_part[SEAM_SMOOTHING], [runs.clip.audio]
     return {
         "pair": pair.name,
         "signatures": part_signatures(pair, result, single),
         "seams": seams(per_part, single),
         "metrics": {"per_part": motion_metrics([result.positions], audio, networks),
                     "single_style": {s: motion_metrics([g.positions], audio, networks) for s, g in single.items()}},
-        "rtf": {"per_part": float(np.mean([real_time_factor(g, seconds) for g in per_part.values()])),
-                "single_style": float(np.mean([real_time_factor(g, seconds) for g in single.values()]))},
+        "compute": compute_cost(runs, pair, guidance, seed, timing_repeats),
     }
 
 
 def part_study(runs: StudyRuns, networks: EvalNetworks, pairs: tuple[PartPair, ...], guidance: float,
-               seed: int) -> dict:
-    entries = [pair_entry(runs, networks, pair, guidance, seed) for pair in pairs]
+               seed: int, timing_repeats: int) -> dict:
+    entries = [pair_entry(runs, networks, pair, guidance, seed, timing_repeats) for pair in pairs]
     closer = [part["closer_to_own"] for entry in entries for part in entry["signatures"].values()]
     return {
         "guidance": guidance,
@@ -104,5 +113,6 @@ def part_study(runs: StudyRuns, networks: EvalNetworks, pairs: tuple[PartPair, .
             **{f"per_part_lambda_{value:g}": float(np.mean([e["seams"]["per_part"][f"{value:g}"]["border"]
                                                             for e in entries])) for value in SEAM_SMOOTHINGS},
             "single_style": float(np.mean([e["seams"]["single_style_border_mean"] for e in entries]))},
-        "rtf": {kind: float(np.mean([e["rtf"][kind] for e in entries])) for kind in ("single_style", "per_part")},
+        "rtf": {kind: float(np.mean([e["compute"]["rtf"][kind] for e in entries])) for kind in ("single_style",
+                                                                                                "per_part")},
     }

@@ -32,7 +32,7 @@ from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.realtime.engine_setup import DEFAULT_MODEL_DIR, load_bundle
 from gesturecast.tools.bench.styles.guidance_sweep import guidance_entry
 from gesturecast.tools.bench.styles.motion_prompts import prompt_comparison, write_prompt_clip
-from gesturecast.tools.bench.styles.part_styles import DEFAULT_PAIRS, PartPair, part_study
+from gesturecast.tools.bench.styles.part_styles import DEFAULT_PAIRS, TIMING_REPEATS, PartPair, part_study
 from gesturecast.tools.bench.styles.runs import StudyRuns
 from gesturecast.tools.data_cli import DEFAULT_CACHE
 from gesturecast.tools.eval.clips import EvalClip, held_out_clips, reference_positions
@@ -48,9 +48,10 @@ class StudyConfig:
     pairs: tuple[PartPair, ...] = DEFAULT_PAIRS
     steps: int = 4  # DDIM K
     seeds: tuple[int, ...] = (0,)  # generation seeds (confusion counts pooled; per-part study: the first)
+    timing_repeats: int = TIMING_REPEATS  # fresh generations per request timed for the per-part compute cost
 
 
-QUICK = StudyConfig(guidance=(1.5,), seconds=2.5, max_styles=2)
+QUICK = StudyConfig(guidance=(1.5,), seconds=2.5, max_styles=2, timing_repeats=1)
 
 
 def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
@@ -124,7 +125,8 @@ def study_report(model: Path, cache: Path, config: StudyConfig, prompt_dir: Path
         "guidance": guidance,
         "motion_prompts": {"clips": [{**asdict(p), "path": p.path.name} for p in prompts],
                            "by_guidance": motion_prompts},
-        "part_styles": part_study(runs, networks, config.pairs, bundle.default_guidance, seeds[0]),
+        "part_styles": part_study(runs, networks, config.pairs, bundle.default_guidance, seeds[0],
+                                  config.timing_repeats),
         "generations": len(runs.results),
         "seconds": round(time.perf_counter() - started, 1),
     }
