@@ -2,9 +2,10 @@
 
 ``OUT.png``: the confusion matrix at the guidance scale with the best mean style accuracy (rows: requested
 style, columns: predicted label, row-normalised, annotated), mean style accuracy vs s with chance, and what
-s costs the neutral style (beat consistency, FGD). ``OUT_parts.png``: per-part styles — each part's
-distance share d_own / (d_own + d_other) (below 0.5: closer to its own prompt) and the seam roughness at
-the border joints for single-style runs and per-part runs with λ = 0 and the product's λ.
+s does to the neutral style (beat consistency, FGD, jerk, acceleration, speed relative to the first s).
+``OUT_parts.png``: per-part styles — each part's distance share d_own / (d_own + d_other) (below 0.5:
+closer to its own prompt) and the seam roughness at the border joints for single-style runs and per-part
+runs with λ = 0 and the product's λ.
 """
 
 from __future__ import annotations
@@ -69,21 +70,28 @@ def _accuracy_vs_guidance(axis, report: dict) -> None:
     axis.legend(fontsize=8)
 
 
-def _value(metric: float | None) -> float:
-    return np.nan if metric is None else metric
+COST_METRICS = (("beat_consistency", "beat consistency"), ("fgd", "FGD"), ("jerk", "jerk"),
+                ("acceleration", "acceleration"))
+
+
+def _relative(values: list[float | None]) -> list[float]:
+    """Values over the first one (NaN where missing)."""
+    first = values[0]
+    return [np.nan if v is None or not first else v / first for v in values]
 
 
 def _cost_of_guidance(axis, report: dict) -> None:
     scales = list(report["guidance"])
     values = [float(s) for s in scales]
     metrics = [report["guidance"][s]["neutral_metrics"] for s in scales]
-    axis.plot(values, [_value(m["beat_consistency"]) for m in metrics], "o-", color="tab:green")
-    axis.set_ylabel("beat consistency (neutral)", color="tab:green")
+    for key, name in COST_METRICS:
+        axis.plot(values, _relative([m[key] for m in metrics]), "o-", label=name)
+    axis.plot(values, _relative([m["liveliness"]["speed_ratio"] for m in metrics]), "o-", label="joint speed")
+    axis.axhline(1.0, color="0.5", linewidth=0.8)
     axis.set_xlabel("guidance scale s")
-    fgd_axis = axis.twinx()
-    fgd_axis.plot(values, [_value(m["fgd"]) for m in metrics], "s--", color="tab:purple")
-    fgd_axis.set_ylabel("FGD (neutral)", color="tab:purple")
+    axis.set_ylabel(f"relative to s = {scales[0]}")
     axis.set_title("what s costs the neutral style (held-out speech)", fontsize=9)
+    axis.legend(fontsize=7)
 
 
 def plot_guidance(report: dict, out_path: Path) -> Path:
