@@ -24,6 +24,7 @@ BENCH_MODULES: tuple[str, ...] = (
     "gesturecast.tools.bench.denoising",
     "gesturecast.tools.bench.root",
     "gesturecast.tools.bench.speech.lipsync",
+    "gesturecast.tools.bench.styles.study",
 )
 
 

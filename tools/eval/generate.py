@@ -25,7 +25,8 @@ from gesturecast.realtime.engine_cli import frames_to_motion
 from gesturecast.realtime.engine_setup import DEFAULT_AUDIO_GUIDANCE, DEFAULT_SMOOTHING_FRAMES
 from gesturecast.realtime.generator import Generator, GeneratorSettings
 from gesturecast.realtime.session import GestureSession
-from gesturecast.realtime.style_prompts import StylePrompt
+from gesturecast.realtime.style_mixture import SEAM_SMOOTHING
+from gesturecast.realtime.style_prompts import PartStyles, StylePrompt
 from gesturecast.realtime.timing.clock import FakeClock
 from gesturecast.realtime.timing.frames import PoseFrame
 from gesturecast.realtime.timing.latency import LatencyBudget
@@ -44,23 +45,30 @@ class SystemSpec:
 @dataclass(frozen=True)
 class Generated:
     positions: np.ndarray  # (T, J, 3)
-    compute_s: float  # wall time spent generating
+    compute_s: float  # wall time spent generating, session setup included
+    rotations: np.ndarray  # (T, J, 4) local XYZW rotations of the body joints
+    setup_s: float = 0.0  # the part of compute_s spent building the session (ONNX graphs, style embeddings)
 
 
-def _session(bundle: ModelBundle, sampler: SamplerConfig, style: str, seed: int, clock: FakeClock,
+def _session(bundle: ModelBundle, sampler: SamplerConfig, style: str | StylePrompt, seed: int, clock: FakeClock,
              audio_guidance: float = DEFAULT_AUDIO_GUIDANCE, lookahead: int | None = None,
-             guidance: float | None = None) -> GestureSession:
-    settings = GeneratorSettings(sampler=sampler, style=StylePrompt("label", style), seed=seed, threads=1,
-                                 audio_guidance=audio_guidance, lookahead=lookahead, guidance=guidance)
+             guidance: float | None = None, part_styles: PartStyles = (),
+             seam_smoothing: float = SEAM_SMOOTHING) -> GestureSession:
+    """A session on a fake clock; ``style`` is a label or any prompt, ``part_styles`` per-part prompts over it."""
+    prompt = style if isinstance(style, StylePrompt) else StylePrompt("label", style)
+    settings = GeneratorSettings(sampler=sampler, style=prompt, seed=seed, threads=1,
+                                 audio_guidance=audio_guidance, lookahead=lookahead, guidance=guidance,
+                                 part_styles=part_styles, seam_smoothing=seam_smoothing)
     generator = Generator(bundle, settings)
     budget = LatencyBudget(bundle.frames_per_latent, generator.lookahead, LATENCY_MARGIN_MS,
                            smoothing_frames=DEFAULT_SMOOTHING_FRAMES)
     return GestureSession(bundle, generator, budget, clock)
 
 
-def _positions(frames: list[PoseFrame]) -> np.ndarray:
-    positions = frames_to_motion(sorted(frames, key=lambda f: f.seq)).positions()  # (T, 52, 3) body + fingers
-    return positions[:, :NUM_JOINTS]  # (T, 22, 3): the metrics and frozen evaluation networks see the body
+def _generated(frames: list[PoseFrame], start: float, setup_s: float) -> Generated:
+    motion = frames_to_motion(sorted(frames, key=lambda f: f.seq))  # 52 joints: body + fingers
+    positions = motion.positions()[:, :NUM_JOINTS]  # (T, 22, 3): the metrics and evaluation networks see the body
+    return Generated(positions, time.perf_counter() - start, motion.rotations[:, :NUM_JOINTS], setup_s)
 
 
 def _with_wav(audio: np.ndarray, run):
@@ -71,15 +79,19 @@ def _with_wav(audio: np.ndarray, run):
 
 
 def generate_offline(
-    bundle: ModelBundle, sampler: SamplerConfig, clip: EvalClip, style: str, seed: int = 0,
+    bundle: ModelBundle, sampler: SamplerConfig, clip: EvalClip, style: str | StylePrompt, seed: int = 0,
     audio_guidance: float = DEFAULT_AUDIO_GUIDANCE, lookahead: int | None = None, guidance: float | None = None,
+    part_styles: PartStyles = (), seam_smoothing: float = SEAM_SMOOTHING,
 ) -> Generated:
     """Motion for the clip's audio in ``style`` through ``run_offline`` (the `generate` path), at look-ahead
-    ``lookahead`` (default: the model's δa) and style guidance ``guidance`` (default: the model's)."""
+    ``lookahead`` (default: the model's δa) and style guidance ``guidance`` (default: the model's); body parts
+    named in ``part_styles`` follow their own prompt, their seams smoothed with λ = ``seam_smoothing``."""
     start = time.perf_counter()
-    session = _session(bundle, sampler, style, seed, FakeClock(), audio_guidance, lookahead, guidance)
+    session = _session(bundle, sampler, style, seed, FakeClock(), audio_guidance, lookahead, guidance, part_styles,
+                       seam_smoothing)
+    setup_s = time.perf_counter() - start
     frames, _ = _with_wav(clip.audio, lambda path: run_offline(session, FastFileSource(path)))
-    return Generated(_positions(frames), time.perf_counter() - start)
+    return _generated(frames, start, setup_s)
 
 
 def generate_live(
@@ -89,6 +101,7 @@ def generate_live(
     start = time.perf_counter()
     clock = FakeClock()
     session = _session(bundle, sampler, style, seed, clock)
+    setup_s = time.perf_counter() - start
     received: list[PoseFrame] = []
 
     def run(path: Path) -> None:
@@ -96,4 +109,4 @@ def generate_live(
         LiveEngine(session, source, received.append, clock).run()
 
     _with_wav(clip.audio, run)
-    return Generated(_positions(received), time.perf_counter() - start)
+    return _generated(received, start, setup_s)
