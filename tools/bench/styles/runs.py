@@ -40,6 +40,7 @@ class StudyRuns:
     bundle: ModelBundle
     clip: EvalClip  # the speech every style is generated on
     sampler: SamplerConfig
+    audio_guidance: float = DEFAULT_AUDIO_GUIDANCE  # s_a of every generation
     results: dict[tuple[str, StyleRequest], Generated] = field(default_factory=dict)
 
     def generate(self, request: StyleRequest, clip: EvalClip | None = None) -> Generated:
@@ -48,20 +49,20 @@ class StudyRuns:
         key = (clip.name, request)
         if key not in self.results:
             self.results[key] = generate_offline(
-                self.bundle, self.sampler, clip, request.style, request.seed, guidance=request.guidance,
-                part_styles=request.part_styles, seam_smoothing=request.seam_smoothing)
+                self.bundle, self.sampler, clip, request.style, request.seed, self.audio_guidance,
+                guidance=request.guidance, part_styles=request.part_styles, seam_smoothing=request.seam_smoothing)
         return self.results[key]
 
     def real_time_factor(self, request: StyleRequest) -> float:
         """Wall seconds per generated second of a fresh generation of ``request``, session setup excluded."""
         started = time.perf_counter()
         generated = generate_offline(self.bundle, self.sampler, self.clip, request.style, request.seed,
-                                     guidance=request.guidance, part_styles=request.part_styles,
+                                     self.audio_guidance, guidance=request.guidance, part_styles=request.part_styles,
                                      seam_smoothing=request.seam_smoothing)
         return (time.perf_counter() - started - generated.setup_s) / self.clip.seconds
 
     def denoiser_rows(self, request: StyleRequest) -> int:
         """Rows of the batched denoiser call that ``request`` needs (style rows, null style, audio-null)."""
         settings = GeneratorSettings(self.sampler, request.guidance, request.style, threads=1,
-                                     audio_guidance=DEFAULT_AUDIO_GUIDANCE, part_styles=request.part_styles)
+                                     audio_guidance=self.audio_guidance, part_styles=request.part_styles)
         return Generator(self.bundle, settings).layout.batch

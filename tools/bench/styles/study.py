@@ -29,7 +29,7 @@ from gesturecast.models.evaluation.fgd_encoder import FGDEncoder
 from gesturecast.models.evaluation.style_classifier import StyleClassifier
 from gesturecast.models.generator.diffusion import SamplerConfig
 from gesturecast.models.runtime.bundle import ModelBundle
-from gesturecast.realtime.engine_setup import DEFAULT_MODEL_DIR, load_bundle
+from gesturecast.realtime.engine_setup import DEFAULT_AUDIO_GUIDANCE, DEFAULT_MODEL_DIR, load_bundle
 from gesturecast.tools.bench.styles.guidance_sweep import guidance_entry
 from gesturecast.tools.bench.styles.motion_prompts import prompt_comparison, write_prompt_clip
 from gesturecast.tools.bench.styles.part_styles import DEFAULT_PAIRS, TIMING_REPEATS, PartPair, part_study
@@ -49,6 +49,7 @@ class StudyConfig:
     steps: int = 4  # DDIM K
     seeds: tuple[int, ...] = (0,)  # generation seeds (confusion counts pooled; per-part study: the first)
     timing_repeats: int = TIMING_REPEATS  # fresh generations per request timed for the per-part compute cost
+    audio_guidance: float = DEFAULT_AUDIO_GUIDANCE  # s_a: < 1 weakens the speech's pull toward the paired takes' style
 
 
 QUICK = StudyConfig(guidance=(1.5,), seconds=2.5, max_styles=2, timing_repeats=1)
@@ -64,6 +65,8 @@ def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--prompt-styles", nargs=2, metavar=("A", "B"), help="styles of the two motion-prompt "
                         "takes (default: old angry)")
     parser.add_argument("--seeds", type=int, nargs="+", help="generation seeds (default: 0)")
+    parser.add_argument("--audio-guidance", type=float, help=f"audio guidance s_a of every generation (default "
+                        f"{DEFAULT_AUDIO_GUIDANCE}; docs/style-study.md: styles vs speech following)")
     parser.add_argument("--prompt-dir", type=Path, help="keep the CMU BVH prompts here (default: a temporary folder)")
     parser.add_argument("--quick", action="store_true", help="2 styles, s = 1.5 only, 2.5 s (for tests)")
     parser.add_argument("--json", type=Path, help="also write the result here")
@@ -79,6 +82,8 @@ def study_config(args: argparse.Namespace) -> StudyConfig:
         config = replace(config, seconds=args.seconds)
     if args.seeds:
         config = replace(config, seeds=tuple(args.seeds))
+    if args.audio_guidance is not None:
+        config = replace(config, audio_guidance=args.audio_guidance)
     if args.prompt_styles:
         config = replace(config, prompt_styles=tuple(args.prompt_styles))
     return config
@@ -109,7 +114,8 @@ def study_report(model: Path, cache: Path, config: StudyConfig, prompt_dir: Path
     bundle = load_bundle(model)
     networks = EvalNetworks(FGDEncoder.load(), StyleClassifier.load(), reference_positions(cache))
     held_out = [clip.crop(config.seconds) for clip in held_out_clips(cache)]
-    runs = StudyRuns(bundle, speech_clip(held_out, config.seconds), SamplerConfig("ddim", config.steps))
+    runs = StudyRuns(bundle, speech_clip(held_out, config.seconds), SamplerConfig("ddim", config.steps),
+                      config.audio_guidance)
     styles, seeds = study_styles(bundle, networks.classifier, config), config.seeds
     guidance = {f"{s:g}": guidance_entry(runs, networks, styles, held_out, s, seeds) for s in config.guidance}
     prompts = tuple(write_prompt_clip(cache, style, prompt_dir) for style in config.prompt_styles)
