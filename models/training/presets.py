@@ -1,9 +1,9 @@
 """Training presets: every size, step count and batch of one `gesturecast train` run.
 
 - ``tiny``: a few seconds on a few short clips; the tests train it end to end.
-- ``default``: the bundled model; sized to train on a 2-core CPU in well under an hour. It listens to the
-  speaker-invariant prosody front end and trains on three waveform voice copies of every paired clip
-  (docs/voices.md); bundles trained before keep their own front end (``model.json``).
+- ``default``: the bundled model; sized to train on a 2-core CPU in well under an hour: one VQ-VAE per body
+  part, the log-mel front end without voice copies (with body-part latents it was both the liveliest and the
+  most voice-robust of the three front ends compared, docs/voices.md), look-ahead truncation on.
 """
 
 from __future__ import annotations
@@ -102,9 +102,7 @@ DEFAULT = TrainPreset(
     denoiser=DenoiserPreset(width=128, num_layers=4, num_heads=4, window=16, audio_window=16, steps=6000,
                             batch_size=32, sequence_latents=16, learning_rate=3e-4, paired_fraction=0.5),
     prompt=PromptPreset(width=128, steps=400, batch_size=32, clip_frames=90),
-    lookahead_truncation=True,
-    front_end="prosody",  # docs/voices.md: the representation study's winner
-    voice_copies=3,
+    lookahead_truncation=True,  # front end: log-mel, no voice copies (docs/voices.md, "With body-part latents")
 )
 
 PRESETS = {preset.name: preset for preset in (TINY, DEFAULT)}
