@@ -1,8 +1,11 @@
 """`gesturecast data build`: build the training-set cache from the shared data and user datasets.
 
-Shared data (default ``../shared/data``): the ZeroEGGS take + audio, the BEAT2 take + audio, and
-Bandai Namco dataset-1 and the dataset-2 gesture subset (unpacked once into ``.cache/raw``).
-User folders are added with ``--zeggs``, ``--beat``, ``--smplx``, ``--bandai`` (repeatable).
+Shared data (default ``../shared/data``): the ZeroEGGS take + audio, the BEAT2 take + audio, the SHOW
+clips (arms only; two speakers held out as unseen voices), and Bandai Namco dataset-1 and the dataset-2
+gesture subset (unpacked once into ``.cache/raw``). User folders are added with ``--zeggs``, ``--beat``,
+``--smplx``, ``--show``, ``--bandai`` (repeatable). The shared ``zeggs_upper/`` takes are not read: their
+9-joint world poses lack the clavicles and upper chest, so the arms' local rotations are not determined
+(docs/dataset.md).
 """
 
 from __future__ import annotations
@@ -20,6 +23,7 @@ from gesturecast.models.dataset.sources import (
     TakeSource,
     bandai_takes,
     beat_takes,
+    show_takes,
     smplx_takes,
     unpack_archive,
     zeggs_takes,
@@ -34,6 +38,7 @@ USER_LAYOUTS: dict[str, Callable[[Path], list[TakeSource]]] = {
     "zeggs": zeggs_takes,
     "beat": beat_takes,
     "smplx": smplx_takes,
+    "show": show_takes,
     "bandai": bandai_takes,
 }
 
@@ -54,10 +59,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def shared_takes(shared: Path, raw_cache: Path) -> list[TakeSource]:
-    """The takes of the shared data folder (ZeroEGGS, BEAT2, both Bandai archives)."""
+    """The takes of the shared data folder (ZeroEGGS, BEAT2, SHOW, both Bandai archives)."""
     if not shared.is_dir():
         raise UserError(f"shared data folder not found: {shared} (pass --shared DIR or --no-shared)")
-    takes = zeggs_takes(shared / "zeggs") + smplx_takes(shared / "beat2", dataset="beat2")
+    takes = zeggs_takes(shared / "zeggs") + smplx_takes(shared / "beat2", dataset="beat2") + show_takes(shared / "show")
     for archive in BANDAI_ARCHIVES:
         takes += bandai_takes(unpack_archive(shared / "bandai" / archive, raw_cache / "bandai"))
     return takes

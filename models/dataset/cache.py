@@ -9,12 +9,12 @@ place; an error leaves the previous cache untouched and no partial folder behind
   round(T * 16000 / 30), empty when the take has none; ``fps``, ``style``, ``dataset``, ``source``.
 - ``index.json``: ``format_version``, fps, sample rate, the style vocabulary and synonyms, the
   split rule, and one record per take (name, dataset, style, source, frames, seconds, audio
-  flag, file, segments).
+  flag, file, segments, ``parts``: the body parts whose motion is reliable, all three for a full-body take).
 
 Split (deterministic, by take): a take with speech audio is cut by time — its first 75 % trains,
 the next 10 % validates, the final 15 % is held out for testing, so every paired speaker/style
-has unseen test speech. A motion-only take goes whole to train / val / test by a hash of its
-name (90 / 5 / 5 %).
+has unseen test speech. A held-out take (an unseen voice, :class:`TakeSource`) is test data whole.
+A motion-only take goes whole to train / val / test by a hash of its name (90 / 5 / 5 %).
 
 Augmentation (mirror, speed 0.9 / 1.1 with the audio) is applied at load time, to the train
 split only: the cache stays one copy of the data and the augmentation can change without a rebuild.
@@ -39,13 +39,14 @@ from gesturecast.errors import UserError
 from gesturecast.models.dataset.augment import AugmentConfig, augmented_variants, fit_audio, slice_audio
 from gesturecast.models.dataset.sources import TakeSource
 from gesturecast.models.generator.styles import STYLE_SYNONYMS, STYLES
+from gesturecast.models.motion.body_parts import PART_NAMES
 from gesturecast.models.motion.motion import MOTION_FPS, Motion
 from gesturecast.models.motion.motion_features import face_forward, motion_to_features
-from gesturecast.models.motion.retarget import load_motion_file
+from gesturecast.models.motion.retarget import load_motion_file, upright_from_camera
 from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio
 
 LOGGER = logging.getLogger(__name__)
-FORMAT_VERSION = 1
+FORMAT_VERSION = 2  # 2: per-take body parts and held-out takes
 INDEX_FILE = "index.json"
 TAKES_FOLDER = "takes"
 SPLITS = ("train", "val", "test")
@@ -76,6 +77,7 @@ class DatasetTake:
     features: np.ndarray  # (T, FEATURE_DIM) float32
     audio: np.ndarray | None  # (round(T * 16000 / 30),) float32 or None
     fps: float = MOTION_FPS
+    parts: tuple[str, ...] = PART_NAMES  # the body parts whose motion is reliable
 
 
 DEFAULT_SPLIT = SplitConfig()
@@ -86,8 +88,11 @@ def _hash_fraction(key: str) -> float:
     return int(hashlib.sha1(key.encode()).hexdigest()[:8], 16) / _HASH_SCALE
 
 
-def take_segments(dataset: str, name: str, num_frames: int, has_audio: bool, split: SplitConfig) -> list[dict]:
+def take_segments(dataset: str, name: str, num_frames: int, has_audio: bool, split: SplitConfig,
+                  held_out: bool = False) -> list[dict]:
     """Split segments ``{"split", "start", "stop"}`` of one take (rule: module docstring)."""
+    if held_out:
+        return [{"split": "test", "start": 0, "stop": num_frames}]
     if has_audio:
         test_start = int(round(num_frames * (1.0 - split.paired_test_fraction)))
         val_start = int(round(num_frames * (1.0 - split.paired_test_fraction - split.paired_val_fraction)))
@@ -103,7 +108,8 @@ def take_segments(dataset: str, name: str, num_frames: int, has_audio: bool, spl
 def read_take(source: TakeSource) -> tuple[Motion, np.ndarray | None]:
     """Canonical motion faced forward, and its frame-aligned 16 kHz audio (None without audio)."""
     try:
-        motion = face_forward(load_motion_file(source.motion_path))
+        motion = load_motion_file(source.motion_path)
+        motion = face_forward(upright_from_camera(motion) if source.root_in_camera_frame else motion)
     except UserError as error:
         message = str(error)
         raise UserError(message if str(source.motion_path) in message else f"{source.motion_path}: {message}") from None
@@ -137,7 +143,8 @@ def _take_record(source: TakeSource, motion: Motion, has_audio: bool, split: Spl
         "num_frames": motion.num_frames,
         "seconds": motion.duration,
         "has_audio": has_audio,
-        "segments": take_segments(source.dataset, source.name, motion.num_frames, has_audio, split),
+        "parts": list(source.parts),
+        "segments": take_segments(source.dataset, source.name, motion.num_frames, has_audio, split, source.held_out),
     }
 
 
@@ -194,6 +201,11 @@ def read_index(cache_dir: Path) -> dict:
     return index
 
 
+def is_full_body(record: dict) -> bool:
+    """Whether an index record's take holds reliable motion of every body part (evaluation uses only these)."""
+    return tuple(record["parts"]) == PART_NAMES
+
+
 def load_take(cache_dir: Path, record: dict) -> tuple[Motion, np.ndarray | None]:
     """The cached motion (float64) and audio (None when the take has none) of one index record."""
     with np.load(cache_dir / record["file"]) as data:
@@ -230,7 +242,7 @@ def _segment_clips(
     return [
         DatasetTake(
             record["name"], record["dataset"], record["style"], segment["split"], tag, start,
-            motion_to_features(variant), variant_audio, variant.fps,
+            motion_to_features(variant), variant_audio, variant.fps, tuple(record["parts"]),
         )
         for tag, variant, variant_audio in augmented_variants(part, part_audio, config, SAMPLE_RATE)
     ]

@@ -12,6 +12,9 @@ Layouts:
   is its audio when present.
 - Bandai Namco dataset-1/-2: ``dataset-N_{content}_{style}_{id}.bvh`` with a ``.json`` label file
   beside it; the style is the label index into ``cfg/style_label.txt`` (else the file name's).
+- SHOW (TalkSHOW clips fitted from video): SMPL-X ``*.npz`` + same-stem ``*.wav``, the root in the video
+  camera's frame. Only the arms are kept as training targets (:data:`SHOW_PARTS`); the speakers in
+  :data:`SHOW_HELD_OUT_SPEAKERS` are test data as a whole (unseen voices).
 """
 
 from __future__ import annotations
@@ -28,6 +31,7 @@ from pathlib import Path
 
 from gesturecast.errors import UserError
 from gesturecast.models.generator.styles import canonical_style
+from gesturecast.models.motion.body_parts import PART_NAMES
 
 LOGGER = logging.getLogger(__name__)
 ZEGGS_INFO = "info.csv"
@@ -35,6 +39,10 @@ BEAT_STYLE = "conversation"
 _BANDAI_NAME = re.compile(r"^dataset-(\d+)_(?P<content>[^_]+)_(?P<style>[^_]+)_\d+$")
 # SHOW (TalkSHOW) clips are split by speaker (the file-name prefix): these voices are never trained on
 SHOW_HELD_OUT_SPEAKERS = ("seth", "chemistry")
+# The speakers sit behind desks: legs and root are occluded guesses, and the spine's rotation is relative to a
+# pelvis tilted back in the chair (mean Spine rotation 30-35 deg on oliver's clips vs 7-15 deg in the standing
+# mocap), so the torso would teach a forward lean. The arms hang from the upper chest and are kept.
+SHOW_PARTS = ("arms",)
 
 
 def show_speaker(stem: str) -> str:
@@ -44,13 +52,24 @@ def show_speaker(stem: str) -> str:
 
 @dataclass(frozen=True)
 class TakeSource:
-    """One take to read: ``name`` is unique within its ``dataset``; ``style`` is canonical."""
+    """One take to read: ``name`` is unique within its ``dataset``; ``style`` is canonical.
+
+    ``parts``: the body parts (:mod:`gesturecast.models.motion.body_parts`) whose motion is reliable; the others
+    are masked in every training loss. ``held_out``: the whole take is test data. ``root_in_camera_frame``: the
+    motion's root is in an OpenCV camera frame (y down, z away), turned upright when read."""
 
     dataset: str
     name: str
     motion_path: Path
     audio_path: Path | None
     style: str
+    parts: tuple[str, ...] = PART_NAMES
+    held_out: bool = False
+    root_in_camera_frame: bool = False
+
+    @property
+    def full_body(self) -> bool:
+        return self.parts == PART_NAMES
 
 
 def _files_by_stem(folder: Path, suffix: str) -> dict[str, Path]:
@@ -101,6 +120,17 @@ def smplx_takes(folder: Path, dataset: str = "smplx") -> list[TakeSource]:
         raise UserError(f"{folder} is not an SMPL-X folder: no *.npz files (expected BEAT2/AMASS-style NPZ)")
     style = canonical_style(BEAT_STYLE)
     return [TakeSource(dataset, stem, path, wav_files.get(stem), style) for stem, path in npz_files.items()]
+
+
+def show_takes(folder: Path) -> list[TakeSource]:
+    """SHOW clips (SMPL-X NPZ + WAV of the same stem): arms only, held-out speakers whole in the test split."""
+    npz_files, wav_files = _files_by_stem(folder, ".npz"), _files_by_stem(folder, ".wav")
+    paired = sorted(set(npz_files) & set(wav_files))
+    if not paired:
+        raise UserError(f"{folder} is not a SHOW folder: no *.npz with a *.wav of the same name")
+    style = canonical_style(BEAT_STYLE)
+    return [TakeSource("show", stem, npz_files[stem], wav_files[stem], style, SHOW_PARTS,
+                       show_speaker(stem) in SHOW_HELD_OUT_SPEAKERS, root_in_camera_frame=True) for stem in paired]
 
 
 def _bandai_style_labels(bvh_path: Path) -> list[str] | None:

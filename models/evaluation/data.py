@@ -1,8 +1,9 @@
 """Real motion for training and checking the frozen evaluation networks, read from the dataset cache.
 
-Every cached take (all datasets) is turned into root-relative joint positions per split segment
-(:mod:`.dataset`'s split rule: paired takes by time, motion-only takes whole by a hash of the name),
-with its canonical style label. No augmentation: the networks learn the data as recorded.
+Every cached full-body take (all datasets; arms-only takes such as SHOW are left out) is turned into
+root-relative joint positions per split segment (:mod:`.dataset`'s split rule: paired takes by time,
+motion-only takes whole by a hash of the name), with its canonical style label. No augmentation:
+the networks learn the data as recorded.
 """
 
 from __future__ import annotations
@@ -12,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from gesturecast.models.dataset.cache import load_take, read_index
+from gesturecast.models.dataset.cache import is_full_body, load_take, read_index
 from gesturecast.models.evaluation.windows import WindowConfig, pose_channels
 
 
@@ -28,7 +29,7 @@ class RealClip:
 def real_clips(cache_dir: Path, splits: tuple[str, ...], min_frames: int = WindowConfig().frames) -> list[RealClip]:
     """Every take segment of ``splits`` with at least ``min_frames`` frames, as :class:`RealClip`."""
     clips = []
-    for record in read_index(cache_dir)["takes"]:
+    for record in filter(is_full_body, read_index(cache_dir)["takes"]):
         segments = [s for s in record["segments"] if s["split"] in splits and s["stop"] - s["start"] >= min_frames]
         if not segments:
             continue

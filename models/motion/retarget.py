@@ -200,6 +200,17 @@ def retarget_smplx(poses: np.ndarray, trans: np.ndarray, fps: float) -> Motion:
     return Motion(rotations, _ground_root_height(rotations, root), fps)
 
 
+CAMERA_TO_UPRIGHT = np.array([1.0, 0.0, 0.0, 0.0])  # 180 deg about X: OpenCV camera (y down, z away) to Y-up, +Z
+
+
+def upright_from_camera(motion: Motion) -> Motion:
+    """A motion whose root is in an OpenCV camera frame (SHOW fits), turned Y-up and facing the camera, grounded."""
+    rotations = motion.rotations.copy()
+    rotations[:, 0] = quat_mul(np.broadcast_to(CAMERA_TO_UPRIGHT, rotations[:, 0].shape), rotations[:, 0])
+    root = motion.root_position * np.array([1.0, -1.0, -1.0])  # (T, 3)
+    return Motion(rotations, _ground_root_height(rotations, root), motion.fps, motion.skeleton)
+
+
 def _read_smplx_npz(path: Path) -> Motion:
     try:
         with np.load(path, allow_pickle=False) as archive:

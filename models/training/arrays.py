@@ -2,7 +2,8 @@
 
 Paired takes (speech + motion) get mirror + speed augmentation (with their audio); motion-only
 takes (Bandai) get mirroring only — they are 98 % of the frames, and speed variants of them would
-triple memory without teaching the audio link. Audio features come from the same streaming code
+triple memory without teaching the audio link. A clip carries the body parts its take holds reliably
+(``parts``); the training stages mask the others in every loss. Audio features come from the same streaming code
 the live engine runs (:func:`gesturecast.realtime.features.streaming.extract_features`).
 """
 
@@ -18,6 +19,7 @@ from gesturecast.models.dataset.augment import AugmentConfig, augmented_variants
 from gesturecast.models.dataset.cache import load_take, read_index
 from gesturecast.models.dataset.voice_transforms import random_voice
 from gesturecast.models.generator.styles import canonical_style
+from gesturecast.models.motion.body_parts import PART_NAMES
 from gesturecast.models.motion.motion_features import motion_to_features
 from gesturecast.realtime.audio.files import SAMPLE_RATE
 from gesturecast.realtime.features.streaming import FeatureConfig, extract_features
@@ -32,10 +34,15 @@ class TrainingClip:
     motion: np.ndarray  # (T, D) float32 motion features (raw, not normalised)
     audio: np.ndarray | None  # (T, F) float32 audio features aligned with the motion, None without speech
     voice_copy: bool = False  # a waveform-augmented repeat of another clip's motion (denoiser training only)
+    parts: tuple[str, ...] = PART_NAMES  # the body parts whose motion is reliable (the rest is masked)
 
     @property
     def num_frames(self) -> int:
         return int(self.motion.shape[0])
+
+    @property
+    def full_body(self) -> bool:
+        return self.parts == PART_NAMES
 
 
 def aligned_audio_features(audio: np.ndarray, num_frames: int, config: FeatureConfig) -> np.ndarray:
@@ -96,7 +103,8 @@ def load_training_clips(
                         else aligned_audio_features(voice_audio, len(features), feature_config)
                     )
                     clips.append(TrainingClip(record["name"], record["dataset"], canonical_style(record["style"]),
-                                              voice_tag, features, audio_features, voice_tag != tag))
+                                              voice_tag, features, audio_features, voice_tag != tag,
+                                              tuple(record["parts"])))
     return clips
 
 

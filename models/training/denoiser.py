@@ -4,7 +4,8 @@ Batches mix paired clips (speech audio present) and motion-only clips (audio con
 ``audio_mask = 0``) in a fixed proportion, so the motion prior and the styles come from the large
 motion-only set and the link to speech from the paired takes. The objective is D2's diffusion
 forcing loss (:func:`gesturecast.models.training.denoiser_objective.training_loss`): per-frame noise levels,
-clean-history prefixes, x0 prediction with a Huber loss, style dropped 10 % of the time for CFG.
+clean-history prefixes, x0 prediction with a Huber loss, style dropped 10 % of the time for CFG. A clip of a
+take that lacks body parts (SHOW: arms only) has those parts' latent channels zeroed and masked out of the loss.
 """
 
 from __future__ import annotations
@@ -36,6 +37,7 @@ class LatentClip:
     latents: np.ndarray  # (N, C) normalised latents
     audio: np.ndarray | None  # (N*d, F) normalised audio features aligned with motion frame 0
     style: np.ndarray  # (S,) label embedding
+    channel_mask: np.ndarray | None = None  # (C,) 1 on the latent channels of parts the take holds; None = all
 
 
 AudioAugmenter = Callable[[np.ndarray, np.random.Generator], np.ndarray]  # (T, F) normalised → (T, F)
@@ -72,14 +74,17 @@ class LatentBatchSampler:
         return latents, sequence_audio(clip.audio, start, self.num_latents, self.config, augment), 1.0
 
     def sample(self, batch_size: int) -> tuple[torch.Tensor, ...]:
-        """latents (B, N, C), audio (B, N*d + δa, F), audio_mask (B,), style (B, S)."""
+        """latents (B, N, C), audio (B, N*d + δa, F), audio_mask (B,), style (B, S), latent_mask (B, C)."""
         picked = [self._pick() for _ in range(batch_size)]
         windows = [self._window(clip) for clip in picked]
         latents = torch.as_tensor(np.stack([w[0] for w in windows]), dtype=torch.float32)
         audio = torch.as_tensor(np.stack([w[1] for w in windows]), dtype=torch.float32)
         mask = torch.as_tensor([w[2] for w in windows], dtype=torch.float32)
         style = torch.as_tensor(np.stack([clip.style for clip in picked]), dtype=torch.float32)
-        return latents, audio, mask, style
+        channels = latents.shape[-1]
+        latent_mask = torch.as_tensor(np.stack([np.ones(channels, np.float32) if clip.channel_mask is None
+                                                else clip.channel_mask for clip in picked]), dtype=torch.float32)
+        return latents, audio, mask, style, latent_mask
 
 
 def learning_rate_factor(step: int, total: int) -> float:
@@ -117,8 +122,8 @@ def train_denoiser(
     history, recent = [], []
     started = time.perf_counter()
     for step in tqdm(range(steps), desc="denoiser", disable=not progress):
-        latents, audio, mask, style = sampler.sample(batch_size)
-        loss = training_loss(model, latents, audio, mask, style, schedule, generator)
+        latents, audio, mask, style, latent_mask = sampler.sample(batch_size)
+        loss = training_loss(model, latents, audio, mask, style, schedule, generator, latent_mask=latent_mask)
         optimizer.zero_grad(set_to_none=True)
         loss.backward()
         torch.nn.utils.clip_grad_norm_(model.parameters(), GRAD_CLIP_NORM)

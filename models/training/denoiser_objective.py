@@ -8,6 +8,8 @@
   with a Huber loss (DiffuseStyleGesture §3.3, eq. 5) on the noisy frames only.
 - The style is dropped (replaced by the learned null style) with probability ``style_drop_prob``
   for classifier-free guidance (Ho & Salimans 2022 §3.2; 10% as in DiffuseStyleGesture).
+- Body parts a take does not hold (``latent_mask`` 0 on their latent channels) add nothing to the loss:
+  the loss is averaged over the noisy frames' present channels only.
 - Random look-ahead truncation (models with ``lookahead_truncation``): every sequence draws its
   look-ahead δ uniformly from 0..δa; the network masks the audio past δ and is told δ, so one model
   serves every latency setting (docs/latency.md "Latency settings").
@@ -64,12 +66,13 @@ def training_loss(
     schedule: DiffusionSchedule,
     generator: torch.Generator,
     config: DenoiserTrainConfig = DenoiserTrainConfig(),  # noqa: B008 (frozen dataclass)
+    latent_mask: torch.Tensor | None = None,
 ) -> torch.Tensor:
     """Huber loss of the x0 prediction on noisy frames.
 
     latents (B, N, C) clean VQ-VAE latents; audio (B, N*d + δa, F) features aligned with motion frame 0;
     audio_mask (B,) or (B, N): 1 where real audio accompanies the motion (0 for motion-only data);
-    style (B, S) style embeddings.
+    style (B, S) style embeddings; latent_mask (B, C): 1 on the channels that are training targets (default all).
     """
     batch, num_latents, _ = latents.shape
     t = sample_noise_levels(batch, num_latents, schedule.num_timesteps, config.clean_history_prob, generator)
@@ -79,5 +82,6 @@ def training_loss(
     lookahead = sample_lookaheads(model, batch, generator)  # (B,)
     x0 = model(x_t, t, audio, audio_present, style, style_present, lookahead)  # (B, N, C)
     per_element = F.huber_loss(x0, latents, reduction="none", delta=config.huber_delta)  # (B, N, C)
-    noisy = (t != CLEAN_TIMESTEP).float()[..., None]  # (B, N, 1)
-    return (per_element * noisy).sum() / (noisy.sum() * latents.shape[-1]).clamp(min=1.0)
+    channels = torch.ones_like(latents[:, 0]) if latent_mask is None else latent_mask  # (B, C)
+    weight = (t != CLEAN_TIMESTEP).float()[..., None] * channels[:, None, :]  # (B, N, C)
+    return (per_element * weight).sum() / weight.sum().clamp(min=1.0)

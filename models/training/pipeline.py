@@ -2,13 +2,16 @@
 
 Stages (each saved to the checkpoint when done, so ``resume`` skips finished stages):
 
-1. ``data``: motion-feature and audio-feature normalisation statistics (train split), the style
-   vocabulary's wordllama embeddings (prompt "a person gesturing in a {label} way");
-2. ``vqvae``: the motion VQ-VAE on all train motion (mirrored; paired takes also speed-augmented),
-   with held-out reconstruction error (feature space, cm, degrees) and codebook usage;
-3. ``denoiser``: latents of every clip (normalised by ``latent_stats``), then the causal denoiser
-   with diffusion forcing on latent sequences + aligned audio windows (masked for motion-only
-   takes) + label style embeddings (dropped 10 % for CFG);
+1. ``data``: motion-feature normalisation statistics (full-body train takes) and audio-feature ones
+   (every paired train take), the style vocabulary's wordllama embeddings (prompt "a person gesturing
+   in a {label} way");
+2. ``vqvae``: one motion VQ-VAE per body part on the train motion that holds that part (mirrored;
+   paired takes also speed-augmented), with held-out reconstruction error (feature space, cm,
+   degrees; full-body takes) and codebook usage;
+3. ``denoiser``: latents of every clip (normalised by ``latent_stats`` of the full-body clips; the
+   channels of parts a take lacks zeroed and masked out of the loss), then the causal denoiser with
+   diffusion forcing on latent sequences + aligned audio windows (masked for motion-only takes) +
+   label style embeddings (dropped 10 % for CFG);
 4. ``motion_prompt``: the contrastive motion → style-embedding encoder.
 
 The checkpoint (``checkpoint.pt``) holds plain data only — config dicts, statistics, state dicts —
@@ -32,14 +35,20 @@ import torch
 from gesturecast.errors import UserError
 from gesturecast.models.generator.denoiser_config import DenoiserConfig
 from gesturecast.models.generator.style_text import PROMPT_TEMPLATE, StyleTextEmbedder, vocabulary_embeddings
-from gesturecast.models.motion.body_parts import PART_NAMES, body_parts
+from gesturecast.models.motion.body_parts import PART_NAMES, BodyPart, body_parts
 from gesturecast.models.networks.motion_prompt import (
     MotionPromptConfig,
     MotionPromptEncoder,
     PromptTrainConfig,
     train_motion_prompt,
 )
-from gesturecast.models.networks.part_vqvae import PartVQVAE, PartVQVAEConfig, load_motion_vq, motion_vq_checkpoint
+from gesturecast.models.networks.part_vqvae import (
+    PartVQVAE,
+    PartVQVAEConfig,
+    load_motion_vq,
+    motion_vq_checkpoint,
+    part_channel_masks,
+)
 from gesturecast.models.networks.vqvae import VQVAEConfig
 from gesturecast.models.runtime.bundle import Normalizer, StyleTable
 from gesturecast.models.training.arrays import TrainingClip, dataset_summary, load_training_clips
@@ -72,6 +81,11 @@ class TrainInputs:
     def motion_train(self) -> list[TrainingClip]:
         """The train clips without voice copies: every motion once (statistics, VQ-VAE, motion prompt)."""
         return [clip for clip in self.train if not clip.voice_copy]
+
+    @property
+    def full_body_train(self) -> list[TrainingClip]:
+        """The motion of takes that hold every body part (statistics, the motion prompt)."""
+        return [clip for clip in self.motion_train if clip.full_body]
 
 
 def save_checkpoint(checkpoint: dict, path: Path) -> None:
@@ -108,7 +122,7 @@ def hardware_summary() -> dict:
 
 
 def data_stage(inputs: TrainInputs) -> dict:
-    motion_stats = Normalizer.fit([clip.motion for clip in inputs.motion_train], MOTION_STD_FLOOR)
+    motion_stats = Normalizer.fit([clip.motion for clip in inputs.full_body_train], MOTION_STD_FLOOR)
     paired = [clip.audio for clip in inputs.train if clip.audio is not None]
     if not paired:
         raise UserError("the training split holds no take with speech audio; the model needs paired data")
@@ -142,21 +156,26 @@ def vq_joint_errors(model: PartVQVAE, clips: list[np.ndarray], motion_stats: Nor
     return {key: float(np.mean([e[key] for e in errors])) for key in errors[0]} if errors else {}
 
 
+def part_columns(clips: list[TrainingClip], motion_stats: Normalizer, part: BodyPart) -> list[np.ndarray]:
+    """The normalised feature columns of ``part`` of every clip whose take holds that part."""
+    return [motion_stats.normalize(clip.motion)[:, list(part.columns)] for clip in clips if part.name in clip.parts]
+
+
 def vqvae_stage(inputs: TrainInputs, preset: TrainPreset, motion_stats: Normalizer, progress: bool) -> dict:
-    """One VQ-VAE per body part on that part's feature columns; held-out errors for the whole body and per part."""
-    train = [motion_stats.normalize(clip.motion) for clip in inputs.motion_train]
-    val = [motion_stats.normalize(clip.motion) for clip in inputs.val if clip.num_frames >= preset.vq.downsample]
+    """One VQ-VAE per body part on that part's feature columns of the takes that hold it; held-out errors for
+    the whole body (full-body takes) and per part."""
+    val_clips = [clip for clip in inputs.val if clip.num_frames >= preset.vq.downsample]
     config = part_vq_config(preset)
     train_config = VQTrainConfig(window=preset.vq.window, batch_size=preset.vq.batch_size)
     models, part_metrics = [], {}
     for part, part_config in zip(body_parts(config.parts), config.part_configs, strict=True):
-        columns = list(part.columns)
-        part_model, metrics = train_vqvae([clip[:, columns] for clip in train], part_config, preset.vq.steps,
-                                          preset.seed, progress, [clip[:, columns] for clip in val] or None,
-                                          train_config)
+        train = part_columns(inputs.motion_train, motion_stats, part)
+        part_model, metrics = train_vqvae(train, part_config, preset.vq.steps, preset.seed, progress,
+                                          part_columns(val_clips, motion_stats, part) or None, train_config)
         models.append(part_model)
-        part_metrics[part.name] = metrics
+        part_metrics[part.name] = {**metrics, "train_clips": len(train)}
     model = PartVQVAE(config, models)
+    val = [motion_stats.normalize(clip.motion) for clip in val_clips if clip.full_body]
     metrics = {
         "parts": part_metrics,
         "parameters": sum(m["parameters"] for m in part_metrics.values()),
@@ -178,17 +197,30 @@ def encode_latents(model: PartVQVAE, motion: np.ndarray) -> np.ndarray:
     return encoding.quantized[0].numpy()
 
 
+def channel_mask(model: PartVQVAE, parts: tuple[str, ...]) -> np.ndarray:
+    """(C,) 1 on the stacked latent's channels of ``parts``, 0 on the others."""
+    masks = part_channel_masks(model.config.latent_slices(), model.config.latent_dim)
+    return np.clip(np.sum([masks[name] for name in parts], axis=0), 0.0, 1.0).astype(np.float32)
+
+
+def latent_clip(clip: TrainingClip, latents: np.ndarray, model: PartVQVAE, latent_stats: Normalizer,
+                audio_stats: FeatureStats, styles: StyleTable) -> LatentClip:
+    """A denoiser clip; a take lacking parts gets their channels zeroed (placeholders, never targets) and masked."""
+    audio = None if clip.audio is None else audio_stats.apply(clip.audio)
+    normalized = latent_stats.normalize(latents)  # (N, C)
+    if clip.full_body:
+        return LatentClip(normalized, audio, styles.embedding(clip.style))
+    mask = channel_mask(model, clip.parts)  # (C,)
+    return LatentClip((normalized * mask).astype(np.float32), audio, styles.embedding(clip.style), mask)
+
+
 def latent_clips(inputs: TrainInputs, model: PartVQVAE, stats: dict, styles: StyleTable) -> tuple[list, Normalizer]:
     motion_stats = Normalizer.from_dict(stats["motion_stats"])
     audio_stats = FeatureStats.from_dict(stats["audio_stats"])
     encoded = [encode_latents(model, motion_stats.normalize(clip.motion)) for clip in inputs.train]
     encoded_clips = [(clip, latents) for clip, latents in zip(inputs.train, encoded, strict=True) if len(latents)]
-    latent_stats = Normalizer.fit([latents for _, latents in encoded_clips])
-    clips = [
-        LatentClip(latent_stats.normalize(latents), None if clip.audio is None else audio_stats.apply(clip.audio),
-                   styles.embedding(clip.style))
-        for clip, latents in encoded_clips
-    ]
+    latent_stats = Normalizer.fit([latents for clip, latents in encoded_clips if clip.full_body])
+    clips = [latent_clip(clip, latents, model, latent_stats, audio_stats, styles) for clip, latents in encoded_clips]
     return clips, latent_stats
 
 
@@ -220,7 +252,7 @@ def denoiser_stage(inputs: TrainInputs, preset: TrainPreset, checkpoint: dict, p
 
 def prompt_stage(inputs: TrainInputs, preset: TrainPreset, checkpoint: dict) -> dict:
     styles = StyleTable.from_dict(checkpoint["stages"]["data"]["styles"])
-    usable = [clip for clip in inputs.motion_train if clip.num_frames >= preset.prompt.clip_frames]
+    usable = [clip for clip in inputs.full_body_train if clip.num_frames >= preset.prompt.clip_frames]
     config = MotionPromptConfig(feature_dim=usable[0].motion.shape[1], width=preset.prompt.width,
                                 embed_dim=styles.embeddings.shape[1])
     train_config = PromptTrainConfig(clip_frames=preset.prompt.clip_frames, batch_size=preset.prompt.batch_size,

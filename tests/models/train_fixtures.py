@@ -18,13 +18,13 @@ MOTION_ONLY_OFFSET = 700  # frames into the take, away from the paired cuts
 MOTION_ONLY_NAME = "happy_walk_000"  # a name whose hash puts it in the train split
 
 
-def build_tiny_cache(root: Path, shared_zeggs: Path) -> Path:
-    """Two paired takes (styles neutral, old) and one motion-only take (happy), as a dataset cache."""
+def build_tiny_cache(root: Path, shared_zeggs: Path, extra_takes: tuple[TakeSource, ...] = ()) -> Path:
+    """Two paired takes (styles neutral, old) and one motion-only take (happy), plus ``extra_takes``, as a cache."""
     folder = make_zeggs_folder(root / "zeggs", shared_zeggs, {"001_Neutral_0": "Neutral", "002_Old_0": "Old"},
                                PAIRED_FRAMES)
     motion_only = root / f"{MOTION_ONLY_NAME}.bvh"
     cut_bvh(shared_zeggs / f"{TAKE}.bvh", motion_only, MOTION_ONLY_FRAMES, FIRST_FRAME + MOTION_ONLY_OFFSET)
-    takes = [*zeggs_takes(folder), TakeSource("bandai-1", MOTION_ONLY_NAME, motion_only, None, "happy")]
+    takes = [*zeggs_takes(folder), TakeSource("bandai-1", MOTION_ONLY_NAME, motion_only, None, "happy"), *extra_takes]
     cache = root / "dataset"
     build_dataset(takes, cache, progress=False)
     motion_only_record = next(t for t in read_index(cache)["takes"] if t["name"] == MOTION_ONLY_NAME)

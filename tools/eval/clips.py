@@ -15,7 +15,7 @@ import numpy as np
 
 from gesturecast.errors import UserError
 from gesturecast.models.dataset.augment import audio_samples_for_frames, slice_audio
-from gesturecast.models.dataset.cache import load_take, read_index
+from gesturecast.models.dataset.cache import is_full_body, load_take, read_index
 from gesturecast.models.motion.motion import MOTION_FPS
 from gesturecast.realtime.audio.files import PACKAGED_SAMPLE, SAMPLE_RATE, load_audio
 
@@ -44,8 +44,9 @@ class EvalClip:
 
 
 def _paired_segments(cache_dir: Path, split: str) -> list[tuple[dict, dict]]:
-    return [(record, segment) for record in read_index(cache_dir)["takes"] if record["has_audio"]
-            for segment in record["segments"] if segment["split"] == split]
+    """Segments of ``split`` of the full-body paired takes (arms-only takes have no motion to compare with)."""
+    paired = [record for record in read_index(cache_dir)["takes"] if record["has_audio"] and is_full_body(record)]
+    return [(record, segment) for record in paired for segment in record["segments"] if segment["split"] == split]
 
 
 def held_out_clips(cache_dir: Path) -> list[EvalClip]:

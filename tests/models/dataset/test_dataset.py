@@ -11,13 +11,14 @@ from gesturecast.models.dataset.cache import (
     DEFAULT_SPLIT,
     INDEX_FILE,
     build_dataset,
+    is_full_body,
     load_dataset,
     load_take,
     read_index,
     summary_table,
     take_segments,
 )
-from gesturecast.models.dataset.sources import TakeSource, zeggs_takes
+from gesturecast.models.dataset.sources import TakeSource, show_takes, zeggs_takes
 from gesturecast.models.motion.motion_features import FEATURE_DIM, facing_yaw
 
 FRAMES = 60
@@ -109,3 +110,26 @@ def test_cli_unknown_layout_is_one_line_error(tmp_path, capsys):
     error = capsys.readouterr().err.strip()
     assert "not a ZeroEGGS folder" in error and "\n" not in error
     assert not (tmp_path / "c").exists()
+
+
+def test_show_takes_are_cached_upright_arms_only_and_held_out_speakers_are_test_whole(tmp_path, shared_data):
+    takes = [t for t in show_takes(shared_data / "show") if t.name.startswith(("seth_98201", "unknown_115700"))]
+    index = build_dataset(takes, tmp_path / "cache", progress=False)
+    records = {record["name"].split("_")[0]: record for record in index["takes"]}
+    assert not any(is_full_body(record) for record in records.values())
+    assert records["seth"]["parts"] == ["arms"] and records["seth"]["has_audio"]
+    assert [s["split"] for s in records["seth"]["segments"]] == ["test"]
+    assert [s["split"] for s in records["unknown"]["segments"]] == ["train", "val", "test"]
+    motion, audio = load_take(tmp_path / "cache", records["seth"])
+    positions = motion.positions()  # (T, J, 3)
+    head, hips = motion.skeleton.index("Head"), motion.skeleton.index("Hips")
+    # the fit's root is in the camera frame (y down): read as it is, the speaker would hang upside down
+    assert np.all(positions[:, head, 1] > positions[:, hips, 1] + 0.3)
+    assert audio is not None and len(audio) == audio_samples_for_frames(motion.num_frames, motion.fps, RATE)
+    clips = load_dataset(tmp_path / "cache", splits=("train",))
+    assert clips and all(clip.parts == ("arms",) for clip in clips)
+
+
+def test_held_out_take_goes_whole_to_test():
+    assert take_segments("show", "seth_1", 300, True, DEFAULT_SPLIT, held_out=True) == [
+        {"split": "test", "start": 0, "stop": 300}]

@@ -14,7 +14,7 @@ from gesturecast.models.dataset.augment import (
     slice_audio,
     speed_perturb_pair,
 )
-from gesturecast.models.dataset.sources import bandai_takes, beat_takes, smplx_takes, zeggs_takes
+from gesturecast.models.dataset.sources import bandai_takes, beat_takes, show_takes, smplx_takes, zeggs_takes
 from gesturecast.models.motion.motion import Motion
 from gesturecast.models.motion.rotations import quat_identity
 from gesturecast.models.motion.skeleton import NUM_JOINTS
@@ -33,6 +33,20 @@ def test_zeggs_discovery_matches_suffixed_files_and_skips_mirror_and_missing(tmp
 def test_shared_zeggs_folder_has_one_take_with_audio(shared_data):
     (take,) = zeggs_takes(shared_data / "zeggs")
     assert take.style == "speech" and take.audio_path is not None
+
+
+def test_shared_show_folder_is_arms_only_with_two_speakers_held_out(shared_data):
+    takes = show_takes(shared_data / "show")
+    assert len(takes) == 12 and {t.dataset for t in takes} == {"show"}
+    assert all(t.parts == ("arms",) and not t.full_body and t.root_in_camera_frame for t in takes)
+    held_out = {t.name.split("_")[0] for t in takes if t.held_out}
+    assert held_out == {"seth", "chemistry"}
+    assert {t.name.split("_")[0] for t in takes if not t.held_out} == {"oliver", "conan", "unknown"}
+
+
+def test_show_folder_without_pairs_is_a_user_error(tmp_path):
+    with pytest.raises(UserError, match="not a SHOW folder"):
+        show_takes(tmp_path)
 
 
 def test_bandai_style_comes_from_label_index(tmp_path):

@@ -78,6 +78,6 @@ def test_batch_sampler_augments_only_paired_audio():
     silent = LatentClip(np.zeros((12, TINY.latent_dim), np.float32), None, np.zeros(TINY.style_dim, np.float32))
     sampler = LatentBatchSampler([paired, silent], TINY, 4, 0.5, np.random.default_rng(0),
                                  augmenter=lambda window, rng: window + 1.0)
-    _, audio, mask, _ = sampler.sample(16)
+    _, audio, mask, _, _ = sampler.sample(16)
     assert 0 < mask.sum() < 16
     assert bool((audio[mask == 1] == 1.0).all()) and bool((audio[mask == 0] == 0.0).all())

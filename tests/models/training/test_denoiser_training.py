@@ -62,3 +62,26 @@ def test_truncation_training_draws_every_look_ahead_and_other_models_keep_theirs
     drawn = sample_lookaheads(CausalDenoiser(TRUNCATING), 500, gen)
     assert sorted(torch.unique(drawn).tolist()) == list(range(TRUNCATING.audio_lookahead + 1))
     assert sample_lookaheads(CausalDenoiser(TINY), 3, gen).tolist() == [TINY.audio_lookahead] * 3
+
+
+
+def test_masked_latent_channels_add_nothing_to_the_loss():
+    """The x0 prediction on channels of a part the take lacks gets no gradient; every other channel does."""
+    model = CausalDenoiser(TINY)
+    prediction = torch.randn(2, 4, TINY.latent_dim, requires_grad=True)
+    model.register_forward_hook(lambda module, inputs, output: prediction)  # read the loss's weights off its gradient
+    latents = torch.randn(2, 4, TINY.latent_dim, generator=torch.Generator().manual_seed(3))
+    audio = torch.randn(2, audio_frames_needed(4, TINY), TINY.audio_dim)
+    config = DenoiserTrainConfig(clean_history_prob=0.0)  # every frame noisy: every unmasked element counts
+    half = TINY.latent_dim // 2
+    mask = torch.ones(2, TINY.latent_dim)
+    mask[0, :half] = 0.0  # the first sequence lacks a part
+    loss = training_loss(model, latents, audio, torch.ones(2), torch.zeros(2, TINY.style_dim), get_schedule(),
+                         torch.Generator().manual_seed(2), config, latent_mask=mask)
+    loss.backward()
+    assert torch.all(prediction.grad[0, :, :half] == 0)
+    assert torch.all(prediction.grad[0, :, half:] != 0) and torch.all(prediction.grad[1] != 0)
+    unmasked = training_loss(model, latents, audio, torch.ones(2), torch.zeros(2, TINY.style_dim), get_schedule(),
+                             torch.Generator().manual_seed(2), config)
+    everything = torch.nn.functional.huber_loss(prediction, latents)
+    assert torch.allclose(unmasked, everything)  # no mask = the mean over every element, as before

@@ -7,12 +7,22 @@ import torch
 
 from gesturecast.cli import main
 from gesturecast.errors import UserError
+from gesturecast.models.dataset.sources import show_takes
 from gesturecast.models.export.bundle import export_bundle
-from gesturecast.models.runtime.bundle import ModelBundle
+from gesturecast.models.networks.part_vqvae import load_motion_vq
+from gesturecast.models.runtime.bundle import ModelBundle, Normalizer, StyleTable
+from gesturecast.models.training.arrays import TrainingClip
 from gesturecast.models.training.denoiser import learning_rate_factor
-from gesturecast.models.training.pipeline import CHECKPOINT_FILE, load_checkpoint, run_training, save_checkpoint
+from gesturecast.models.training.pipeline import (
+    CHECKPOINT_FILE,
+    latent_clip,
+    load_checkpoint,
+    run_training,
+    save_checkpoint,
+)
 from gesturecast.models.training.presets import get_preset
 from gesturecast.realtime.features.speaker_norm import SpeakerNormConfig
+from gesturecast.realtime.features.stats import FeatureStats
 from gesturecast.realtime.features.streaming import FeatureConfig
 
 
@@ -78,3 +88,28 @@ def test_learning_rate_warms_up_then_decays_to_a_tenth():
     factors = [learning_rate_factor(step, 1000) for step in range(1000)]
     assert factors[0] < factors[50] < factors[99] == pytest.approx(1.0)
     assert factors[-1] == pytest.approx(0.1, abs=1e-4) and max(factors) <= 1.0
+
+
+def test_arms_only_takes_train_the_arms_and_leave_statistics_and_the_other_parts_alone(tiny_model, tmp_path,
+                                                                                     shared_data):
+    from train_fixtures import build_tiny_cache
+
+    show = tuple(t for t in show_takes(shared_data / "show") if t.name.startswith("unknown_116213"))
+    checkpoint = run_training(get_preset("tiny"), build_tiny_cache(tmp_path, shared_data / "zeggs", show),
+                              tmp_path / "work", progress=False)
+    stages, base = checkpoint["stages"], tiny_model[0]["stages"]
+    assert stages["data"]["motion_stats"] == base["data"]["motion_stats"]  # statistics of full-body motion only
+    parts, base_parts = stages["vqvae"]["metrics"]["parts"], base["vqvae"]["metrics"]["parts"]
+    assert parts["arms"]["train_clips"] == base_parts["arms"]["train_clips"] + 2  # the SHOW take and its mirror
+    assert parts["torso"]["train_clips"] == base_parts["torso"]["train_clips"]
+    assert parts["legs"]["train_clips"] == base_parts["legs"]["train_clips"]
+    model = load_motion_vq(stages["vqvae"]["model"])
+    channels = model.config.latent_slices()
+    latents = np.random.default_rng(0).normal(size=(3, model.config.latent_dim)).astype(np.float32)
+    clip = TrainingClip("x", "show", "neutral", "orig", np.zeros((12, 136), np.float32), None, parts=("arms",))
+    unit = Normalizer(np.zeros(model.config.latent_dim), np.ones(model.config.latent_dim))
+    styles = StyleTable.from_dict(stages["data"]["styles"])
+    made = latent_clip(clip, latents, model, unit, FeatureStats.from_dict(stages["data"]["audio_stats"]), styles)
+    assert np.array_equal(made.latents[:, channels["arms"]], latents[:, channels["arms"]])
+    assert not made.latents[:, channels["legs"]].any() and not made.latents[:, channels["torso"]].any()
+    assert made.channel_mask[channels["arms"]].all() and not made.channel_mask[channels["legs"]].any()

@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from gesturecast.errors import UserError
-from gesturecast.models.dataset.cache import load_take, read_index
+from gesturecast.models.dataset.cache import is_full_body, load_take, read_index
 from gesturecast.models.evaluation.style_classifier import StyleClassifier
 from gesturecast.realtime.style_prompts import StylePrompt
 from gesturecast.tools.bench.styles.cmu_bvh import CMU_FPS, write_cmu_bvh
@@ -52,7 +52,7 @@ def _preference(record: dict) -> tuple:
 
 def pick_take(cache: Path, style: str) -> dict:
     """The cache index record of the preferred take labelled ``style``; UserError when there is none."""
-    takes = [record for record in read_index(cache)["takes"] if record["style"] == style]
+    takes = [record for record in read_index(cache)["takes"] if record["style"] == style and is_full_body(record)]
     if not takes:
         raise UserError(f"the dataset cache {cache} has no take labelled {style!r} for a motion prompt")
     return min(takes, key=_preference)
