@@ -44,6 +44,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="add the packaged 96-d speech embedding to the features (default: the preset's)")
     parser.add_argument("--voice-copies", type=int, default=None,
                         help="waveform-augmented voice copies per paired train clip (default: the preset's)")
+    parser.add_argument("--partial-takes", action=argparse.BooleanOptionalAction, default=None,
+                        help="also train on takes that hold only some body parts (SHOW: arms), the others masked "
+                             "(default: the preset's; docs/dataset.md)")
     parser.add_argument("--vq-from", type=Path, default=None,
                         help="reuse the VQ-VAE of this finished work folder instead of training one")
     parser.add_argument("--vq-steps", type=int, default=None)
@@ -60,7 +63,8 @@ def run_train(args: argparse.Namespace) -> int:
     preset = get_preset(args.preset, seed=args.seed, audio_lookahead=args.lookahead, threads=args.threads,
                         audio_augmentation=args.audio_augmentation, voice_copies=args.voice_copies,
                         front_end=args.front_end, speech_embedding=args.speech_embedding,
-                        lookahead_truncation=args.lookahead_truncation, vq_steps=args.vq_steps,
+                        lookahead_truncation=args.lookahead_truncation, partial_takes=args.partial_takes,
+                        vq_steps=args.vq_steps,
                         denoiser_steps=args.denoiser_steps, prompt_steps=args.prompt_steps)
     work_dir = args.work_dir or DEFAULT_WORK_ROOT / preset.name
     started = time.perf_counter()

@@ -16,7 +16,7 @@ import numpy as np
 from tqdm import tqdm
 
 from gesturecast.models.dataset.augment import AugmentConfig, augmented_variants, slice_audio
-from gesturecast.models.dataset.cache import load_take, read_index
+from gesturecast.models.dataset.cache import is_full_body, load_take, read_index
 from gesturecast.models.dataset.voice_transforms import random_voice
 from gesturecast.models.generator.styles import canonical_style
 from gesturecast.models.motion.body_parts import PART_NAMES
@@ -79,12 +79,14 @@ def load_training_clips(
     progress: bool = True,
     voice_copies: int = 0,
     seed: int = 0,
+    partial_takes: bool = True,
 ) -> list[TrainingClip]:
-    """Every segment of ``split`` in the cache, augmented for training, with audio features."""
+    """Every segment of ``split`` in the cache, augmented for training, with audio features; takes that hold only
+    some body parts (SHOW) only when ``partial_takes``."""
     clips = []
     rng = np.random.default_rng(seed)
     copies = voice_copies if split == "train" else 0
-    records = read_index(cache_dir)["takes"]
+    records = [record for record in read_index(cache_dir)["takes"] if partial_takes or is_full_body(record)]
     for record in tqdm(records, desc=f"load {split}", unit="take", disable=not progress):
         segments = [s for s in record["segments"] if s["split"] == split]
         if not segments:

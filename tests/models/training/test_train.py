@@ -95,8 +95,10 @@ def test_arms_only_takes_train_the_arms_and_leave_statistics_and_the_other_parts
     from train_fixtures import build_tiny_cache
 
     show = tuple(t for t in show_takes(shared_data / "show") if t.name.startswith("unknown_116213"))
-    checkpoint = run_training(get_preset("tiny"), build_tiny_cache(tmp_path, shared_data / "zeggs", show),
-                              tmp_path / "work", progress=False)
+    cache = build_tiny_cache(tmp_path, shared_data / "zeggs", show)
+    without = run_training(get_preset("tiny"), cache, tmp_path / "without", progress=False)
+    assert without["stages"]["data"]["summary"] == tiny_model[0]["stages"]["data"]["summary"]  # left out by default
+    checkpoint = run_training(get_preset("tiny", partial_takes=True), cache, tmp_path / "work", progress=False)
     stages, base = checkpoint["stages"], tiny_model[0]["stages"]
     assert stages["data"]["motion_stats"] == base["data"]["motion_stats"]  # statistics of full-body motion only
     parts, base_parts = stages["vqvae"]["metrics"]["parts"], base["vqvae"]["metrics"]["parts"]
