@@ -39,7 +39,7 @@ from gesturecast.errors import UserError
 from gesturecast.models.dataset.augment import AugmentConfig, augmented_variants, fit_audio, slice_audio
 from gesturecast.models.dataset.sources import TakeSource
 from gesturecast.models.generator.styles import STYLE_SYNONYMS, STYLES
-from gesturecast.models.motion.body_parts import PART_NAMES
+from gesturecast.models.motion.body_parts import PART_NAMES, holds_every_part
 from gesturecast.models.motion.motion import MOTION_FPS, Motion
 from gesturecast.models.motion.motion_features import face_forward, motion_to_features
 from gesturecast.models.motion.retarget import load_motion_file, upright_from_camera
@@ -203,7 +203,7 @@ def read_index(cache_dir: Path) -> dict:
 
 def is_full_body(record: dict) -> bool:
     """Whether an index record's take holds reliable motion of every body part (evaluation uses only these)."""
-    return tuple(record["parts"]) == PART_NAMES
+    return holds_every_part(record["parts"])
 
 
 def load_take(cache_dir: Path, record: dict) -> tuple[Motion, np.ndarray | None]:

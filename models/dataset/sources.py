@@ -31,7 +31,7 @@ from pathlib import Path
 
 from gesturecast.errors import UserError
 from gesturecast.models.generator.styles import canonical_style
-from gesturecast.models.motion.body_parts import PART_NAMES
+from gesturecast.models.motion.body_parts import PART_NAMES, holds_every_part
 
 LOGGER = logging.getLogger(__name__)
 ZEGGS_INFO = "info.csv"
@@ -69,7 +69,7 @@ class TakeSource:
 
     @property
     def full_body(self) -> bool:
-        return self.parts == PART_NAMES
+        return holds_every_part(self.parts)
 
 
 def _files_by_stem(folder: Path, suffix: str) -> dict[str, Path]:
@@ -103,14 +103,19 @@ def zeggs_takes(folder: Path) -> list[TakeSource]:
     return takes
 
 
+def _paired_files(folder: Path, motion_suffix: str, layout: str) -> list[tuple[str, Path, Path]]:
+    """(stem, motion file, WAV) of every motion file with a WAV of the same stem; UserError when there is none."""
+    motion_files, wav_files = _files_by_stem(folder, motion_suffix), _files_by_stem(folder, ".wav")
+    paired = sorted(set(motion_files) & set(wav_files))
+    if not paired:
+        raise UserError(f"{folder} is not a {layout} folder: no *{motion_suffix} with a *.wav of the same name")
+    return [(stem, motion_files[stem], wav_files[stem]) for stem in paired]
+
+
 def beat_takes(folder: Path) -> list[TakeSource]:
     """Takes of a BEAT folder: BVH + WAV pairs with the same stem."""
-    bvh_files, wav_files = _files_by_stem(folder, ".bvh"), _files_by_stem(folder, ".wav")
-    paired = sorted(set(bvh_files) & set(wav_files))
-    if not paired:
-        raise UserError(f"{folder} is not a BEAT folder: no *.bvh with a *.wav of the same name")
     style = canonical_style(BEAT_STYLE)
-    return [TakeSource("beat", stem, bvh_files[stem], wav_files[stem], style) for stem in paired]
+    return [TakeSource("beat", stem, bvh, wav, style) for stem, bvh, wav in _paired_files(folder, ".bvh", "BEAT")]
 
 
 def smplx_takes(folder: Path, dataset: str = "smplx") -> list[TakeSource]:
@@ -124,13 +129,9 @@ def smplx_takes(folder: Path, dataset: str = "smplx") -> list[TakeSource]:
 
 def show_takes(folder: Path) -> list[TakeSource]:
     """SHOW clips (SMPL-X NPZ + WAV of the same stem): arms only, held-out speakers whole in the test split."""
-    npz_files, wav_files = _files_by_stem(folder, ".npz"), _files_by_stem(folder, ".wav")
-    paired = sorted(set(npz_files) & set(wav_files))
-    if not paired:
-        raise UserError(f"{folder} is not a SHOW folder: no *.npz with a *.wav of the same name")
     style = canonical_style(BEAT_STYLE)
-    return [TakeSource("show", stem, npz_files[stem], wav_files[stem], style, SHOW_PARTS,
-                       show_speaker(stem) in SHOW_HELD_OUT_SPEAKERS, root_in_camera_frame=True) for stem in paired]
+    return [TakeSource("show", stem, npz, wav, style, SHOW_PARTS, show_speaker(stem) in SHOW_HELD_OUT_SPEAKERS,
+                       root_in_camera_frame=True) for stem, npz, wav in _paired_files(folder, ".npz", "SHOW")]
 
 
 def _bandai_style_labels(bvh_path: Path) -> list[str] | None:

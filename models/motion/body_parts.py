@@ -60,6 +60,11 @@ def body_part(name: str) -> BodyPart:
     return BodyPart(name, joints, tuple(sorted(columns)))
 
 
+def holds_every_part(parts: tuple[str, ...] | list[str]) -> bool:
+    """Whether a take's reliable ``parts`` are the whole body (every part, in canonical order)."""
+    return tuple(parts) == PART_NAMES
+
+
 def body_parts(names: tuple[str, ...] = PART_NAMES) -> tuple[BodyPart, ...]:
     """The parts, checked to cover every canonical feature column exactly once."""
     parts = tuple(body_part(name) for name in names)

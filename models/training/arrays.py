@@ -19,7 +19,7 @@ from gesturecast.models.dataset.augment import AugmentConfig, augmented_variants
 from gesturecast.models.dataset.cache import is_full_body, load_take, read_index
 from gesturecast.models.dataset.voice_transforms import random_voice
 from gesturecast.models.generator.styles import canonical_style
-from gesturecast.models.motion.body_parts import PART_NAMES
+from gesturecast.models.motion.body_parts import PART_NAMES, holds_every_part
 from gesturecast.models.motion.motion_features import motion_to_features
 from gesturecast.realtime.audio.files import SAMPLE_RATE
 from gesturecast.realtime.features.streaming import FeatureConfig, extract_features
@@ -42,7 +42,7 @@ class TrainingClip:
 
     @property
     def full_body(self) -> bool:
-        return self.parts == PART_NAMES
+        return holds_every_part(self.parts)
 
 
 def aligned_audio_features(audio: np.ndarray, num_frames: int, config: FeatureConfig) -> np.ndarray:
@@ -79,7 +79,7 @@ def load_training_clips(
     progress: bool = True,
     voice_copies: int = 0,
     seed: int = 0,
-    partial_takes: bool = True,
+    partial_takes: bool = False,
 ) -> list[TrainingClip]:
     """Every segment of ``split`` in the cache, augmented for training, with audio features; takes that hold only
     some body parts (SHOW) only when ``partial_takes``."""

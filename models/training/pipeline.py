@@ -35,7 +35,7 @@ import torch
 from gesturecast.errors import UserError
 from gesturecast.models.generator.denoiser_config import DenoiserConfig
 from gesturecast.models.generator.style_text import PROMPT_TEMPLATE, StyleTextEmbedder, vocabulary_embeddings
-from gesturecast.models.motion.body_parts import PART_NAMES, BodyPart, body_parts
+from gesturecast.models.motion.body_parts import PART_NAMES, BodyPart, body_parts, holds_every_part
 from gesturecast.models.networks.motion_prompt import (
     MotionPromptConfig,
     MotionPromptEncoder,
@@ -156,26 +156,33 @@ def vq_joint_errors(model: PartVQVAE, clips: list[np.ndarray], motion_stats: Nor
     return {key: float(np.mean([e[key] for e in errors])) for key in errors[0]} if errors else {}
 
 
-def part_columns(clips: list[TrainingClip], motion_stats: Normalizer, part: BodyPart) -> list[np.ndarray]:
-    """The normalised feature columns of ``part`` of every clip whose take holds that part."""
-    return [motion_stats.normalize(clip.motion)[:, list(part.columns)] for clip in clips if part.name in clip.parts]
+def normalized_motion(clips: list[TrainingClip], motion_stats: Normalizer) -> list[tuple[tuple[str, ...], np.ndarray]]:
+    """(parts the take holds, normalised features (T, D)) of every clip."""
+    return [(clip.parts, motion_stats.normalize(clip.motion)) for clip in clips]
+
+
+def part_columns(motions: list[tuple[tuple[str, ...], np.ndarray]], part: BodyPart) -> list[np.ndarray]:
+    """The feature columns of ``part`` of every normalised clip whose take holds that part."""
+    return [motion[:, list(part.columns)] for parts, motion in motions if part.name in parts]
 
 
 def vqvae_stage(inputs: TrainInputs, preset: TrainPreset, motion_stats: Normalizer, progress: bool) -> dict:
     """One VQ-VAE per body part on that part's feature columns of the takes that hold it; held-out errors for
     the whole body (full-body takes) and per part."""
-    val_clips = [clip for clip in inputs.val if clip.num_frames >= preset.vq.downsample]
+    train_motion = normalized_motion(inputs.motion_train, motion_stats)
+    val_motion = normalized_motion([clip for clip in inputs.val if clip.num_frames >= preset.vq.downsample],
+                                   motion_stats)
     config = part_vq_config(preset)
     train_config = VQTrainConfig(window=preset.vq.window, batch_size=preset.vq.batch_size)
     models, part_metrics = [], {}
     for part, part_config in zip(body_parts(config.parts), config.part_configs, strict=True):
-        train = part_columns(inputs.motion_train, motion_stats, part)
+        train = part_columns(train_motion, part)
         part_model, metrics = train_vqvae(train, part_config, preset.vq.steps, preset.seed, progress,
-                                          part_columns(val_clips, motion_stats, part) or None, train_config)
+                                          part_columns(val_motion, part) or None, train_config)
         models.append(part_model)
         part_metrics[part.name] = {**metrics, "train_clips": len(train)}
     model = PartVQVAE(config, models)
-    val = [motion_stats.normalize(clip.motion) for clip in val_clips if clip.full_body]
+    val = [motion for parts, motion in val_motion if holds_every_part(parts)]
     metrics = {
         "parts": part_metrics,
         "parameters": sum(m["parameters"] for m in part_metrics.values()),
