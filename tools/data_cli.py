@@ -1,11 +1,10 @@
 """`gesturecast data build`: build the training-set cache from the shared data and user datasets.
 
-Shared data (default ``../shared/data``): the ZeroEGGS take + audio, the BEAT2 take + audio, the SHOW
-clips (arms only; two speakers held out as unseen voices), and Bandai Namco dataset-1 and the dataset-2
-gesture subset (unpacked once into ``.cache/raw``). User folders are added with ``--zeggs``, ``--beat``,
-``--smplx``, ``--show``, ``--bandai`` (repeatable). The shared ``zeggs_upper/`` takes are not read: their
-9-joint world poses lack the clavicles and upper chest, so the arms' local rotations are not determined
-(docs/dataset.md).
+Shared data (default ``../shared/data``): the ZeroEGGS take + audio, the BEAT2 take + audio, the two
+``zeggs_upper`` world-pose takes (arms only, solved against the ZeroEGGS take's skeleton), the SHOW clips (arms
+only; two speakers held out as unseen voices), and Bandai Namco dataset-1 and the dataset-2 gesture subset
+(unpacked once into ``.cache/raw``). User folders are added with ``--zeggs``, ``--beat``, ``--smplx``,
+``--show``, ``--bandai`` (repeatable); see docs/dataset.md.
 """
 
 from __future__ import annotations
@@ -27,6 +26,7 @@ from gesturecast.models.dataset.sources import (
     smplx_takes,
     unpack_archive,
     zeggs_takes,
+    zeggs_upper_takes,
 )
 
 LOGGER = logging.getLogger(__name__)
@@ -59,10 +59,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def shared_takes(shared: Path, raw_cache: Path) -> list[TakeSource]:
-    """The takes of the shared data folder (ZeroEGGS, BEAT2, SHOW, both Bandai archives)."""
+    """The takes of the shared data folder (ZeroEGGS, BEAT2, zeggs_upper, SHOW, both Bandai archives)."""
     if not shared.is_dir():
         raise UserError(f"shared data folder not found: {shared} (pass --shared DIR or --no-shared)")
-    takes = zeggs_takes(shared / "zeggs") + smplx_takes(shared / "beat2", dataset="beat2") + show_takes(shared / "show")
+    zeggs = zeggs_takes(shared / "zeggs")
+    takes = zeggs + smplx_takes(shared / "beat2", dataset="beat2")
+    takes += zeggs_upper_takes(shared / "zeggs_upper", zeggs[0].motion_path) + show_takes(shared / "show")
     for archive in BANDAI_ARCHIVES:
         takes += bandai_takes(unpack_archive(shared / "bandai" / archive, raw_cache / "bandai"))
     return takes

@@ -43,6 +43,7 @@ from gesturecast.models.motion.body_parts import PART_NAMES, holds_every_part
 from gesturecast.models.motion.motion import MOTION_FPS, Motion
 from gesturecast.models.motion.motion_features import face_forward, motion_to_features
 from gesturecast.models.motion.retarget import load_motion_file, upright_from_camera
+from gesturecast.models.motion.world_poses import load_world_pose_motion
 from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio
 
 LOGGER = logging.getLogger(__name__)
@@ -108,7 +109,8 @@ def take_segments(dataset: str, name: str, num_frames: int, has_audio: bool, spl
 def read_take(source: TakeSource) -> tuple[Motion, np.ndarray | None]:
     """Canonical motion faced forward, and its frame-aligned 16 kHz audio (None without audio)."""
     try:
-        motion = load_motion_file(source.motion_path)
+        motion = (load_world_pose_motion(source.motion_path, source.reference_path) if source.reference_path
+                  else load_motion_file(source.motion_path))
         motion = face_forward(upright_from_camera(motion) if source.root_in_camera_frame else motion)
     except UserError as error:
         message = str(error)

@@ -15,6 +15,9 @@ Layouts:
 - SHOW (TalkSHOW clips fitted from video): SMPL-X ``*.npz`` + same-stem ``*.wav``, the root in the video
   camera's frame. Only the arms are kept as training targets (:data:`SHOW_PARTS`); the speakers in
   :data:`SHOW_HELD_OUT_SPEAKERS` are test data as a whole (unseen voices).
+- ZeroEGGS upper-body world poses (``zeggs_upper``): ``*.npy`` (frames, 9, 7) at 60 fps + same-stem ``*.wav``;
+  the style is the name's second field (``001_Neutral_0_x_1_0``). Only the arms are kept
+  (:mod:`gesturecast.models.motion.world_poses`, solved against a full-body ZeroEGGS BVH of the same skeleton).
 """
 
 from __future__ import annotations
@@ -43,6 +46,7 @@ SHOW_HELD_OUT_SPEAKERS = ("seth", "chemistry")
 # pelvis tilted back in the chair (mean Spine rotation 30-35 deg on oliver's clips vs 7-15 deg in the standing
 # mocap), so the torso would teach a forward lean. The arms hang from the upper chest and are kept.
 SHOW_PARTS = ("arms",)
+WORLD_POSE_PARTS = ("arms",)  # 9 world joints: no head, neck, legs or fingers, and the clavicles are solved
 
 
 def show_speaker(stem: str) -> str:
@@ -56,7 +60,8 @@ class TakeSource:
 
     ``parts``: the body parts (:mod:`gesturecast.models.motion.body_parts`) whose motion is reliable; the others
     are masked in every training loss. ``held_out``: the whole take is test data. ``root_in_camera_frame``: the
-    motion's root is in an OpenCV camera frame (y down, z away), turned upright when read."""
+    motion's root is in an OpenCV camera frame (y down, z away), turned upright when read. ``reference_path``: for
+    world-pose takes, the full-body BVH of the same skeleton (:mod:`gesturecast.models.motion.world_poses`)."""
 
     dataset: str
     name: str
@@ -66,6 +71,7 @@ class TakeSource:
     parts: tuple[str, ...] = PART_NAMES
     held_out: bool = False
     root_in_camera_frame: bool = False
+    reference_path: Path | None = None  # world-pose takes: the full-body BVH their rest frames are solved against
 
     @property
     def full_body(self) -> bool:
@@ -132,6 +138,22 @@ def show_takes(folder: Path) -> list[TakeSource]:
     style = canonical_style(BEAT_STYLE)
     return [TakeSource("show", stem, npz, wav, style, SHOW_PARTS, show_speaker(stem) in SHOW_HELD_OUT_SPEAKERS,
                        root_in_camera_frame=True) for stem, npz, wav in _paired_files(folder, ".npz", "SHOW")]
+
+
+def _zeggs_name_style(stem: str) -> str:
+    """The style field of a ZeroEGGS file name (``001_Neutral_0_x_1_0`` → neutral); neutral when there is none."""
+    fields = stem.split("_")
+    return canonical_style(fields[1] if len(fields) > 1 else "neutral")
+
+
+def zeggs_upper_takes(folder: Path, reference_bvh: Path) -> list[TakeSource]:
+    """ZeroEGGS upper-body world-pose takes (``*.npy`` + same-stem ``*.wav``): arms only, solved on a full-body BVH."""
+    if not reference_bvh.is_file():
+        raise UserError(f"{folder}: world-pose takes need a full-body ZeroEGGS BVH as reference; {reference_bvh} "
+                        "is not a file")
+    pairs = _paired_files(folder, ".npy", "ZeroEGGS upper-body")
+    return [TakeSource("zeggs_upper", stem, npy, wav, _zeggs_name_style(stem), WORLD_POSE_PARTS,
+                       reference_path=reference_bvh) for stem, npy, wav in pairs]
 
 
 def _bandai_style_labels(bvh_path: Path) -> list[str] | None:
