@@ -75,12 +75,20 @@ def speech_16k(shared_data):
 POLL_S = 0.05  # how often CliProcess looks at the stderr lines collected so far
 
 
+def default_sigint() -> None:
+    """In a child before exec: SIGINT back to its default disposition."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 class CliProcess:
     """``gesturecast ARGS`` as a real subprocess; stderr lines are collected on a thread as they come."""
 
     def __init__(self, args: list[str], env: dict[str, str] | None = None) -> None:
+        # a library imported earlier in the test run may leave SIGINT ignored, and children inherit that (Python
+        # then installs no KeyboardInterrupt handler); a user's shell starts gesturecast with the default
         self.process = subprocess.Popen([sys.executable, "-m", "gesturecast.cli", *args], env=env,
-                                        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                                        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                                        preexec_fn=default_sigint)
         self.stderr_lines: list[str] = []
         self._reader = threading.Thread(target=self._read_stderr, daemon=True)
         self._reader.start()
