@@ -55,6 +55,7 @@ SIDES = ("Left", "Right")
 VALUES_PER_JOINT = 7  # px py pz qx qy qz qw
 MIN_HINGE_SINE = 0.3  # elbow bent by > 17 deg: below, the hinge normal is mostly noise
 UNIT_TOLERANCE = 1e-3
+SPINE2_STAND_IN = {"Spine2": "Chest"}  # the canonical skeleton has no Spine2; the solver never reads that joint
 
 
 @dataclass(frozen=True)
@@ -125,13 +126,9 @@ class ReferenceStatistics:
 
 def world_poses_of(motion: Motion, skeleton: Skeleton) -> WorldPoses:
     """The 9 world joints of a canonical motion (as the format would store them with canonical rest frames)."""
-    rotations, positions = skeleton.forward_kinematics(motion.rotations, motion.root_position)
-    spine2 = positions[:, skeleton.index("Chest")]  # stands in for Spine2: never used by the solver
-    columns = [skeleton.index(name) if name != "Spine2" else -1 for name in WORLD_JOINTS]
-    world_positions = np.stack([positions[:, c] if c >= 0 else spine2 for c in columns], axis=1)  # (T, 9, 3)
-    world_rotations = np.stack([rotations[:, c] if c >= 0 else rotations[:, skeleton.index("Chest")]
-                                for c in columns], axis=1)  # (T, 9, 4)
-    return WorldPoses(world_positions, world_rotations)
+    rotations, positions = skeleton.forward_kinematics(motion.rotations, motion.root_position)  # (T, J, 4), (T, J, 3)
+    columns = [skeleton.index(SPINE2_STAND_IN.get(name, name)) for name in WORLD_JOINTS]
+    return WorldPoses(positions[:, columns], rotations[:, columns])  # (T, 9, 3), (T, 9, 4)
 
 
 def reference_statistics(motion: Motion, skeleton: Skeleton) -> ReferenceStatistics:
