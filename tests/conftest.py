@@ -134,6 +134,20 @@ class CliProcess:
             self.process.wait()
 
 
+def poll_until(predicate, limit_s: float = 30.0) -> bool:
+    """Poll ``predicate`` until it holds or ``limit_s`` passes (a bound on hanging, not a speed assertion)."""
+    deadline = time.monotonic() + limit_s
+    while not predicate() and time.monotonic() < deadline:
+        time.sleep(0.01)
+    return predicate()
+
+
+@pytest.fixture
+def wait_until():
+    """:func:`poll_until`, for tests that wait on another thread (a server recording a closed stream)."""
+    return poll_until
+
+
 @pytest.fixture
 def cli_process():
     """Start ``gesturecast`` subprocesses (CliProcess); any still running at teardown are killed."""

@@ -3,7 +3,6 @@
 import asyncio
 import json
 import threading
-import time
 from contextlib import contextmanager
 
 import numpy as np
@@ -98,15 +97,7 @@ def test_concurrent_streams_equal_each_stream_served_alone(bundle, speech):
     assert budgets[0] < budgets[2] < budgets[1] == pytest.approx(results[1].hello["latency_budget_ms"])
 
 
-def wait_until(predicate, limit_s: float = 30.0) -> bool:
-    """Poll ``predicate`` until it holds or ``limit_s`` passes (a bound on hanging, not a speed assertion)."""
-    deadline = time.monotonic() + limit_s
-    while not predicate() and time.monotonic() < deadline:
-        time.sleep(0.01)
-    return predicate()
-
-
-def test_a_client_leaving_mid_stream_does_not_disturb_another(bundle, speech):
+def test_a_client_leaving_mid_stream_does_not_disturb_another(bundle, speech, wait_until):
     async def leaver(url):
         async with connect(f"{url}leaver") as websocket:
             await websocket.recv()  # hello
@@ -192,7 +183,7 @@ def test_bad_messages_get_a_one_line_error_and_the_stream_goes_on(bundle, speech
     assert refused["type"] == "error" and "unknown path" in refused["message"]
 
 
-def test_closed_streams_leave_nothing_behind(bundle, speech):
+def test_closed_streams_leave_nothing_behind(bundle, speech, wait_until):
     """Start and close streams one after another: no stream object, session or thread outlives its stream
     (a guard for `serve`'s memory under churn; see also `gesturecast bench serve --churn`)."""
     import gc

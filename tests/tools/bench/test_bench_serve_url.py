@@ -17,7 +17,7 @@ FPS = 30
 MARGIN_MS = 100.0
 
 
-def test_bench_serve_measures_a_running_server(tiny_model, shared_data, capsys):
+def test_bench_serve_measures_a_running_server(tiny_model, shared_data, capsys, wait_until):
     bundle = ModelBundle.load(tiny_model[1])
     clock = MonotonicClock()
     sessions = StreamSessions(bundle, GeneratorSettings(SamplerConfig("ddim", 2), guidance=1.5, seed=0),
@@ -27,6 +27,7 @@ def test_bench_serve_measures_a_running_server(tiny_model, shared_data, capsys):
     try:
         code = main(["bench", "serve", "--url", server.url, "--streams", str(STREAMS), "--seconds", str(SECONDS),
                      "--audio", str(shared_data / "zeggs" / "067_Speech_2_x_1_0.wav"), "--json"])
+        assert wait_until(lambda: server.active_streams() == 0)  # the server records a stream as it closes it
         served = {s["stream"] for s in server.finished}
     finally:
         server.close()
