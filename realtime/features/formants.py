@@ -3,11 +3,12 @@
 Method (the textbook LPC formant tracker: Rabiner & Schafer, *Digital Processing of Speech Signals*
 ch. 8; peak picking on the LPC envelope as in McCandless 1974): pre-emphasis ``x[n] - 0.97 x[n-1]`` and a
 Hamming taper; the autocorrelation ``r[0..p]`` (the inverse FFT of the power spectrum, zero-padded so it is
-not circular); the all-pole predictor ``A(z) = 1 - Σ a_k z^-k`` from the normal equations ``R a = r`` by the
-Levinson-Durbin recursion; then the envelope ``1 / |A(e^{jω})|²`` on a 512-point grid (31 Hz bins), whose
-local maxima (refined by a parabola through the three bins around each) inside the speech band are the
-formant candidates; the lowest two are F1 and F2. (Polynomial roots give the same classes on the espeak-ng
-set but cost an 18 × 18 eigenvalue problem per frame, about ten times the envelope's FFT.)
+not circular); the all-pole predictor ``A(z) = 1 - Σ a_k z^-k`` from the normal equations ``R a = r``, a
+batched LU solve of the Toeplitz system (what Levinson-Durbin computes, equal within 1e-15); then the
+envelope ``1 / |A(e^{jω})|²`` on a 512-point grid (31 Hz bins), whose local maxima (refined by a parabola
+through the three bins around each) inside the speech band are the formant candidates; the lowest two are
+F1 and F2. (Polynomial roots give the same classes on the espeak-ng set but cost an 18 × 18 eigenvalue
+problem per frame, about ten times the envelope's FFT.)
 
 All steps run on a batch of frames at once, but each frame's arithmetic only reads its own row (row-wise
 FFTs, element-wise recursion), so a frame's formants never depend on
@@ -19,7 +20,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.linalg import solve_toeplitz
 
 PRE_EMPHASIS = 0.97
 WHITE_NOISE_CORRECTION = 1.0001  # lifts r[0] slightly so that the recursion stays well conditioned
@@ -80,6 +80,9 @@ class FormantTracker:
 
 def predictors(lags: np.ndarray) -> np.ndarray:
     """(T, p + 1) autocorrelation → (T, p) predictor a with x[n] ≈ Σ a_k x[n-k]: the Toeplitz normal equations
-    solved per frame by scipy's Levinson recursion (compiled; a frame at a time costs less than numpy over
-    the few frames of a burst)."""
-    return np.stack([solve_toeplitz(row[:-1], row[1:], check_finite=False) for row in lags]).reshape(len(lags), -1)
+    R a = r, R[i, j] = r[|i − j|], built for every frame and solved in one batched LAPACK call (one LU per
+    frame, so a frame's predictor does not depend on the batch; a quarter of the cost of a Levinson call per
+    frame on a 4-frame burst, and equal to it within 1e-15)."""
+    order = lags.shape[1] - 1
+    toeplitz = np.abs(np.arange(order)[:, None] - np.arange(order)[None])  # (p, p) lag of each matrix entry
+    return np.linalg.solve(lags[:, toeplitz], lags[:, 1:, None])[..., 0]  # (T, p)
