@@ -115,3 +115,12 @@ def test_arms_only_takes_train_the_arms_and_leave_statistics_and_the_other_parts
     assert np.array_equal(made.latents[:, channels["arms"]], latents[:, channels["arms"]])
     assert not made.latents[:, channels["legs"]].any() and not made.latents[:, channels["torso"]].any()
     assert made.channel_mask[channels["arms"]].all() and not made.channel_mask[channels["legs"]].any()
+
+
+def test_speaker_normalisation_is_the_default_presets_and_the_flag_reaches_the_features(tiny_model, tmp_path, capsys):
+    assert get_preset("default").speaker_norm and not get_preset("default", speaker_norm=False).speaker_norm
+    work = finished_work_dir(tiny_model, tmp_path / "work")  # trained on absolute features
+    cache = tiny_model[1].parent / "dataset"
+    args = ["train", "--preset", "tiny", "--data", str(cache), "--work-dir", str(work), "--resume", "--no-progress"]
+    assert main([*args, "--speaker-norm"]) == 2  # resuming with other features is refused
+    assert "speaker_norm" in capsys.readouterr().err
