@@ -84,8 +84,8 @@ class CliProcess:
     """``gesturecast ARGS`` as a real subprocess; stderr lines are collected on a thread as they come."""
 
     def __init__(self, args: list[str], env: dict[str, str] | None = None) -> None:
-        # a library imported earlier in the test run may leave SIGINT ignored, and children inherit that (Python
-        # then installs no KeyboardInterrupt handler); a user's shell starts gesturecast with the default
+        # a suite started as a background job of a non-interactive shell runs with SIGINT ignored; children inherit
+        # that (Python then installs no KeyboardInterrupt handler), while a user's shell starts gesturecast with it
         self.process = subprocess.Popen([sys.executable, "-m", "gesturecast.cli", *args], env=env,
                                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                                         preexec_fn=default_sigint)

@@ -105,7 +105,7 @@ DEFAULT = TrainPreset(
                             batch_size=32, sequence_latents=16, learning_rate=3e-4, paired_fraction=0.5),
     prompt=PromptPreset(width=128, steps=400, batch_size=32, clip_frames=90),
     lookahead_truncation=True,
-    speaker_norm=True,  # speaker-normalised log-mel, no voice copies (docs/voices.md, "The default since session 8")
+    speaker_norm=True,  # speaker-normalised log-mel, no voice copies (docs/voices.md, "Retraining the default")
 )
 
 PRESETS = {preset.name: preset for preset in (TINY, DEFAULT)}
