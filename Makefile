@@ -5,20 +5,24 @@ BIN := $(VENV)/bin
 STAMP_RUN := $(VENV)/.installed-run
 STAMP_DEV := $(VENV)/.installed-dev
 TORCH := torch==2.13.0
+# setuptools reports every editable install as a warning ("Editable installation ... folders with the same name
+# as your package"): a notice, not a problem, so it is filtered out; any other warning still shows.
+PIP := PYTHONWARNINGS="ignore:Editable installation" $(BIN)/pip --disable-pip-version-check
 
 .PHONY: demo test lint system-deps clean
 
 $(BIN)/python:
 	$(PY) -m venv $(VENV)
-	$(BIN)/pip install --quiet --upgrade pip setuptools wheel
+	$(PIP) install --quiet --upgrade pip setuptools wheel
 
-$(STAMP_RUN): pyproject.toml | $(BIN)/python
-	$(BIN)/pip install --quiet -e .
+$(STAMP_RUN): pyproject.toml setup.py | $(BIN)/python
+	$(PIP) install --quiet -e .
 	touch $@
 
-$(STAMP_DEV): pyproject.toml | $(BIN)/python
-	$(BIN)/pip install --quiet $(TORCH)
-	$(BIN)/pip install --quiet -e ".[train,dev,scale,pipecat]"
+$(STAMP_DEV): pyproject.toml setup.py | $(BIN)/python
+	$(PIP) install --quiet "setuptools>=77" wheel  # tests/test_packaging.py builds the wheel offline with these
+	$(PIP) install --quiet $(TORCH)
+	$(PIP) install --quiet -e ".[train,dev,scale,pipecat]"
 	touch $@ $(STAMP_RUN)
 
 # Debian packages the tests need: PortAudio for sounddevice, Chromium for the viewer test, PulseAudio and

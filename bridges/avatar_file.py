@@ -1,21 +1,24 @@
 """Which VRM avatar the browser viewer shows: ``--avatar PATH``, else ``$GESTURECAST_AVATAR``, else the
-shared default ``../shared/assets/cryptovoxels.vrm`` next to the checkout (looked up from the repository
-root, then from the working folder), else none (the page shows the stick figure and "drop a .vrm here").
+packaged default, ``viewer/avatar/cryptovoxels.vrm`` inside this package (a VRM 0.x avatar by "jin" whose
+licence allows redistribution: ``viewer/avatar/cryptovoxels.LICENSE`` beside it). Only when that file is
+missing (a broken install) is there none: the page then shows the stick figure and "drop a .vrm here".
 
-The avatar is never part of the package: it is read from its path when the page asks for it.
+The chosen file is read from its path when the page asks for it.
 """
 
 from __future__ import annotations
 
 import os
+from importlib import resources
 from pathlib import Path
 
 from gesturecast.bridges.gltf_binary import GLB_MAGIC
 from gesturecast.errors import UserError
 
 AVATAR_ENV_VAR = "GESTURECAST_AVATAR"
-DEFAULT_AVATAR = Path("..") / "shared" / "assets" / "cryptovoxels.vrm"
-REPOSITORY_ROOT = Path(__file__).resolve().parents[1]  # bridges/ lies at the repository root
+# the package's own folder on disk (a wheel is installed unzipped, an editable install points at bridges/)
+PACKAGED_AVATAR = Path(str(resources.files("gesturecast.bridges"))) / "viewer" / "avatar" / "cryptovoxels.vrm"
+PACKAGED_AVATAR_LICENSE = PACKAGED_AVATAR.with_suffix(".LICENSE")
 
 
 def checked_avatar(path: Path, source: str) -> Path:
@@ -37,7 +40,6 @@ def resolve_avatar(flag: str | Path | None, environ: dict[str, str] | None = Non
         return checked_avatar(Path(flag), "--avatar")
     if environ.get(AVATAR_ENV_VAR):
         return checked_avatar(Path(environ[AVATAR_ENV_VAR]), AVATAR_ENV_VAR)
-    for base in (REPOSITORY_ROOT, Path.cwd()):
-        if (base / DEFAULT_AVATAR).is_file():
-            return checked_avatar((base / DEFAULT_AVATAR).resolve(), "the default avatar")
+    if PACKAGED_AVATAR.is_file():
+        return checked_avatar(PACKAGED_AVATAR, "the packaged avatar")
     return None

@@ -21,11 +21,11 @@ import numpy as np
 
 from gesturecast.errors import UserError
 from gesturecast.files import abandon, atomic_file
+from gesturecast.frames import PoseFrame
 from gesturecast.models.motion.bvh import format_frame_time, format_hierarchy, format_motion_rows
 from gesturecast.models.motion.canonical_bvh import canonical_frame_values, canonical_layout
 from gesturecast.models.motion.motion import MOTION_FPS
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS, Skeleton
-from gesturecast.realtime.timing.frames import PoseFrame
 
 FRAME_COUNT_WIDTH = 12  # digits reserved for the frame count: room for 10^12 frames
 

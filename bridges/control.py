@@ -12,11 +12,10 @@ import math
 from dataclasses import dataclass
 
 from gesturecast.models.motion.root_anchor import ROOT_MODES
+from gesturecast.settings import GAMMA_RANGE, GUIDANCE_RANGE  # the same ranges as the flags and Settings
 
 MAX_STYLE_CHARS = 200
 MAX_PROMPT_CHARS = 500
-GUIDANCE_RANGE = (0.0, 10.0)  # classifier-free guidance scale s
-GAMMA_RANGE = (-2.0, 3.0)  # style interpolation (0..1) and extrapolation (outside) γ
 ENVELOPE_FIELDS = frozenset({"type", "token"})
 
 

@@ -1,6 +1,6 @@
 """Coordinate frames at the edges: internal → Unity, Unreal, right-handed Y-up.
 
-Internal frame (DESIGN.md): right-handed, Y-up, the character faces +Z (its left is +X),
+Internal frame (docs/architecture.md, "Conventions"): right-handed, Y-up, the character faces +Z (its left is +X),
 metres, quaternions XYZW. Each target frame is a fixed orthogonal basis change ``M`` (rows =
 target axes written in internal coordinates) plus a length scale ``s``:
 
@@ -9,7 +9,7 @@ target axes written in internal coordinates) plus a length scale ``s``:
   det(M) under a reflection: q' = (det(M) · M v, w). The angle is unchanged.
 
 Unity (left-handed, Y-up, +Z forward, +X right, metres): the character's right is internal −X,
-so M = diag(−1, 1, 1): p = (−x, y, z), q = (x, −y, −z, w)  (DESIGN.md).
+so M = diag(−1, 1, 1): p = (−x, y, z), q = (x, −y, −z, w)  (docs/architecture.md, "Conventions").
 
 Unreal (left-handed, Z-up, +X forward, +Y right, centimetres): forward +X = internal +Z,
 right +Y = internal −X, up +Z = internal +Y, so p = 100 · (z, −x, y) and, det(M) = −1,

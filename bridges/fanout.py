@@ -6,7 +6,7 @@ from collections.abc import Sequence
 from typing import Protocol
 
 from gesturecast.bridges.transport import ErrorThrottle
-from gesturecast.realtime.timing.frames import PoseFrame
+from gesturecast.frames import PoseFrame
 
 
 class Bridge(Protocol):

@@ -25,10 +25,11 @@ import numpy as np
 from gesturecast.bridges.coords import coordinate_frame
 from gesturecast.bridges.osc_wire import MAX_DATAGRAM_SIZE, MessageLayout, encode_float_rows, pack_bundles
 from gesturecast.bridges.transport import RateLimiter, UdpSender, UdpTarget
+from gesturecast.frames import PoseFrame
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS, Skeleton
-from gesturecast.realtime.timing.frames import PoseFrame
 
 OSC_DEFAULT_PORT = 9000
+NO_RECEIVER_HINT = "start the OSC receiver (Unreal, TouchDesigner) there, or send elsewhere with --osc HOST:PORT"
 ADDRESS_PREFIX = "/gesturecast"
 
 
@@ -80,7 +81,7 @@ class OscBridge:
         self.config = config
         self.encoder = OscEncoder(config, skeleton)
         self.limiter = RateLimiter(config.send_rate)
-        self.sender = UdpSender(UdpTarget(config.host, config.port), "OSC")
+        self.sender = UdpSender(UdpTarget(config.host, config.port), "OSC", NO_RECEIVER_HINT)
         self._start_time: float | None = None  # capture time of the first frame sent
 
     def send(self, frame: PoseFrame) -> None:
@@ -89,6 +90,10 @@ class OscBridge:
         if self._start_time is None:
             self._start_time = frame.capture_time
         self.sender.send_all(self.encoder.encode(frame, frame.capture_time - self._start_time))
+
+    def counters(self) -> dict[str, int]:
+        """Datagrams that did not reach the receiver (nobody listening, or another send error)."""
+        return {f"osc_{name}": n for name, n in self.sender.counters().items()}
 
     def close(self) -> None:
         self.sender.close()

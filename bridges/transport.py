@@ -1,5 +1,6 @@
 """Thin transports shared by the UDP bridges: a connected UDP socket, a send-rate limiter, and
-an error throttle so a missing receiver produces one log line per burst, never a crash."""
+an error throttle so a failing send produces one log line per burst, never a crash. A missing receiver
+(nothing listening on the port) is said once per sender, with a hint, and only counted after that."""
 
 from __future__ import annotations
 
@@ -15,6 +16,9 @@ logger = logging.getLogger(__name__)
 LOG_EVERY_N_ERRORS = 300  # about 10 s of failed frames at 30 fps
 SUPPORTED_SEND_RATES = (30.0, 60.0)
 RATE_TOLERANCE = 0.25  # a frame may arrive up to this fraction of a period early and still be sent
+# what a send raises once the receiver's host answered "port unreachable" (ICMP): nobody is listening there
+# (Linux and macOS raise ConnectionRefusedError; Windows reports it as a reset connection)
+NOBODY_LISTENING = (ConnectionRefusedError, ConnectionResetError)
 
 
 class ErrorThrottle:
@@ -56,9 +60,10 @@ class UdpTarget:
 
 class UdpSender:
     """A UDP socket connected to one target. Connected, so ICMP "port unreachable" surfaces as
-    ConnectionRefusedError on a later send; every send error is throttled-logged, never raised."""
+    ConnectionRefusedError on a later send: that is logged once ("nobody is listening", with ``hint``) and
+    counted in :attr:`refused`; any other send error is throttled-logged and counted. Nothing is raised."""
 
-    def __init__(self, target: UdpTarget, label: str) -> None:
+    def __init__(self, target: UdpTarget, label: str, hint: str = "") -> None:
         try:
             family, kind, proto, _, address = socket.getaddrinfo(target.host, target.port, type=socket.SOCK_DGRAM)[0]
         except (socket.gaierror, OverflowError) as error:
@@ -69,14 +74,25 @@ class UdpSender:
         self._socket.connect(address)
         self.errors = ErrorThrottle(f"{label} send to {target.host}:{target.port} failed")
         self.sent_datagrams = 0
+        self.refused = 0  # datagrams lost because nobody listened on the target port
+        self._nobody_listening = f"nobody is listening on {target.host}:{target.port} ({label})" + (
+            f"; {hint}" if hint else "")
 
     def send_all(self, datagrams: Sequence[bytes]) -> None:
         for datagram in datagrams:
             try:
                 self._socket.send(datagram)
                 self.sent_datagrams += 1
-            except OSError as error:  # ConnectionRefused (no receiver), full buffer, network down
+            except NOBODY_LISTENING:
+                self.refused += 1
+                if self.refused == 1:
+                    logger.warning("%s (said once; the stream keeps going)", self._nobody_listening)
+            except OSError as error:  # full buffer, network down
                 self.errors.report(error)
+
+    def counters(self) -> dict[str, int]:
+        """Datagrams not delivered: refused (nobody listening) and failed otherwise."""
+        return {"refused_datagrams": self.refused, "failed_datagrams": self.errors.count}
 
     def close(self) -> None:
         self._socket.close()

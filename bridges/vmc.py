@@ -1,6 +1,6 @@
 """VMC protocol over OSC/UDP (receivers: VSeeFace, Warudo, EVMC4U in Unity, VMC4UE in Unreal).
 
-Per frame, in this order (DESIGN.md "VMC protocol essentials"):
+Per frame, in this order (docs/architecture.md, "VMC protocol essentials"):
 
 - ``/VMC/Ext/Root/Pos`` (s "root", f px py pz, f qx qy qz qw): the avatar root, Unity space.
   It carries the Hips displacement from its rest position, with identity rotation; the Hips
@@ -28,12 +28,13 @@ from gesturecast.bridges.coords import UNITY
 from gesturecast.bridges.osc_wire import MAX_DATAGRAM_SIZE, MessageLayout, encode_float_rows, pack_bundles
 from gesturecast.bridges.transport import RateLimiter, UdpSender, UdpTarget
 from gesturecast.bridges.vmc_roles import DEFAULT_PORTS, MARIONETTE
+from gesturecast.frames import PoseFrame
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS, Skeleton
-from gesturecast.realtime.timing.frames import PoseFrame
 
 VMC_DEFAULT_PORT = DEFAULT_PORTS[MARIONETTE]
 VMC_ROOT_NAME = "root"
 VMC_LOADED = 1
+NO_RECEIVER_HINT = "start VSeeFace, Warudo or EVMC4U there, or send elsewhere with --vmc HOST:PORT"
 POSITION_AND_QUATERNION = "f" * 7
 
 
@@ -95,7 +96,7 @@ class VmcBridge:
         self.config = config
         self.encoder = VmcEncoder(skeleton, config)
         self.limiter = RateLimiter(config.send_rate)
-        self.sender = UdpSender(UdpTarget(config.host, config.port), "VMC")
+        self.sender = UdpSender(UdpTarget(config.host, config.port), "VMC", NO_RECEIVER_HINT)
         self._start_time: float | None = None
 
     def send(self, frame: PoseFrame) -> None:
@@ -104,6 +105,10 @@ class VmcBridge:
         if self._start_time is None:
             self._start_time = frame.presentation_time
         self.sender.send_all(self.encoder.encode(frame, frame.presentation_time - self._start_time))
+
+    def counters(self) -> dict[str, int]:
+        """Datagrams that did not reach the receiver (nobody listening, or another send error)."""
+        return {f"vmc_{name}": n for name, n in self.sender.counters().items()}
 
     def close(self) -> None:
         self.sender.close()

@@ -24,8 +24,8 @@ import numpy as np
 from gesturecast.bridges.gltf_binary import FloatBuffer, glb_bytes
 from gesturecast.errors import UserError
 from gesturecast.files import atomic_file, check_output_target
+from gesturecast.frames import VISEME_NAMES, PoseFrame
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS, Skeleton
-from gesturecast.realtime.timing.frames import VISEME_NAMES, PoseFrame
 
 EXTENSION = "VRMC_vrm_animation"
 SPEC_VERSION = "1.0"

@@ -36,8 +36,8 @@ from gesturecast.bridges.viewer_http import is_websocket_upgrade, static_respons
 from gesturecast.bridges.ws_access import AccessPolicy, send_refusal
 from gesturecast.bridges.ws_listener import ThreadedListener
 from gesturecast.errors import UserError
+from gesturecast.frames import VISEME_NAMES, PoseFrame
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS, Skeleton
-from gesturecast.realtime.timing.frames import VISEME_NAMES, PoseFrame
 
 logger = logging.getLogger(__name__)
 

@@ -31,8 +31,8 @@ from collections.abc import Sequence
 import numpy as np
 
 from gesturecast.bridges.coords import CoordinateFrame
+from gesturecast.frames import PoseFrame
 from gesturecast.models.motion.skeleton import Skeleton
-from gesturecast.realtime.timing.frames import PoseFrame
 
 FORMAT_VERSION = 1
 FRAME_MAGIC = b"GCPF"

@@ -6,7 +6,7 @@
 The file's audio is cut into 20 ms ``OutputAudioRawFrame`` s (what a TTS service pushes, faster than it
 is played) and queued into ``Pipeline([GesturecastProcessor])``; with ``--styles A,B,…`` the file is
 split into that many equal "sentences" and a ``GestureStyleFrame`` before each one sets its style.
-Poses go out at capture + L through the ``gesturecast live`` output flags (VMC, OSC, WebSocket, BVH);
+Poses go out at capture + L to the outputs (``gesturecast.Outputs``: VMC, BVH here);
 the run ends when the last pose has been released.
 """
 
@@ -27,6 +27,7 @@ from pipecat.pipeline.worker import PipelineWorker
 from pipecat.processors.frame_processor import FrameProcessor
 from pipecat.workers.runner import WorkerRunner
 
+import gesturecast
 from gesturecast.realtime.agents.pipecat_processor import GesturecastProcessor, GestureStyleFrame
 from gesturecast.realtime.audio.pcm import PCM16_FULL_SCALE
 
@@ -73,12 +74,16 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("audio", type=Path, help="speech file standing in for the TTS output")
     parser.add_argument("--styles", default="", help="comma-separated styles, one per equal part of the file")
-    args, gesturecast_flags = parser.parse_known_args(argv)
+    parser.add_argument("--model", type=Path, help="model bundle folder (default: the bundled one)")
+    parser.add_argument("--vmc", metavar="HOST[:PORT]", help="VMC receiver")
+    parser.add_argument("--bvh", type=Path, help="record the poses as BVH")
+    args = parser.parse_args(argv)
     logging.basicConfig(level=logging.INFO, format="%(levelname)s %(name)s: %(message)s")
     loguru.logger.remove()  # Pipecat logs with loguru, at DEBUG by default: keep its warnings only
     loguru.logger.add(sys.stderr, level="WARNING")
     styles = [s for s in args.styles.split(",") if s]
-    processor = GesturecastProcessor.from_flags(gesturecast_flags)
+    settings = gesturecast.Settings() if args.model is None else gesturecast.Settings(model=args.model)
+    processor = GesturecastProcessor(settings, gesturecast.Outputs(vmc=args.vmc, bvh=args.bvh))
     asyncio.run(run_pipeline([processor], audio_frames(args.audio, styles)))
     logging.info("%d poses from %.2f s of audio; style at the end: %s", processor.session.frames_out,
                  processor.audio_seconds, processor.session.controls.describe())

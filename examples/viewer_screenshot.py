@@ -2,7 +2,7 @@
 
     gesturecast generate gesturecast/samples/sample_speech.wav -o sample.bvh --json sample.json
     python examples/viewer_screenshot.py sample.json \\
-        --avatar ../shared/assets/cryptovoxels.vrm -o docs/images/viewer-avatar.png
+        --avatar AVATAR.vrm -o docs/images/viewer-avatar.png
 
 The frames of ``sample.json`` are real (the same session as ``live``), with the viseme weights of its lip
 sync (``--lipsync vrm0``, docs/lipsync.md). The picture shows the frame with the mouth at least 0.8 of its
@@ -24,9 +24,9 @@ from pathlib import Path
 import numpy as np
 
 from gesturecast.bridges.websocket_server import WebSocketBridge, WebSocketConfig
+from gesturecast.frames import PoseFrame
 from gesturecast.models.motion.rotations import quat_to_axis_angle
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS as SKELETON
-from gesturecast.realtime.timing.frames import PoseFrame
 
 FPS = 30
 OPEN_FRACTION = 0.8  # of the widest mouth opening in the take: the frames the picture chooses from

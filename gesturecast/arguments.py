@@ -10,8 +10,9 @@ from __future__ import annotations
 import argparse
 import math
 from collections.abc import Callable
+from dataclasses import dataclass
 
-from gesturecast.errors import USER_ERROR_EXIT_CODE
+from gesturecast.errors import USER_ERROR_EXIT_CODE, UserError
 
 MAX_PORT = 65535
 
@@ -71,3 +72,32 @@ class OneLineParser(argparse.ArgumentParser):
 
     def error(self, message: str) -> None:  # type: ignore[override]  # argparse's contract: never returns
         self.exit(USER_ERROR_EXIT_CODE, f"{self.prog}: error: {message} (see `{self.prog} --help`)\n")
+
+
+@dataclass(frozen=True)
+class NumberLimit:
+    """The range of a numeric setting, shared by its command-line flag and :class:`gesturecast.Settings`."""
+
+    minimum: float
+    maximum: float
+    integer: bool = False
+
+    def words(self) -> str:
+        """e.g. ``an integer from 1 to 1000`` or ``a finite number ≥ 0 and ≤ 10``."""
+        if self.integer:
+            return f"an integer from {self.minimum} to {self.maximum}"
+        return _float_range(self.minimum, self.maximum, exclusive_minimum=False)
+
+    def flag_type(self) -> Callable[[str], float]:
+        """The argparse type of the flag."""
+        if self.integer:
+            return int_at_least(self.minimum, self.maximum)
+        return finite_float(self.minimum, self.maximum)
+
+    def check(self, name: str, value: object) -> float:
+        """``value`` as an int or float when inside the range; UserError naming ``name`` otherwise."""
+        wrong_type = isinstance(value, bool) or not isinstance(value, (int, float)) or (
+            self.integer and not float(value).is_integer())
+        if wrong_type or not math.isfinite(value) or not self.minimum <= value <= self.maximum:
+            raise UserError(f"{name} must be {self.words()}, got {value!r}")
+        return int(value) if self.integer else float(value)

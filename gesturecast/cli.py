@@ -43,7 +43,16 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def tolerate_narrow_encodings() -> None:
+    """Write characters the output's encoding lacks as escapes instead of failing: Windows writes redirected output
+    in its ANSI code page (e.g. cp1252), which has no "→", "γ" or "≥" (help texts, style names)."""
+    for stream in (sys.stdout, sys.stderr):
+        if hasattr(stream, "reconfigure"):
+            stream.reconfigure(errors="backslashreplace")
+
+
 def main(argv: list[str] | None = None) -> int:
+    tolerate_narrow_encodings()
     args = build_parser().parse_args(argv)
     logging.basicConfig(
         level=logging.DEBUG if args.verbose else logging.INFO, format="%(levelname)s %(name)s: %(message)s"

@@ -11,20 +11,21 @@ import numpy as np
 from gesturecast.bridges.fanout import BridgeFanout
 from gesturecast.errors import INTERRUPTED_EXIT, UserError
 from gesturecast.files import check_distinct
+from gesturecast.frames import PoseFrame
 from gesturecast.models.motion.motion import MOTION_FPS, Motion
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
 from gesturecast.realtime.audio.cli import add_source_arguments, open_source
-from gesturecast.realtime.batch import add_batch_arguments, run_batch
-from gesturecast.realtime.engine import EngineReport, LiveEngine
-from gesturecast.realtime.engine_setup import (
+from gesturecast.realtime.cli_flags import (
     add_generation_arguments,
     add_output_arguments,
-    build_outputs,
-    build_session,
+    outputs_from_args,
+    settings_from_args,
 )
-from gesturecast.realtime.offline_generate import generate_to_files
+from gesturecast.realtime.jobs.batch_cli import add_batch_arguments, run_batch
+from gesturecast.realtime.run.engine import EngineReport, LiveEngine
+from gesturecast.realtime.run.engine_setup import build_outputs, build_session
+from gesturecast.realtime.run.offline_generate import VRMA_SUFFIX, check_motion_path, generate_to_files
 from gesturecast.realtime.timing.clock import MonotonicClock
-from gesturecast.realtime.timing.frames import PoseFrame
 from gesturecast.realtime.timing.scheduler import STAGE_END_TO_END, SchedulerConfig
 from gesturecast.realtime.timing.status import StatusLine
 
@@ -51,17 +52,17 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def run_live(args: argparse.Namespace) -> int:
     check_distinct([("--input", args.input)], [("--bvh", args.bvh)])
+    settings, chosen = settings_from_args(args), outputs_from_args(args)
+    if not chosen.any:
+        raise UserError("no output chosen: add --vmc HOST:PORT, --osc HOST:PORT, --ws PORT and/or --bvh FILE")
     clock = MonotonicClock()
-    session = build_session(args, clock)
+    session = build_session(settings, clock)
     source = open_source(args, clock)  # checks the input before any output file is opened
     try:
-        outputs = build_outputs(args, session, clock)
+        outputs = build_outputs(chosen, settings, session, clock)
     except BaseException:
         source.close()
         raise
-    if not outputs.bridges:
-        source.close()
-        raise UserError("no output chosen: add --vmc HOST:PORT, --osc HOST:PORT, --ws PORT and/or --bvh FILE")
     sys.stdout.write(session.budget.describe() + "\n")
     engine = LiveEngine(session, source, outputs.send, clock, scheduler_config(args), StatusLine(clock))
     try:
@@ -86,8 +87,12 @@ def run_generate(args: argparse.Namespace) -> int:
     if args.audio is None:
         raise UserError("name an audio file, or a folder / CSV with --batch")
     check_distinct([("audio", args.audio)], [("-o", args.output), ("--json", args.json), ("--vrma", args.vrma)])
-    motion_paths = [args.output] if args.vrma is None else [args.output, args.vrma]
-    generate_to_files(build_session(args, MonotonicClock()), args.audio, motion_paths, args.json)
+    motion_paths = [check_motion_path(args.output, "-o")]
+    if args.vrma is not None:
+        if args.vrma.suffix.lower() != VRMA_SUFFIX:
+            raise UserError(f"--vrma {args.vrma}: name a .vrma file")
+        motion_paths.append(args.vrma)
+    generate_to_files(build_session(settings_from_args(args), MonotonicClock()), args.audio, motion_paths, args.json)
     return 0
 
 

@@ -1,4 +1,4 @@
-"""Shared fixtures: where the real data lives (../shared/data beside the repository)."""
+"""Shared fixtures: where the real training data lives (a shared/data folder beside the repository)."""
 
 import shutil
 import signal
@@ -67,7 +67,7 @@ def virtual_mic():
 @pytest.fixture(scope="session")
 def speech_16k(shared_data):
     """(n,) float32: 8 s of real ZeroEGGS speech at 16 kHz."""
-    from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio
+    from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
 
     return load_audio(shared_data / "zeggs" / "067_Speech_2_x_1_0.wav")[: 8 * SAMPLE_RATE]
 

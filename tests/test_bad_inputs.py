@@ -23,8 +23,8 @@ import soundfile
 
 from gesturecast.cli import main
 from gesturecast.errors import USER_ERROR_EXIT_CODE
-from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio
-from gesturecast.realtime.engine_setup import DEFAULT_MODEL_DIR
+from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
+from gesturecast.settings import DEFAULT_MODEL_DIR
 
 REPO_ROOT = Path(__file__).resolve().parents[1]
 SAMPLE_SPEECH = REPO_ROOT / "gesturecast" / "samples" / "sample_speech.wav"
@@ -116,16 +116,26 @@ GENERATE = "generate {speech} -o {out} --model {model}"
 RENDER = "render {file} -o {out}"
 BAD_INPUTS: dict[str, BadInput] = {
     # flags: numbers out of range or not finite
-    "steps 0": BadInput(f"{GENERATE} --steps 0", "--steps: must be an integer ≥ 1"),
-    "threads 0": BadInput(f"{GENERATE} --threads 0", "--threads: must be an integer ≥ 1"),
-    "seed -1": BadInput(f"{GENERATE} --seed -1", "--seed: must be an integer ≥ 0"),
+    "steps 0": BadInput(f"{GENERATE} --steps 0", "--steps: must be an integer from 1 to 1000"),
+    "threads 0": BadInput(f"{GENERATE} --threads 0", "--threads: must be an integer from 1 to 64"),
+    "seed -1": BadInput(f"{GENERATE} --seed -1", "--seed: must be an integer from 0 to 4294967295"),
     "margin nan": BadInput(f"{GENERATE} --margin-ms nan", "--margin-ms: must be a finite number ≥ 0"),
     "margin inf": BadInput(f"{GENERATE} --margin-ms inf", "--margin-ms: must be a finite number"),
     "guidance inf": BadInput(f"{GENERATE} --guidance inf", "--guidance: must be a finite number"),
     "audio guidance nan": BadInput(f"{GENERATE} --audio-guidance nan", "--audio-guidance: must be a finite"),
     "gamma nan": BadInput(f"{GENERATE} --gamma nan", "--gamma: must be a finite number"),
-    "lookahead -1": BadInput(f"{GENERATE} --lookahead -1", "--lookahead: must be an integer ≥ 0"),
+    "lookahead -1": BadInput(f"{GENERATE} --lookahead -1", "--lookahead: must be an integer from 0 to 64"),
     "latency unknown": BadInput(f"{GENERATE} --latency fast", "--latency: invalid choice"),
+    # flags: numbers past their upper bound (each would hang, exhaust memory or make every pose non-finite)
+    "smoothing 1000": BadInput(f"{GENERATE} --smoothing 1000", "--smoothing: must be an integer from 0 to 15"),
+    "threads 100000": BadInput(f"{GENERATE} --threads 100000", "--threads: must be an integer from 1 to 64"),
+    "steps 100000": BadInput(f"{GENERATE} --steps 100000", "--steps: must be an integer from 1 to 1000"),
+    "margin 1e12": BadInput(f"{GENERATE} --margin-ms 1e12", "--margin-ms: must be a finite number ≥ 0 and ≤ 2000"),
+    "guidance 1e308": BadInput(f"{GENERATE} --guidance 1e308", "--guidance: must be a finite number ≥ 0 and ≤ 10"),
+    # outputs: the suffix picks the format, and an unknown one is refused rather than written as BVH text
+    "output glb": BadInput("generate {speech} -o {out}.glb", "name a .bvh or .vrma file"),
+    "output without suffix": BadInput("generate {speech} -o {out}.d/take", "name a .bvh or .vrma file"),
+    "vrma not vrma": BadInput("generate {speech} -o {out} --vrma {out}.glb", "--vrma"),
     "ws port 70000": BadInput("live --input {speech} --ws 70000", "--ws: must be an integer from 0 to 65535"),
     "serve port 70000": BadInput("serve --port 70000", "--port: must be an integer from 0 to 65535"),
     "block size 0": BadInput("live --input {speech} --bvh {out} --block-size 0", "--block-size: must be an integer"),

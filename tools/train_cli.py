@@ -12,9 +12,9 @@ import logging
 import time
 from pathlib import Path
 
+from gesturecast.models.audio.speaker_norm import SpeakerNormConfig
+from gesturecast.models.audio.streaming import FeatureConfig
 from gesturecast.models.training.presets import PRESETS, get_preset
-from gesturecast.realtime.features.speaker_norm import SpeakerNormConfig
-from gesturecast.realtime.features.streaming import FeatureConfig
 
 LOGGER = logging.getLogger(__name__)
 DEFAULT_DATA = Path(".cache/dataset")

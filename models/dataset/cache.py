@@ -36,6 +36,7 @@ import numpy as np
 from tqdm import tqdm
 
 from gesturecast.errors import UserError
+from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
 from gesturecast.models.dataset.augment import AugmentConfig, augmented_variants, fit_audio, slice_audio
 from gesturecast.models.dataset.sources import TakeSource
 from gesturecast.models.generator.styles import STYLE_SYNONYMS, STYLES
@@ -44,7 +45,6 @@ from gesturecast.models.motion.motion import MOTION_FPS, Motion
 from gesturecast.models.motion.motion_features import face_forward, motion_to_features
 from gesturecast.models.motion.retarget import load_motion_file, upright_from_camera
 from gesturecast.models.motion.world_poses import load_world_pose_motion
-from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio
 
 LOGGER = logging.getLogger(__name__)
 FORMAT_VERSION = 2  # 2: per-take body parts and held-out takes

@@ -88,7 +88,7 @@ def stamp_path(weights_path: Path | str) -> Path:
 
 def write_stamp(weights_path: Path | str, stamp: dict) -> Path:
     path = stamp_path(weights_path)
-    path.write_text(json.dumps(stamp, indent=1) + "\n")
+    path.write_text(json.dumps(stamp, indent=1) + "\n", encoding="utf-8")
     return path
 
 
@@ -96,4 +96,4 @@ def read_stamp(weights_path: Path | str) -> dict:
     path = stamp_path(weights_path)
     if not path.is_file():
         raise FileNotFoundError(f"{path}: the stamp of {weights_path} is missing")
-    return json.loads(path.read_text())
+    return json.loads(path.read_text(encoding="utf-8"))

@@ -20,6 +20,8 @@ from pathlib import Path
 import numpy as np
 import torch
 
+from gesturecast.models.audio.stats import FeatureStats
+from gesturecast.models.audio.streaming import FeatureConfig
 from gesturecast.models.generator.denoiser_config import DenoiserConfig, sequence_audio
 from gesturecast.models.generator.diffusion import get_schedule
 from gesturecast.models.networks.denoiser import CausalDenoiser
@@ -28,8 +30,6 @@ from gesturecast.models.runtime.bundle import Normalizer, StyleTable
 from gesturecast.models.training.arrays import load_training_clips
 from gesturecast.models.training.denoiser_objective import DenoiserTrainConfig, training_loss
 from gesturecast.models.training.pipeline import encode_latents
-from gesturecast.realtime.features.stats import FeatureStats
-from gesturecast.realtime.features.streaming import FeatureConfig
 
 AUTOREGRESSIVE = DenoiserTrainConfig(style_drop_prob=0.0, clean_history_prob=1.0)
 

@@ -19,10 +19,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from gesturecast.models.audio.dsp import frame_boundary, segment_rms_db
 from gesturecast.models.evaluation.beat_consistency import UPPER_BODY_JOINTS, joint_speeds
 from gesturecast.models.evaluation.metrics import root_relative
 from gesturecast.models.motion.skeleton import CANONICAL, Skeleton
-from gesturecast.realtime.features.dsp import frame_boundary, segment_rms_db
 
 
 @dataclass(frozen=True)

@@ -11,7 +11,7 @@ Three parts, chosen for speech gestures:
 
 Every column of the feature vector (:mod:`motion_features`) belongs to exactly one part, so the
 parts' features put back together are the whole body's. The fingers are not generated (they come
-from :mod:`gesturecast.realtime.hands`), so they belong to no part.
+from the live session's procedural hands, realtime/pose/hands.py), so they belong to no part.
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """Quaternion and rotation helpers (numpy, float64 by default).
 
-Conventions (DESIGN.md): quaternions are **XYZW**, rotations act on column vectors, a product
+Conventions (docs/architecture.md, "Conventions"): quaternions are **XYZW**, rotations act on column vectors, a product
 ``quat_mul(a, b)`` applies ``b`` first, then ``a`` (like the matrix product ``A @ B``). Every
 function broadcasts over leading dimensions: ``(..., 4)`` quaternions, ``(..., 3)`` vectors.
 """

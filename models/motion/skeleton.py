@@ -1,6 +1,6 @@
 """The canonical humanoid skeleton (Unity ``HumanBodyBones`` body set) and forward kinematics.
 
-Frame (DESIGN.md): right-handed, Y-up, the character faces +Z (its left is +X), metres,
+Frame (docs/architecture.md, "Conventions"): right-handed, Y-up, the character faces +Z (its left is +X), metres,
 quaternions XYZW, identity local rotation = T-pose. Default rest offsets have ZeroEGGS
 proportions (take 067 skeleton; intermediate joints merged, left/right averaged).
 

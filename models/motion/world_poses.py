@@ -1,4 +1,4 @@
-"""Arms from upper-body world poses: the 9-joint ZeroEGGS format of ``../shared/data/zeggs_upper``.
+"""Arms from upper-body world poses: the 9-joint ZeroEGGS format of the zeggs_upper data.
 
 Each frame holds world positions and world rotations of Hips, Spine2, Spine3 (the canonical UpperChest) and
 each side's shoulder joint, elbow and wrist (:data:`WORLD_JOINTS`). The rotations' rest frames are not the

@@ -4,7 +4,7 @@ Paired takes (speech + motion) get mirror + speed augmentation (with their audio
 takes (Bandai) get mirroring only — they are 98 % of the frames, and speed variants of them would
 triple memory without teaching the audio link. A clip carries the body parts its take holds reliably
 (``parts``); the training stages mask the others in every loss. Audio features come from the same streaming code
-the live engine runs (:func:`gesturecast.realtime.features.streaming.extract_features`).
+the live engine runs (:func:`gesturecast.models.audio.streaming.extract_features`).
 """
 
 from __future__ import annotations
@@ -15,14 +15,14 @@ from pathlib import Path
 import numpy as np
 from tqdm import tqdm
 
+from gesturecast.models.audio.files import SAMPLE_RATE
+from gesturecast.models.audio.streaming import FeatureConfig, extract_features
 from gesturecast.models.dataset.augment import AugmentConfig, augmented_variants, slice_audio
 from gesturecast.models.dataset.cache import is_full_body, load_take, read_index
 from gesturecast.models.dataset.voice_transforms import random_voice
 from gesturecast.models.generator.styles import canonical_style
 from gesturecast.models.motion.body_parts import PART_NAMES, holds_every_part
 from gesturecast.models.motion.motion_features import motion_to_features
-from gesturecast.realtime.audio.files import SAMPLE_RATE
-from gesturecast.realtime.features.streaming import FeatureConfig, extract_features
 
 
 @dataclass

@@ -3,7 +3,7 @@
 Only two speakers have paired speech + motion, so a denoiser can learn their timbre, level and
 room instead of the speech rhythm. Each training window of a paired take gets a random "new
 voice and channel", applied in the dB domain of the runtime features so that it is what the same
-feature code would compute from such audio (:mod:`gesturecast.realtime.features.streaming`):
+feature code would compute from such audio (:mod:`gesturecast.models.audio.streaming`):
 
 - gain g dB: log-mel and frame energy both shift by g (a waveform gain, exactly, above the floor);
 - spectral tilt and smooth EQ: a per-band dB curve added to the log-mel (a linear filter whose
@@ -24,9 +24,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from gesturecast.realtime.features.dsp import DB_PER_POWER_DECADE, spectral_flux
-from gesturecast.realtime.features.stats import FeatureStats
-from gesturecast.realtime.features.streaming import FeatureConfig
+from gesturecast.models.audio.dsp import DB_PER_POWER_DECADE, spectral_flux
+from gesturecast.models.audio.stats import FeatureStats
+from gesturecast.models.audio.streaming import FeatureConfig
 
 DB_FLOOR = -100.0  # the features' floor (feature_dsp.POWER_FLOOR / RMS_FLOOR)
 EQ_COMPONENTS = 3  # random cosines over the band axis

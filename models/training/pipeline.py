@@ -33,6 +33,8 @@ import numpy as np
 import torch
 
 from gesturecast.errors import UserError
+from gesturecast.models.audio.stats import FeatureStats
+from gesturecast.models.audio.streaming import FeatureConfig
 from gesturecast.models.generator.denoiser_config import DenoiserConfig
 from gesturecast.models.generator.style_text import PROMPT_TEMPLATE, StyleTextEmbedder, vocabulary_embeddings
 from gesturecast.models.motion.body_parts import PART_NAMES, BodyPart, body_parts, holds_every_part
@@ -57,8 +59,6 @@ from gesturecast.models.training.denoiser import LatentClip, train_denoiser
 from gesturecast.models.training.presets import TrainPreset
 from gesturecast.models.training.reconstruction import joint_errors
 from gesturecast.models.training.vqvae import VQTrainConfig, reconstruct, train_vqvae
-from gesturecast.realtime.features.stats import FeatureStats
-from gesturecast.realtime.features.streaming import FeatureConfig
 
 logger = logging.getLogger(__name__)
 

@@ -2,26 +2,23 @@
 
 Put it in a Pipecat ``Pipeline`` after the TTS service (``audio="output"``: the avatar gestures to
 the bot's voice) or after the input transport (``audio="input"``: to the user's voice). It passes
-every frame downstream unchanged; on the side it
+every frame downstream unchanged; on the side it drives a :class:`gesturecast.Stream` (built from a
+:class:`Settings` and :class:`Outputs`, the library's own types):
 
-- converts each audio frame (16-bit PCM, any rate / channel count) to 16 kHz mono
-  (:class:`~gesturecast.realtime.audio.pcm.PcmConverter`) and feeds a :class:`GestureSession`
-  (on a worker thread, so the event loop never waits on the model);
-- times the audio as it will be heard: a block starts when it arrives or when the previous block
-  ends, whichever is later (TTS audio arrives faster than it is played, back to back);
-- hands the pose frames to the scheduler, which releases each at capture + L to the bridges
-  (VMC, OSC, WebSocket, BVH: the ``gesturecast live`` output flags, through ``build_outputs``);
-- maps style changes from the pipeline onto the session's controls: a :class:`GestureStyleFrame`
-  (in order with the audio), and/or ``style_for_text`` called on each ``TTSTextFrame`` (one style
-  per spoken sentence, as GestureDiffuCLIP changes style sentence by sentence).
+- each audio frame (16-bit PCM, any rate / channel count) is converted to 16 kHz mono and pushed to the stream
+  on a worker thread, so the event loop never waits on the model; the stream times the audio as it will be
+  heard (a block starts when it arrives or when the previous block ends, whichever is later: TTS audio arrives
+  faster than it is played, back to back) and releases each pose at capture + L to the outputs;
+- style changes from the pipeline become the stream's controls: a :class:`GestureStyleFrame` (in order with the
+  audio), and/or ``style_for_text`` called on each ``TTSTextFrame`` (one style per spoken sentence, as
+  GestureDiffuCLIP changes style sentence by sentence).
 
-``EndFrame`` flushes the stream: the last poses are generated and released before the frame goes on,
-and the outputs are closed; ``CancelFrame`` stops at once. Install with ``pip install 'gesturecast[pipecat]'``.
+``EndFrame`` closes the stream: the last poses are generated and released before the frame goes on, and the
+outputs are closed; ``CancelFrame`` stops at once. Install with ``pip install 'gesturecast[pipecat]'``.
 """
 
 from __future__ import annotations
 
-import argparse
 import asyncio
 import logging
 from collections.abc import Callable
@@ -35,26 +32,16 @@ from pipecat.frames.frames import (
     Frame,
     InputAudioRawFrame,
     OutputAudioRawFrame,
-    StartFrame,
     TTSTextFrame,
 )
 from pipecat.processors.frame_processor import FrameDirection, FrameProcessor
 
-from gesturecast.bridges.fanout import BridgeFanout
+from gesturecast.bridges.output_settings import Outputs
 from gesturecast.errors import UserError
-from gesturecast.realtime.audio.files import SAMPLE_RATE
-from gesturecast.realtime.audio.pcm import PcmConverter
-from gesturecast.realtime.audio.sources import AudioChunk
-from gesturecast.realtime.engine import drain
-from gesturecast.realtime.engine_setup import (
-    add_generation_arguments,
-    add_output_arguments,
-    build_outputs,
-    build_session,
-)
-from gesturecast.realtime.session import GestureSession
-from gesturecast.realtime.timing.clock import Clock, MonotonicClock
-from gesturecast.realtime.timing.scheduler import FrameScheduler, SchedulerConfig, SchedulerWorker
+from gesturecast.models.audio.files import SAMPLE_RATE
+from gesturecast.realtime.audio.pcm import AudioConverter
+from gesturecast.realtime.run.stream import Stream
+from gesturecast.settings import Settings
 
 logger = logging.getLogger(__name__)
 
@@ -75,77 +62,33 @@ class GestureStyleFrame(DataFrame):
     control: dict = field(default_factory=dict)
 
 
-class AudioTimeline:
-    """Stream sample indices and capture times of audio that is played back to back."""
-
-    def __init__(self) -> None:
-        self.samples = 0
-        self._end_time = float("-inf")
-
-    def chunk(self, samples: np.ndarray, now: float) -> AudioChunk:
-        """The chunk of (n,) samples arriving at ``now``: it starts now, or where the previous one ends."""
-        start_time = max(now, self._end_time)
-        chunk = AudioChunk(samples, self.samples, start_time)
-        self.samples += samples.shape[0]
-        self._end_time = start_time + samples.shape[0] / SAMPLE_RATE
-        return chunk
-
-
-class _FlagParser(argparse.ArgumentParser):
-    """The ``live`` flags for a library call: a bad flag is a UserError, not a process exit."""
-
-    def error(self, message: str) -> None:  # type: ignore[override]  # argparse's contract: never returns
-        raise UserError(message)
-
-
-def parse_flags(flags: list[str]) -> argparse.Namespace:
-    """``gesturecast live``'s generation and output flags (``--style``, ``--vmc``, ``--bvh``, …)."""
-    parser = _FlagParser(prog="GesturecastProcessor")
-    add_generation_arguments(parser)
-    add_output_arguments(parser)
-    return parser.parse_args(flags)
-
-
 class GesturecastProcessor(FrameProcessor):
-    """A Pipecat FrameProcessor that drives an avatar from the pipeline's audio (see the module docstring)."""
+    """A Pipecat FrameProcessor that drives an avatar from the pipeline's audio (see the module docstring).
 
-    def __init__(self, session: GestureSession, outputs: BridgeFanout, *, clock: Clock | None = None,
-                 scheduler_config: SchedulerConfig | None = None, audio: str = AUDIO_OUTPUT,
+    settings, outputs: as for :class:`gesturecast.Stream` (e.g. ``Settings(style="happy")``,
+    ``Outputs(vmc="127.0.0.1")``); ``stream``: a stream built by the caller instead. ``kwargs`` go to Pipecat's
+    FrameProcessor (``name``)."""
+
+    def __init__(self, settings: Settings | None = None, outputs: Outputs | None = None, *,
+                 stream: Stream | None = None, audio: str = AUDIO_OUTPUT,
                  style_for_text: StyleForText | None = None, **kwargs) -> None:
         super().__init__(**kwargs)
         if audio not in AUDIO_FRAME_TYPES:
             raise UserError(f"audio must be one of {', '.join(AUDIO_FRAME_TYPES)}, got {audio!r}")
-        self.session = session
-        self.outputs = outputs
-        self.clock = clock or MonotonicClock()
-        self.scheduler = FrameScheduler(self.clock, outputs.send, scheduler_config, stats=session.stats)
+        self.stream = stream or Stream(settings, outputs)
+        self.session = self.stream.session
         self._audio_type = AUDIO_FRAME_TYPES[audio]
         self._style_for_text = style_for_text
-        self._converter = PcmConverter()
-        self._timeline = AudioTimeline()
-        self._worker: SchedulerWorker | None = None
+        self._converter = AudioConverter()
 
     @property
     def audio_seconds(self) -> float:
-        """Seconds of audio fed to the session so far."""
-        return self._timeline.samples / SAMPLE_RATE
-
-    @classmethod
-    def from_flags(cls, flags: list[str], **kwargs) -> GesturecastProcessor:
-        """A processor configured like ``gesturecast live`` (e.g. ``["--vmc", "127.0.0.1:39539", "--style",
-        "happy"]``); ``kwargs`` go to the constructor (``audio``, ``style_for_text``, ``name``)."""
-        args = parse_flags(flags)
-        clock = MonotonicClock()
-        session = build_session(args, clock)
-        outputs = build_outputs(args, session, clock)
-        return cls(session, outputs, clock=clock, scheduler_config=SchedulerConfig(output_fps=float(args.fps)),
-                   **kwargs)
+        """Seconds of audio fed to the stream so far."""
+        return self.stream.audio_seconds
 
     async def process_frame(self, frame: Frame, direction: FrameDirection) -> None:
         await super().process_frame(frame, direction)
-        if isinstance(frame, StartFrame):
-            self._start()
-        elif isinstance(frame, self._audio_type):
+        if isinstance(frame, self._audio_type):
             await self._feed(self._converter.convert(frame.audio, frame.sample_rate, frame.num_channels))
         elif isinstance(frame, GestureStyleFrame):
             self._submit(frame.control)
@@ -156,40 +99,22 @@ class GesturecastProcessor(FrameProcessor):
         elif isinstance(frame, EndFrame):
             await self._finish()
         elif isinstance(frame, CancelFrame):
-            self._stop()
+            self.stream.stop()
         await self.push_frame(frame, direction)
-
-    def _start(self) -> None:
-        if self._worker is None:
-            self._worker = SchedulerWorker(self.scheduler)
-            self._worker.start()
 
     def _submit(self, control: dict) -> None:
         """A style change from the pipeline; one the model cannot use is logged and the stream goes on."""
         try:
-            self.session.controls.submit(control)
+            self.stream.control(control)
         except UserError as error:
             logger.warning("style change %s ignored: %s", control, error)
 
     async def _feed(self, samples: np.ndarray) -> None:
-        """(n,) 16 kHz samples → poses, generated off the event loop, queued for release at capture + L."""
-        if not samples.shape[0] or self._worker is None:
-            return
-        chunk = self._timeline.chunk(samples, self.clock.now())
-        self._worker.submit(await asyncio.to_thread(self.session.push, chunk))
+        """(n,) 16 kHz samples → poses, generated off the event loop, released at capture + L."""
+        if samples.shape[0]:
+            await asyncio.to_thread(self.stream.push, samples, SAMPLE_RATE)
 
     async def _finish(self) -> None:
         """End of stream: the rest of the audio, the look-ahead's poses, all released on time, outputs closed."""
-        if self._worker is None:
-            return
         await self._feed(self._converter.flush())
-        self._worker.submit(await asyncio.to_thread(self.session.finish))
-        await asyncio.to_thread(drain, self._worker)
-        self._stop()
-
-    def _stop(self) -> None:
-        """Stop releasing frames and close the outputs (a BVH recorder writes its file here)."""
-        if self._worker is not None:
-            self._worker.stop()
-            self._worker = None
-            self.outputs.close()
+        await asyncio.to_thread(self.stream.close)

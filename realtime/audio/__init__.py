@@ -1,3 +1,3 @@
-"""Audio in: files to 16 kHz mono float32, sources (microphone, paced file, fast file), PortAudio
+"""Audio in, live: sources (microphone, paced file, fast file), PortAudio
 access, the ring buffer, device CLI.
 """

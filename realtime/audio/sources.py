@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import threading
 from abc import ABC, abstractmethod
-from collections.abc import Generator, Iterator
+from collections.abc import Generator, Iterable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -26,7 +26,8 @@ import numpy as np
 import soxr
 
 from gesturecast.errors import UserError
-from gesturecast.realtime.audio.files import SAMPLE_RATE, AudioFileReader, make_resampler
+from gesturecast.models.audio.files import SAMPLE_RATE, AudioFileReader, make_resampler
+from gesturecast.realtime.audio.pcm import AudioConverter
 from gesturecast.realtime.audio.portaudio import (
     capture_time,
     check_input_rate,
@@ -109,19 +110,38 @@ def rechunk(blocks: Iterator[np.ndarray], size: int) -> Iterator[tuple[int, np.n
         yield start, pending
 
 
-class FastFileSource(AudioSource):
-    """A file as fast as possible; memory bounded by the reader's block size."""
+class UnpacedSource(AudioSource):
+    """16 kHz blocks as fast as possible, re-cut into chunks whose capture times are their stream times."""
 
-    def __init__(self, path: str | Path, chunk_samples: int = DEFAULT_CHUNK) -> None:
+    def __init__(self, blocks: Iterable[np.ndarray], chunk_samples: int = DEFAULT_CHUNK) -> None:
         super().__init__()
-        self.reader = AudioFileReader(path)
+        self.blocks = blocks  # (m,) 16 kHz float32 blocks
         self.chunk_samples = chunk_samples
 
     def __iter__(self) -> Generator[AudioChunk, None, None]:
-        for start, samples in rechunk(iter(self.reader), self.chunk_samples):
+        for start, samples in rechunk(iter(self.blocks), self.chunk_samples):
             if self._stop.is_set():
                 return
             yield self._count(AudioChunk(samples, start, start / SAMPLE_RATE))
+
+
+class FastFileSource(UnpacedSource):
+    """A file as fast as possible; memory bounded by the reader's block size."""
+
+    def __init__(self, path: str | Path, chunk_samples: int = DEFAULT_CHUNK) -> None:
+        super().__init__(AudioFileReader(path), chunk_samples)
+
+
+class ArraySource(UnpacedSource):
+    """Samples already in memory ((n,) or (n, C), float or int16, any rate), as fast as possible: converted to
+    16 kHz mono at once, then chunked and timed exactly as :class:`FastFileSource` does a file."""
+
+    def __init__(self, samples: np.ndarray, sample_rate: int, chunk_samples: int = DEFAULT_CHUNK) -> None:
+        converter = AudioConverter()
+        converted = np.concatenate([converter.convert_samples(samples, sample_rate), converter.flush()])  # (n,)
+        if not converted.shape[0]:
+            raise UserError("the audio array holds no samples")
+        super().__init__((converted,), chunk_samples)
 
 
 class PacedFileSource(AudioSource):

@@ -9,18 +9,19 @@ import threading
 
 from gesturecast.arguments import port_number
 from gesturecast.bridges.coords import FRAMES
-from gesturecast.errors import INTERRUPTED_EXIT, UserError
-from gesturecast.realtime.engine_setup import (
+from gesturecast.errors import INTERRUPTED_EXIT
+from gesturecast.realtime.cli_flags import (
     add_access_arguments,
     add_generation_arguments,
-    build_session,
+    serve_config,
     server_token,
+    settings_from_args,
 )
+from gesturecast.realtime.serve.launch import start_server
 from gesturecast.realtime.serve.ray_cli import add_ray_arguments, ray_serving
 from gesturecast.realtime.serve.server import SERVE_DEFAULT_PORT, GestureServer, ServeConfig
-from gesturecast.realtime.serve.setup import StreamSessions
-from gesturecast.realtime.serve.stream import StreamConfig
 from gesturecast.realtime.timing.clock import Clock, MonotonicClock
+from gesturecast.settings import OUTPUT_RATES
 
 logger = logging.getLogger(__name__)
 
@@ -41,25 +42,13 @@ def add_serve_arguments(parser: argparse.ArgumentParser) -> None:
     add_access_arguments(group)
     group.add_argument("--max-streams", type=int, default=ServeConfig.max_streams, help="concurrent streams allowed")
     group.add_argument("--coordinate-frame", choices=tuple(FRAMES), default="internal", help="frame of sent poses")
-    group.add_argument("--fps", type=int, choices=(30, 60), default=30, help="output rate (60 = slerp upsampling)")
+    group.add_argument("--fps", type=int, choices=OUTPUT_RATES, default=30, help="output rate (60 = slerp upsampling)")
 
 
 def build_server(args: argparse.Namespace, clock: Clock) -> GestureServer:
-    """The server for these flags (the defaults are validated by building one session up front)."""
-    if args.max_streams < 1:
-        raise UserError(f"--max-streams must be at least 1, got {args.max_streams}")
-    token = server_token(args)  # a missing token file fails before the model loads
-    probe = build_session(args, clock)  # checks the model, look-ahead and default style before listening
-    sessions = StreamSessions(probe.bundle, probe.generator.settings, probe.budget, clock, args.max_streams,
-                              probe.config)
-    config = ServeConfig(host=args.host, port=args.port, token=token, max_streams=args.max_streams,
-                         coordinate_frame=args.coordinate_frame, stream=StreamConfig(output_fps=float(args.fps)),
-                         allow_origins=tuple(args.allow_origin))
-    try:
-        return GestureServer(sessions, clock, config).start()
-    except UserError:
-        sessions.close()
-        raise
+    """The server for these flags (a missing token file fails before the model loads)."""
+    config = serve_config(args, server_token(args))
+    return start_server(settings_from_args(args), config, clock)
 
 
 def run_serve(args: argparse.Namespace) -> int:

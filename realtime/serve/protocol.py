@@ -27,10 +27,10 @@ import numpy as np
 
 from gesturecast.bridges.control import CONTROL_FIELDS, ControlError, validate_control
 from gesturecast.errors import UserError
-from gesturecast.realtime.audio.files import SAMPLE_RATE
+from gesturecast.models.audio.files import SAMPLE_RATE
+from gesturecast.models.generator.style_prompt import PartStyles, StylePrompt, parse_part_styles
 from gesturecast.realtime.audio.pcm import PCM16_FULL_SCALE
-from gesturecast.realtime.style_prompts import PartStyles, StylePrompt, parse_part_styles
-from gesturecast.realtime.timing.latency import LATENCY_SETTINGS
+from gesturecast.settings import LATENCY_SETTINGS
 
 AUDIO_FORMATS = {"f32le": np.dtype("<f4"), "s16le": np.dtype("<i2")}
 DEFAULT_AUDIO_FORMAT = "f32le"

@@ -16,8 +16,11 @@ from contextlib import contextmanager
 from gesturecast.arguments import finite_float, int_at_least
 from gesturecast.bridges.ws_access import check_exposure
 from gesturecast.errors import UserError
-from gesturecast.realtime.engine_setup import build_session, server_token
+from gesturecast.realtime.cli_flags import serve_config, server_token, settings_from_args
+from gesturecast.realtime.run.engine_setup import build_session
+from gesturecast.realtime.serve.server import ServeConfig
 from gesturecast.realtime.timing.clock import MonotonicClock
+from gesturecast.settings import Settings
 
 logger = logging.getLogger(__name__)
 
@@ -67,17 +70,19 @@ def deployment_options(args: argparse.Namespace) -> dict:
                                              "target_ongoing_requests": target}}
 
 
-def replica_arguments(args: argparse.Namespace) -> tuple[argparse.Namespace, str]:
-    """The flags every replica builds its server from, checked here first (bad ones fail in one line), and
-    the latency budget L they give (``delay your audio by …``)."""
+def replica_settings(args: argparse.Namespace) -> tuple[Settings, ServeConfig, str]:
+    """What every replica builds its server from, checked here first (bad flags fail in one line): the stream
+    defaults, the server options (the token read here: a replica on another node may not have the file), and the
+    latency budget L they give (``delay your audio by …``)."""
     if args.max_streams < 1:
         raise UserError(f"--max-streams must be at least 1, got {args.max_streams}")
     if args.port == 0:
         raise UserError("serve --ray needs a fixed --port (Ray Serve's proxy listens on it)")
-    token = server_token(args)  # read here: a replica on another node may not have the file
+    token = server_token(args)
     check_exposure(args.host, token)  # the proxy is what listens beyond this machine
-    probe = build_session(args, MonotonicClock())  # the model, look-ahead and default style, before Ray starts
-    return argparse.Namespace(**{**vars(args), "token": token, "token_file": None}), probe.budget.describe()
+    settings = settings_from_args(args)
+    probe = build_session(settings, MonotonicClock())  # the model, look-ahead and default style, before Ray starts
+    return settings, serve_config(args, token), probe.budget.describe()
 
 
 def application(args: argparse.Namespace) -> tuple[object, str]:
@@ -88,8 +93,8 @@ def application(args: argparse.Namespace) -> tuple[object, str]:
     except ImportError as error:
         raise UserError(f"serve --ray needs Ray Serve ({error.name} is missing): {INSTALL_HINT}") from None
     options = deployment_options(args)
-    replica_args, budget = replica_arguments(args)
-    return replica_application(replica_args, options), budget
+    settings, config, budget = replica_settings(args)
+    return replica_application(settings, config, options), budget
 
 
 def start_ray(args: argparse.Namespace) -> bool:

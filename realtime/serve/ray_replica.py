@@ -11,6 +11,7 @@ Placement: :mod:`ray_router`. Needs ``gesturecast[scale]`` (Ray, FastAPI); docs/
 import argparse
 import asyncio
 import logging
+from dataclasses import replace
 
 from fastapi import FastAPI, WebSocket
 from ray import serve
@@ -20,9 +21,12 @@ from websockets.asyncio.client import ClientConnection, connect
 from websockets.exceptions import ConnectionClosed, InvalidStatus
 from websockets.frames import CloseCode
 
-from gesturecast.realtime.serve.cli import add_serve_arguments, build_server
+from gesturecast.realtime.serve.cli import add_serve_arguments
+from gesturecast.realtime.serve.launch import start_server
 from gesturecast.realtime.serve.ray_cli import add_ray_arguments, application
+from gesturecast.realtime.serve.server import ServeConfig
 from gesturecast.realtime.timing.clock import MonotonicClock
+from gesturecast.settings import Settings
 
 logger = logging.getLogger(__name__)
 
@@ -36,9 +40,8 @@ api = FastAPI(docs_url=None, redoc_url=None, openapi_url=None)  # WebSockets onl
 class StreamRelay:
     """The replica's ``GestureServer`` on loopback and the copying of one client's messages to and from it."""
 
-    def __init__(self, args: argparse.Namespace) -> None:
-        replica_args = argparse.Namespace(**{**vars(args), "host": LOOPBACK, "port": 0})
-        self.server = build_server(replica_args, MonotonicClock())
+    def __init__(self, settings: Settings, config: ServeConfig) -> None:
+        self.server = start_server(settings, replace(config, host=LOOPBACK, port=0), MonotonicClock())
         self.base = f"ws://{LOOPBACK}:{self.server.port}"
 
     async def relay(self, client: WebSocket, path: str) -> None:
@@ -98,8 +101,8 @@ class StreamRelay:
 class GestureReplica:
     """A Ray Serve replica: every WebSocket path goes to the replica's own ``gesturecast serve``."""
 
-    def __init__(self, args: argparse.Namespace) -> None:
-        self.relay = StreamRelay(args)
+    def __init__(self, settings: Settings, config: ServeConfig) -> None:
+        self.relay = StreamRelay(settings, config)
 
     @api.websocket("/{path:path}")
     async def stream(self, websocket: WebSocket, path: str) -> None:
@@ -110,9 +113,9 @@ class GestureReplica:
         self.relay.close()
 
 
-def replica_application(args: argparse.Namespace, options: dict) -> Application:
+def replica_application(settings: Settings, config: ServeConfig, options: dict) -> Application:
     """The Ray Serve application: ``options`` are the deployment's (replicas, autoscaling, drain, router)."""
-    return GestureReplica.options(**options).bind(args)
+    return GestureReplica.options(**options).bind(settings, config)
 
 
 def app_builder(config: dict) -> Application:

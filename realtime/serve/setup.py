@@ -8,12 +8,13 @@ from gesturecast.bridges.control import ControlError
 from gesturecast.errors import UserError
 from gesturecast.models.motion.root_anchor import RootMode
 from gesturecast.models.runtime.bundle import ModelBundle
-from gesturecast.realtime.generator import Generator, GeneratorSettings
+from gesturecast.realtime.generation.generator import Generator, GeneratorSettings
+from gesturecast.realtime.pose.session import GestureSession, SessionConfig
 from gesturecast.realtime.serve.batched_denoiser import DenoiserBatcher, SharedDenoiserBundle
 from gesturecast.realtime.serve.protocol import StreamOptions
-from gesturecast.realtime.session import GestureSession, SessionConfig
 from gesturecast.realtime.timing.clock import Clock
-from gesturecast.realtime.timing.latency import LATENCY_SETTINGS, LatencyBudget
+from gesturecast.realtime.timing.latency import LatencyBudget
+from gesturecast.settings import LATENCY_SETTINGS
 
 
 class StreamSessions:

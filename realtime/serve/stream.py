@@ -21,13 +21,13 @@ import numpy as np
 
 from gesturecast.bridges import ws_protocol
 from gesturecast.bridges.coords import CoordinateFrame
-from gesturecast.realtime.audio.files import SAMPLE_RATE
+from gesturecast.frames import PoseFrame
+from gesturecast.models.audio.files import SAMPLE_RATE
 from gesturecast.realtime.audio.sources import AudioChunk
-from gesturecast.realtime.engine import compute_seconds
+from gesturecast.realtime.pose.session import GestureSession
+from gesturecast.realtime.run.engine import compute_seconds
 from gesturecast.realtime.serve.protocol import stats_message
-from gesturecast.realtime.session import GestureSession
 from gesturecast.realtime.timing.clock import Clock
-from gesturecast.realtime.timing.frames import PoseFrame
 from gesturecast.realtime.timing.scheduler import STAGE_END_TO_END, FrameScheduler, SchedulerConfig, SchedulerWorker
 
 logger = logging.getLogger(__name__)

@@ -1,3 +1,3 @@
-"""Time: the injected monotonic clock, pose frames with timestamps, the latency budget and statistics,
+"""Time: the injected monotonic clock, the latency budget and statistics,
 the frame scheduler, the status line.
 """

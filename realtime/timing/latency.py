@@ -7,11 +7,11 @@ presented at c + L, where (GestureDiffuCLIP streaming, one step per latent frame
 
 d motion frames make one latent frame: its first pose frame can be generated only once the audio up to
 the end of the latent frame (d frames) plus δa look-ahead frames has arrived; a pose frame then waits
-for the k motion frames after it (the centred smoothing window, realtime/motion_smoother.py); the
+for the k motion frames after it (the centred smoothing window, realtime/pose/motion_smoother.py); the
 margin covers compute, audio block size and sending.
 
-``--latency low|balanced|quality`` picks a look-ahead and a margin (:data:`LATENCY_SETTINGS`; the
-measurements behind the margins are in docs/latency.md "Latency settings"). Look-aheads shorter than
+``--latency low|balanced|quality`` picks a look-ahead and a margin (:data:`gesturecast.settings.LATENCY_SETTINGS`;
+the measurements behind the margins are in docs/latency.md "Latency settings"). Look-aheads shorter than
 the model's δa need a model trained with look-ahead truncation.
 """
 
@@ -32,25 +32,6 @@ MS_PER_S = 1000.0
 DEFAULT_WINDOW = 1 << 16  # samples kept per stage: ~36 minutes of 30 fps frames, 512 KiB
 INITIAL_RING_SAMPLES = 1 << 9  # a stage's ring starts at 4 KiB and doubles up to the window
 SUMMARY_PERCENTILES = (50.0, 95.0, 99.0)
-
-
-@dataclass(frozen=True)
-class LatencySetting:
-    """A named latency dial position: look-ahead δ (None = the model's δa) and compute margin."""
-
-    name: str
-    lookahead_frames: int | None
-    compute_margin_ms: float
-
-    def lookahead_for(self, model_lookahead: int) -> int:
-        """δ for a model trained with look-ahead δa = ``model_lookahead`` (never more than δa)."""
-        return model_lookahead if self.lookahead_frames is None else min(self.lookahead_frames, model_lookahead)
-
-
-QUALITY = LatencySetting("quality", None, 100.0)  # GestureDiffuCLIP's δa = 8 at 30 fps: L = 533 ms
-BALANCED = LatencySetting("balanced", 4, 80.0)  # (4 + 4 + 1) / 30 s + 80 ms = 380 ms
-LOW = LatencySetting("low", 0, 80.0)  # (4 + 0 + 1) / 30 s + 80 ms = 247 ms
-LATENCY_SETTINGS = {setting.name: setting for setting in (LOW, BALANCED, QUALITY)}
 
 
 @dataclass(frozen=True)

@@ -27,9 +27,9 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from gesturecast.frames import PoseFrame
 from gesturecast.models.motion.rotations import quat_slerp
 from gesturecast.realtime.timing.clock import Clock
-from gesturecast.realtime.timing.frames import PoseFrame
 from gesturecast.realtime.timing.latency import MS_PER_S, LatencyStats
 
 logger = logging.getLogger(__name__)

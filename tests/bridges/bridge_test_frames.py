@@ -6,9 +6,9 @@ import time
 
 import numpy as np
 
+from gesturecast.frames import PoseFrame
 from gesturecast.models.motion.rotations import quat_from_axis_angle
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS as SKELETON  # what the session sends
-from gesturecast.realtime.timing.frames import PoseFrame
 
 ARM_SWING_RAD = 0.9
 SWING_HZ = 0.5

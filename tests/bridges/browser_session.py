@@ -16,7 +16,7 @@ import pytest
 from PIL import Image
 
 from gesturecast.bridges.websocket_server import WebSocketBridge
-from gesturecast.realtime.timing.frames import PoseFrame
+from gesturecast.frames import PoseFrame
 
 CHROMIUM = Path("/usr/bin/chromium")
 CHROMEDRIVER = Path("/usr/bin/chromedriver")

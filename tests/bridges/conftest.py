@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 from bridge_test_frames import moving_frame
 
-from gesturecast.realtime.timing.frames import PoseFrame
+from gesturecast.frames import PoseFrame
 
 
 @pytest.fixture

@@ -1,4 +1,4 @@
-"""Which avatar the viewer serves: --avatar, then $GESTURECAST_AVATAR, then the shared default, else none."""
+"""Which avatar the viewer serves: --avatar, then $GESTURECAST_AVATAR, then the packaged one (none if it is missing)."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 from gesturecast.bridges import avatar_file
-from gesturecast.bridges.avatar_file import AVATAR_ENV_VAR, resolve_avatar
+from gesturecast.bridges.avatar_file import AVATAR_ENV_VAR, PACKAGED_AVATAR, PACKAGED_AVATAR_LICENSE, resolve_avatar
 from gesturecast.bridges.viewer_http import static_response
 from gesturecast.errors import UserError
 
@@ -22,31 +22,41 @@ def vrm(tmp_path) -> Path:
 
 
 @pytest.fixture
-def no_default(tmp_path, monkeypatch):
-    """Neither the repository root nor the working folder has ../shared/assets/cryptovoxels.vrm."""
-    monkeypatch.setattr(avatar_file, "REPOSITORY_ROOT", tmp_path / "repo")
-    monkeypatch.chdir(tmp_path)
+def elsewhere(tmp_path, monkeypatch):
+    """The working folder is a fresh one, with no ../shared next to it."""
+    work = tmp_path / "elsewhere"
+    work.mkdir()
+    monkeypatch.chdir(work)
+    monkeypatch.delenv(AVATAR_ENV_VAR, raising=False)
+    assert not (work.parent / "shared").exists()
 
 
 def test_the_flag_wins_over_the_environment(vrm, tmp_path):
     assert resolve_avatar(vrm, {AVATAR_ENV_VAR: str(tmp_path / "other.vrm")}) == vrm
 
 
-def test_the_environment_names_the_avatar(vrm, no_default):
+def test_the_environment_names_the_avatar(vrm, elsewhere):
     assert resolve_avatar(None, {AVATAR_ENV_VAR: str(vrm)}) == vrm
 
 
-def test_the_default_is_found_next_to_the_working_folder(vrm, tmp_path, no_default, monkeypatch):
-    checkout = tmp_path / "work" / "checkout"
-    checkout.mkdir(parents=True)
-    (tmp_path / "work" / "shared" / "assets").mkdir(parents=True)
-    default = tmp_path / "work" / "shared" / "assets" / "cryptovoxels.vrm"
-    default.write_bytes(vrm.read_bytes())
-    monkeypatch.chdir(checkout)
-    assert resolve_avatar(None, {}) == default.resolve()
+def test_without_a_choice_the_packaged_avatar_is_served_from_inside_the_package(elsewhere):
+    """No flag, no environment variable, no ../shared: the avatar shipped in the package, a glTF binary (VRM)
+    with its licence note beside it."""
+    found = resolve_avatar(None)
+    package_folder = Path(avatar_file.__file__).resolve().parent
+    assert found == PACKAGED_AVATAR and found.resolve().is_relative_to(package_folder)
+    header = found.read_bytes()[:12]
+    assert header[:4] == b"glTF" and int.from_bytes(header[4:8], "little") == 2
+    assert int.from_bytes(header[8:12], "little") == found.stat().st_size  # the whole file, not a stub
+    note = PACKAGED_AVATAR_LICENSE.read_text(encoding="utf-8")
+    assert PACKAGED_AVATAR_LICENSE.parent == found.parent
+    assert '"jin"' in note and "redistribution allowed" in note and "madjin/vrm-samples" in note
+    served = static_response("/avatar.vrm", found)
+    assert served.status_code == 200 and served.body[:4] == b"glTF"
 
 
-def test_no_avatar_anywhere_is_none(no_default):
+def test_a_missing_packaged_avatar_is_none(elsewhere, tmp_path, monkeypatch):
+    monkeypatch.setattr(avatar_file, "PACKAGED_AVATAR", tmp_path / "gone" / "cryptovoxels.vrm")
     assert resolve_avatar(None, {}) is None
 
 

@@ -7,12 +7,12 @@ from pathlib import Path
 import numpy as np
 
 from gesturecast.bridges.bvh_recorder import BvhRecorder
+from gesturecast.frames import PoseFrame
 from gesturecast.models.motion.bvh import read_bvh
 from gesturecast.models.motion.motion import Motion
 from gesturecast.models.motion.retarget import motion_to_bvh
 from gesturecast.models.motion.rotations import quat_from_axis_angle
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
-from gesturecast.realtime.timing.frames import PoseFrame
 
 NUM_FRAMES = 12
 

@@ -17,7 +17,7 @@ POSITIONS = [
 
 # frame, internal XYZW, expected XYZW
 ROTATIONS = [
-    (UNITY, [0.1, 0.2, 0.3, 0.9], [0.1, -0.2, -0.3, 0.9]),  # DESIGN.md: q = (x, -y, -z, w)
+    (UNITY, [0.1, 0.2, 0.3, 0.9], [0.1, -0.2, -0.3, 0.9]),  # docs/architecture.md, Conventions: q = (x, -y, -z, w)
     (UNREAL, [0.1, 0.2, 0.3, 0.9], [-0.3, 0.1, -0.2, 0.9]),
     (INTERNAL, [0.1, 0.2, 0.3, 0.9], [0.1, 0.2, 0.3, 0.9]),
     (UNREAL, [0.0, S, 0.0, S], [0.0, 0.0, -S, S]),  # yaw about up → about Unreal Z, sign flips with handedness

@@ -8,8 +8,8 @@ from pythonosc.osc_packet import OscPacket
 
 from gesturecast.bridges.coords import FRAMES
 from gesturecast.bridges.osc import OscBridge, OscConfig, OscEncoder
+from gesturecast.frames import VISEME_NAMES, PoseFrame
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS as SKELETON  # what the session sends
-from gesturecast.realtime.timing.frames import VISEME_NAMES, PoseFrame
 
 FLOAT32_TOLERANCE = 1e-4  # centimetre-scaled Unreal positions are ~100x larger
 
@@ -55,7 +55,9 @@ def test_receiver_not_running_is_survivable():
         bridge.send(moving_frame(seq, fps=60.0, clock_now=seq / 60.0))
     bridge.close()
     per_frame = len(bridge.encoder.encode(moving_frame(0), 0.0))  # bundles of one frame (3 with the fingers)
-    assert bridge.sender.sent_datagrams + bridge.sender.errors.count == 5 * per_frame
+    assert bridge.sender.sent_datagrams + bridge.sender.refused + bridge.sender.errors.count == 5 * per_frame
+    assert bridge.counters() == {"osc_refused_datagrams": bridge.sender.refused,
+                                 "osc_failed_datagrams": bridge.sender.errors.count}
 
 
 TWO_DAYS_S = 2 * 24 * 3600.0

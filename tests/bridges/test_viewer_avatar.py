@@ -1,7 +1,7 @@
 """The viewer's VRM avatar in headless Chromium (software WebGL): it loads, moves, faces the right way, speaks.
 
-The avatar is a temporary copy of the shared default (/work/shared/assets/cryptovoxels.vrm, never part of the
-repository); the tests skip with the reason when it is absent.
+The avatar is the one the viewer gets with no --avatar and no $GESTURECAST_AVATAR: the packaged
+cryptovoxels.vrm (bridges/viewer/avatar/), looked up from a working folder with no ../shared next to it.
 """
 
 from __future__ import annotations
@@ -9,7 +9,6 @@ from __future__ import annotations
 import base64
 import contextlib
 import dataclasses
-import shutil
 import time
 from pathlib import Path
 
@@ -19,12 +18,12 @@ from bridge_test_frames import moving_frame
 from browser_session import SCREENSHOT_DIR, WEBGL_FLAGS, Feeder, canvas_pixels, chromium, needs_chromium, wait_for
 from PIL import Image
 
+from gesturecast.bridges.avatar_file import AVATAR_ENV_VAR, PACKAGED_AVATAR, resolve_avatar
 from gesturecast.bridges.websocket_server import WebSocketBridge, WebSocketConfig
+from gesturecast.frames import VISEME_NAMES, PoseFrame
 from gesturecast.models.motion.rotations import quat_from_axis_angle
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS as SKELETON
-from gesturecast.realtime.timing.frames import VISEME_NAMES, PoseFrame
 
-SHARED_AVATAR = Path("/work/shared/assets/cryptovoxels.vrm")
 CHANGED_PIXEL_THRESHOLD = 40  # summed RGB difference that counts as a changed pixel
 BRIGHT = 400  # summed RGB of the avatar's light body on the dark background (about 90)
 SCREENSHOT_GAP_S = 0.6
@@ -32,14 +31,16 @@ SETTLE_S = 0.5  # a few frames of a new pose reach the page and get drawn
 RAISE_RAD = 1.3  # the left arm raised from the T-pose
 UPPER_PART = 0.4  # of the picture's height, from the top: above the T-posed right arm at this camera
 
-pytestmark = [needs_chromium, pytest.mark.skipif(not SHARED_AVATAR.exists(), reason=f"no avatar at {SHARED_AVATAR}")]
+pytestmark = needs_chromium
 
 
 @pytest.fixture
-def avatar(tmp_path) -> Path:
-    copy = tmp_path / "avatar.vrm"
-    shutil.copyfile(SHARED_AVATAR, copy)
-    return copy
+def avatar(tmp_path, monkeypatch) -> Path:
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.delenv(AVATAR_ENV_VAR, raising=False)
+    found = resolve_avatar(None)
+    assert found == PACKAGED_AVATAR
+    return found
 
 
 @pytest.fixture

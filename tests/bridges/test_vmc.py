@@ -13,10 +13,11 @@ from pythonosc.osc_server import BlockingOSCUDPServer
 
 from gesturecast.bridges.coords import UNITY
 from gesturecast.bridges.osc_wire import MAX_DATAGRAM_SIZE
+from gesturecast.bridges.transport import LOG_EVERY_N_ERRORS
 from gesturecast.bridges.vmc import VmcBridge, VmcConfig, VmcEncoder
+from gesturecast.frames import VISEME_NAMES, PoseFrame
 from gesturecast.models.motion.rotations import quat_from_axis_angle
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
-from gesturecast.realtime.timing.frames import VISEME_NAMES, PoseFrame
 
 RECEIVE_TIMEOUT_S = 5.0
 FLOAT32_TOLERANCE = 1e-6
@@ -146,20 +147,48 @@ def test_send_rate_30_drops_every_other_60fps_frame():
     assert sent == 5
 
 
-def test_receiver_not_running_never_raises_and_logs_once(caplog):
+MAX_REFUSED_FRAMES = 20_000  # a bound: on loopback about every other datagram is refused
+
+
+def closed_udp_port() -> int:
+    """A loopback UDP port nothing listens on (bound, then released)."""
     probe = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
     probe.bind(("127.0.0.1", 0))
     free_port = probe.getsockname()[1]
     probe.close()
-    bridge = VmcBridge(VmcConfig(port=free_port, send_rate=60.0))
+    return free_port
+
+
+def test_receiver_not_running_never_raises_and_logs_once(caplog):
+    bridge = VmcBridge(VmcConfig(port=closed_udp_port(), send_rate=60.0))
     with caplog.at_level(logging.WARNING):
         for seq in range(20):
             bridge.send(moving_frame(seq, fps=60.0, clock_now=seq / 60.0))
     bridge.close()
-    assert bridge.sender.errors.count > 0  # ConnectionRefused really happened
-    warnings = [r for r in caplog.records if "VMC send" in r.getMessage()]
+    assert bridge.sender.refused > 0  # ConnectionRefused really happened
+    warnings = [r for r in caplog.records if r.levelno >= logging.WARNING]
     assert len(warnings) == 1
-    assert "Connection refused" in warnings[0].getMessage()
+    assert "nobody is listening" in warnings[0].getMessage()
+
+
+def test_nobody_listening_is_said_once_with_a_hint_and_then_only_counted(caplog):
+    """More refused sends than the error throttle's period (a demo with no VSeeFace running): one line that names
+    the address and what to do, and every refused datagram in the bridge's counters."""
+    port = closed_udp_port()
+    bridge = VmcBridge(VmcConfig(port=port, send_rate=60.0))
+    per_frame = len(bridge.encoder.encode(moving_frame(0), 0.0))
+    frames = 0
+    with caplog.at_level(logging.WARNING):
+        while bridge.sender.refused <= LOG_EVERY_N_ERRORS and frames < MAX_REFUSED_FRAMES:
+            bridge.send(moving_frame(frames, fps=60.0, clock_now=frames / 60.0))
+            frames += 1
+    bridge.close()
+    assert bridge.sender.refused > LOG_EVERY_N_ERRORS
+    assert bridge.counters() == {"vmc_refused_datagrams": bridge.sender.refused, "vmc_failed_datagrams": 0}
+    assert bridge.sender.sent_datagrams + bridge.sender.refused == frames * per_frame
+    messages = [r.getMessage() for r in caplog.records if r.levelno >= logging.WARNING]
+    assert messages == [f"nobody is listening on 127.0.0.1:{port} (VMC); start VSeeFace, Warudo or EVMC4U there, or "
+                        "send elsewhere with --vmc HOST:PORT (said once; the stream keeps going)"]
 
 
 def speaking_frame(weights=(0.1, 0.2, 0.3, 0.15, 0.05)) -> PoseFrame:

@@ -15,12 +15,12 @@ import pytest
 import soundfile
 from browser_session import WEBGL_FLAGS, chromium, needs_chromium, wait_for
 
+from gesturecast.bridges.avatar_file import PACKAGED_AVATAR
 from gesturecast.bridges.vrma import vrm_bone_name
 from gesturecast.bridges.websocket_server import WebSocketBridge, WebSocketConfig
+from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
 from gesturecast.models.motion.retarget import load_motion_file
-from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio
 
-SHARED_AVATAR = Path("/work/shared/assets/cryptovoxels.vrm")
 SAMPLE = Path(__file__).resolve().parents[2] / "gesturecast" / "samples" / "sample_speech.wav"
 SPEECH_SECONDS = 4
 SAMPLE_FRAMES = (15, 45, 75, 105)  # instants compared (30 fps frames)
@@ -29,7 +29,7 @@ BONES = ("Hips", "Spine", "Chest", "Neck", "Head", "LeftUpperArm", "LeftLowerArm
 TOLERANCE_DEG = 0.2  # float32 in the .vrma, 6 decimals of Euler degrees in the BVH
 VRM0_MIRROR = np.array([-1.0, 1.0, -1.0, 1.0])  # VRM 0.x normalized bones face -Z: (x, y, z, w) -> (-x, y, -z, w)
 
-pytestmark = [needs_chromium, pytest.mark.skipif(not SHARED_AVATAR.exists(), reason=f"no avatar at {SHARED_AVATAR}")]
+pytestmark = needs_chromium
 
 PLAY_AND_SAMPLE = """
 const [encoded, times, bones, done] = arguments;
@@ -62,7 +62,7 @@ def angle_deg(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 def test_vrma_on_the_avatar_matches_the_bvh_of_the_same_run(generated, tmp_path):
     bvh, vrma = generated
     avatar = tmp_path / "avatar.vrm"
-    shutil.copyfile(SHARED_AVATAR, avatar)
+    shutil.copyfile(PACKAGED_AVATAR, avatar)
     bridge = WebSocketBridge(WebSocketConfig(port=0, avatar=avatar)).start()
     times = [frame / 30.0 for frame in SAMPLE_FRAMES]
     names = [vrm_bone_name(bone) for bone in BONES]

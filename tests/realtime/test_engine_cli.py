@@ -7,10 +7,10 @@ import pytest
 import soundfile
 
 from gesturecast.cli import main
+from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
 from gesturecast.models.motion.bvh import read_bvh
 from gesturecast.models.motion.retarget import load_motion_file
 from gesturecast.models.motion.skeleton import CANONICAL, CANONICAL_WITH_HANDS
-from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio
 
 
 @pytest.fixture(scope="module")

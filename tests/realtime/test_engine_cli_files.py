@@ -12,8 +12,8 @@ from pathlib import Path
 import pytest
 import soundfile
 
+from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
 from gesturecast.models.motion.bvh import read_bvh
-from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio
 
 SPEECH_SECONDS = 1
 SIZE_LIMIT_BYTES = 20_000  # RLIMIT_FSIZE: the header fits, one second of frames (about 20 KB) does not

@@ -11,7 +11,7 @@ import pytest
 import soundfile
 from websockets.sync.client import connect
 
-from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio
+from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
 
 SPEECH_SECONDS = 6  # played at real-time pace: long enough to connect and steer while it runs
 CONNECT_TIMEOUT_S = 120.0  # the subprocess loads the model before listening

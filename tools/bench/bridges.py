@@ -24,9 +24,9 @@ from gesturecast.bridges.osc import OscBridge, OscConfig
 from gesturecast.bridges.vmc import VmcBridge, VmcConfig
 from gesturecast.bridges.websocket_server import WebSocketBridge, WebSocketConfig
 from gesturecast.bridges.ws_protocol import binary_frame, json_frame
+from gesturecast.frames import PoseFrame
 from gesturecast.models.motion.rotations import quat_from_axis_angle
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
-from gesturecast.realtime.timing.frames import PoseFrame
 
 FPS = 60.0  # send every frame through the 60 fps limiter
 RECV_TIMEOUT_S = 5.0

@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import resource
 import statistics
 import sys
 import time
@@ -23,9 +22,9 @@ from pathlib import Path
 import numpy as np
 import soundfile
 
+from gesturecast.models.audio.streaming import FeatureConfig, StreamingFeatureExtractor
+from gesturecast.models.audio.vad import VadConfig
 from gesturecast.realtime.audio.sources import DEFAULT_CHUNK, FastFileSource
-from gesturecast.realtime.features.streaming import FeatureConfig, StreamingFeatureExtractor
-from gesturecast.realtime.features.vad import VadConfig
 
 TILE_DIR = Path(".cache/bench")
 TILE_BLOCK = 1 << 16  # frames copied per write when tiling
@@ -81,8 +80,17 @@ def time_one_run(path: Path, config: FeatureConfig, chunk: int) -> tuple[float, 
     return sum(push_times), push_times, samples / config.sample_rate, extractor.frames_emitted
 
 
+def peak_rss_mb() -> float | None:
+    """The process's peak resident set size so far (MiB), or None where there is no ``resource`` (Windows)."""
+    try:
+        import resource
+    except ImportError:
+        return None
+    return round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / KIB_PER_MIB, 1)
+
+
 def benchmark(path: Path, config: FeatureConfig, chunk: int, repeats: int) -> dict:
-    baseline_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / KIB_PER_MIB
+    baseline_mb = peak_rss_mb()
     runs = [time_one_run(path, config, chunk) for _ in range(repeats)]
     audio_s = runs[0][2]
     all_pushes = np.array([t for run in runs for t in run[1]]) * MS_PER_S
@@ -99,13 +107,13 @@ def benchmark(path: Path, config: FeatureConfig, chunk: int, repeats: int) -> di
         "rtf_runs": rtfs,
         "chunk_ms": {f"p{p}": float(np.percentile(all_pushes, p)) for p in PERCENTILES}
         | {"max": float(all_pushes.max())},
-        "baseline_rss_mb": round(baseline_mb, 1),
-        "peak_rss_mb": round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / KIB_PER_MIB, 1),
+        "baseline_rss_mb": baseline_mb,
+        "peak_rss_mb": peak_rss_mb(),
     }
 
 
 def run(args: argparse.Namespace) -> int:
-    from gesturecast.realtime.audio.files import AudioFileReader
+    from gesturecast.models.audio.files import AudioFileReader
 
     AudioFileReader(args.file)  # validates the file (one-line errors) before any tiling
     path = tile_file(args.file, args.tile_minutes) if args.tile_minutes else args.file

@@ -3,7 +3,7 @@
 For a bundle, motion is generated through the product's offline path (``run_offline``, DDIM K,
 the bundle's guidance) for: the held-out test segments of the paired takes (seen speakers,
 unseen sentences; their real motion is scored too), the unseen ZeroEGGS Flirty recording and the
-synthetic espeak voices (``/work/shared/data``), each alone and all six joined into one stream
+synthetic espeak voices (the shared data folder, ``--shared``), each alone and all six joined into one stream
 with 1.5 s pauses (does the motion rest in the pauses?). Per file and seed: the energy–speed correlation
 of :mod:`gesturecast.models.evaluation.speech_following` (lag searched within ±0.5 s) and BEAT beat
 consistency. Groups report the mean over files and seeds. One JSON object; nothing is asserted.
@@ -19,14 +19,14 @@ from pathlib import Path
 import numpy as np
 
 from gesturecast.files import write_text_atomic
+from gesturecast.models.audio.files import SAMPLE_RATE
 from gesturecast.models.evaluation.beat_consistency import beat_consistency, speech_onsets
 from gesturecast.models.evaluation.speech_following import FollowingConfig, speech_following
 from gesturecast.models.generator.diffusion import SamplerConfig
 from gesturecast.models.motion.motion import MOTION_FPS
-from gesturecast.realtime.audio.files import SAMPLE_RATE
-from gesturecast.realtime.engine_setup import DEFAULT_AUDIO_GUIDANCE, DEFAULT_MODEL_DIR, load_bundle
-from gesturecast.realtime.generator import check_lookahead
-from gesturecast.realtime.timing.latency import LATENCY_SETTINGS, QUALITY
+from gesturecast.realtime.generation.generator import check_lookahead
+from gesturecast.realtime.run.engine_setup import load_bundle
+from gesturecast.settings import DEFAULT_AUDIO_GUIDANCE, DEFAULT_MODEL_DIR, LATENCY_SETTINGS, QUALITY
 from gesturecast.tools.data_cli import DEFAULT_CACHE, DEFAULT_SHARED
 from gesturecast.tools.eval.clips import EvalClip, default_unseen_paths, held_out_clips, unseen_clips
 from gesturecast.tools.eval.generate import generate_offline

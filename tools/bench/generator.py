@@ -18,8 +18,8 @@ import numpy as np
 
 from gesturecast.models.generator.diffusion import DEFAULT_NUM_TIMESTEPS, SamplerConfig
 from gesturecast.models.runtime.bundle import ModelBundle
-from gesturecast.realtime.engine_setup import DEFAULT_AUDIO_GUIDANCE
-from gesturecast.realtime.generator import Generator, GeneratorSettings
+from gesturecast.realtime.generation.generator import Generator, GeneratorSettings
+from gesturecast.settings import DEFAULT_AUDIO_GUIDANCE
 
 DEFAULT_BUNDLE = Path("models/weights/default")
 DEFAULT_DDIM_STEPS = "1,2,4,8"

@@ -31,13 +31,15 @@ from gesturecast.bridges.vmc import VMC_DEFAULT_PORT, VmcBridge, VmcConfig
 from gesturecast.bridges.websocket_server import WebSocketBridge, WebSocketConfig
 from gesturecast.errors import UserError
 from gesturecast.files import save_figure, write_text_atomic
-from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio
+from gesturecast.frames import PoseFrame
+from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
 from gesturecast.realtime.audio.sources import DEFAULT_CHUNK, AudioSource, MicConfig, MicSource, PacedFileSource
-from gesturecast.realtime.engine import STAGE_MARGIN_USED, EngineReport, LiveEngine, Sink
-from gesturecast.realtime.engine_setup import add_generation_arguments, build_session
+from gesturecast.realtime.cli_flags import add_generation_arguments, settings_from_args
+from gesturecast.realtime.run.engine import STAGE_MARGIN_USED, EngineReport, LiveEngine, Sink
+from gesturecast.realtime.run.engine_setup import build_session
 from gesturecast.realtime.timing.clock import Clock, MonotonicClock
-from gesturecast.realtime.timing.frames import PoseFrame
 from gesturecast.realtime.timing.latency import MS_PER_S
+from gesturecast.settings import Settings
 from gesturecast.tools.bench.latency_sweep import latency_sweep
 
 SWEEP_STEPS = (1, 2, 4, 8, 16)
@@ -148,16 +150,18 @@ def open_bench_source(args: argparse.Namespace, audio: Path | None, clock: Clock
     return source
 
 
-def measure(args: argparse.Namespace, audio: Path | None) -> dict:
-    """One real-time run with the real bridges on loopback; returns the benchmark's JSON object."""
-    return measure_with_frames(args, audio)[0]
+def measure(args: argparse.Namespace, audio: Path | None, settings: Settings | None = None) -> dict:
+    """One real-time run with the real bridges on loopback (``settings``: default, the flags'); returns the
+    benchmark's JSON object."""
+    return measure_with_frames(args, audio, settings=settings)[0]
 
 
-def measure_with_frames(args: argparse.Namespace, audio: Path | None,
-                        keep_frames: bool = False) -> tuple[dict, list[PoseFrame] | None]:
+def measure_with_frames(args: argparse.Namespace, audio: Path | None, keep_frames: bool = False,
+                        settings: Settings | None = None) -> tuple[dict, list[PoseFrame] | None]:
     """:func:`measure`, plus the frames it released when ``keep_frames``."""
+    settings = settings_from_args(args) if settings is None else settings
     clock = MonotonicClock()
-    session = build_session(args, clock)
+    session = build_session(settings, clock)
     viewer = WebSocketBridge(WebSocketConfig(port=0, clock=clock.now)).start()
     vmc = VmcConfig(port=VMC_DEFAULT_PORT, viseme_names=session.viseme_names)  # blend shapes per --lipsync
     outputs = BridgeFanout([VmcBridge(vmc), viewer])
@@ -167,10 +171,10 @@ def measure_with_frames(args: argparse.Namespace, audio: Path | None,
         report = LiveEngine(session, source, log.send, clock, warm=args.warm_up).run()
     finally:
         outputs.close()
-    return {**benchmark_json(report, args, session.generator.guidance), **log.windows()}, log.frames
+    return {**benchmark_json(report, args, settings, session.generator.guidance), **log.windows()}, log.frames
 
 
-def benchmark_json(report: EngineReport, args: argparse.Namespace, guidance: float) -> dict:
+def benchmark_json(report: EngineReport, args: argparse.Namespace, settings: Settings, guidance: float) -> dict:
     stages = report.latency
     end_to_end = stages.get("end_to_end", {})
     return {
@@ -187,16 +191,16 @@ def benchmark_json(report: EngineReport, args: argparse.Namespace, guidance: flo
         "audio_seconds": report.audio_seconds,
         "root": report.root,
         "settings": {
-            "sampler": args.sampler,
-            "steps": args.steps if args.sampler == "ddim" else None,
-            "latency": args.latency,
+            "sampler": settings.sampler,
+            "steps": settings.steps if settings.sampler == "ddim" else None,
+            "latency": settings.latency,
             "lookahead_frames": report.budget.get("lookahead_frames"),
             "compute_margin_ms": report.budget.get("compute_margin_ms"),
             "guidance": guidance,
-            "audio_guidance": args.audio_guidance,
-            "threads": args.threads,
+            "audio_guidance": settings.audio_guidance,
+            "threads": settings.threads,
             "block_size": args.block_size,
-            "model": str(args.model),
+            "model": str(settings.model),
             "source": f"device {args.device}" if args.device is not None else "file",
         },
         "machine": {"cpus": os.cpu_count(), "platform": platform.platform(), "python": platform.python_version()},
@@ -207,8 +211,7 @@ def _sweep(args: argparse.Namespace, audio: Path) -> list[dict]:
     rows = []
     for model in [args.model, *args.sweep_models]:
         for steps in SWEEP_STEPS:
-            run_args = argparse.Namespace(**{**vars(args), "model": model, "steps": steps, "sampler": "ddim"})
-            result = measure(run_args, audio)
+            result = measure(args, audio, settings_from_args(args, model=model, steps=steps, sampler="ddim"))
             rows.append({
                 "model": str(model),
                 "lookahead_frames": result["settings"]["lookahead_frames"],

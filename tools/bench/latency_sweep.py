@@ -20,17 +20,18 @@ import numpy as np
 
 from gesturecast.errors import UserError
 from gesturecast.files import save_figure, write_text_atomic
+from gesturecast.frames import PoseFrame
+from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
 from gesturecast.models.evaluation.speech_following import FollowingConfig, speech_following
 from gesturecast.models.motion.motion import MOTION_FPS
 from gesturecast.models.motion.skeleton import NUM_JOINTS
-from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio
+from gesturecast.realtime.cli_flags import settings_from_args
 from gesturecast.realtime.engine_cli import frames_to_motion
-from gesturecast.realtime.engine_setup import load_bundle
-from gesturecast.realtime.generator import check_lookahead
-from gesturecast.realtime.timing.frames import PoseFrame
-from gesturecast.realtime.timing.latency import LATENCY_SETTINGS
+from gesturecast.realtime.generation.generator import check_lookahead
+from gesturecast.realtime.run.engine_setup import load_bundle
+from gesturecast.settings import LATENCY_SETTINGS
 
-Measure = Callable[..., tuple[dict, "list[PoseFrame] | None"]]  # (args, audio, keep_frames) → (result, frames)
+Measure = Callable[..., tuple[dict, "list[PoseFrame] | None"]]  # (args, audio, keep_frames, settings) → result, frames
 TABLE_NAME = "latency_settings.md"
 PLOT_NAME = "latency_settings.png"
 
@@ -65,15 +66,14 @@ def sweep_rows(args: argparse.Namespace, audio: Path, measure: Measure) -> list[
     rows = []
     for model in [args.model, *args.sweep_models]:
         for setting in LATENCY_SETTINGS:
-            run_args = argparse.Namespace(**{**vars(args), "model": model, "latency": setting, "lookahead": None,
-                                             "margin_ms": None})
+            settings = settings_from_args(args, model=model, latency=setting, lookahead=None, margin_ms=None)
             config = load_bundle(model).denoiser_config
             try:
                 check_lookahead(config, LATENCY_SETTINGS[setting].lookahead_for(config.audio_lookahead))
             except UserError as error:
                 rows.append({"model": str(model), "latency": setting, "skipped": str(error)})
                 continue
-            result, frames = measure(run_args, audio, keep_frames=True)
+            result, frames = measure(args, audio, keep_frames=True, settings=settings)
             rows.append(setting_row(model, setting, result, following_score(frames, samples)))
     return rows
 

@@ -20,10 +20,11 @@ import numpy as np
 
 from gesturecast.errors import UserError
 from gesturecast.files import save_figure
-from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio
+from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
 from gesturecast.realtime.audio.sources import AudioChunk
-from gesturecast.realtime.engine import compute_seconds
-from gesturecast.realtime.engine_setup import add_generation_arguments, build_session
+from gesturecast.realtime.cli_flags import add_generation_arguments, settings_from_args
+from gesturecast.realtime.run.engine import compute_seconds
+from gesturecast.realtime.run.engine_setup import build_session
 from gesturecast.realtime.timing.clock import MonotonicClock
 
 PROC_STATUS = Path("/proc/self/status")
@@ -48,7 +49,9 @@ def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
 
 def rss_mb(status: Path = PROC_STATUS) -> float:
     """Resident set size of this process in MiB, from the kernel's ``VmRSS`` line."""
-    for line in status.read_text().splitlines():
+    if not status.is_file():
+        raise UserError(f"no {status}: this benchmark needs Linux /proc")
+    for line in status.read_text(encoding="utf-8").splitlines():
         if line.startswith("VmRSS:"):
             return float(line.split()[1]) / KIB_PER_MIB
     raise UserError(f"no VmRSS line in {status}; this benchmark needs Linux /proc")
@@ -72,7 +75,7 @@ def slope_per_hour(times_s: np.ndarray, values: np.ndarray, warmup_s: float) -> 
 
 
 def run_bench_memory(args: argparse.Namespace) -> int:
-    session = build_session(args, MonotonicClock())
+    session = build_session(settings_from_args(args), MonotonicClock())
     total = int(args.hours * SECONDS_PER_HOUR * SAMPLE_RATE)
     every = max(int(args.every * SAMPLE_RATE), 1)
     times, rss = [0.0], [rss_mb()]

@@ -18,8 +18,9 @@ import numpy as np
 from gesturecast.models.motion.motion_features import facing_yaw
 from gesturecast.models.motion.root_anchor import ROOT_MODES, RootTravel
 from gesturecast.realtime.audio.sources import FastFileSource
-from gesturecast.realtime.engine import run_offline
-from gesturecast.realtime.engine_setup import add_generation_arguments, build_session
+from gesturecast.realtime.cli_flags import add_generation_arguments, settings_from_args
+from gesturecast.realtime.run.engine import run_offline
+from gesturecast.realtime.run.engine_setup import build_session
 from gesturecast.realtime.timing.clock import MonotonicClock
 
 DEFAULT_STYLES = ("neutral", "happy", "old", "angry")
@@ -38,8 +39,7 @@ def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
 
 def root_path(args: argparse.Namespace, style: str, mode: str) -> tuple[np.ndarray, np.ndarray, float]:
     """(hips positions (T, 3), facing yaw (T,), fps) of one offline run."""
-    run_args = argparse.Namespace(**{**vars(args), "style": style, "root": mode})
-    session = build_session(run_args, MonotonicClock())
+    session = build_session(settings_from_args(args, style=style, root=mode), MonotonicClock())
     frames, _ = run_offline(session, FastFileSource(args.audio))
     positions = np.stack([frame.root_position for frame in frames])  # (T, 3)
     yaws = facing_yaw(np.stack([frame.rotations[0] for frame in frames]))  # (T,)

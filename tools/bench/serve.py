@@ -22,13 +22,17 @@ import os
 import platform
 import sys
 import time
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 
 from gesturecast.errors import UserError
-from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio
-from gesturecast.realtime.serve.cli import add_serve_arguments, build_server
+from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
+from gesturecast.realtime.cli_flags import serve_config, settings_from_args
+from gesturecast.realtime.serve.cli import add_serve_arguments
+from gesturecast.realtime.serve.launch import start_server
+from gesturecast.realtime.serve.server import GestureServer
 from gesturecast.realtime.timing.clock import MonotonicClock
 from gesturecast.realtime.timing.latency import MS_PER_S
 from gesturecast.tools.bench.memory import rss_mb
@@ -71,7 +75,7 @@ def run_bench_serve(args: argparse.Namespace) -> int:
         sys.stdout.write(json.dumps(result, indent=None if args.json else 2) + "\n")
         return 0
     runs = [measure_streams(args, n, speech, seconds) for n in args.streams]
-    cores = len(os.sched_getaffinity(0))
+    cores = usable_cores()
     clean = [r["streams"] for r in runs if r["deadline_misses"] == 0 and not r["errors"] and not r["audio_drops"]]
     best = max(clean, default=0)
     result = {
@@ -85,6 +89,13 @@ def run_bench_serve(args: argparse.Namespace) -> int:
     }
     sys.stdout.write(json.dumps(result, indent=None if args.json else 2) + "\n")
     return 0
+
+
+def usable_cores() -> int:
+    """The cores this process may run on (its affinity mask on Linux; all of them where there is none, e.g. Windows)."""
+    if hasattr(os, "sched_getaffinity"):
+        return len(os.sched_getaffinity(0))
+    return os.cpu_count() or 1
 
 
 def stream_slices(speech: np.ndarray, streams: int, seconds: float) -> list[np.ndarray]:
@@ -112,12 +123,16 @@ def timed_clients(url: str, slices: list[np.ndarray]) -> tuple[list[ClientResult
     return results, time.process_time() - cpu_start, time.monotonic() - wall_start
 
 
+def local_server(args: argparse.Namespace, max_streams: int) -> GestureServer:
+    """A server on loopback, any free port, no token, at most ``max_streams`` streams, with the flags' settings."""
+    config = replace(serve_config(args, token=None), host="127.0.0.1", port=0, max_streams=max_streams)
+    return start_server(settings_from_args(args), config, MonotonicClock())
+
+
 def measure_streams(args: argparse.Namespace, streams: int, speech: np.ndarray, seconds: float) -> dict:
     if args.url is not None:
         return measure_running_server(args.url, streams, speech, seconds)
-    server_args = argparse.Namespace(**{**vars(args), "host": "127.0.0.1", "port": 0, "token": None,
-                                        "max_streams": streams})
-    server = build_server(server_args, MonotonicClock())
+    server = local_server(args, max_streams=streams)
     try:
         results, cpu, wall = timed_clients(server.url, stream_slices(speech, streams, seconds))
         batching = server.sessions.batcher.stats.to_dict()
@@ -130,8 +145,7 @@ def measure_streams(args: argparse.Namespace, streams: int, speech: np.ndarray, 
 
 def measure_churn(args: argparse.Namespace, speech: np.ndarray, count: int) -> dict:
     """RSS (MiB) after every CHURN_REPORT_EVERY of ``count`` short streams through one server, and its slope."""
-    server_args = argparse.Namespace(**{**vars(args), "host": "127.0.0.1", "port": 0, "token": None})
-    server = build_server(server_args, MonotonicClock())
+    server = local_server(args, max_streams=args.max_streams)
     samples = [(0, rss_mb())]
     errors: list[str] = []
 
@@ -184,7 +198,7 @@ def run_summary(results: list[ClientResult], streams: int, seconds: float, cpu: 
         "client_end_to_end_ms": {p: float(np.percentile(client_ms, q)) for p, q in (("p50", 50), ("p95", 95))}
         | {"max": float(client_ms.max())},
         "rtf": cpu / (streams * seconds),
-        "rtf_per_core": cpu / (streams * seconds) / len(os.sched_getaffinity(0)),
+        "rtf_per_core": cpu / (streams * seconds) / usable_cores(),
         "wall_seconds": wall,
         "batching": batching,
         "errors": [e for r in results for e in r.errors] + [s["error"] for s in stats if s.get("error")],

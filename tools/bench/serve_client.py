@@ -16,7 +16,7 @@ import numpy as np
 from websockets.asyncio.client import ClientConnection, connect
 
 from gesturecast.bridges.ws_protocol import BINARY_HEADER, FRAME_MAGIC
-from gesturecast.realtime.audio.files import SAMPLE_RATE
+from gesturecast.models.audio.files import SAMPLE_RATE
 
 QUATERNION = 4
 

@@ -17,10 +17,10 @@ from pathlib import Path
 
 import numpy as np
 
-from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio
-from gesturecast.realtime.features.dsp import frame_boundary
-from gesturecast.realtime.features.streaming import FeatureConfig, extract_features, speaking_flags
-from gesturecast.realtime.features.vad import VadConfig
+from gesturecast.models.audio.dsp import frame_boundary
+from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
+from gesturecast.models.audio.streaming import FeatureConfig, extract_features, speaking_flags
+from gesturecast.models.audio.vad import VadConfig
 
 DEFAULT_SPEECH_DIR = Path("/work/shared/data/speech")
 DEFAULT_REAL = Path("/work/shared/data/zeggs/067_Speech_2_x_1_0.wav")

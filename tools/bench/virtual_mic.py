@@ -33,7 +33,7 @@ from typing import BinaryIO
 import numpy as np
 
 from gesturecast.errors import UserError
-from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio
+from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
 
 logger = logging.getLogger(__name__)
 

@@ -17,7 +17,8 @@ from pathlib import Path
 from gesturecast.errors import UserError
 from gesturecast.models.evaluation.fgd_encoder import DEFAULT_FGD_ENCODER, FGDEncoder
 from gesturecast.models.evaluation.style_classifier import DEFAULT_STYLE_CLASSIFIER, StyleClassifier
-from gesturecast.realtime.engine_setup import DEFAULT_MODEL_DIR, load_bundle
+from gesturecast.realtime.run.engine_setup import load_bundle
+from gesturecast.settings import DEFAULT_MODEL_DIR
 from gesturecast.tools.data_cli import DEFAULT_CACHE, DEFAULT_SHARED
 from gesturecast.tools.eval.clips import default_unseen_paths, held_out_clips, reference_positions, unseen_clips
 from gesturecast.tools.eval.metrics import EvalNetworks

@@ -14,10 +14,10 @@ from pathlib import Path
 import numpy as np
 
 from gesturecast.errors import UserError
+from gesturecast.models.audio.files import PACKAGED_SAMPLE, SAMPLE_RATE, load_audio
 from gesturecast.models.dataset.augment import audio_samples_for_frames, slice_audio
 from gesturecast.models.dataset.cache import is_full_body, load_take, read_index
 from gesturecast.models.motion.motion import MOTION_FPS
-from gesturecast.realtime.audio.files import PACKAGED_SAMPLE, SAMPLE_RATE, load_audio
 
 SHARED_UNSEEN = ("zeggs/037_Flirty_1_x_1_0.wav", "speech/*.wav")
 

@@ -15,21 +15,21 @@ from pathlib import Path
 import numpy as np
 import soundfile
 
+from gesturecast.frames import PoseFrame
+from gesturecast.models.audio.files import SAMPLE_RATE
 from gesturecast.models.generator.diffusion import SamplerConfig
+from gesturecast.models.generator.style_prompt import PartStyles, StylePrompt
 from gesturecast.models.motion.skeleton import NUM_JOINTS
 from gesturecast.models.runtime.bundle import ModelBundle
-from gesturecast.realtime.audio.files import SAMPLE_RATE
 from gesturecast.realtime.audio.sources import FastFileSource, PacedFileSource
-from gesturecast.realtime.engine import LiveEngine, run_offline
 from gesturecast.realtime.engine_cli import frames_to_motion
-from gesturecast.realtime.engine_setup import DEFAULT_AUDIO_GUIDANCE, DEFAULT_SMOOTHING_FRAMES
-from gesturecast.realtime.generator import Generator, GeneratorSettings
-from gesturecast.realtime.session import GestureSession
-from gesturecast.realtime.style_mixture import SEAM_SMOOTHING
-from gesturecast.realtime.style_prompts import PartStyles, StylePrompt
+from gesturecast.realtime.generation.generator import Generator, GeneratorSettings
+from gesturecast.realtime.generation.style_mixture import SEAM_SMOOTHING
+from gesturecast.realtime.pose.session import GestureSession
+from gesturecast.realtime.run.engine import LiveEngine, run_offline
 from gesturecast.realtime.timing.clock import FakeClock
-from gesturecast.realtime.timing.frames import PoseFrame
 from gesturecast.realtime.timing.latency import LatencyBudget
+from gesturecast.settings import DEFAULT_AUDIO_GUIDANCE, DEFAULT_SMOOTHING_FRAMES
 from gesturecast.tools.eval.clips import EvalClip
 
 LIVE_CHUNK_SAMPLES = 160  # 10 ms, a typical microphone callback (the offline path reads 512)

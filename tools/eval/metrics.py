@@ -19,6 +19,7 @@ from functools import cached_property
 
 import numpy as np
 
+from gesturecast.models.audio.files import SAMPLE_RATE
 from gesturecast.models.evaluation.fgd_encoder import FGDEncoder
 from gesturecast.models.evaluation.metrics import (
     acceleration,
@@ -34,7 +35,6 @@ from gesturecast.models.evaluation.metrics import (
 )
 from gesturecast.models.evaluation.style_classifier import StyleClassifier
 from gesturecast.models.motion.motion import MOTION_FPS
-from gesturecast.realtime.audio.files import SAMPLE_RATE
 
 METRIC_KEYS = ("beat_consistency", "fgd", "diversity", "jerk", "liveliness", "style_accuracy")
 

@@ -15,12 +15,12 @@ from dataclasses import dataclass, replace
 import numpy as np
 from tqdm import tqdm
 
+from gesturecast.models.audio.files import SAMPLE_RATE
 from gesturecast.models.dataset.augment import audio_samples_for_frames
 from gesturecast.models.evaluation.metrics import seed_diversity
 from gesturecast.models.generator.diffusion import SamplerConfig
 from gesturecast.models.motion.motion import MOTION_FPS
 from gesturecast.models.runtime.bundle import ModelBundle
-from gesturecast.realtime.audio.files import SAMPLE_RATE
 from gesturecast.tools.eval.clips import EvalClip
 from gesturecast.tools.eval.generate import SystemSpec, generate_live, generate_offline
 from gesturecast.tools.eval.metrics import EvalNetworks, motion_metrics, style_accuracy

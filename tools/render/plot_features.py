@@ -12,8 +12,8 @@ from pathlib import Path
 import numpy as np
 
 from gesturecast.files import save_figure
-from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio
-from gesturecast.realtime.features.streaming import FeatureConfig, extract_features
+from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
+from gesturecast.models.audio.streaming import FeatureConfig, extract_features
 
 ROW_HEIGHTS = (1.2, 2.0, 0.8, 0.8, 0.5)
 FIGURE_SIZE = (14, 8)

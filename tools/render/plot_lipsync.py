@@ -12,10 +12,10 @@ from pathlib import Path
 import numpy as np
 
 from gesturecast.files import save_figure
-from gesturecast.realtime.audio.files import load_audio
-from gesturecast.realtime.features.lipsync import LipSyncConfig
-from gesturecast.realtime.features.streaming import FeatureConfig, StreamingFeatureExtractor, speaking_flags
-from gesturecast.realtime.timing.frames import VISEME_NAMES
+from gesturecast.frames import VISEME_NAMES
+from gesturecast.models.audio.files import load_audio
+from gesturecast.models.audio.lipsync import LipSyncConfig
+from gesturecast.models.audio.streaming import FeatureConfig, StreamingFeatureExtractor, speaking_flags
 
 FIGURE_SIZE = (14, 5.5)
 DPI = 110

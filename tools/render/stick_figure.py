@@ -1,6 +1,6 @@
 """Draw a skeleton as a stick figure, seen from the front and from the side, with Pillow.
 
-Conventions (DESIGN.md): Y-up, the character faces +Z, its left is +X. The front panel looks at
+Conventions (docs/architecture.md): Y-up, the character faces +Z, its left is +X. The front panel looks at
 the character from +Z (its left appears on the viewer's right); the side panel looks from the
 character's right (-X), so it faces to the right of the picture. The root is followed in the
 ground plane (X, Z) so the figure stays centred; vertical motion is kept, over a ground line at Y = 0.

@@ -10,10 +10,10 @@ import torch
 from gesturecast.errors import UserError
 from gesturecast.models.export.bundle import bundle_models
 from gesturecast.models.generator.diffusion import CLEAN_TIMESTEP, get_schedule, sampler_step, sampling_plan
+from gesturecast.models.generator.style_prompt import StylePrompt
 from gesturecast.models.networks.denoiser import KVCache
 from gesturecast.models.runtime.bundle import MANIFEST_FILE, ONNX_FILES, ModelBundle
-from gesturecast.realtime.generator import Generator, GeneratorSettings, combine_rows
-from gesturecast.realtime.style_prompts import StylePrompt
+from gesturecast.realtime.generation.generator import Generator, GeneratorSettings, combine_rows
 
 GUIDANCE = 2.0
 SEED = 11
@@ -99,7 +99,7 @@ def test_bundle_and_generator_run_without_importing_torch(tiny_model):
     script = (
         "import sys, numpy as np\n"
         "from gesturecast.models.runtime.bundle import ModelBundle\n"
-        "from gesturecast.realtime.generator import Generator\n"
+        "from gesturecast.realtime.generation.generator import Generator\n"
         f"bundle = ModelBundle.load({str(tiny_model[1])!r})\n"
         "frames = Generator(bundle).step(np.zeros((bundle.audio_window, bundle.denoiser_config.audio_dim)), True)\n"
         "assert np.isfinite(frames).all()\n"

@@ -7,7 +7,7 @@ import onnx
 from onnx import TensorProto
 
 from gesturecast.models.runtime.bundle import ONNX_FILES, ModelBundle
-from gesturecast.realtime.generator import Generator, GeneratorSettings
+from gesturecast.realtime.generation.generator import Generator, GeneratorSettings
 
 DEFAULT_BUNDLE = Path(__file__).resolve().parents[3] / "models" / "weights" / "default"
 MAX_BUNDLE_BYTES = 7_000_000  # "a few MB" (format 2: three part VQ-VAEs, 6.3 MB): the README states the size

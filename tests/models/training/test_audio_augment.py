@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 
+from gesturecast.models.audio.stats import FeatureStats
+from gesturecast.models.audio.streaming import FeatureConfig, extract_features
 from gesturecast.models.training.audio_augment import AudioAugmentConfig, FeatureAugmenter, add_noise_db, shift_bands
-from gesturecast.realtime.features.stats import FeatureStats
-from gesturecast.realtime.features.streaming import FeatureConfig, extract_features
 
 RATE = 16000
 CONFIG = FeatureConfig()

@@ -7,6 +7,9 @@ import torch
 
 from gesturecast.cli import main
 from gesturecast.errors import UserError
+from gesturecast.models.audio.speaker_norm import SpeakerNormConfig
+from gesturecast.models.audio.stats import FeatureStats
+from gesturecast.models.audio.streaming import FeatureConfig
 from gesturecast.models.dataset.sources import show_takes
 from gesturecast.models.export.bundle import export_bundle
 from gesturecast.models.networks.part_vqvae import load_motion_vq
@@ -21,9 +24,6 @@ from gesturecast.models.training.pipeline import (
     save_checkpoint,
 )
 from gesturecast.models.training.presets import get_preset
-from gesturecast.realtime.features.speaker_norm import SpeakerNormConfig
-from gesturecast.realtime.features.stats import FeatureStats
-from gesturecast.realtime.features.streaming import FeatureConfig
 
 
 def finished_work_dir(tiny_model, folder):

@@ -8,12 +8,12 @@ import pytest
 import torch
 
 from gesturecast.errors import UserError
+from gesturecast.models.audio.streaming import FeatureConfig
 from gesturecast.models.export.bundle import export_bundle
 from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.models.training.arrays import load_training_clips
 from gesturecast.models.training.pipeline import run_training
 from gesturecast.models.training.presets import get_preset
-from gesturecast.realtime.features.streaming import FeatureConfig
 
 pytest.importorskip("librosa")
 PROSODY = FeatureConfig(kind="prosody")

@@ -23,9 +23,11 @@ from pipecat.frames.frames import Frame, InputAudioRawFrame, OutputAudioRawFrame
 from pipecat.processors.frame_processor import FrameDirection, FrameProcessor  # noqa: E402
 from pythonosc.osc_bundle import OscBundle  # noqa: E402
 
+from gesturecast.bridges.output_settings import Outputs  # noqa: E402
+from gesturecast.models.audio.files import SAMPLE_RATE, load_audio  # noqa: E402
 from gesturecast.models.motion.bvh import read_bvh  # noqa: E402
 from gesturecast.realtime.agents.pipecat_processor import GesturecastProcessor, GestureStyleFrame  # noqa: E402
-from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio  # noqa: E402
+from gesturecast.settings import Settings  # noqa: E402
 
 REPO_ROOT = Path(__file__).resolve().parents[3]
 EXAMPLE = REPO_ROOT / "examples" / "pipecat_offline.py"
@@ -119,8 +121,8 @@ def test_tts_audio_drives_vmc_and_bvh_and_a_style_frame_changes_the_style(tiny_m
     half = len(frames) // 2
     style = GestureStyleFrame(control={"style": "old"})
     frames = [*frames[:half], style, *frames[half:]]
-    processor = GesturecastProcessor.from_flags(["--model", str(tiny_model[1]), "--style", "neutral",
-                                                 "--vmc", vmc_receiver.target, "--bvh", str(tmp_path / "take.bvh")])
+    processor = GesturecastProcessor(Settings(model=tiny_model[1], style="neutral"),
+                                     Outputs(vmc=vmc_receiver.target, bvh=tmp_path / "take.bvh"))
     recorder = Recorder()
     asyncio.run(asyncio.wait_for(run_pipeline([processor, recorder], frames), PIPELINE_BOUND_S))
 
@@ -138,8 +140,8 @@ def test_user_audio_and_a_style_per_spoken_sentence(tiny_model, speech, tmp_path
     sentences = {"Grumpy now.": {"style": "old"}}
     frames = pcm_frames(speech, SAMPLE_RATE, 1, InputAudioRawFrame)
     frames.insert(len(frames) // 2, TTSTextFrame("Grumpy now.", text_type="sentence"))
-    processor = GesturecastProcessor.from_flags(["--model", str(tiny_model[1]), "--bvh", str(tmp_path / "u.bvh")],
-                                                audio="input", style_for_text=sentences.get)
+    processor = GesturecastProcessor(Settings(model=tiny_model[1]), Outputs(bvh=tmp_path / "u.bvh"),
+                                     audio="input", style_for_text=sentences.get)
     asyncio.run(asyncio.wait_for(run_pipeline([processor], frames), PIPELINE_BOUND_S))
     assert processor.session.controls.describe() == "old"
     assert abs(read_bvh(tmp_path / "u.bvh").motion.shape[0] - SPEECH_S * FRAMES_PER_S) <= 1

@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 from gesturecast.errors import UserError
-from gesturecast.realtime.audio.files import SAMPLE_RATE
-from gesturecast.realtime.audio.pcm import PCM16_FULL_SCALE, PcmConverter, pcm16_to_mono
+from gesturecast.models.audio.files import SAMPLE_RATE
+from gesturecast.realtime.audio.pcm import PCM16_FULL_SCALE, AudioConverter, pcm16_to_mono
 
 RATE = 44100
 TONE_HZ = 440.0
@@ -28,9 +28,9 @@ def test_channels_are_averaged_and_scaled():
 
 def test_any_block_sizes_give_the_samples_of_one_block():
     pcm = stereo_tone(sum(BLOCKS))
-    whole = PcmConverter()
+    whole = AudioConverter()
     expected = np.concatenate([whole.convert(pcm.tobytes(), RATE, 2), whole.flush()])
-    pieces, start, converter = [], 0, PcmConverter()
+    pieces, start, converter = [], 0, AudioConverter()
     for size in BLOCKS:
         pieces.append(converter.convert(pcm[start : start + size].tobytes(), RATE, 2))
         start += size
@@ -42,7 +42,7 @@ def test_any_block_sizes_give_the_samples_of_one_block():
 
 
 def test_a_rate_change_flushes_the_old_resampler_and_16k_passes_through():
-    converter = PcmConverter()
+    converter = AudioConverter()
     first = converter.convert(stereo_tone(RATE // 10).tobytes(), RATE, 2)  # 100 ms at 44.1 kHz
     native = np.arange(-800, 800, dtype="<i2")  # (1600,) mono at 16 kHz: 100 ms
     second = converter.convert(native.tobytes(), SAMPLE_RATE, 1)

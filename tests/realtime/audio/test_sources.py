@@ -5,7 +5,7 @@ import pytest
 import soundfile
 
 from gesturecast.errors import UserError
-from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio
+from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
 from gesturecast.realtime.audio.portaudio import (
     InputDevice,
     resolve_input_device,

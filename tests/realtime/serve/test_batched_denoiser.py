@@ -6,8 +6,9 @@ import numpy as np
 import pytest
 
 from gesturecast.models.generator.diffusion import SamplerConfig
+from gesturecast.models.generator.style_prompt import StylePrompt
 from gesturecast.models.runtime.bundle import ModelBundle
-from gesturecast.realtime.generator import Generator, GeneratorSettings
+from gesturecast.realtime.generation.generator import Generator, GeneratorSettings
 from gesturecast.realtime.serve.batched_denoiser import (
     BatchPort,
     DenoiserBatcher,
@@ -16,7 +17,6 @@ from gesturecast.realtime.serve.batched_denoiser import (
     split_outputs,
     stack_feeds,
 )
-from gesturecast.realtime.style_prompts import StylePrompt
 
 # (style, guidance, seed, latents already generated): different rows (1 or 2) and cache lengths
 STREAMS = [("neutral", 1.5, 1, 0), ("old", 1.0, 2, 2), ("neutral", 2.0, 3, 6)]

@@ -10,18 +10,19 @@ import pytest
 from websockets.asyncio.client import connect
 
 from gesturecast.errors import UserError
+from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
 from gesturecast.models.generator.diffusion import SamplerConfig
+from gesturecast.models.generator.style_prompt import StylePrompt, parse_part_styles
 from gesturecast.models.motion.root_anchor import RootMode
 from gesturecast.models.runtime.bundle import ModelBundle
-from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio
 from gesturecast.realtime.audio.sources import AudioChunk
-from gesturecast.realtime.generator import Generator, GeneratorSettings
+from gesturecast.realtime.generation.generator import Generator, GeneratorSettings
+from gesturecast.realtime.pose.session import GestureSession, SessionConfig
 from gesturecast.realtime.serve.server import GestureServer, ServeConfig
 from gesturecast.realtime.serve.setup import StreamSessions
-from gesturecast.realtime.session import GestureSession, SessionConfig
-from gesturecast.realtime.style_prompts import StylePrompt, parse_part_styles
 from gesturecast.realtime.timing.clock import FakeClock, MonotonicClock
-from gesturecast.realtime.timing.latency import LATENCY_SETTINGS, LatencyBudget
+from gesturecast.realtime.timing.latency import LatencyBudget
+from gesturecast.settings import LATENCY_SETTINGS
 from gesturecast.tools.bench.serve_client import stream_audio
 
 SECONDS = 2.0

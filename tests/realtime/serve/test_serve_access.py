@@ -17,10 +17,10 @@ from websockets.exceptions import ConnectionClosed, InvalidStatus
 
 from gesturecast.bridges.ws_access import MAX_TOKEN_FAILURES, TOKEN_ENV_VAR, TOKEN_FAILURE_WINDOW_S
 from gesturecast.errors import UserError
+from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
 from gesturecast.models.generator.diffusion import SamplerConfig
 from gesturecast.models.runtime.bundle import ModelBundle
-from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio
-from gesturecast.realtime.generator import GeneratorSettings
+from gesturecast.realtime.generation.generator import GeneratorSettings
 from gesturecast.realtime.serve.server import GestureServer, ServeConfig
 from gesturecast.realtime.serve.setup import StreamSessions
 from gesturecast.realtime.timing.clock import FakeClock, MonotonicClock

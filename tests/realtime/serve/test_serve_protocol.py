@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 from gesturecast.bridges.control import ControlError
+from gesturecast.models.generator.style_prompt import StylePrompt
 from gesturecast.realtime.serve.protocol import decode_audio, parse_start, stream_id_from_path
-from gesturecast.realtime.style_prompts import StylePrompt
 
 
 def test_int16_and_float32_audio_decode_to_the_same_float_samples():

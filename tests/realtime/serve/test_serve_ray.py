@@ -23,7 +23,7 @@ from websockets.exceptions import ConnectionClosed
 from websockets.frames import CloseCode
 
 from gesturecast.errors import UserError
-from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio
+from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
 from gesturecast.realtime.serve.cli import add_serve_arguments, build_server
 from gesturecast.realtime.serve.ray_cli import (
     APP_NAME,

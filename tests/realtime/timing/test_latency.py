@@ -7,7 +7,8 @@ import pytest
 
 from gesturecast.errors import UserError
 from gesturecast.realtime.timing.clock import FakeClock
-from gesturecast.realtime.timing.latency import LATENCY_SETTINGS, LatencyBudget, LatencyStats
+from gesturecast.realtime.timing.latency import LatencyBudget, LatencyStats
+from gesturecast.settings import LATENCY_SETTINGS
 
 
 def test_budget_d4_lookahead8_is_400ms_algorithmic():
@@ -31,7 +32,7 @@ def test_each_latency_setting_gives_its_budget_for_the_bundled_layout(setting, l
     assert chosen.lookahead_for(8) == lookahead
     budget = LatencyBudget(4, chosen.lookahead_for(8), chosen.compute_margin_ms, smoothing_frames=1)
     assert budget.total_ms == pytest.approx(total_ms, abs=1e-3)
-    assert setting != "low" or budget.total_ms <= 250.0  # the bound for low
+    assert setting != "low" or budget.total_ms <= 250.0  # the 250 ms target of low
 
 
 def test_a_setting_never_asks_for_more_look_ahead_than_the_model_has():

@@ -5,10 +5,10 @@ import threading
 import numpy as np
 import pytest
 
+from gesturecast.frames import PoseFrame
 from gesturecast.models.motion.rotations import quat_from_axis_angle, quat_to_axis_angle
 from gesturecast.models.motion.skeleton import NUM_JOINTS
 from gesturecast.realtime.timing.clock import FakeClock
-from gesturecast.realtime.timing.frames import PoseFrame
 from gesturecast.realtime.timing.latency import LatencyStats
 from gesturecast.realtime.timing.scheduler import FrameScheduler, SchedulerConfig, SchedulerWorker
 

@@ -6,7 +6,7 @@ import json
 import numpy as np
 import soundfile
 
-from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio
+from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
 from gesturecast.tools.bench import cli as bench_cli
 from gesturecast.tools.bench.features import tile_file
 

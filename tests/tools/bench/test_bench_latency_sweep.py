@@ -5,7 +5,7 @@ import json
 import soundfile
 
 from gesturecast.cli import main
-from gesturecast.realtime.audio.files import SAMPLE_RATE
+from gesturecast.models.audio.files import SAMPLE_RATE
 
 SECONDS = 4.0  # enough for the following score (it skips 0.5 s at each end and smooths over 0.5 s)
 

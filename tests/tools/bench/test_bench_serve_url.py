@@ -5,7 +5,7 @@ import json
 from gesturecast.cli import main
 from gesturecast.models.generator.diffusion import SamplerConfig
 from gesturecast.models.runtime.bundle import ModelBundle
-from gesturecast.realtime.generator import GeneratorSettings
+from gesturecast.realtime.generation.generator import GeneratorSettings
 from gesturecast.realtime.serve.server import GestureServer, ServeConfig
 from gesturecast.realtime.serve.setup import StreamSessions
 from gesturecast.realtime.timing.clock import MonotonicClock

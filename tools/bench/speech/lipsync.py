@@ -22,12 +22,12 @@ from pathlib import Path
 
 import numpy as np
 
-from gesturecast.realtime.audio.files import load_audio
+from gesturecast.frames import VISEME_VOWELS
+from gesturecast.models.audio.dsp import frame_boundary
+from gesturecast.models.audio.files import load_audio
+from gesturecast.models.audio.lipsync import SILENT_MOUTH, LipSyncConfig, mouth_class
+from gesturecast.models.audio.streaming import FeatureConfig, StreamingFeatureExtractor, speaking_flags
 from gesturecast.realtime.audio.sources import DEFAULT_CHUNK
-from gesturecast.realtime.features.dsp import frame_boundary
-from gesturecast.realtime.features.lipsync import SILENT_MOUTH, LipSyncConfig, mouth_class
-from gesturecast.realtime.features.streaming import FeatureConfig, StreamingFeatureExtractor, speaking_flags
-from gesturecast.realtime.timing.frames import VISEME_VOWELS
 from gesturecast.tools.bench.speech.lipsync_set import SET_DIR, SILENCE, UNLABELLED, VOICES, WORDS, Utterance, vowel_set
 
 SHARED_DATA = Path("/work/shared/data")

@@ -21,9 +21,9 @@ from pathlib import Path
 import numpy as np
 
 from gesturecast.errors import UserError
-from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio
-from gesturecast.realtime.features.streaming import FeatureConfig, extract_features
-from gesturecast.realtime.timing.frames import VISEME_VOWELS
+from gesturecast.frames import VISEME_VOWELS
+from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
+from gesturecast.models.audio.streaming import FeatureConfig, extract_features
 
 SET_DIR = Path(".cache/lipsync_set")
 # male and female variants, five languages' rules (voice+variant as espeak-ng names them)

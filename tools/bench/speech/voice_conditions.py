@@ -18,11 +18,11 @@ from pathlib import Path
 
 import numpy as np
 
+from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
 from gesturecast.models.dataset import voice_transforms as vt
 from gesturecast.models.dataset.cache import DEFAULT_SPLIT
 from gesturecast.models.dataset.sources import SHOW_HELD_OUT_SPEAKERS, show_speaker
 from gesturecast.models.generator.styles import canonical_style
-from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio
 from gesturecast.tools.eval.clips import EvalClip, held_out_clips
 
 SR = SAMPLE_RATE

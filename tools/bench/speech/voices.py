@@ -25,6 +25,8 @@ from pathlib import Path
 import numpy as np
 
 from gesturecast.files import write_text_atomic
+from gesturecast.models.audio.files import SAMPLE_RATE
+from gesturecast.models.audio.streaming import extract_features, speaking_flags
 from gesturecast.models.dataset.augment import audio_samples_for_frames
 from gesturecast.models.evaluation.beat_consistency import beat_consistency, speech_onsets
 from gesturecast.models.evaluation.speech_following import (
@@ -36,9 +38,8 @@ from gesturecast.models.evaluation.speech_following import (
 )
 from gesturecast.models.generator.diffusion import SamplerConfig
 from gesturecast.models.motion.motion import MOTION_FPS
-from gesturecast.realtime.audio.files import SAMPLE_RATE
-from gesturecast.realtime.engine_setup import DEFAULT_AUDIO_GUIDANCE, DEFAULT_MODEL_DIR, load_bundle
-from gesturecast.realtime.features.streaming import extract_features, speaking_flags
+from gesturecast.realtime.run.engine_setup import load_bundle
+from gesturecast.settings import DEFAULT_AUDIO_GUIDANCE, DEFAULT_MODEL_DIR
 from gesturecast.tools.bench.speech.voice_conditions import (
     ORIGINAL,
     TRANSFORMS,

@@ -19,7 +19,7 @@ import numpy as np
 from gesturecast.errors import UserError
 from gesturecast.models.dataset.cache import is_full_body, load_take, read_index
 from gesturecast.models.evaluation.style_classifier import StyleClassifier
-from gesturecast.realtime.style_prompts import StylePrompt
+from gesturecast.models.generator.style_prompt import StylePrompt
 from gesturecast.tools.bench.styles.cmu_bvh import CMU_FPS, write_cmu_bvh
 from gesturecast.tools.bench.styles.guidance_sweep import accuracy_from_counts, confusion_row
 from gesturecast.tools.bench.styles.measures import mean_pose_difference_deg

@@ -19,9 +19,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from gesturecast.models.generator.style_prompt import StylePrompt
 from gesturecast.models.motion.body_parts import PART_NAMES
-from gesturecast.realtime.style_mixture import SEAM_SMOOTHING
-from gesturecast.realtime.style_prompts import StylePrompt
+from gesturecast.realtime.generation.style_mixture import SEAM_SMOOTHING
 from gesturecast.tools.bench.styles.measures import part_signature, seam_roughness, signature_distances
 from gesturecast.tools.bench.styles.runs import StudyRuns, StyleRequest, label
 from gesturecast.tools.eval.generate import Generated

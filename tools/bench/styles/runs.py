@@ -13,11 +13,11 @@ import time
 from dataclasses import dataclass, field
 
 from gesturecast.models.generator.diffusion import SamplerConfig
+from gesturecast.models.generator.style_prompt import PartStyles, StylePrompt
 from gesturecast.models.runtime.bundle import ModelBundle
-from gesturecast.realtime.engine_setup import DEFAULT_AUDIO_GUIDANCE
-from gesturecast.realtime.generator import Generator, GeneratorSettings
-from gesturecast.realtime.style_mixture import SEAM_SMOOTHING
-from gesturecast.realtime.style_prompts import PartStyles, StylePrompt
+from gesturecast.realtime.generation.generator import Generator, GeneratorSettings
+from gesturecast.realtime.generation.style_mixture import SEAM_SMOOTHING
+from gesturecast.settings import DEFAULT_AUDIO_GUIDANCE
 from gesturecast.tools.eval.clips import EvalClip
 from gesturecast.tools.eval.generate import Generated, generate_offline
 

@@ -1,4 +1,4 @@
-"""``gesturecast bench styles``: how visible the styles are (issue 13, asks 3 and 5). Prints one JSON object.
+"""``gesturecast bench styles``: how visible the styles are (docs/style-study.md). Prints one JSON object.
 
 1. ``guidance``: per guidance scale s, style accuracy and the confusion matrix of the frozen style
    classifier over every style both the model and the classifier know (:mod:`.guidance_sweep`), and the
@@ -29,7 +29,8 @@ from gesturecast.models.evaluation.fgd_encoder import FGDEncoder
 from gesturecast.models.evaluation.style_classifier import StyleClassifier
 from gesturecast.models.generator.diffusion import SamplerConfig
 from gesturecast.models.runtime.bundle import ModelBundle
-from gesturecast.realtime.engine_setup import DEFAULT_AUDIO_GUIDANCE, DEFAULT_MODEL_DIR, load_bundle
+from gesturecast.realtime.run.engine_setup import load_bundle
+from gesturecast.settings import DEFAULT_AUDIO_GUIDANCE, DEFAULT_MODEL_DIR
 from gesturecast.tools.bench.styles.guidance_sweep import guidance_entry
 from gesturecast.tools.bench.styles.motion_prompts import prompt_comparison, write_prompt_clip
 from gesturecast.tools.bench.styles.part_styles import DEFAULT_PAIRS, TIMING_REPEATS, PartPair, part_study

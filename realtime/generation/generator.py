@@ -1,0 +1,289 @@
+"""The live gesture generator: one latent frame (d motion frames) per :meth:`Generator.step`.
+
+numpy + onnxruntime only (no torch). Per step (GestureDiffuCLIP §3.2, run autoregressively):
+
+1. draw x_T ~ N(0, I) for the new latent from the generator's own seeded RNG, and compute the
+   rows' condition (audio-window token + style modulations) once — it is the same at every step;
+2. run the sampler (K-step DDIM, or the 1000-step DDPM path) — each step is ONE batched denoiser
+   call whose rows are [style 1 and one row per other body-part prompt, style 2 (only with γ), null
+   style (only with guidance s ≠ 1), style 1 without the audio (only with audio guidance s_a ≠ 1)],
+   all conditioned on the clean past latents through the KV cache and on that condition; the rows
+   are combined by :mod:`gesturecast.realtime.generation.style_mixture`: part fusion E = Σ_o E_o · M_o
+   (GestureDiffuCLIP §6.3), x̂0 = γ·x̂0 + (1 − γ)·D(c2) (DiffuseStyleGesture), classifier-free
+   guidance (Ho & Salimans 2022 eq. 6), audio guidance, and with part prompts the smoothness term;
+3. commit the clean latent to the history (folded into the next denoiser call) and decode it with
+   the streaming VQ decoder into d motion-feature frames (denormalised, canonical layout).
+
+The generator keeps no audio handling and no timing: the caller passes normalised audio windows
+(:meth:`ModelBundle.audio_stats`) laid out as :attr:`Generator.audio_config` says (the model's (A, F)
+windows, or at a shorter look-ahead δ of a truncation model the (A − δa + δ, F) part it may hear) and
+owns the clock.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections import deque
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from gesturecast.errors import UserError
+from gesturecast.models.generator.denoiser_config import (
+    DenoiserConfig,
+    pad_visible_window,
+    supported_lookaheads,
+    visible_config,
+)
+from gesturecast.models.generator.diffusion import (
+    CLEAN_TIMESTEP,
+    SamplerConfig,
+    get_schedule,
+    sampler_step,
+    sampling_plan,
+)
+from gesturecast.models.generator.style_prompt import PartStyles, StylePrompt
+from gesturecast.models.runtime.bundle import ModelBundle
+from gesturecast.models.runtime.denoiser import FrameInputs, roll_cache
+from gesturecast.models.runtime.ort_session import DEFAULT_THREADS
+from gesturecast.realtime.generation.style_mixture import (
+    NO_GUIDANCE,
+    SEAM_SMOOTHING,
+    RowLayout,
+    combine_rows,
+    part_mixture,
+    row_layout,
+    smooth_seams,
+)
+from gesturecast.realtime.generation.style_prompts import StyleResolver
+from gesturecast.settings import SINGLE_STYLE
+
+logger = logging.getLogger(__name__)
+
+NEUTRAL_STYLE = StylePrompt("label", "neutral")
+
+
+@dataclass(frozen=True)
+class GeneratorSettings:
+    sampler: SamplerConfig = field(default_factory=lambda: SamplerConfig("ddim", 4))
+    guidance: float | None = None  # s; None = the bundle's default guidance scale
+    style: StylePrompt = NEUTRAL_STYLE
+    second_style: StylePrompt | None = None  # c2 of x̂0 = γ·D(c1) + (1 − γ)·D(c2)
+    gamma: float = SINGLE_STYLE
+    seed: int = 0
+    threads: int = DEFAULT_THREADS
+    audio_guidance: float = NO_GUIDANCE  # s_a: > 1 strengthens the speech's pull on the motion (extra row)
+    lookahead: int | None = None  # δ: audio look-ahead frames heard (None = the model's δa; docs/latency.md)
+    part_styles: PartStyles = ()  # (body part, prompt) pairs; parts not named follow ``style``
+    seam_smoothing: float = SEAM_SMOOTHING  # λ of the smoothness term (with more than one part prompt)
+
+
+@dataclass(frozen=True)
+class HistoryFrame:
+    """A committed clean latent (normalised) and the conditions it was committed with."""
+
+    latent: np.ndarray  # (C,)
+    window: np.ndarray  # (A, F)
+    audio_present: float
+
+
+def check_lookahead(config: DenoiserConfig, lookahead: int) -> None:
+    """One-line UserError unless the model serves look-ahead ``lookahead``."""
+    supported = supported_lookaheads(config)
+    if lookahead in supported:
+        return
+    if not config.lookahead_truncation:
+        raise UserError(f"this model serves only look-ahead δa = {config.audio_lookahead} frames (--latency "
+                        f"quality), not {lookahead}: it was trained without look-ahead truncation; train one with "
+                        "`gesturecast train --lookahead-truncation` and pass it with --model")
+    raise UserError(f"look-ahead {lookahead} frames is past this model's δa = {config.audio_lookahead} "
+                    f"(it serves 0..{config.audio_lookahead})")
+
+
+class Generator:
+    """Seeded, stateful latent-by-latent motion generator over a :class:`ModelBundle`."""
+
+    def __init__(self, bundle: ModelBundle, settings: GeneratorSettings | None = None):
+        self.bundle = bundle
+        self.settings = settings or GeneratorSettings()
+        self.config = bundle.denoiser_config
+        self.lookahead = self.config.audio_lookahead if self.settings.lookahead is None else self.settings.lookahead
+        check_lookahead(self.config, self.lookahead)
+        self.audio_config = visible_config(self.config, self.lookahead)  # the audio layout the caller feeds
+        self.schedule = get_schedule(bundle.schedule_name)
+        self.denoiser = bundle.denoiser(self.settings.threads)
+        self.decoder = bundle.vq_decoder(self.settings.threads)
+        self.styles = StyleResolver(bundle, self.settings.threads)
+        self.history: deque[HistoryFrame] = deque(maxlen=self.config.window)
+        self._second = None if self.settings.second_style is None else self.styles.embed(self.settings.second_style)
+        self._set_mixture_values(*self.part_mixture(self.settings.style, self.settings.part_styles))
+        self._plan = sampling_plan(self.schedule.num_timesteps, self.settings.sampler)
+        self.layout = self._make_layout()
+        self.reset(self.settings.seed)
+
+    @property
+    def guidance(self) -> float:
+        return self.bundle.default_guidance if self.settings.guidance is None else float(self.settings.guidance)
+
+    @property
+    def style_embedding(self) -> np.ndarray:
+        """(S,) embedding of style c1 (the base style of a part mixture)."""
+        return self._mixture_embeddings[0]
+
+    @property
+    def mixture(self) -> tuple[list[StylePrompt], np.ndarray]:
+        """The style rows' prompts (R) and their latent-channel weights W (R, C) (style_mixture.py)."""
+        return list(self._mixture_prompts), self._weights.copy()
+
+    @property
+    def second_style_embedding(self) -> np.ndarray | None:
+        """(S,) embedding of style c2 (γ mixing), or None."""
+        return self._second
+
+    @property
+    def latent_dim(self) -> int:
+        return self.config.latent_dim
+
+    def _make_layout(self) -> RowLayout:
+        return row_layout(self._mixture_embeddings, self._second, self.settings.gamma, self.guidance,
+                          self.settings.audio_guidance)
+
+    def part_mixture(self, style: StylePrompt, part_styles: PartStyles) -> tuple[list[StylePrompt], np.ndarray]:
+        """The mixture (prompts, W) of a base style and per-part prompts for this model's body parts; UserError
+        for a part the model does not have."""
+        return part_mixture(style, dict(part_styles), self.bundle.part_channels, self.latent_dim)
+
+    def _set_mixture_values(self, prompts: list[StylePrompt], weights: np.ndarray) -> None:
+        self._mixture_embeddings = np.stack([self.styles.embed(prompt) for prompt in prompts])  # (R, S)
+        self._mixture_prompts = list(prompts)
+        self._weights = np.asarray(weights, np.float32)  # (R, C)
+
+    def reset(self, seed: int | None = None, seed_pose: np.ndarray | None = None) -> None:
+        """Start a new stream: fresh RNG (``seed``, default the settings' seed), empty history and decoder
+        state; ``seed_pose`` (T, D) denormalised motion features pre-fills the history (seed gesture)."""
+        self.rng = np.random.default_rng(self.settings.seed if seed is None else seed)
+        self.history.clear()
+        self.decoder.reset()
+        if seed_pose is not None:
+            self._prefill(seed_pose)
+        self._rebuild_cache()
+
+    def _prefill(self, seed_pose: np.ndarray) -> None:
+        d = self.bundle.frames_per_latent
+        usable = len(seed_pose) - len(seed_pose) % d
+        if usable == 0:
+            raise UserError(f"a seed gesture needs at least {d} frames, got {len(seed_pose)}")
+        normalized = self.bundle.motion_stats.normalize(np.asarray(seed_pose[-usable:], np.float32))  # (T', D)
+        latents = self.bundle.vq_encoder(self.settings.threads).encode(normalized)  # (N, C)
+        silent = np.zeros((self.config.audio_window, self.config.audio_dim), np.float32)  # (A, F)
+        for latent in latents:
+            self.decoder.step(latent)  # advance the decoder state through the seed gesture
+            self.history.append(HistoryFrame(self.bundle.latent_stats.normalize(latent), silent, 0.0))
+
+    def _rebuild_cache(self) -> None:
+        """KV caches of every row recomputed from the history (one chunked call; empty history = empty cache)."""
+        batch = self.layout.batch
+        self.denoiser.reset(batch)
+        if not self.history:
+            return
+        length = len(self.history)
+        condition = self.denoiser.condition(
+            np.broadcast_to(np.stack([h.window for h in self.history]), (batch, length, *self.history[0].window.shape)),
+            self.layout.hears_audio[:, None] * np.array([h.audio_present for h in self.history], np.float32),  # (B, M)
+            np.repeat(self.layout.styles[:, None], length, axis=1),  # (B, M, S)
+            np.repeat(self.layout.style_present[:, None], length, axis=1),  # (B, M)
+            self.lookahead,
+        )  # (B, M, Dc)
+        frames = FrameInputs(
+            np.broadcast_to(np.stack([h.latent for h in self.history]), (batch, length, self.latent_dim)).copy(),
+            np.full((batch, length), CLEAN_TIMESTEP, np.int64),
+            condition,
+        )
+        _, keys, values = self.denoiser.run(frames, self.denoiser.state)
+        self.denoiser.state = roll_cache(self.denoiser.state, keys, values)
+
+    def _apply_layout(self) -> None:
+        new_layout = self._make_layout()
+        rows_changed = not new_layout.same_rows(self.layout)
+        self.layout = new_layout
+        if rows_changed:
+            self._rebuild_cache()
+
+    def set_style(self, style: StylePrompt, second_style: StylePrompt | None = None, gamma: float = SINGLE_STYLE):
+        """Change the (base) style from the next latent on (history keeps the style it was made with); named
+        part styles stay."""
+        self._second = None if second_style is None else self.styles.embed(second_style)
+        self.settings = replace(self.settings, style=style, second_style=second_style, gamma=gamma)
+        self._set_mixture_values(*self.part_mixture(style, self.settings.part_styles))
+        self._apply_layout()
+
+    def set_mixture_weights(self, weights: np.ndarray) -> None:
+        """New channel weights W (R, C) for the same style rows (a ramp step; no re-embedding, no cache change)."""
+        self._weights = np.asarray(weights, np.float32)
+
+    def set_part_styles(self, part_styles: PartStyles) -> None:
+        """Give body parts their own prompts from the next latent on (no parts: one style again)."""
+        self.settings = replace(self.settings, part_styles=tuple(part_styles))
+        self.set_mixture(*self.part_mixture(self.settings.style, part_styles))
+
+    def set_mixture(self, prompts: list[StylePrompt], weights: np.ndarray) -> None:
+        """Use these style rows (R prompts, the base style first) with latent-channel weights W (R, C); a ramp
+        of W between two mixtures blends a part-style change in (realtime/pose/session_controls.py)."""
+        self._set_mixture_values(prompts, weights)
+        self._apply_layout()
+
+    def set_gamma(self, gamma: float) -> None:
+        """Move γ of x̂0 = γ·D(c1) + (1 − γ)·D(c2) without re-embedding the styles (used by smooth changes)."""
+        self.settings = replace(self.settings, gamma=gamma)
+        self._apply_layout()
+
+    def set_guidance(self, scale: float) -> None:
+        self.settings = replace(self.settings, guidance=scale)
+        self._apply_layout()
+
+    def set_audio_guidance(self, scale: float) -> None:
+        """s_a of x̂0 += (s_a − 1)·(D(c1) − D(c1, ∅a)); 1 drops the audio-null row."""
+        self.settings = replace(self.settings, audio_guidance=scale)
+        self._apply_layout()
+
+    def set_sampler(self, sampler: SamplerConfig) -> None:
+        self.settings = replace(self.settings, sampler=sampler)
+        self._plan = sampling_plan(self.schedule.num_timesteps, sampler)
+
+    def _noise(self, t_prev: int) -> np.ndarray | None:
+        sampler = self.settings.sampler
+        stochastic = sampler.kind == "ddpm" or sampler.eta > 0.0
+        return self.rng.standard_normal(self.latent_dim) if stochastic and t_prev != CLEAN_TIMESTEP else None
+
+    def denoise(self, audio_window: np.ndarray, audio_present: bool) -> np.ndarray:
+        """Sample the next clean latent (C,) (normalised) from its (A', F) window of :attr:`audio_config` and
+        commit it to the history."""
+        layout = self.layout
+        audio_window = pad_visible_window(np.asarray(audio_window, np.float32), self.config)  # (A, F)
+        windows = np.broadcast_to(audio_window, (layout.batch, *audio_window.shape))  # (B, A, F)
+        present = layout.hears_audio * float(audio_present)  # (B,)
+        condition = self.denoiser.frame_condition(windows, layout.styles, present, layout.style_present,
+                                                  self.lookahead)  # (B, Dc)
+        x = self.rng.standard_normal(self.latent_dim)  # (C,) x_T
+        for t, t_prev in self._plan:
+            rows = np.broadcast_to(x, (layout.batch, self.latent_dim))  # (B, C)
+            x0_rows = self.denoiser.step(rows, t, condition)
+            x0 = combine_rows(x0_rows, layout, self.settings.gamma, self.guidance, self.settings.audio_guidance,
+                              self._weights)  # (C,)
+            if layout.mixture_rows > 1:
+                x0 = smooth_seams(x0, [h.latent for h in list(self.history)[-2:]], self.settings.seam_smoothing)
+            x = sampler_step(self.schedule, self.settings.sampler, x0, t, t_prev, x, self._noise(t_prev))
+        self.denoiser.commit(np.broadcast_to(x, (layout.batch, self.latent_dim)), condition)
+        latent = x.astype(np.float32)  # (C,)
+        self.history.append(HistoryFrame(latent, audio_window, float(audio_present)))
+        return latent
+
+    def decode(self, latent: np.ndarray) -> np.ndarray:
+        """A committed (C,) normalised latent → (d, D) denormalised motion features (streaming VQ decoder)."""
+        features = self.decoder.step(self.bundle.latent_stats.denormalize(latent))  # (d, D) normalised
+        return self.bundle.motion_stats.denormalize(features)
+
+    def step(self, audio_window: np.ndarray, audio_present: bool = True) -> np.ndarray:
+        """One latent frame: (A', F) normalised audio window (:attr:`audio_config`) → (d, D) denormalised motion
+        features."""
+        return self.decode(self.denoise(audio_window, audio_present))

@@ -1,0 +1,153 @@
+"""Which rows one batched denoiser call holds and how their x0 predictions become one (numpy only).
+
+Rows, in order: the R style rows of the *style mixture* (row 0 is the base style c1), then c2 (only
+with γ ≠ 1), the null style (only with guidance s ≠ 1) and c1 without the audio (only with audio
+guidance s_a ≠ 1). Every row sees the same x_t and the same history through its own KV cache.
+
+The style mixture is GestureDiffuCLIP §6.3's body-part style control on x0 predictions: a weight
+matrix W (R, C) gives each latent channel's share of each style row, Σ_r W[r, c] = 1. With per-part
+prompts W[r] is the 0/1 mask M_o of the channels of the parts whose prompt is row r, so the fused
+prediction is E = Σ_o E_o · M_o; a change of part styles ramps W (a soft mask) instead of jumping.
+With one style W is all ones on row 0 and everything below reduces to the single-style rules:
+
+    x̂0 = Σ_r W_r ⊙ D(c_r)                               (part fusion; D(c1) with one style)
+    x̂0 ← γ·x̂0 + (1 − γ)·D(c2)                           (DiffuseStyleGesture style interpolation)
+    x̂0 ← D(∅) + s·(x̂0 − D(∅))                           (classifier-free guidance, Ho & Salimans 2022 eq. 6)
+    x̂0 ← x̂0 + (s_a − 1)·(D(c1) − D(c1, ∅a))             (audio guidance)
+    x̂0 ← x̂0 − λ·(x̂0 − 2 z_{n−1} + z_{n−2})              (smoothness term, only with R > 1)
+
+Since γ mixing and guidance are linear, applying them after the fusion equals applying them per part
+and fusing. The smoothness term is one gradient step of λ on ½‖x̂0 − 2z_{n−1} + z_{n−2}‖², the
+second difference of the latent sequence at the new frame: parts that follow different prompts are
+pulled toward the common trajectory of the clean history so their border does not jerk.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from gesturecast.errors import UserError
+from gesturecast.models.generator.diffusion import classifier_free_guidance, style_interpolation
+from gesturecast.models.generator.style_prompt import StylePrompt
+from gesturecast.settings import SINGLE_STYLE  # γ = 1 is style 1 alone: no second-style row needed
+
+NO_GUIDANCE = 1.0  # s = 1 is the conditional prediction alone: no null-style row needed
+SEAM_SMOOTHING = 0.2  # λ of the smoothness term (docs/part-styles.md: seam vs λ)
+
+
+@dataclass(frozen=True)
+class RowLayout:
+    """The rows of one batched denoiser call: style embeddings (B, S), style_present (B,), hears_audio (B,)
+    (0 on the audio-null row), the mixture's style row count R and its channel weights W (R, C)."""
+
+    styles: np.ndarray
+    style_present: np.ndarray
+    hears_audio: np.ndarray
+    mixture_rows: int
+    has_second: bool
+    has_null: bool
+    has_audio_null: bool
+
+    @property
+    def batch(self) -> int:
+        return int(self.styles.shape[0])
+
+    @property
+    def second_row(self) -> int:
+        return self.mixture_rows
+
+    @property
+    def null_row(self) -> int:
+        return self.batch - 1 - int(self.has_audio_null)
+
+    def same_rows(self, other: RowLayout) -> bool:
+        return (self.mixture_rows, self.has_second, self.has_null, self.has_audio_null) == (
+            other.mixture_rows, other.has_second, other.has_null, other.has_audio_null)
+
+
+def row_layout(mixture: np.ndarray, second: np.ndarray | None, gamma: float, guidance: float,
+               audio_guidance: float = NO_GUIDANCE) -> RowLayout:
+    """Rows for the mixture's style embeddings (R, S) (or one (S,) style), c2, and the guidance settings."""
+    mixture = np.atleast_2d(np.asarray(mixture, np.float32))  # (R, S)
+    has_second = second is not None and gamma != SINGLE_STYLE
+    has_null = guidance != NO_GUIDANCE
+    has_audio_null = audio_guidance != NO_GUIDANCE
+    rows = list(mixture) + ([second] if has_second else []) + ([np.zeros_like(mixture[0])] if has_null else [])
+    present = [1.0] * len(mixture) + ([1.0] if has_second else []) + ([0.0] if has_null else [])
+    hears = [1.0] * len(rows)
+    if has_audio_null:
+        rows, present, hears = rows + [mixture[0]], present + [1.0], hears + [0.0]
+    return RowLayout(np.stack(rows).astype(np.float32), np.asarray(present, np.float32),
+                     np.asarray(hears, np.float32), len(mixture), has_second, has_null, has_audio_null)
+
+
+def single_style_weights(latent_dim: int) -> np.ndarray:
+    """W (1, C) of one style: every channel from row 0."""
+    return np.ones((1, latent_dim), np.float32)
+
+
+def combine_rows(x0_rows: np.ndarray, layout: RowLayout, gamma: float, guidance: float,
+                 audio_guidance: float = NO_GUIDANCE, weights: np.ndarray | None = None) -> np.ndarray:
+    """(B, C) per-row x0 predictions → the guided (C,) prediction (module docstring, without the smoothness
+    term); ``weights`` W (R, C), default row 0 alone."""
+    x0 = x0_rows.astype(np.float64)
+    rows = layout.mixture_rows
+    fused = x0[0] if weights is None else np.einsum("rc,rc->c", weights, x0[:rows])  # (C,)
+    guided = style_interpolation(fused, x0[layout.second_row], gamma) if layout.has_second else fused
+    if layout.has_null:
+        guided = classifier_free_guidance(x0[layout.null_row], guided, guidance)
+    if layout.has_audio_null:
+        guided = guided + (audio_guidance - NO_GUIDANCE) * (x0[0] - x0[-1])
+    return guided
+
+
+def smooth_seams(x0: np.ndarray, history: list[np.ndarray], strength: float = SEAM_SMOOTHING) -> np.ndarray:
+    """x̂0 − λ·(x̂0 − 2 z_{n−1} + z_{n−2}): one gradient step on the latent second difference; (C,) → (C,).
+    Needs two committed latents; with fewer it returns x̂0 unchanged."""
+    if len(history) < 2:
+        return x0
+    second_difference = x0 - 2.0 * history[-1] + history[-2]  # (C,)
+    return x0 - strength * second_difference
+
+
+def part_mixture(base: StylePrompt, part_styles: dict[str, StylePrompt], part_channels: dict[str, slice],
+                 latent_dim: int) -> tuple[list[StylePrompt], np.ndarray]:
+    """The mixture of a base style and per-part prompts: prompts (R, base first, each once) and W (R, C) whose
+    row of a part's prompt is 1 on that part's channels; parts not named follow the base style."""
+    unknown = sorted(set(part_styles) - set(part_channels))
+    if unknown:
+        raise UserError(f"unknown body part {unknown[0]!r}; this model's parts: {', '.join(part_channels)}")
+    prompts = [base] + list(dict.fromkeys(p for p in part_styles.values() if p != base))
+    weights = np.zeros((len(prompts), latent_dim), np.float32)
+    weights[0] = 1.0
+    for part, prompt in part_styles.items():
+        channels = part_channels[part]
+        weights[:, channels] = 0.0
+        weights[prompts.index(prompt), channels] = 1.0
+    return prompts, weights
+
+
+def align_mixtures(old_prompts: list[StylePrompt], old_weights: np.ndarray, new_prompts: list[StylePrompt],
+                   new_weights: np.ndarray) -> tuple[list[StylePrompt], np.ndarray, np.ndarray]:
+    """Both mixtures over the union of their prompts (old order first): (prompts, old W, new W), each (R∪, C),
+    so a ramp can move W from one to the other."""
+    union = list(dict.fromkeys([*old_prompts, *new_prompts]))
+
+    def spread(prompts: list[StylePrompt], weights: np.ndarray) -> np.ndarray:
+        spread_weights = np.zeros((len(union), weights.shape[1]), np.float32)
+        for prompt, row in zip(prompts, weights, strict=True):
+            spread_weights[union.index(prompt)] += row
+        return spread_weights
+
+    return union, spread(old_prompts, old_weights), spread(new_prompts, new_weights)
+
+
+def drop_unused_rows(prompts: list[StylePrompt], weights: np.ndarray,
+                     base: StylePrompt) -> tuple[list[StylePrompt], np.ndarray]:
+    """The mixture without prompts of zero weight, the base style first (it stays even when every part is named:
+    audio guidance uses its row)."""
+    base_row = prompts.index(base)
+    keep = [base_row] + [row for row in range(len(prompts)) if row != base_row and weights[row].any()]
+    return [prompts[row] for row in keep], weights[keep]

@@ -1,0 +1,114 @@
+"""``gesturecast generate --batch DIR_OR_CSV -o OUTDIR``: the flags of a batch and its run with a progress bar
+(the work itself: :mod:`gesturecast.realtime.jobs.batch`)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import logging
+import os
+import sys
+import time
+from collections.abc import Callable
+from pathlib import Path
+
+from tqdm import tqdm
+from tqdm.contrib.logging import logging_redirect_tqdm
+
+from gesturecast.arguments import int_at_least
+from gesturecast.errors import INTERRUPTED_EXIT, UserError
+from gesturecast.files import write_text_atomic
+from gesturecast.realtime.cli_flags import settings_from_args
+from gesturecast.realtime.jobs.batch import (
+    BATCH_FAILED_EXIT,
+    RUNNER_PROCESSES,
+    RUNNER_RAY,
+    SUMMARY_NAME,
+    BatchSummary,
+    JobResult,
+    ResultSink,
+    run_with_processes,
+)
+from gesturecast.realtime.jobs.batch_jobs import BatchJob, find_jobs
+from gesturecast.realtime.run.engine_setup import build_session
+from gesturecast.realtime.timing.clock import MonotonicClock
+from gesturecast.settings import Settings
+
+logger = logging.getLogger(__name__)
+
+
+def add_batch_arguments(parser: argparse.ArgumentParser) -> None:
+    group = parser.add_argument_group("batch (many files)")
+    group.add_argument("--batch", type=Path, metavar="DIR_OR_CSV",
+                       help="every audio file under a folder, or the rows of a CSV (columns: path, style, prompt, "
+                            "style2, part_style, gamma, guidance, audio_guidance, seed); -o is then the output folder")
+    group.add_argument("--workers", type=int_at_least(1), default=os.cpu_count() or 1,
+                       help="worker processes (or Ray actors) for --batch (default: every core)")
+    group.add_argument("--with-json", action="store_true", help="with --batch: also write NAME.json beside NAME.bvh")
+    group.add_argument("--with-vrma", action="store_true",
+                       help="with --batch: also write NAME.vrma (VRM Animation) beside NAME.bvh")
+    group.add_argument("--ray", action="store_true",
+                       help="with --batch: run on Ray Data (pip install 'gesturecast[scale]') instead of processes")
+
+
+
+
+def run_batch(args: argparse.Namespace) -> int:
+    """``generate --batch``: check everything, run what is not finished, write the summary."""
+    base = _check_batch_flags(args)
+    jobs = find_jobs(args.batch, args.output, args.with_json, args.with_vrma)
+    summary_path = args.output / SUMMARY_NAME
+    if any(summary_path in job.outputs() for job in jobs):
+        raise UserError(f"an input would write {summary_path}, the batch summary; rename it")
+    run = _ray_runner() if args.ray else run_with_processes
+    build_session(base, MonotonicClock())  # the model and the command's style, checked once before any worker
+    todo = [job for job in jobs if not job.finished()]
+    workers = max(1, min(args.workers, len(todo)))
+    summary = BatchSummary(len(jobs), len(jobs) - len(todo), RUNNER_RAY if args.ray else RUNNER_PROCESSES, workers)
+    start = time.monotonic()
+    if todo:
+        summary.interrupted = _run_with_progress(run, todo, base, summary)
+    summary.wall_seconds = time.monotonic() - start
+    write_text_atomic(summary_path, json.dumps(summary.to_dict(), indent=2) + "\n")
+    sys.stdout.write(summary.line() + f" | summary: {summary_path}\n")
+    if summary.interrupted:
+        return INTERRUPTED_EXIT
+    return BATCH_FAILED_EXIT if summary.failures else 0
+
+
+def _check_batch_flags(args: argparse.Namespace) -> Settings:
+    """The settings every job starts from; refuses single-file flags mixed with --batch."""
+    if args.audio is not None:
+        raise UserError(f"give either an audio file ({args.audio}) or --batch DIR_OR_CSV, not both")
+    if args.json is not None:
+        raise UserError("with --batch, -o is the output folder: use --with-json for NAME.json beside each NAME.bvh")
+    if args.vrma is not None:
+        raise UserError("--vrma names one file; with --batch use --with-vrma for NAME.vrma beside each NAME.bvh")
+    if args.output.exists() and not args.output.is_dir():
+        raise UserError(f"with --batch, -o is the output folder, and {args.output} is a file")
+    return settings_from_args(args)
+
+
+def _ray_runner() -> Callable[[list[BatchJob], Settings, int, ResultSink], None]:
+    """The Ray Data runner; without Ray installed, one line naming the extra (before any work)."""
+    from gesturecast.realtime.jobs.batch_ray import import_ray, run_with_ray
+
+    import_ray()
+    return run_with_ray
+
+
+def _run_with_progress(run: Callable, jobs: list[BatchJob], base: Settings, summary: BatchSummary) -> bool:
+    """Run the jobs with a progress bar on stderr; True when Ctrl-C stopped the run."""
+    with logging_redirect_tqdm(), tqdm(total=len(jobs), unit="file", desc="generate", file=sys.stderr) as bar:
+
+        def on_result(result: JobResult) -> None:
+            summary.add(result)
+            if result.error is not None:
+                logger.warning("failed: %s", result.reason_line())
+            bar.update()
+
+        try:
+            run(jobs, base, summary.workers, on_result)
+        except KeyboardInterrupt:
+            return True
+    return False

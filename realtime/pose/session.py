@@ -1,0 +1,278 @@
+"""One stream's state and the step that turns audio into poses: the shared core of `live` and `generate`.
+
+Data flow (docs/architecture.md, "Data flow"): pushed chunks wait in a short pending list until the audio up to
+``(i+1)·d + δ`` (latent ``i``'s window end at the generator's look-ahead δ, docs/latency.md) has
+arrived; then, in one burst, streaming features of
+the pending audio → normalised feature buffer → one generator step for latent ``i`` (K-step DDIM or
+DDPM, KV cache, CFG) → d motion-feature frames → root integration + 6D → quaternions → idle
+cross-fade in silence → procedural fingers (:mod:`gesturecast.realtime.pose.hands`) → :class:`PoseFrame` with
+capture and presentation times and the viseme weights of the frame's own audio instant
+(:mod:`gesturecast.models.audio.lipsync`, computed by the feature extractor in the same burst). Computing the
+features in that burst instead of per chunk gives the same bits (the extractor is chunk-size
+invariant) with a quarter of the wake-ups, each on warm caches.
+
+The session never reads a clock: every time it uses is stream time (frame index / fps) or the
+capture time carried by the audio chunks, so a file replayed at real-time pace and the same file
+processed as fast as possible give identical poses (the parity the tests check).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from collections import deque
+from dataclasses import dataclass
+
+import numpy as np
+
+from gesturecast.frames import VISEME_NAMES, PoseFrame
+from gesturecast.models.audio.dsp import frame_boundary
+from gesturecast.models.audio.lipsync import LipSyncConfig
+from gesturecast.models.audio.streaming import StreamingFeatureExtractor, speaking_flags
+from gesturecast.models.generator.denoiser_config import audio_window_bounds, audio_window_end
+from gesturecast.models.motion.motion_features import features_to_rotations
+from gesturecast.models.motion.root_anchor import RootAnchor, RootMode, RootTravel
+from gesturecast.models.runtime.bundle import ModelBundle
+from gesturecast.realtime.audio.sources import AudioChunk
+from gesturecast.realtime.generation.generator import Generator
+from gesturecast.realtime.pose.feature_buffer import FeatureBuffer
+from gesturecast.realtime.pose.hands import HandPose
+from gesturecast.realtime.pose.idle import IdleMotion
+from gesturecast.realtime.pose.motion_smoother import MotionSmoother
+from gesturecast.realtime.pose.seed_motion import SeedMotion
+from gesturecast.realtime.pose.session_controls import SessionControls
+from gesturecast.realtime.pose.transitions import PoseCrossfade
+from gesturecast.realtime.timing.clock import Clock
+from gesturecast.realtime.timing.latency import LatencyBudget, LatencyStats
+
+logger = logging.getLogger(__name__)
+
+STAGE_FEATURES = "features"
+STAGE_DENOISER = "denoiser"
+STAGE_DECODER = "decoder"
+SPEECH = 1.0  # cross-fade weight of the generated stream while speaking (idle = 0)
+IDLE = 0.0
+
+
+@dataclass(frozen=True)
+class SessionConfig:
+    idle_fade_s: float = 0.6  # cross-fade duration between idle motion and speech gestures
+    silence_hold_s: float = 1.0  # silence this long after the last speech frame fades to idle
+    root_mode: RootMode = RootMode.BOUNDED  # in place by default (models/motion/root_anchor.py)
+    seed_motion: SeedMotion | None = None  # start from this motion's last pose, not idle (realtime/pose/seed_motion.py)
+    lipsync: str = "vrm0"  # a key of VISEME_NAMES: fill PoseFrame.visemes (docs/lipsync.md); "off": None
+
+
+class GestureSession:
+    """Audio chunks in, timed pose frames out, for one stream (constant memory on any duration)."""
+
+    def __init__(
+        self,
+        bundle: ModelBundle,
+        generator: Generator,
+        budget: LatencyBudget,
+        clock: Clock,
+        config: SessionConfig | None = None,
+        stats: LatencyStats | None = None,
+    ) -> None:
+        self.bundle = bundle
+        self.generator = generator
+        self.budget = budget
+        self.config = config or SessionConfig()
+        self.stats = stats or LatencyStats(clock)
+        self.denoiser_config = generator.audio_config  # the audio layout at the generator's look-ahead δ
+        self.fps = bundle.feature_config.fps
+        self.sample_rate = bundle.feature_config.sample_rate
+        self.extractor = StreamingFeatureExtractor(bundle.feature_config,
+                                                   LipSyncConfig() if self.lipsync_on else None)
+        self.idle = IdleMotion(seed=generator.settings.seed)
+        self._hold_frames = round(self.config.silence_hold_s * self.fps)
+        self.root = RootAnchor(self.config.root_mode, fps=self.fps)
+        self.controls = SessionControls(generator, self.root)
+        self.smoother = MotionSmoother(budget.smoothing_frames)
+        self.hands = HandPose(self.fps, seed=generator.settings.seed)
+        self.reset()
+
+    @property
+    def lipsync_on(self) -> bool:
+        return self.config.lipsync in VISEME_NAMES
+
+    @property
+    def viseme_names(self) -> tuple[str, ...]:
+        """Blend-shape names of the frames' viseme weights (VRM 0.x or 1.0), () with lip sync off."""
+        return VISEME_NAMES.get(self.config.lipsync, ())
+
+    def reset(self) -> None:
+        """Forget the stream (features, generator history, root anchor, idle fade): the next chunk is sample 0.
+        With a seed motion the generator's history holds it again and the first pose is its last one."""
+        self.extractor.reset()
+        self.features = FeatureBuffer(self.extractor.num_features)
+        seed = self.config.seed_motion
+        self.generator.reset(seed_pose=None if seed is None else seed.features)
+        self.seed_fade = None if seed is None else PoseCrossfade(self.config.idle_fade_s, initial_weight_b=IDLE)
+        if self.seed_fade is not None:
+            self.seed_fade.fade_to(SPEECH, 0.0)  # from the seed's pose at t = 0 into the stream
+        self.root.reset()
+        self.travel = RootTravel()  # the root's distance, travel and facing from the start (the run's summary)
+        self.smoother.reset()
+        self.hands.reset()
+        self._unsmoothed: deque[tuple[int, bool]] = deque()  # (frame, speaking) of frames inside the smoother
+        self._visemes: deque[np.ndarray] = deque()  # (5,) weights of the audio frames not yet posed, in order
+        self.crossfade = PoseCrossfade(self.config.idle_fade_s, initial_weight_b=IDLE)
+        self.next_latent = 0
+        self.frames_out = 0
+        self.samples_in = 0
+        self._pending_audio: list[np.ndarray] = []  # chunks since the last feature burst (< one latent of audio)
+        self._anchor = (0, 0.0)  # (stream sample, capture time) of the newest chunk
+        self._last_capture = -math.inf  # capture time given to the newest frame (frame times never go back)
+        self._last_speech_frame = -math.inf
+        self._frame_limit: int | None = None
+        self.nonfinite_poses = 0  # generated poses with NaN/inf, replaced by the last good pose
+        self._last_good: tuple[np.ndarray, np.ndarray] | None = None  # (J, 4) rotations, (3,) root
+
+    # ---- audio in ----
+    def push(self, chunk: AudioChunk) -> list[PoseFrame]:
+        """Feed one chunk; returns the pose frames it completed (often none)."""
+        self._anchor = (chunk.start_sample, chunk.capture_time)
+        self.samples_in = chunk.start_sample + len(chunk.samples)
+        self._pending_audio.append(chunk.samples)
+        if self.samples_in < self._samples_needed(self.next_latent):
+            return []
+        self._extract_pending()
+        return self._generate_ready()
+
+    def _samples_needed(self, latent: int) -> int:
+        """Stream samples after which every audio frame of ``latent``'s window is complete."""
+        return int(frame_boundary(audio_window_end(latent, self.denoiser_config), self.sample_rate, self.fps))
+
+    def _extract_pending(self) -> None:
+        if not self._pending_audio:
+            return
+        samples = np.concatenate(self._pending_audio)
+        self._pending_audio.clear()
+        with self.stats.time(STAGE_FEATURES):
+            raw = self.extractor.push(samples)  # (n, F)
+        self.features.append(self.bundle.audio_stats.apply(raw), speaking_flags(raw, self.bundle.feature_config))
+        if self.lipsync_on:
+            self._visemes.extend(self.extractor.take_visemes())  # one (5,) row per new audio frame
+
+    def finish(self) -> list[PoseFrame]:
+        """End of stream: pad with silence for the look-ahead so every captured audio frame gets a pose."""
+        self._extract_pending()
+        audio_frames = self.extractor.frames_emitted
+        if audio_frames == 0:
+            return []
+        d = self.denoiser_config.frames_per_latent
+        needed = audio_window_end(math.ceil(audio_frames / d) - 1, self.denoiser_config)
+        padding = max(int(frame_boundary(needed, self.sample_rate, self.fps)) - self.samples_in, 0)
+        self._frame_limit = audio_frames
+        start, time = self._anchor
+        pad_time = time + (self.samples_in - start) / self.sample_rate
+        frames = self.push(AudioChunk(np.zeros(padding, np.float32), self.samples_in, pad_time))
+        return frames + self._pose_frames(self.smoother.flush(self.bundle.motion_feature_dim))
+
+    # ---- generation ----
+    def _generate_ready(self) -> list[PoseFrame]:
+        frames: list[PoseFrame] = []
+        while self.features.end >= audio_window_end(self.next_latent, self.denoiser_config):
+            frames.extend(self._generate_latent(self.next_latent))
+            self.next_latent += 1
+            self.features.forget_before(audio_window_bounds(self.next_latent, self.denoiser_config)[0])
+        return frames
+
+    def _generate_latent(self, index: int) -> list[PoseFrame]:
+        d = self.denoiser_config.frames_per_latent
+        self.controls.advance(index * d / self.fps)
+        window = self.features.window(index, self.denoiser_config)  # (A', F)
+        with self.stats.time(STAGE_DENOISER):
+            latent = self.generator.denoise(window, audio_present=True)  # (C,)
+        with self.stats.time(STAGE_DECODER):
+            motion = self.generator.decode(latent)  # (d, D)
+        speaking = self._is_speaking(index)
+        self._unsmoothed.extend((index * d + j, speaking) for j in range(d))
+        return self._pose_frames(self.smoother.push(motion))
+
+    def _pose_frames(self, smoothed: np.ndarray) -> list[PoseFrame]:
+        """Pose frames of the rows (m, D) that left the smoother, the oldest frames inside it, in order."""
+        frames = []
+        for row in smoothed:
+            frame, speaking = self._unsmoothed.popleft()
+            visemes = self._visemes.popleft() if self.lipsync_on else None  # audio frame ``frame``'s
+            if self._wanted(frame):
+                frames.append(self._pose_frame(frame, row, speaking, visemes))
+        return frames
+
+    def _is_speaking(self, index: int) -> bool:
+        """Speech within the hold time before this latent or in its look-ahead (only audio it may see)."""
+        previous_end = audio_window_end(index - 1, self.denoiser_config) if index else 0
+        last = self.features.last_speech(previous_end, audio_window_end(index, self.denoiser_config))
+        if last is not None:
+            self._last_speech_frame = last
+        return self._last_speech_frame >= index * self.denoiser_config.frames_per_latent - self._hold_frames
+
+    def _wanted(self, frame: int) -> bool:
+        return self._frame_limit is None or frame < self._frame_limit
+
+    def _pose_frame(self, frame: int, features: np.ndarray, speaking: bool, visemes: np.ndarray | None) -> PoseFrame:
+        t = frame / self.fps
+        self.crossfade.fade_to(SPEECH if speaking else IDLE, t)
+        rotations, root = self._finite_pose(frame, features, t)  # (J, 4), (3,)
+        rotations = self.hands.append(rotations, t)  # (J + 30, 4) on CANONICAL_WITH_HANDS
+        capture = self._capture_time(frame)
+        self.frames_out += 1
+        return PoseFrame(
+            seq=frame,
+            capture_time=capture,
+            presentation_time=capture + self.budget.total_s,
+            root_position=root,
+            rotations=rotations,
+            style=self.controls.describe(),
+            speaking=speaking,
+            visemes=visemes,
+        )
+
+    def _pose(self, features: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:
+        """(J, 4) rotations and (3,) root of one motion-feature row (D,), cross-faded with idle motion."""
+        position, yaw = self.root.step(features)  # (3,), facing yaw
+        self.travel.update(position, yaw)
+        rotations = features_to_rotations(features, np.asarray(yaw))  # (J, 4)
+        root = position
+        if self.crossfade.weight(t) < SPEECH:  # idle visible: blend (skipped while fully in speech: hot path)
+            idle_root = np.array([position[0], self.idle.base_root[1], position[2]])  # idle in place
+            rotations, root = self.crossfade.mix(t, self.idle.rotations(t), idle_root, rotations, position)
+        if self.seed_fade is not None and self.seed_fade.weight(t) < SPEECH:
+            return self._from_seed(t, rotations, root)
+        return rotations, root
+
+    def _from_seed(self, t: float, rotations: np.ndarray, root: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The stream's (J, 4), (3,) pose cross-faded from the seed motion's last pose (weight 0 at t = 0)."""
+        seed = self.config.seed_motion
+        seed_root = np.array([root[0], seed.height, root[2]])  # the seed's pose where the avatar stands
+        return self.seed_fade.mix(t, seed.rotations, seed_root, rotations, root)
+
+    def _finite_pose(self, frame: int, features: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:
+        """The pose of a (D,) feature row when finite; else the last good pose (the idle pose before any),
+        counted and warned about once. No bridge, recorder or JSON writer ever receives a NaN or inf."""
+        if np.isfinite(features).all():  # a NaN row never reaches the root integrator (it would stay NaN)
+            rotations, root = self._pose(features, t)  # (J, 4), (3,)
+            if np.isfinite(rotations).all() and np.isfinite(root).all():
+                self._last_good = (rotations, root)
+                return rotations, root
+        self.nonfinite_poses += 1
+        if self.nonfinite_poses == 1:
+            logger.warning("pose %d came out NaN or infinite; holding the last good pose instead "
+                           "(counted as nonfinite_poses; later ones are not logged)", frame)
+        if self._last_good is None:
+            return self.idle.rotations(t), self.idle.base_root.copy()
+        return self._last_good
+
+    def _capture_time(self, frame: int) -> float:
+        """Capture time of the first audio sample of ``frame``, from the newest chunk's timestamp.
+
+        A microphone's chunk times are estimates that jitter (PortAudio's ADC times through PulseAudio
+        moved by tens of ms); a frame is never given a time before the previous frame's, so presentation
+        times stay in order for the scheduler."""
+        start, time = self._anchor
+        estimate = time + (int(frame_boundary(frame, self.sample_rate, self.fps)) - start) / self.sample_rate
+        self._last_capture = max(estimate, self._last_capture)
+        return self._last_capture

@@ -1,0 +1,164 @@
+"""Live changes of style, part styles, guidance, audio guidance, γ and root mode, blended in over a short stream
+time (no pop).
+
+Controls arrive from any thread (WebSocket clients, the CLI) and are applied by the session
+between latent steps. Numbers (guidance s, audio guidance s_a, γ) move along a smoothstep ramp. A new style with no
+second style is blended with DiffuseStyleGesture's own mechanism: the generator runs
+x̂0 = γ·D(new) + (1 − γ)·D(old) while γ ramps 0 → 1, then drops the old style. While body parts have their own
+prompts, style and part-style changes ramp the part mixture's channel weights W instead (a soft mask moving from
+the old prompts' channels to the new ones, generation/style_mixture.py), then drop the prompts no channel uses.
+"""
+
+from __future__ import annotations
+
+import threading
+from collections import deque
+from dataclasses import replace
+
+from gesturecast.models.generator.style_prompt import PartStyles, StylePrompt, parse_part_styles
+from gesturecast.models.motion.root_anchor import RootAnchor, RootMode
+from gesturecast.realtime.generation.generator import Generator
+from gesturecast.realtime.generation.style_mixture import align_mixtures, drop_unused_rows
+from gesturecast.realtime.pose.transitions import DEFAULT_RAMP_S, Ramp
+from gesturecast.settings import SINGLE_STYLE
+
+MAX_PENDING_CONTROLS = 32  # bounded inbox: the oldest unapplied control is dropped first
+
+
+class SessionControls:
+    """Holds the control inbox and the ramps; :meth:`advance` applies them at stream time ``t``."""
+
+    def __init__(self, generator: Generator, root: RootAnchor, fade_s: float = DEFAULT_RAMP_S) -> None:
+        self.generator = generator
+        self.root = root
+        self.fade_s = fade_s
+        self._inbox: deque[dict] = deque(maxlen=MAX_PENDING_CONTROLS)
+        self._lock = threading.Lock()
+        self._guidance = Ramp(generator.guidance, fade_s)
+        self._audio_guidance = Ramp(generator.settings.audio_guidance, fade_s)
+        self._gamma = Ramp(generator.settings.gamma, fade_s)
+        self._blending_from: StylePrompt | None = None  # old style while a style change blends in
+        self._mixture_ramp: Ramp | None = None  # W (R, C) flattened, while a part-style change blends in
+
+    def submit(self, control: dict) -> None:
+        """Queue a schema-checked control message (keys: style, prompt, style2, part_styles, guidance,
+        audio_guidance, gamma, root); thread-safe. Its styles and body parts are resolved first, so one the model
+        cannot use raises UserError here (the caller answers the client) instead of failing the stream when
+        applied."""
+        for prompt in _prompts_of(control):
+            self.generator.styles.embed(prompt)
+        if "part_styles" in control:
+            self.generator.part_mixture(self.generator.settings.style, parse_part_styles(control["part_styles"]))
+        with self._lock:
+            self._inbox.append(dict(control))
+
+    def advance(self, t: float) -> None:
+        """Apply queued controls and move the ramps to stream time ``t`` (called once per latent)."""
+        with self._lock:
+            pending = list(self._inbox)
+            self._inbox.clear()
+        for control in pending:
+            self._apply(control, t)
+        self._update_style_blend(t)
+        self._update_mixture_blend(t)
+        guidance = float(self._guidance.value(t))
+        if guidance != self.generator.guidance:
+            self.generator.set_guidance(guidance)
+        audio_guidance = float(self._audio_guidance.value(t))
+        if audio_guidance != self.generator.settings.audio_guidance:
+            self.generator.set_audio_guidance(audio_guidance)
+        if self._blending_from is None and self.generator.settings.second_style is not None:
+            self.generator.set_gamma(float(self._gamma.value(t)))
+
+    def describe(self) -> str:
+        """The style in effect, for display (``happy``, ``text:calm``, ``happy→sad γ=0.5``)."""
+        settings = self.generator.settings
+        name = _prompt_name(settings.style)
+        if settings.part_styles:
+            name += " " + " ".join(f"{part}={_prompt_name(prompt)}" for part, prompt in settings.part_styles)
+        if settings.second_style is None or self._blending_from is not None:
+            return name
+        return f"{name}→{_prompt_name(settings.second_style)} γ={settings.gamma:.2f}"
+
+    def _apply(self, control: dict, t: float) -> None:
+        if "root" in control:
+            self.root.set_mode(RootMode(control["root"]))  # re-anchored where the avatar stands: no jump
+        if "guidance" in control:
+            self._guidance.set_target(float(control["guidance"]), t)
+        if "audio_guidance" in control:
+            self._audio_guidance.set_target(float(control["audio_guidance"]), t)
+        if "gamma" in control:
+            self._gamma.set_target(float(control["gamma"]), t)
+        new_style = _style_from_control(control)
+        if "part_styles" in control or (self.generator.settings.part_styles and new_style is not None):
+            parts = parse_part_styles(control["part_styles"]) if "part_styles" in control else None
+            self._start_mixture_blend(new_style or self.generator.settings.style, parts, t)
+        elif "style2" in control:
+            self._blending_from = None
+            style = new_style or self.generator.settings.style
+            self.generator.set_style(style, StylePrompt.parse(control["style2"]), float(self._gamma.value(t)))
+        elif new_style is not None and new_style != self.generator.settings.style:
+            self._start_style_blend(new_style, t)
+
+    def _start_style_blend(self, new_style: StylePrompt, t: float) -> None:
+        settings = self.generator.settings
+        if settings.second_style is not None:  # a user γ mix is active: keep its second style, ramp as usual
+            self.generator.set_style(new_style, settings.second_style, settings.gamma)
+            return
+        self._blending_from = settings.style
+        self._blend = Ramp(0.0, self.fade_s, t)
+        self._blend.set_target(SINGLE_STYLE, t)
+        self.generator.set_style(new_style, self._blending_from, 0.0)
+
+    def _start_mixture_blend(self, style: StylePrompt, part_styles: PartStyles | None, t: float) -> None:
+        """Ramp W from the mixture in effect to the one of ``style`` and ``part_styles`` (None: keep the parts)."""
+        generator = self.generator
+        parts = generator.settings.part_styles if part_styles is None else part_styles
+        if self._blending_from is not None:  # a γ style blend still running ends here
+            self._blending_from = None
+            generator.set_style(generator.settings.style)
+        old_prompts, old_weights = generator.mixture
+        union, start, target = align_mixtures(old_prompts, old_weights, *generator.part_mixture(style, parts))
+        generator.set_mixture(union, start)
+        generator.settings = replace(generator.settings, style=style, part_styles=tuple(parts))
+        self._mixture_ramp = Ramp(start, self.fade_s, t)
+        self._mixture_ramp.set_target(target, t)
+
+    def _update_mixture_blend(self, t: float) -> None:
+        if self._mixture_ramp is None:
+            return
+        weights = self._mixture_ramp.value(t).astype("float32")  # (R, C)
+        if self._mixture_ramp.done(t):
+            self._mixture_ramp = None
+            self.generator.set_mixture(*drop_unused_rows(self.generator.mixture[0], weights,
+                                                         self.generator.settings.style))
+        else:
+            self.generator.set_mixture_weights(weights)
+
+    def _update_style_blend(self, t: float) -> None:
+        if self._blending_from is None:
+            return
+        if self._blend.done(t):
+            self._blending_from = None
+            self.generator.set_style(self.generator.settings.style)
+        else:
+            self.generator.set_gamma(float(self._blend.value(t)))
+
+
+def _style_from_control(control: dict) -> StylePrompt | None:
+    if "prompt" in control:
+        return StylePrompt("text", control["prompt"])
+    if "style" in control:
+        return StylePrompt.parse(control["style"])
+    return None
+
+
+def _prompts_of(control: dict) -> list[StylePrompt]:
+    """Every style prompt a control message names (first style, then second)."""
+    first = _style_from_control(control)
+    second = StylePrompt.parse(control["style2"]) if "style2" in control else None
+    return [prompt for prompt in (first, second) if prompt is not None]
+
+
+def _prompt_name(prompt: StylePrompt) -> str:
+    return prompt.value if prompt.kind == "label" else f"{prompt.kind}:{prompt.value}"

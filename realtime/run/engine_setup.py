@@ -1,0 +1,112 @@
+"""A session and its outputs from :class:`Settings` and :class:`Outputs` (shared by every door: the library,
+live, generate, batch, serve, the Pipecat processor, the benchmarks).
+
+The latency setting is resolved once, by :func:`resolve_latency`, into one :class:`LatencyBudget` (look-ahead
+δ, compute margin, smoothing k, hence L); the generator hears that δ and the session presents at that L.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from gesturecast.bridges.avatar_file import resolve_avatar
+from gesturecast.bridges.bvh_recorder import BvhRecorder
+from gesturecast.bridges.fanout import BridgeFanout
+from gesturecast.bridges.osc import OscBridge, OscConfig
+from gesturecast.bridges.output_settings import Outputs, parse_host_port
+from gesturecast.bridges.vmc import VmcBridge, VmcConfig
+from gesturecast.bridges.vmc_roles import BoneSelection
+from gesturecast.bridges.websocket_server import WebSocketBridge, WebSocketConfig
+from gesturecast.bridges.ws_access import token_from_sources
+from gesturecast.errors import UserError
+from gesturecast.models.generator.diffusion import SamplerConfig
+from gesturecast.models.motion.root_anchor import RootMode
+from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
+from gesturecast.models.runtime.bundle import ModelBundle
+from gesturecast.realtime.generation.generator import Generator, GeneratorSettings
+from gesturecast.realtime.pose.seed_motion import load_seed_motion
+from gesturecast.realtime.pose.session import GestureSession, SessionConfig
+from gesturecast.realtime.timing.clock import Clock
+from gesturecast.realtime.timing.latency import LatencyBudget
+from gesturecast.settings import LATENCY_SETTINGS, Settings
+
+
+def load_bundle(path: Path) -> ModelBundle:
+    if not (path / "model.json").is_file():
+        raise UserError(f"no model bundle at {path} (expected model.json); train one with `gesturecast train`")
+    return ModelBundle.load(path)
+
+
+def resolve_latency(settings: Settings, bundle: ModelBundle) -> LatencyBudget:
+    """The latency setting (with ``lookahead`` / ``margin_ms`` overriding it) on this model: δ, margin, k → L."""
+    setting = LATENCY_SETTINGS[settings.latency]
+    lookahead = setting.lookahead_for(bundle.audio_lookahead) if settings.lookahead is None else settings.lookahead
+    margin = setting.compute_margin_ms if settings.margin_ms is None else settings.margin_ms
+    return LatencyBudget(bundle.frames_per_latent, lookahead, margin, smoothing_frames=settings.smoothing)
+
+
+def generator_settings(settings: Settings, bundle: ModelBundle, budget: LatencyBudget) -> GeneratorSettings:
+    """DDIM with K steps, or DDPM over all T steps of the model's schedule (the offline-quality path), hearing the
+    budget's look-ahead."""
+    steps = settings.steps if settings.sampler == "ddim" else bundle.denoiser_config.num_timesteps
+    return GeneratorSettings(
+        sampler=SamplerConfig(settings.sampler, steps),
+        guidance=settings.guidance,
+        style=settings.style_prompt(),
+        second_style=settings.second_style(),
+        gamma=settings.gamma,
+        seed=settings.seed,
+        threads=settings.threads,
+        audio_guidance=settings.audio_guidance,
+        lookahead=budget.lookahead_frames,
+        part_styles=settings.part_styles,
+    )
+
+
+def build_session(settings: Settings, clock: Clock, bundle: ModelBundle | None = None) -> GestureSession:
+    """A session with these settings, on ``bundle`` (loaded once by batch workers) or on ``settings.model``."""
+    bundle = load_bundle(settings.model) if bundle is None else bundle
+    budget = resolve_latency(settings, bundle)
+    generator = Generator(bundle, generator_settings(settings, bundle, budget))
+    seed = None if settings.seed_motion is None else load_seed_motion(settings.seed_motion, bundle)
+    config = SessionConfig(root_mode=RootMode(settings.root), seed_motion=seed, lipsync=settings.lipsync)
+    return GestureSession(bundle, generator, budget, clock, config)
+
+
+def vmc_config(outputs: Outputs, settings: Settings) -> VmcConfig:
+    """VMC to ``outputs.vmc`` in its role with its bones (an Assistant sends the upper body by default)."""
+    host, port = outputs.vmc_address()
+    bones = BoneSelection.parse(outputs.vmc_bone_spec(), CANONICAL_WITH_HANDS).names
+    return VmcConfig(host, port, send_rate=float(settings.fps), viseme_names=settings.lipsync_names, bones=bones,
+                     assistant=outputs.assistant)
+
+
+def websocket_config(outputs: Outputs, settings: Settings, session: GestureSession, clock: Clock) -> WebSocketConfig:
+    token = token_from_sources(outputs.token, outputs.token_file)
+    return WebSocketConfig(host=outputs.host, port=outputs.ws, token=token, fps=float(settings.fps),
+                           style=session.controls.describe(), style_choices=tuple(session.bundle.styles.labels),
+                           body_parts=tuple(session.bundle.part_channels), allow_origins=outputs.allow_origins,
+                           avatar=resolve_avatar(outputs.avatar), lipsync=bool(settings.lipsync_names),
+                           viseme_names=settings.lipsync_names or WebSocketConfig.viseme_names, clock=clock.now)
+
+
+def build_outputs(outputs: Outputs, settings: Settings, session: GestureSession, clock: Clock) -> BridgeFanout:
+    """The bridges ``outputs`` asks for, fanned out so that one failing output never stops the others."""
+    bridges = []
+    try:
+        if outputs.vmc:
+            bridges.append(VmcBridge(vmc_config(outputs, settings)))
+        if outputs.osc:
+            host, port = parse_host_port(outputs.osc, "osc")
+            bridges.append(OscBridge(OscConfig(host, port, send_rate=float(settings.fps),
+                                               coordinate_frame=outputs.osc_frame,
+                                               viseme_names=settings.lipsync_names)))
+        if outputs.ws is not None:
+            config = websocket_config(outputs, settings, session, clock)
+            bridges.append(WebSocketBridge(config, on_control=session.controls.submit).start())
+        if outputs.bvh is not None:
+            bridges.append(BvhRecorder(outputs.bvh, fps=float(settings.fps)))  # Frame Time of the output rate
+    except BaseException:
+        BridgeFanout(bridges).close()  # a later output failing (a port in use) leaves no earlier one open
+        raise
+    return BridgeFanout(bridges)

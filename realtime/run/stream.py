@@ -1,0 +1,173 @@
+"""``gesturecast.Stream``: audio pushed in by the caller, pose frames out, in real time.
+
+The same engine as ``gesturecast live``: a :class:`GestureSession` built from :class:`Settings`, warmed up
+before the first block (:func:`warm_up`), its frames released to the outputs at capture time + L by a
+:class:`FrameRelease` (the live engine's scheduler worker). What differs is who owns the audio: here the
+caller pushes blocks (a robot's microphone, a game's voice chat, a TTS engine, a voice-agent pipeline)
+instead of the engine reading a source.
+
+- :meth:`Stream.push` takes a block at any rate and channel count (float or int16, ``(n,)`` or ``(n, C)``),
+  converts it to 16 kHz mono with the files' streaming resampler, times it as it is heard (a block starts when
+  it arrives or where the previous block ends, whichever is later: TTS audio arrives faster than it plays)
+  and returns the pose frames it completed: the iterator route.
+- ``on_frame`` is called with each frame at its presentation time (with the outputs): the callback route.
+- :meth:`Stream.control` changes style, part styles, guidance, γ or root mode, blended in (no pop).
+- :meth:`Stream.close` ends the stream: the look-ahead's last poses, every frame released on time, the
+  outputs closed (a BVH recording is written then). A ``with`` block closes it; an exception stops it at once.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+from gesturecast.bridges.output_settings import Outputs
+from gesturecast.errors import UserError
+from gesturecast.frames import PoseFrame
+from gesturecast.models.audio.files import SAMPLE_RATE
+from gesturecast.realtime.audio.pcm import AudioConverter
+from gesturecast.realtime.audio.sources import AudioChunk, SourceStats
+from gesturecast.realtime.run.engine import EngineReport, FrameRelease, make_report, warm_up
+from gesturecast.realtime.run.engine_setup import build_outputs, build_session
+from gesturecast.realtime.timing.clock import Clock, MonotonicClock
+from gesturecast.realtime.timing.scheduler import SchedulerConfig
+from gesturecast.settings import Settings, with_overrides
+
+FrameCallback = Callable[[PoseFrame], None]
+
+
+class AudioTimeline:
+    """Stream sample indices and capture times of audio that is played back to back."""
+
+    def __init__(self) -> None:
+        self.samples = 0
+        self._end_time = float("-inf")
+
+    def chunk(self, samples: np.ndarray, now: float) -> AudioChunk:
+        """The chunk of (n,) samples arriving at ``now``: it starts now, or where the previous one ends."""
+        start_time = max(now, self._end_time)
+        chunk = AudioChunk(samples, self.samples, start_time)
+        self.samples += samples.shape[0]
+        self._end_time = start_time + samples.shape[0] / SAMPLE_RATE
+        return chunk
+
+
+class Stream:
+    """One live stream driven by pushed audio (see the module docstring).
+
+    settings: how to generate (default ``Settings()``); keyword ``overrides`` change single fields
+        (``Stream(style="happy")``).
+    outputs: where frames go besides the caller (VMC, OSC, WebSocket viewer, BVH); default none.
+    on_frame: called with each frame at its presentation time (from the release thread).
+    paced: release at capture time + L (True) or as soon as generated (False: frames are stamped in stream
+        time, as ``generate`` does).
+    warm: run every stage once on throwaway audio first, so the first frames are on time.
+    """
+
+    def __init__(self, settings: Settings | None = None, outputs: Outputs | None = None, *,
+                 on_frame: FrameCallback | None = None, clock: Clock | None = None, paced: bool = True,
+                 warm: bool = True, **overrides) -> None:
+        self.settings = with_overrides(settings, overrides)
+        self.outputs = outputs or Outputs()
+        self.clock = clock or MonotonicClock()
+        self.paced = paced
+        self.session = build_session(self.settings, self.clock)
+        self.bridges = build_outputs(self.outputs, self.settings, self.session, self.clock)
+        self._on_frame = on_frame
+        self._release = FrameRelease(self.session, self._send, self.clock,
+                                     SchedulerConfig(output_fps=float(self.settings.fps), paced=paced))
+        self._converter = AudioConverter()
+        self._timeline = AudioTimeline()
+        self._closed = False
+        self.warm_up_s = warm_up(self.session, self.clock) if warm else 0.0
+        self._release.start()
+
+    @property
+    def latency_ms(self) -> float:
+        """L: a frame answering audio heard at time t is presented at t + L (delay your audio by this much)."""
+        return self.session.budget.total_ms
+
+    @property
+    def viseme_names(self) -> tuple[str, ...]:
+        """Names of ``PoseFrame.visemes`` (VRM 0.x or 1.0 presets), () with lip sync off."""
+        return self.session.viseme_names
+
+    @property
+    def audio_seconds(self) -> float:
+        """Seconds of audio pushed so far."""
+        return self._timeline.samples / SAMPLE_RATE
+
+    def push(self, samples: np.ndarray, sample_rate: int = SAMPLE_RATE) -> list[PoseFrame]:
+        """Feed one block: (n,) or (n, channels), float in [-1, 1] or int16, at ``sample_rate`` Hz; returns the
+        pose frames it completed (often none: one latent of d frames at a time)."""
+        self._check_open()
+        return self._generate(self._converter.convert_samples(samples, sample_rate))
+
+    def control(self, control: dict | None = None, **changes) -> None:
+        """Change style, prompt, style2, part_styles, gamma, guidance, audio_guidance or root, blended in from the
+        next latent; a style the model does not know is a one-line UserError here (thread-safe)."""
+        self.session.controls.submit({**(control or {}), **changes})
+
+    def close(self) -> list[PoseFrame]:
+        """End the stream: the last poses (look-ahead padded with silence), each released on time, then the
+        outputs closed; returns the frames generated by the close. A second call returns []."""
+        if self._closed:
+            return []
+        try:
+            frames = self._generate(self._converter.flush())
+            frames += self._submit(self.session.finish())
+            self._release.drain()
+        finally:
+            self._shut()
+        return frames
+
+    def stop(self) -> None:
+        """End now: frames not yet due are dropped, the outputs closed."""
+        if not self._closed:
+            self._shut()
+
+    def report(self) -> EngineReport:
+        """What the stream measured so far (stage timings, rtf, scheduler counters, outputs)."""
+        audio = SourceStats(samples=self._timeline.samples)
+        report = make_report(self.session, audio, self._release.scheduler.stats.to_dict(), warm_up_s=self.warm_up_s)
+        report.outputs = self.bridges.counters()
+        return report
+
+    def _generate(self, samples: np.ndarray) -> list[PoseFrame]:
+        if not samples.shape[0]:
+            return []
+        now = self.clock.now() if self.paced else self._timeline.samples / SAMPLE_RATE
+        return self._submit(self.session.push(self._timeline.chunk(samples, now)))
+
+    def _submit(self, frames: list[PoseFrame]) -> list[PoseFrame]:
+        self._release.submit(frames)
+        return frames
+
+    def _send(self, frame: PoseFrame) -> None:
+        self.bridges.send(frame)
+        if self._on_frame is not None:
+            self._on_frame(frame)
+
+    def _check_open(self) -> None:
+        if self._closed:
+            raise UserError("this stream is closed; start a new gesturecast.Stream")
+
+    def _shut(self) -> None:
+        self._closed = True
+        try:
+            self._release.stop()
+        finally:
+            self.bridges.close()
+        if self.bridges.close_errors:
+            raise UserError("; ".join(self.bridges.close_errors))
+
+    def __enter__(self) -> Stream:
+        return self
+
+    def __exit__(self, error_type: type | None, *exc_info: object) -> None:
+        if error_type is None:
+            self.close()
+        else:
+            self.stop()
+

@@ -1,0 +1,145 @@
+"""Per-body-part style prompts (GestureDiffuCLIP §6.3) on the tiny model: rows, fusion by masks, blending."""
+
+import numpy as np
+import pytest
+
+from gesturecast.errors import UserError
+from gesturecast.models.generator.diffusion import SamplerConfig
+from gesturecast.models.generator.style_prompt import StylePrompt, parse_part_styles
+from gesturecast.models.runtime.bundle import ModelBundle
+from gesturecast.realtime.generation.generator import Generator, GeneratorSettings
+from gesturecast.realtime.generation.style_mixture import (
+    align_mixtures,
+    combine_rows,
+    drop_unused_rows,
+    part_mixture,
+    row_layout,
+    smooth_seams,
+)
+from gesturecast.realtime.pose.session_controls import SessionControls
+
+STEPS = 4
+NEUTRAL = StylePrompt("label", "neutral")
+HAPPY = StylePrompt("label", "happy")
+OLD = StylePrompt("label", "old")
+CHANNELS = {"arms": slice(0, 2), "torso": slice(2, 3), "legs": slice(3, 5)}
+
+
+@pytest.fixture(scope="module")
+def bundle(tiny_model):
+    return ModelBundle.load(tiny_model[1])
+
+
+@pytest.fixture(scope="module")
+def audio(bundle):
+    rng = np.random.default_rng(11)
+    return rng.standard_normal((STEPS, bundle.audio_window, bundle.denoiser_config.audio_dim)).astype(np.float32)
+
+
+def latents(generator: Generator, audio: np.ndarray) -> np.ndarray:
+    return np.stack([generator.denoise(window, True) for window in audio])  # (STEPS, C)
+
+
+def make(bundle, **settings) -> Generator:
+    return Generator(bundle, GeneratorSettings(guidance=1.5, **settings))
+
+
+def test_part_styles_parse_from_the_command_line_and_from_json():
+    assert parse_part_styles(["arms=happy", "legs=text:tired and slow"]) == (
+        ("arms", HAPPY), ("legs", StylePrompt("text", "tired and slow")))
+    assert parse_part_styles({"torso": "old"}) == (("torso", OLD),)
+    with pytest.raises(UserError, match="PART=STYLE"):
+        parse_part_styles(["happy"])
+    with pytest.raises(UserError, match="two styles"):
+        parse_part_styles(["arms=happy", "arms=old"])
+
+
+def test_mixture_weights_are_the_parts_channel_masks():
+    prompts, weights = part_mixture(NEUTRAL, {"arms": HAPPY, "legs": OLD}, CHANNELS, 5)
+    assert prompts == [NEUTRAL, HAPPY, OLD]
+    np.testing.assert_array_equal(weights, [[0, 0, 1, 0, 0], [1, 1, 0, 0, 0], [0, 0, 0, 1, 1]])
+    np.testing.assert_array_equal(weights.sum(axis=0), np.ones(5))  # every channel from exactly one prompt
+    same, one_row = part_mixture(HAPPY, {"arms": HAPPY}, CHANNELS, 5)
+    assert same == [HAPPY] and one_row.shape == (1, 5)  # a part with the base style costs no row
+    with pytest.raises(UserError, match="unknown body part 'tail'"):
+        part_mixture(NEUTRAL, {"tail": HAPPY}, CHANNELS, 5)
+
+
+def test_fusion_takes_each_part_from_its_own_prompt_and_commutes_with_guidance():
+    rng = np.random.default_rng(0)
+    styles = rng.standard_normal((2, 4)).astype(np.float32)
+    prompts, weights = part_mixture(NEUTRAL, {"arms": HAPPY}, CHANNELS, 5)
+    layout = row_layout(styles, None, 1.0, guidance=2.0)
+    assert layout.batch == 3 and layout.mixture_rows == 2  # neutral, happy, null
+    x0_rows = rng.standard_normal((3, 5))
+    fused = combine_rows(x0_rows, layout, 1.0, 2.0, weights=weights)
+    for row, channels in ((1, CHANNELS["arms"]), (0, slice(2, 5))):  # each part is its prompt's guided prediction
+        guided = x0_rows[2] + 2.0 * (x0_rows[row] - x0_rows[2])
+        np.testing.assert_allclose(fused[channels], guided[channels])
+
+
+def test_mixtures_align_for_a_ramp_and_unused_prompts_drop():
+    old = part_mixture(NEUTRAL, {"arms": HAPPY}, CHANNELS, 5)
+    new = part_mixture(NEUTRAL, {"legs": OLD}, CHANNELS, 5)
+    union, start, target = align_mixtures(*old, *new)
+    assert union == [NEUTRAL, HAPPY, OLD]
+    np.testing.assert_array_equal(start.sum(axis=0), np.ones(5))
+    np.testing.assert_array_equal(target.sum(axis=0), np.ones(5))
+    halfway = 0.5 * (start + target)  # a ramp's midpoint is still a partition of every channel
+    np.testing.assert_allclose(halfway.sum(axis=0), np.ones(5))
+    prompts, weights = drop_unused_rows(union, target, NEUTRAL)
+    assert prompts == [NEUTRAL, OLD] and weights.shape == (2, 5)
+
+
+def test_smoothness_term_is_a_step_toward_the_linear_continuation_of_the_history():
+    history = [np.zeros(3), np.ones(3)]
+    x0 = np.full(3, 5.0)  # the continuation would be 2
+    np.testing.assert_allclose(smooth_seams(x0, history, 0.25), 5.0 - 0.25 * 3.0)
+    np.testing.assert_array_equal(smooth_seams(x0, history[:1], 0.25), x0)  # needs two committed latents
+
+
+def test_part_styles_add_one_row_per_other_prompt_and_keep_single_style_output(bundle, audio):
+    single = make(bundle, style=HAPPY)
+    same_prompt_everywhere = make(bundle, style=HAPPY, part_styles=(("arms", HAPPY), ("legs", HAPPY)))
+    assert same_prompt_everywhere.layout.batch == single.layout.batch == 2  # style + null
+    np.testing.assert_array_equal(latents(single, audio), latents(same_prompt_everywhere, audio))
+    two = make(bundle, style=OLD, part_styles=(("arms", HAPPY),))
+    assert two.layout.batch == 3
+    result = latents(two, audio)
+    assert np.isfinite(result).all()
+    assert np.abs(result - latents(make(bundle, style=OLD), audio)).max() > 1e-3
+
+
+def test_each_part_follows_its_prompt_on_the_first_latent(bundle, audio):
+    """With one sampling step and no history yet (no smoothness term), a part's channels equal those of a run
+    with its prompt alone: E = Σ_o E_o · M_o."""
+    channels = bundle.part_channels
+    one_step = SamplerConfig("ddim", 1)
+    mixed = make(bundle, style=OLD, part_styles=(("arms", HAPPY),), seed=2, sampler=one_step).denoise(audio[0], True)
+    happy = make(bundle, style=HAPPY, seed=2, sampler=one_step).denoise(audio[0], True)
+    old = make(bundle, style=OLD, seed=2, sampler=one_step).denoise(audio[0], True)
+    np.testing.assert_allclose(mixed[channels["arms"]], happy[channels["arms"]], atol=1e-5)
+    for part in ("torso", "legs"):
+        np.testing.assert_allclose(mixed[channels[part]], old[channels[part]], atol=1e-5)
+
+
+def test_a_live_part_style_change_blends_in_and_then_drops_the_old_prompt(bundle, audio):
+    generator = make(bundle, style=NEUTRAL)
+    controls = SessionControls(generator, root=None, fade_s=0.5)
+    controls.submit({"part_styles": {"arms": "happy"}})
+    weights_over_time = []
+    for step, t in enumerate(np.linspace(0.0, 0.75, 7)):
+        controls.advance(float(t))
+        generator.denoise(audio[step % STEPS], True)
+        prompts, weights = generator.mixture
+        weights_over_time.append(weights[prompts.index(HAPPY), bundle.part_channels["arms"]].mean())
+    assert weights_over_time[0] == 0.0 and weights_over_time[-1] == 1.0
+    assert all(b >= a for a, b in zip(weights_over_time, weights_over_time[1:], strict=False))  # no jump back
+    assert 0.0 < weights_over_time[3] < 1.0  # halfway through the fade both prompts share the arms
+    assert generator.mixture[0] == [NEUTRAL, HAPPY]
+    controls.submit({"part_styles": {}})
+    controls.advance(1.0)
+    controls.advance(2.0)
+    assert generator.mixture[0] == [NEUTRAL] and generator.settings.part_styles == ()
+    with pytest.raises(UserError, match="unknown body part"):
+        controls.submit({"part_styles": {"tail": "happy"}})

@@ -1,0 +1,64 @@
+"""Flags → Settings and Outputs → bridges: the VMC role picks the default port, the bones and whether the root is
+sent; the latency setting is resolved once, into the budget both the generator and the session use."""
+
+import argparse
+
+import pytest
+
+from gesturecast.bridges.vmc_roles import HEAD_AND_LEGS
+from gesturecast.errors import UserError
+from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
+from gesturecast.realtime.cli_flags import (
+    add_generation_arguments,
+    add_output_arguments,
+    outputs_from_args,
+    settings_from_args,
+)
+from gesturecast.realtime.run.engine_setup import build_session, vmc_config
+from gesturecast.realtime.timing.clock import MonotonicClock
+from gesturecast.settings import LATENCY_SETTINGS, Settings
+
+
+def vmc(*flags: str):
+    parser = argparse.ArgumentParser()
+    add_generation_arguments(parser)
+    add_output_arguments(parser)
+    args = parser.parse_args(list(flags))
+    return vmc_config(outputs_from_args(args), settings_from_args(args))
+
+
+def test_marionette_is_the_default_on_39539_with_every_bone_and_vrm0_visemes():
+    config = vmc("--vmc", "127.0.0.1")
+    assert (config.host, config.port, config.assistant) == ("127.0.0.1", 39539, False)
+    assert config.bones == CANONICAL_WITH_HANDS.names and config.viseme_names == ("A", "I", "U", "E", "O")
+
+
+def test_assistant_defaults_to_39540_and_the_upper_body():
+    config = vmc("--vmc", "10.0.0.2", "--vmc-role", "assistant", "--lipsync", "vrm1")
+    assert (config.host, config.port, config.assistant) == ("10.0.0.2", 39540, True)
+    assert config.bones and not set(config.bones) & set(HEAD_AND_LEGS)
+    assert config.viseme_names == ("aa", "ih", "ou", "ee", "oh")
+
+
+def test_explicit_port_bones_and_lipsync_off():
+    config = vmc("--vmc", "host:40000", "--vmc-role", "assistant", "--vmc-bones", "none", "--lipsync", "off")
+    assert (config.port, config.bones, config.viseme_names) == (40000, (), ())
+
+
+def test_unknown_bone_is_a_user_error():
+    with pytest.raises(UserError, match="Wing"):
+        vmc("--vmc", "127.0.0.1", "--vmc-bones", "Spine,Wing")
+
+
+@pytest.mark.parametrize("setting", list(LATENCY_SETTINGS))
+def test_one_latency_value_reaches_the_generator_and_the_session(setting):
+    session = build_session(Settings(latency=setting, smoothing=2), MonotonicClock())
+    budget = session.budget
+    expected = LATENCY_SETTINGS[setting].lookahead_for(session.bundle.audio_lookahead)
+    assert budget.lookahead_frames == expected == session.generator.settings.lookahead == session.generator.lookahead
+    assert budget.compute_margin_ms == LATENCY_SETTINGS[setting].compute_margin_ms and budget.smoothing_frames == 2
+
+
+def test_lookahead_and_margin_override_the_setting():
+    budget = build_session(Settings(latency="low", lookahead=3, margin_ms=50.0), MonotonicClock()).budget
+    assert (budget.lookahead_frames, budget.compute_margin_ms) == (3, 50.0)

@@ -1,0 +1,154 @@
+"""The library: ``gesturecast.generate``, ``Motion``, ``Stream``, ``Settings``, ``Outputs`` (docs/python-api.md).
+
+Parity is exact: the library, the command line and the streaming path run one session, so the same audio,
+settings and seed give the same bits whichever door they come through and however the audio is cut.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+import soundfile
+
+import gesturecast
+from gesturecast.errors import UserError
+from gesturecast.models.audio.files import PACKAGED_SAMPLE, SAMPLE_RATE, load_audio
+from gesturecast.models.motion.bvh import read_bvh
+
+SECONDS = 4
+
+
+@pytest.fixture(scope="module")
+def speech() -> np.ndarray:
+    """(n,) float32: 4 s of the bundled sample at 16 kHz."""
+    return load_audio(PACKAGED_SAMPLE)[: SECONDS * SAMPLE_RATE]
+
+
+@pytest.fixture(scope="module")
+def speech_file(tmp_path_factory, speech) -> Path:
+    path = tmp_path_factory.mktemp("api") / "talk.wav"
+    soundfile.write(path, speech, SAMPLE_RATE, subtype="FLOAT")
+    return path
+
+
+@pytest.fixture(scope="module")
+def motion(speech_file) -> gesturecast.Motion:
+    return gesturecast.generate(speech_file, style="happy")
+
+
+def test_generate_gives_a_motion_of_the_canonical_skeleton(motion):
+    frames = SECONDS * 30
+    assert motion.rotations.shape == (frames, len(motion.bone_names), 4)
+    assert motion.root_positions.shape == (frames, 3)
+    assert motion.bone_names[:2] == ("Hips", "Spine") and motion.fps == 30.0
+    assert motion.visemes.shape == (frames, 5) and motion.viseme_names == ("A", "I", "U", "E", "O")
+    assert np.allclose(np.linalg.norm(motion.rotations, axis=-1), 1.0, atol=1e-5)
+    assert motion.speaking.any() and all(frame.style == "happy" for frame in motion.frames)
+
+
+def test_an_array_gives_the_same_bits_as_its_file(motion, speech):
+    from_array = gesturecast.generate(speech, SAMPLE_RATE, style="happy")
+    assert np.array_equal(from_array.rotations, motion.rotations)
+    assert np.array_equal(from_array.root_positions, motion.root_positions)
+
+
+def test_stereo_int16_at_48k_is_converted(speech):
+    import soxr
+
+    stereo = np.stack([speech, speech], axis=1)  # (n, 2)
+    at_48k = (soxr.resample(stereo, SAMPLE_RATE, 48000) * 32767).astype(np.int16)  # (3n, 2)
+    motion = gesturecast.generate(at_48k, 48000, lipsync="off")
+    assert motion.num_frames == SECONDS * 30 and motion.visemes is None
+
+
+def test_the_library_writes_what_the_command_line_writes(motion, speech_file, tmp_path):
+    motion.save(tmp_path / "api.bvh")
+    subprocess.run([sys.executable, "-m", "gesturecast.cli", "generate", str(speech_file), "--style", "happy",
+                    "-o", str(tmp_path / "cli.bvh")], check=True, capture_output=True)
+    assert (tmp_path / "api.bvh").read_bytes() == (tmp_path / "cli.bvh").read_bytes()
+
+
+def test_save_writes_bvh_vrma_and_json_and_refuses_other_suffixes(motion, tmp_path):
+    bvh = read_bvh(motion.save(tmp_path / "m.bvh"))
+    assert bvh.num_frames == motion.num_frames
+    assert (tmp_path / "m.vrma").exists() is False and motion.save(tmp_path / "m.vrma").read_bytes()[:4] == b"glTF"
+    document = json.loads(motion.save(tmp_path / "m.json").read_text())
+    assert len(document["frames"]) == motion.num_frames and document["visemes"] == list(motion.viseme_names)
+    with pytest.raises(UserError, match=r"\.glb"):
+        motion.save(tmp_path / "m.glb")
+    assert not (tmp_path / "m.glb").exists()
+
+
+@pytest.mark.parametrize("block", [160, 512, 4801])
+def test_a_stream_gives_the_bits_of_generate_whatever_the_block_size(motion, speech, block):
+    received = []
+    with gesturecast.Stream(style="happy", paced=False, warm=False, on_frame=received.append) as stream:
+        pushed = [frame for start in range(0, speech.shape[0], block)
+                  for frame in stream.push(speech[start : start + block], SAMPLE_RATE)]
+    pushed += stream.close()  # the with block closed it: nothing more
+    assert len(pushed) < motion.num_frames  # the look-ahead's last frames come from the close
+    assert [frame.seq for frame in received] == list(range(motion.num_frames))
+    assert np.array_equal(np.stack([frame.rotations for frame in received]), motion.rotations)
+
+
+def test_a_stream_takes_controls_and_refuses_what_the_model_lacks(speech):
+    with gesturecast.Stream(paced=False, warm=False) as stream:
+        stream.push(speech[: SAMPLE_RATE], SAMPLE_RATE)
+        stream.control(style="old")
+        frames = stream.push(speech[SAMPLE_RATE:], SAMPLE_RATE)
+        with pytest.raises(UserError, match="hapy"):
+            stream.control(style="hapy")
+    assert frames[-1].style == "old"
+    with pytest.raises(UserError, match="closed"):
+        stream.push(speech, SAMPLE_RATE)
+
+
+def test_a_stream_records_bvh_through_its_outputs(speech, tmp_path):
+    outputs = gesturecast.Outputs(bvh=tmp_path / "take.bvh")
+    with gesturecast.Stream(gesturecast.Settings(seed=3), outputs, paced=False, warm=False) as stream:
+        stream.push(speech, SAMPLE_RATE)
+    assert read_bvh(tmp_path / "take.bvh").num_frames == SECONDS * 30
+    assert stream.report().audio_seconds == pytest.approx(SECONDS)
+
+
+def test_settings_are_frozen_and_checked_once_with_the_flags_words():
+    settings = gesturecast.Settings(style="old", latency="low", part_styles={"arms": "happy"})
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        settings.steps = 9
+    assert settings.part_styles == gesturecast.Settings(part_styles=["arms=happy"]).part_styles
+    assert settings.replace(seed=4).seed == 4 and settings.seed == 0
+    for bad, words in [({"steps": 0}, "steps must be an integer from 1 to 1000, got 0"),
+                       ({"guidance": float("nan")}, "guidance must be a finite number"),
+                       ({"smoothing": 1000}, "smoothing must be an integer from 0 to 15"),
+                       ({"latency": "fast"}, "latency must be one of low, balanced, quality"),
+                       ({"stpes": 3}, "unknown setting(s) stpes"),
+                       ({"part_styles": "arms=happy"}, "part_styles wants PART=STYLE items")]:
+        with pytest.raises(UserError, match=words.replace("(", r"\(").replace(")", r"\)")):
+            gesturecast.Settings().replace(**bad)
+
+
+def test_a_flag_and_its_setting_refuse_a_value_in_the_same_words(speech_file, tmp_path):
+    result = subprocess.run([sys.executable, "-m", "gesturecast.cli", "generate", str(speech_file), "--steps", "0",
+                             "-o", str(tmp_path / "x.bvh")], capture_output=True, text=True)
+    assert result.returncode == 2
+    assert "--steps: must be an integer from 1 to 1000, got '0'" in result.stderr
+
+
+def test_outputs_are_checked_when_made():
+    assert gesturecast.Outputs(vmc="10.0.0.2", vmc_role="assistant").vmc_address() == ("10.0.0.2", 39540)
+    with pytest.raises(UserError, match="vmc wants HOST:PORT"):
+        gesturecast.Outputs(vmc="host:99999")
+    with pytest.raises(UserError, match="goes with a WebSocket port"):
+        gesturecast.Outputs(avatar=Path("a.vrm"))
+
+
+def test_import_gesturecast_loads_no_model_runtime():
+    code = "import sys, gesturecast; print('onnxruntime' in sys.modules, 'gesturecast.realtime' in sys.modules)"
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert result.stdout.split() == ["False", "False"]
