@@ -12,13 +12,14 @@ Address scheme (all arguments float32 ``f`` or int32 ``i``), per frame, in this 
 
 The coordinate frame is ``unity``, ``unreal`` (Z-up, centimetres) or ``internal``
 (right-handed Y-up, metres); see :mod:`gesturecast.bridges.coords`. Messages go out grouped in
-bundles of at most 1500 bytes, or one datagram per message with ``bundled=False`` for
+bundles that cross a 1500-byte Ethernet MTU unfragmented (at most 1472 bytes of UDP payload to an IPv4
+receiver, 1452 to an IPv6 one), or one datagram per message with ``bundled=False`` for
 receivers that do not unpack bundles.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -40,7 +41,7 @@ class OscConfig:
     send_rate: float = 30.0
     coordinate_frame: str = "unity"
     bundled: bool = True
-    max_bundle_size: int = MAX_DATAGRAM_SIZE
+    max_bundle_size: int | None = None  # None: by the target's address family (1472 IPv4, 1452 IPv6)
     viseme_names: tuple[str, ...] = ()  # VISEME_NAMES[mode], or () to send no visemes
 
 
@@ -54,7 +55,7 @@ class OscEncoder:
     def __init__(self, config: OscConfig = OscConfig(), skeleton: Skeleton = CANONICAL_WITH_HANDS) -> None:
         self.frame = coordinate_frame(config.coordinate_frame)
         self.bundled = config.bundled
-        self.max_bundle_size = config.max_bundle_size
+        self.max_bundle_size = config.max_bundle_size or MAX_DATAGRAM_SIZE  # OscBridge sets it by address family
         self._frame_number = MessageLayout(f"{ADDRESS_PREFIX}/frame", (), "if")
         self._root = MessageLayout(f"{ADDRESS_PREFIX}/root", (), "fff")
         self._bones = [MessageLayout(bone_address(name), (), "ffff") for name in skeleton.names]
@@ -79,9 +80,10 @@ class OscBridge:
 
     def __init__(self, config: OscConfig = OscConfig(), skeleton: Skeleton = CANONICAL_WITH_HANDS) -> None:
         self.config = config
-        self.encoder = OscEncoder(config, skeleton)
         self.limiter = RateLimiter(config.send_rate)
         self.sender = UdpSender(UdpTarget(config.host, config.port), "OSC", NO_RECEIVER_HINT)
+        size = config.max_bundle_size or self.sender.max_datagram_size  # IPv6 headers are 20 bytes longer
+        self.encoder = OscEncoder(replace(config, max_bundle_size=size), skeleton)
         self._start_time: float | None = None  # capture time of the first frame sent
 
     def send(self, frame: PoseFrame) -> None:

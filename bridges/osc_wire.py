@@ -18,7 +18,11 @@ BUNDLE_TAG = b"#bundle\x00"
 IMMEDIATE_TIMETAG = struct.pack(">Q", 1)
 BUNDLE_HEADER_SIZE = len(BUNDLE_TAG) + len(IMMEDIATE_TIMETAG)  # 16
 ELEMENT_SIZE_PREFIX = 4
-MAX_DATAGRAM_SIZE = 1500
+# UDP payload that crosses a 1500-byte Ethernet MTU unfragmented: 1500 − 20 (IPv4 header) − 8 (UDP header),
+# and 1500 − 40 (IPv6 header) − 8 over IPv6 (docs/architecture.md, "VMC protocol essentials")
+IPV4_MAX_DATAGRAM_SIZE = 1472
+IPV6_MAX_DATAGRAM_SIZE = 1452
+MAX_DATAGRAM_SIZE = IPV4_MAX_DATAGRAM_SIZE  # an encoder's default when it does not know the destination
 NUMERIC_TAGS = frozenset("fi")
 
 

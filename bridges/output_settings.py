@@ -19,10 +19,13 @@ VMC_ROLES = (MARIONETTE, ASSISTANT)
 
 
 def parse_host_port(value: str, name: str) -> tuple[str, int]:
-    """``HOST:PORT`` → (host, port); an empty host is loopback; a one-line error naming ``name`` otherwise."""
+    """``HOST:PORT`` → (host, port); an empty host is loopback; an IPv6 host may be bracketed (``[::1]:39539``,
+    or ``::1:39539``); a one-line error naming ``name`` otherwise."""
     host, separator, port = str(value).rpartition(":")
     if not separator or not port.isdigit() or not 0 < int(port) <= MAX_PORT:
         raise UserError(f"{name} wants HOST:PORT (e.g. 127.0.0.1:39539), got {value!r}")
+    if host.startswith("[") and host.endswith("]"):
+        host = host[1:-1]
     return host or LOOPBACK, int(port)
 
 
@@ -82,8 +85,10 @@ class Outputs:
         return self.vmc_role == ASSISTANT
 
     def vmc_address(self) -> tuple[str, int]:
-        """(host, port) of ``vmc``, with the role's customary port when none is given."""
-        value = self.vmc if ":" in self.vmc else f"{self.vmc}:{DEFAULT_PORTS[self.vmc_role]}"
+        """(host, port) of ``vmc``, with the role's customary port when none is given (an IPv6 host in brackets:
+        ``[::1]`` or ``[::1]:39539``)."""
+        has_port = "]:" in self.vmc if self.vmc.startswith("[") else ":" in self.vmc
+        value = self.vmc if has_port else f"{self.vmc}:{DEFAULT_PORTS[self.vmc_role]}"
         return parse_host_port(value, "vmc")
 
     def vmc_bone_spec(self) -> str:

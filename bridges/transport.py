@@ -9,6 +9,7 @@ import socket
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+from gesturecast.bridges.osc_wire import IPV4_MAX_DATAGRAM_SIZE, IPV6_MAX_DATAGRAM_SIZE
 from gesturecast.errors import UserError
 
 logger = logging.getLogger(__name__)
@@ -58,10 +59,17 @@ class UdpTarget:
     port: int = 39539
 
 
+def max_datagram_size(family: int) -> int:
+    """The largest UDP payload that crosses a 1500-byte Ethernet MTU unfragmented to an address of ``family``:
+    1472 bytes over IPv4, 1452 over IPv6 (its header is 20 bytes longer)."""
+    return IPV6_MAX_DATAGRAM_SIZE if family == socket.AF_INET6 else IPV4_MAX_DATAGRAM_SIZE
+
+
 class UdpSender:
     """A UDP socket connected to one target. Connected, so ICMP "port unreachable" surfaces as
     ConnectionRefusedError on a later send: that is logged once ("nobody is listening", with ``hint``) and
-    counted in :attr:`refused`; any other send error is throttled-logged and counted. Nothing is raised."""
+    counted in :attr:`refused`; any other send error is throttled-logged and counted. Nothing is raised.
+    :attr:`max_datagram_size` is the unfragmented payload limit for the resolved target's address family."""
 
     def __init__(self, target: UdpTarget, label: str, hint: str = "") -> None:
         try:
@@ -70,6 +78,7 @@ class UdpSender:
             where = f"{target.host}:{target.port}"
             raise UserError(f"{label}: cannot resolve {where} ({error}); check --host/--port") from None
         self._socket = socket.socket(family, kind, proto)
+        self.max_datagram_size = max_datagram_size(family)
         self._socket.setblocking(False)
         self._socket.connect(address)
         self.errors = ErrorThrottle(f"{label} send to {target.host}:{target.port} failed")

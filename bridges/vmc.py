@@ -15,12 +15,14 @@ Per frame, in this order (docs/architecture.md, "VMC protocol essentials"):
 In the Assistant role (:mod:`gesturecast.bridges.vmc_roles`) the root, OK and T messages are left out and only
 the selected bones are sent.
 
-Messages are grouped into bundles of at most 1500 bytes; only ``s``, ``f`` and ``i`` are sent.
+Messages are grouped into bundles that cross a 1500-byte Ethernet MTU unfragmented: at most 1472 bytes of
+UDP payload to an IPv4 receiver, 1452 to an IPv6 one (chosen by the resolved address family of the target);
+only ``s``, ``f`` and ``i`` are sent.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -43,14 +45,15 @@ class VmcConfig:
     host: str = "127.0.0.1"
     port: int = VMC_DEFAULT_PORT
     send_rate: float = 30.0
-    max_bundle_size: int = MAX_DATAGRAM_SIZE
+    max_bundle_size: int | None = None  # None: by the target's address family (1472 IPv4, 1452 IPv6)
     viseme_names: tuple[str, ...] = ()  # VISEME_NAMES[mode], or () to send no blend shapes
     bones: tuple[str, ...] | None = None  # bones to send (None: all of the skeleton)
     assistant: bool = False  # Assistant role: no root, OK or T messages
 
 
 class VmcEncoder:
-    """Pure encoder: PoseFrame → OSC bundles (bytes), each at most ``max_bundle_size``."""
+    """Pure encoder: PoseFrame → OSC bundles (bytes), each at most ``max_bundle_size`` (None: the IPv4 limit,
+    1472 bytes; :class:`VmcBridge` sets it from the target's address family)."""
 
     def __init__(self, skeleton: Skeleton = CANONICAL_WITH_HANDS, config: VmcConfig = VmcConfig()) -> None:
         self.skeleton = skeleton
@@ -65,6 +68,7 @@ class VmcEncoder:
         self._time = MessageLayout("/VMC/Ext/T", (), "f")
         self._rest_unity = UNITY.position(skeleton.offsets)[self._bone_index]  # (B, 3)
         self._hips_rest = skeleton.offsets[0]  # (3,) internal
+        self.max_bundle_size = config.max_bundle_size or MAX_DATAGRAM_SIZE
 
     def encode(self, frame: PoseFrame, stream_time: float) -> list[bytes]:
         """Bundles for one frame; ``stream_time`` (s) goes to ``/VMC/Ext/T``."""
@@ -74,7 +78,7 @@ class VmcEncoder:
         messages += self._blend_messages(frame)
         if not self.config.assistant:
             messages += [self._ok.encode(VMC_LOADED), self._time.encode(float(stream_time))]
-        return pack_bundles(messages, self.config.max_bundle_size)
+        return pack_bundles(messages, self.max_bundle_size)
 
     def _root_message(self, frame: PoseFrame) -> bytes:
         root_unity = UNITY.position(np.asarray(frame.root_position) - self._hips_rest)  # (3,)
@@ -94,9 +98,10 @@ class VmcBridge:
 
     def __init__(self, config: VmcConfig = VmcConfig(), skeleton: Skeleton = CANONICAL_WITH_HANDS) -> None:
         self.config = config
-        self.encoder = VmcEncoder(skeleton, config)
         self.limiter = RateLimiter(config.send_rate)
         self.sender = UdpSender(UdpTarget(config.host, config.port), "VMC", NO_RECEIVER_HINT)
+        size = config.max_bundle_size or self.sender.max_datagram_size  # IPv6 headers are 20 bytes longer
+        self.encoder = VmcEncoder(skeleton, replace(config, max_bundle_size=size))
         self._start_time: float | None = None
 
     def send(self, frame: PoseFrame) -> None:

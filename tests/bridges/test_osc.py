@@ -12,6 +12,8 @@ from gesturecast.frames import VISEME_NAMES, PoseFrame
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS as SKELETON  # what the session sends
 
 FLOAT32_TOLERANCE = 1e-4  # centimetre-scaled Unreal positions are ~100x larger
+IPV4_PAYLOAD_LIMIT = 1500 - 20 - 8  # an Ethernet MTU less the IPv4 and UDP headers
+IPV6_PAYLOAD_LIMIT = 1500 - 40 - 8
 
 
 def decode(datagrams: list[bytes]) -> dict[str, list]:
@@ -44,7 +46,7 @@ def test_bundled_and_unbundled_carry_the_same_messages():
     frame = moving_frame(3)
     bundled = OscEncoder(OscConfig(bundled=True)).encode(frame, 0.0)
     single = OscEncoder(OscConfig(bundled=False)).encode(frame, 0.0)
-    assert all(len(d) <= 1500 for d in bundled)
+    assert all(len(d) <= IPV4_PAYLOAD_LIMIT for d in bundled)
     assert len(single) == 2 + SKELETON.num_joints
     assert decode(bundled) == decode(single)
 
@@ -96,3 +98,18 @@ def test_visemes_go_out_under_their_names(mode):
     sent = {address.rsplit("/", 1)[1]: params for address, params in values.items() if "/viseme/" in address}
     assert sent == {name: [float(w)] for name, w in zip(VISEME_NAMES[mode], weights, strict=True)}
     assert not [a for a in decode(OscEncoder().encode(frame, 0.0)) if "/viseme/" in a]  # no names: no visemes
+
+
+@pytest.mark.parametrize(("host", "limit"), [("127.0.0.1", IPV4_PAYLOAD_LIMIT), ("::1", IPV6_PAYLOAD_LIMIT)])
+def test_bundles_cross_a_1500_mtu_unfragmented_by_address_family(host, limit):
+    """Frame, root, 52 bones and 5 visemes: every bundle within the target family's unfragmented payload
+    (the largest was 1492 bytes, fragmented on a LAN)."""
+    try:
+        bridge = OscBridge(OscConfig(host=host, port=9, viseme_names=VISEME_NAMES["vrm1"]))
+    except OSError:
+        pytest.skip(f"no {host} here")
+    frame = replace(moving_frame(3), visemes=np.ones(5, np.float32))
+    datagrams = bridge.encoder.encode(frame, 0.0)
+    bridge.close()
+    assert max(len(d) for d in datagrams) <= limit
+    assert len(decode(datagrams)) == 2 + SKELETON.num_joints + 5

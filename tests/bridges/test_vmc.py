@@ -13,14 +13,18 @@ from pythonosc.osc_server import BlockingOSCUDPServer
 
 from gesturecast.bridges.coords import UNITY
 from gesturecast.bridges.osc_wire import MAX_DATAGRAM_SIZE
+from gesturecast.bridges.output_settings import Outputs, parse_host_port
 from gesturecast.bridges.transport import LOG_EVERY_N_ERRORS
 from gesturecast.bridges.vmc import VmcBridge, VmcConfig, VmcEncoder
 from gesturecast.frames import VISEME_NAMES, PoseFrame
 from gesturecast.models.motion.rotations import quat_from_axis_angle
-from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
+from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS, Skeleton
 
 RECEIVE_TIMEOUT_S = 5.0
 FLOAT32_TOLERANCE = 1e-6
+ETHERNET_MTU = 1500
+IPV4_PAYLOAD_LIMIT = ETHERNET_MTU - 20 - 8  # 1472: IPv4 and UDP headers; more is fragmented on a LAN
+IPV6_PAYLOAD_LIMIT = ETHERNET_MTU - 40 - 8  # 1452
 
 
 def rest_frame(rotations=None, root=None) -> PoseFrame:
@@ -75,7 +79,7 @@ def test_bone_message_bytes(bone, axis_angle, unity_q):
 
 def test_frame_layout_order_types_and_sizes():
     bundles = VmcEncoder().encode(moving_frame(5), stream_time=2.5)
-    assert all(len(b) <= 1500 for b in bundles)
+    assert all(len(b) <= IPV4_PAYLOAD_LIMIT for b in bundles)
     messages = parse(bundles)
     addresses = [a for a, _ in messages]
     bones = ["/VMC/Ext/Bone/Pos"] * CANONICAL_WITH_HANDS.num_joints
@@ -228,3 +232,71 @@ def test_assistant_with_no_bones_sends_visemes_only():
     config = VmcConfig(viseme_names=VISEME_NAMES["vrm0"], bones=(), assistant=True)
     addresses = {a for a, _ in parse(VmcEncoder(config=config).encode(speaking_frame(), 0.0))}
     assert addresses == {"/VMC/Ext/Blend/Val", "/VMC/Ext/Blend/Apply"}
+
+
+def full_frame(seq: int = 5) -> PoseFrame:
+    """Every bone moving, the root displaced, every viseme at full weight."""
+    return replace(moving_frame(seq), visemes=np.ones(5, np.float32))
+
+
+def long_named(extra: int) -> Skeleton:
+    """The 52-bone skeleton with ``extra`` characters added to every bone name (each OSC string padding)."""
+    names = tuple(name + "X" * extra for name in CANONICAL_WITH_HANDS.names)
+    return Skeleton(names, CANONICAL_WITH_HANDS.parents, CANONICAL_WITH_HANDS.offsets)
+
+
+@pytest.mark.parametrize("extra", range(8))
+@pytest.mark.parametrize("mode", sorted(VISEME_NAMES))
+def test_every_datagram_of_a_full_frame_crosses_a_1500_mtu_unfragmented(mode, extra):
+    """Root, 52 bones, 5 blend shapes + Apply, OK and T: no bundle over 1472 bytes (it was 1500: 1528 on the wire)."""
+    skeleton = long_named(extra)
+    bundles = VmcEncoder(skeleton, VmcConfig(viseme_names=VISEME_NAMES[mode])).encode(full_frame(), 1.0)
+    assert max(len(b) for b in bundles) <= IPV4_PAYLOAD_LIMIT
+    addresses = [address for address, _ in parse(bundles)]
+    assert addresses.count("/VMC/Ext/Bone/Pos") == 52 and addresses[-2:] == ["/VMC/Ext/OK", "/VMC/Ext/T"]
+    assert addresses.count("/VMC/Ext/Blend/Val") == 5
+
+
+def received_sizes(family: int, host: str, config: VmcConfig) -> tuple[list[int], int]:
+    """Sizes of the datagrams one full frame puts on a real UDP socket of ``family`` at ``host``, and how many
+    the bridge sent."""
+    with socket.socket(family, socket.SOCK_DGRAM) as receiver:
+        receiver.bind((host, 0))
+        receiver.settimeout(RECEIVE_TIMEOUT_S)
+        address = f"[{host}]" if family == socket.AF_INET6 else host  # as given to --vmc HOST:PORT
+        target, port = parse_host_port(f"{address}:{receiver.getsockname()[1]}", "--vmc")
+        bridge = VmcBridge(replace(config, host=target, port=port))
+        bridge.send(full_frame())
+        bridge.close()
+        return [len(receiver.recv(65536)) for _ in range(bridge.sender.sent_datagrams)], bridge.sender.sent_datagrams
+
+
+def ipv6_loopback() -> bool:
+    try:
+        with socket.socket(socket.AF_INET6, socket.SOCK_DGRAM) as probe:
+            probe.bind(("::1", 0))
+    except OSError:
+        return False
+    return True
+
+
+@pytest.mark.parametrize("assistant", [False, True])
+def test_an_ipv6_receiver_gets_datagrams_of_at_most_1452_bytes(assistant):
+    """The limit follows the target's address family: 20 bytes less over IPv6 ([::1]:PORT), 1472 over IPv4."""
+    if not ipv6_loopback():
+        pytest.skip("no IPv6 loopback here")
+    config = VmcConfig(viseme_names=VISEME_NAMES["vrm0"], assistant=assistant)
+    sizes6, sent6 = received_sizes(socket.AF_INET6, "::1", config)
+    sizes4, sent4 = received_sizes(socket.AF_INET, "127.0.0.1", config)
+    assert sent6 >= 3 and max(sizes6) <= IPV6_PAYLOAD_LIMIT
+    assert sent4 >= 3 and IPV6_PAYLOAD_LIMIT < max(sizes4) <= IPV4_PAYLOAD_LIMIT  # IPv4 is not held to IPv6's limit
+    assert sum(sizes6) == sum(sizes4) + 16 * (sent6 - sent4)  # the same messages, more bundle headers
+
+
+@pytest.mark.parametrize(("vmc", "role", "address"), [
+    ("[::1]", "marionette", ("::1", 39539)), ("[::1]", "assistant", ("::1", 39540)),
+    ("[::1]:4000", "marionette", ("::1", 4000)), ("::1:4000", "marionette", ("::1", 4000)),
+    ("192.168.1.20", "marionette", ("192.168.1.20", 39539)),
+])
+def test_an_ipv6_vmc_host_is_written_in_brackets(vmc, role, address):
+    assert Outputs(vmc=vmc, vmc_role=role).vmc_address() == address
