@@ -24,6 +24,10 @@ import soundfile
 from gesturecast.cli import main
 from gesturecast.errors import USER_ERROR_EXIT_CODE
 from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
+from gesturecast.models.motion.bvh import write_bvh
+from gesturecast.models.motion.canonical_bvh import canonical_bvh_data
+from gesturecast.models.motion.rotations import quat_identity
+from gesturecast.models.motion.skeleton import CANONICAL
 from gesturecast.settings import DEFAULT_MODEL_DIR
 
 REPO_ROOT = Path(__file__).resolve().parents[1]
@@ -36,11 +40,12 @@ Maker = Callable[[Path], Path]  # (folder of the row) -> the bad file it wrote (
 
 
 # ---- makers of bad files -------------------------------------------------------------------------
-def bvh_text(frame_time: str = "0.0333333", values: str = "0 90 0 0 0 0", joints: int = 1) -> str:
-    """A small BVH: a chain of ``joints`` nested joints, one frame."""
+def bvh_text(frame_time: str = "0.0333333", values: str = "0 90 0 0 0 0", joints: int = 1,
+             offset: str = "0 0 0") -> str:
+    """A small BVH: a chain of ``joints`` nested joints (the root at ``offset``), one frame."""
     opening = "".join(f"JOINT J{i}\n{{\nOFFSET 0 1 0\nCHANNELS 0\n" for i in range(1, joints))
     closing = "}\n" * (joints - 1)
-    return ("HIERARCHY\nROOT Hips\n{\nOFFSET 0 0 0\nCHANNELS 6 Xposition Yposition Zposition "
+    return (f"HIERARCHY\nROOT Hips\n{{\nOFFSET {offset}\nCHANNELS 6 Xposition Yposition Zposition "
             f"Zrotation Xrotation Yrotation\n{opening}{closing}}}\nMOTION\nFrames: 1\nFrame Time: {frame_time}\n"
             f"{values}\n")
 
@@ -52,6 +57,16 @@ def write_bvh_file(**kwargs: str | int) -> Maker:
         return path
 
     return make
+
+
+def write_flat_skeleton(folder: Path) -> Path:
+    """A canonical-skeleton BVH whose OFFSETs and End Sites are all zero: nothing to scale the clip by."""
+    data = canonical_bvh_data(quat_identity((2, CANONICAL.num_joints)), np.zeros((2, 3)), 30.0)
+    data.offsets[:] = 0.0
+    data.end_sites = {joint: np.zeros(3) for joint in data.end_sites}
+    path = folder / "clip.bvh"
+    write_bvh(data, path)
+    return path
 
 
 def write_npz(**arrays: object) -> Maker:
@@ -163,6 +178,19 @@ BAD_INPUTS: dict[str, BadInput] = {
                                        write_bvh_file(values="0 90 0 nan 0 0")),
     "motion prompt NPZ inf": BadInput(f"{GENERATE} --motion-prompt {{file}}", "NaN or infinite",
                                       write_npz(poses=np.full((NPZ_FRAMES, SMPLX_POSE_DIM), -np.inf))),
+    # seed motions and motion prompts: non-finite or absurd lengths (they reached every pose of every stream)
+    "seed motion zero OFFSETs": BadInput(f"{GENERATE} --seed-motion {{file}}", "zero OFFSET on LeftUpperLeg",
+                                         write_flat_skeleton),
+    "motion prompt zero OFFSETs": BadInput(f"{GENERATE} --motion-prompt {{file}}", "the legs have no length",
+                                           write_flat_skeleton),
+    "seed motion OFFSET nan": BadInput(f"{GENERATE} --seed-motion {{file}}", "joint 'Hips' OFFSET holds a NaN",
+                                       write_bvh_file(offset="0 nan 0")),
+    "seed motion root 1e30": BadInput(f"{GENERATE} --seed-motion {{file}}", "Yposition value 1e+30 is beyond",
+                                      write_bvh_file(values="0 1e30 0 0 0 0")),
+    "seed motion NPZ trans 1e30": BadInput(f"{GENERATE} --seed-motion {{file}}", "the Hips reach",
+                                           write_npz(trans=np.full((NPZ_FRAMES, 3), 1e30))),
+    "motion prompt OFFSET inf": BadInput(f"{GENERATE} --motion-prompt {{file}}", "OFFSET holds a NaN or infinite",
+                                         write_bvh_file(offset="inf 0 0")),
 }
 
 

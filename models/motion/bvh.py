@@ -7,7 +7,9 @@ Rotation channels are intrinsic Euler angles in degrees, applied in channel orde
 takes its local translation from them (they replace its OFFSET, as Blender and MotionBuilder
 read them); other joints are translated by their OFFSET.
 
-Bad input raises :class:`~gesturecast.errors.UserError` with one line naming the problem.
+Bad input raises :class:`~gesturecast.errors.UserError` with one line naming the problem. Every number
+must be finite, and every length (an OFFSET, an End Site, a position channel value) at most
+:data:`MAX_BVH_LENGTH` file units from zero.
 """
 
 from __future__ import annotations
@@ -28,6 +30,10 @@ _VALID_CHANNELS = tuple(f"{a}{kind}" for kind in ("position", "rotation") for a 
 _FLOAT_FORMAT = "%.6f"  # 1e-6 degree / 1e-6 file unit: far below the 1e-4 degree round-trip bound
 _INDENT = "\t"
 MAX_JOINT_DEPTH = 256  # deeper nesting is no skeleton (and would exhaust the recursion limit)
+# the largest |OFFSET|, End Site or position channel value, in file units: 1 km in centimetres (the usual BVH
+# unit), 100 m in millimetres; no capture volume or skeleton is larger (metre files are bounded after
+# retargeting: MAX_ROOT_METRES)
+MAX_BVH_LENGTH = 1e5
 
 
 @dataclass
@@ -135,9 +141,22 @@ class _Hierarchy:
     end_sites: dict[int, np.ndarray] = field(default_factory=dict)
 
 
-def _read_offset(tokens: _Tokens) -> list[float]:
+def check_length(value: float, what: str, path: Path) -> None:
+    """Refuse a BVH length (OFFSET, End Site or position value) that is not finite or beyond MAX_BVH_LENGTH."""
+    if not math.isfinite(value):
+        raise UserError(f"{path}: BVH {what} holds a NaN or infinite value")
+    if abs(value) > MAX_BVH_LENGTH:
+        raise UserError(f"{path}: BVH {what} value {value:g} is beyond the supported ±{MAX_BVH_LENGTH:g} file units "
+                        "(1 km in centimetres)")
+
+
+def _read_offset(tokens: _Tokens, what: str) -> list[float]:
+    """The three numbers of an ``OFFSET`` line, each finite and within :data:`MAX_BVH_LENGTH`."""
     tokens.expect("OFFSET")
-    return [tokens.number("OFFSET value") for _ in range(3)]
+    values = [tokens.number("OFFSET value") for _ in range(3)]
+    for value in values:
+        check_length(value, what, tokens.path)
+    return values
 
 
 def _read_channels(tokens: _Tokens) -> tuple[str, ...]:
@@ -160,10 +179,11 @@ def _read_joint(tokens: _Tokens, hierarchy: _Hierarchy, parent: int, depth: int 
     if depth >= MAX_JOINT_DEPTH:
         raise UserError(f"{tokens.path}: BVH joints nested more than {MAX_JOINT_DEPTH} deep; not a skeleton")
     index = len(hierarchy.names)
-    hierarchy.names.append(tokens.next("joint name"))
+    name = tokens.next("joint name")
+    hierarchy.names.append(name)
     hierarchy.parents.append(parent)
     tokens.expect("{")
-    hierarchy.offsets.append(_read_offset(tokens))
+    hierarchy.offsets.append(_read_offset(tokens, f"joint '{name}' OFFSET"))
     hierarchy.channels.append(_read_channels(tokens))
     while True:
         keyword = tokens.next("joint block")
@@ -174,7 +194,7 @@ def _read_joint(tokens: _Tokens, hierarchy: _Hierarchy, parent: int, depth: int 
         elif keyword == "End":
             tokens.expect("Site")
             tokens.expect("{")
-            hierarchy.end_sites[index] = np.array(_read_offset(tokens))
+            hierarchy.end_sites[index] = np.array(_read_offset(tokens, f"End Site of joint '{name}' OFFSET"))
             tokens.expect("}")
         else:
             raise UserError(f"{tokens.path}: malformed BVH hierarchy: unexpected '{keyword}' in joint block")
@@ -230,6 +250,19 @@ def _parse_motion(lines: list[str], num_channels: int, path: Path) -> tuple[floa
     return frame_time, motion
 
 
+def _check_position_channels(hierarchy: _Hierarchy, motion: np.ndarray, path: Path) -> None:
+    """Refuse position channel values beyond :data:`MAX_BVH_LENGTH` (a root at 1e30 puts the hips at 1e28 m)."""
+    column = 0
+    for name, channels in zip(hierarchy.names, hierarchy.channels, strict=True):
+        for channel in channels:
+            if channel.endswith("position"):
+                values = motion[:, column]  # (T,)
+                frame = int(np.argmax(np.abs(values)))
+                if abs(values[frame]) > MAX_BVH_LENGTH:
+                    check_length(float(values[frame]), f"frame {frame} joint '{name}' {channel}", path)
+            column += 1
+
+
 def read_bvh(path: str | Path) -> BvhData:
     """Parse a BVH file. Raises UserError for missing, truncated or malformed files."""
     path = Path(path)
@@ -245,6 +278,7 @@ def read_bvh(path: str | Path) -> BvhData:
     _read_joint(tokens, hierarchy, -1)
     num_channels = sum(len(c) for c in hierarchy.channels)
     frame_time, motion = _parse_motion(motion_lines, num_channels, path)
+    _check_position_channels(hierarchy, motion, path)
     return BvhData(
         names=hierarchy.names,
         parents=np.array(hierarchy.parents),

@@ -15,6 +15,7 @@ MIN_FILE_FPS = 1.0  # a BVH ``Frame Time`` of at most 1 s
 MAX_FILE_FPS = 1000.0  # a ``Frame Time`` of at least 1 ms
 MAX_CLIP_SECONDS = 4 * 3600.0  # 4 h: 432 000 frames at 30 fps, about 300 MB of canonical rotations
 MAX_MOTION_FILE_BYTES = 1 << 30  # a BVH file, or one decompressed array of an .npz
+MAX_ROOT_METRES = 1000.0  # the Hips path of a loaded clip (after scaling to the canonical skeleton): 1 km
 
 
 def check_file_size(num_bytes: int, source: str) -> None:
@@ -32,6 +33,16 @@ def check_clip_header(fps: float, num_frames: int, source: str) -> None:
     if num_frames / fps > MAX_CLIP_SECONDS:
         raise UserError(f"{source}: {num_frames} frames at {fps:g} fps is {num_frames / fps / 3600:.1f} h, "
                         f"longer than the supported {MAX_CLIP_SECONDS / 3600:g} h")
+
+
+def check_root_path(root_position: np.ndarray, source: str) -> None:
+    """Refuse a loaded clip whose Hips path (T, 3), in metres, is not finite or leaves :data:`MAX_ROOT_METRES`."""
+    if not np.isfinite(root_position).all():
+        raise UserError(f"{source}: the Hips path holds NaN or infinite values")
+    farthest = float(np.abs(root_position).max(initial=0.0))
+    if farthest > MAX_ROOT_METRES:
+        raise UserError(f"{source}: the Hips reach {farthest:g} m from the origin, beyond the supported "
+                        f"{MAX_ROOT_METRES:g} m")
 
 
 @dataclass

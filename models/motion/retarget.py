@@ -30,7 +30,13 @@ from gesturecast.models.motion.joint_maps import (
     load_joint_map,
     strip_namespace,
 )
-from gesturecast.models.motion.motion import MOTION_FPS, Motion, check_clip_header, check_file_size
+from gesturecast.models.motion.motion import (
+    MOTION_FPS,
+    Motion,
+    check_clip_header,
+    check_file_size,
+    check_root_path,
+)
 from gesturecast.models.motion.resample import resample_motion
 from gesturecast.models.motion.rest_alignment import (
     MappedSkeleton,
@@ -164,12 +170,27 @@ def retarget_bvh(data: BvhData, joint_map: JointMap | None = None, source: str =
         data.parents, data.local_rotations(), data.local_translations()
     )
     tpose = solve_tpose(mapped, source_global)
-    scale = canonical_hip_height() / tpose_hip_height(mapped, tpose)
+    scale = canonical_hip_height() / _source_hip_height(mapped, tpose, source)
     logger.debug("%s: %s skeleton, scale %.5f to canonical metres", source, joint_map.name, scale)
     rotations = canonical_local_rotations(mapped, source_global, tpose, source_positions)
     root = source_positions[:, mapped.first[0]] * scale  # (T, 3)
+    check_root_path(root, source)
     motion = Motion(rotations, root, data.fps)
     return Retargeted(motion, joint_map, scale, _proportioned_skeleton(mapped, tpose, scale))
+
+
+def _source_hip_height(mapped: MappedSkeleton, tpose: np.ndarray, source: str) -> float:
+    """The source's T-pose hip height (its unit of scale); UserError naming the leg joints when it is zero
+    (all-zero OFFSETs: nothing to scale the clip by)."""
+    height = tpose_hip_height(mapped, tpose)
+    if height > MIN_BONE_LENGTH:
+        return height
+    legs = [c for c, name in enumerate(CANONICAL.names) if name.endswith(("Leg", "Foot", "Toes"))]
+    flat = [mapped.source.names[mapped.first[c]] for c in legs if mapped.driver[c] >= 0
+            and np.linalg.norm(mapped.source.vector(mapped.first[mapped.mapped_parent(c)], mapped.first[c]))
+            <= MIN_BONE_LENGTH]
+    where = f"zero OFFSET on {', '.join(flat)}" if flat else "no joint below the Hips"
+    raise UserError(f"{source}: the legs have no length in the rest pose ({where}); cannot scale the clip")
 
 
 def canonical_hip_height() -> float:
@@ -266,6 +287,7 @@ def load_motion_file(path: str | Path, joint_map: Path | None = None, keep_hands
         motion = _read_smplx_npz(path)
     else:
         raise UserError(f"{path}: unsupported motion file type '{path.suffix}' (expected .bvh or SMPL-X .npz)")
+    check_root_path(motion.root_position, str(path))
     return resample_motion(motion, MOTION_FPS)
 
 

@@ -91,6 +91,10 @@ def test_crlf_line_endings(odd_file: Path, tmp_path: Path) -> None:
         ("just some notes\nnot motion\n", "not a BVH file"),
         (ODD_BVH.replace("-10 4 -20", "-10 4"), "frame 1 has 14 values"),
         (ODD_BVH.replace("Xrotation Yrotation Zrotation", "Xrotation Yrotation Wrotation"), "unknown BVH channel"),
+        (ODD_BVH.replace("OFFSET 0 10 0", "OFFSET 0 nan 0"), "joint 'Mid' OFFSET holds a NaN or infinite"),
+        (ODD_BVH.replace("OFFSET 0 2.5 0", "OFFSET 0 -inf 0"), "End Site of joint 'Tip' OFFSET holds a NaN"),
+        (ODD_BVH.replace("OFFSET 0 5 0", "OFFSET 0 1e30 0"), "joint 'Tip' OFFSET value 1e\\+30 is beyond"),
+        (ODD_BVH.replace("10 1 20 2 30 3", "10 1 20 1e30 30 3"), "frame 0 joint 'Root' Yposition value 1e\\+30"),
     ],
 )
 def test_bad_input_is_one_line_user_error(tmp_path: Path, text: str, message: str) -> None:

@@ -149,6 +149,27 @@ def test_missing_mapped_joints_are_named(tmp_path: Path) -> None:
     assert "\n" not in str(info.value)
 
 
+def test_zero_offsets_name_the_leg_joints(tmp_path: Path) -> None:
+    """All-zero OFFSETs leave nothing to scale the clip by: one line naming the legs, not a ZeroDivisionError."""
+    path = tmp_path / "flat.bvh"
+    data = _hierarchy_bvh([(n, p, (0, 0, 0)) for n, p, _ in _mixamo_joints()], 5)
+    data.end_sites = {j: np.zeros(3) for j in data.end_sites}
+    write_bvh(data, path)
+    with pytest.raises(UserError, match=r"flat.bvh: the legs have no length .*zero OFFSET on LeftUpLeg, LeftLeg,"):
+        load_motion_file(path)
+
+
+def test_hips_path_beyond_a_kilometre_is_refused(tmp_path: Path) -> None:
+    """Tiny legs scale a 90-unit root path to thousands of kilometres; an SMPL-X trans of 1e30 m likewise."""
+    tiny = _hierarchy_bvh([(n, p, tuple(1e-6 * np.array(o))) for n, p, o in _mixamo_joints()], 5)
+    write_bvh(tiny, tmp_path / "tiny.bvh")
+    with pytest.raises(UserError, match="the Hips reach .* beyond the supported 1000 m"):
+        load_motion_file(tmp_path / "tiny.bvh")
+    np.savez(tmp_path / "far.npz", poses=np.zeros((4, 3 * len(SMPLX_PARENTS))), trans=np.full((4, 3), 1e30))
+    with pytest.raises(UserError, match="far.npz: the Hips reach"):
+        load_motion_file(tmp_path / "far.npz")
+
+
 def test_unsupported_file_type(tmp_path: Path) -> None:
     path = tmp_path / "notes.txt"
     path.write_text("hello")
