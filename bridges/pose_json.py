@@ -2,7 +2,8 @@
 
 The document is ``{"bones": [...], "fps": 30, "visemes": [...], "frames": [{seq, capture_time, root,
 rotations, speaking, visemes}, ...]}`` on one line (``visemes``: the blend-shape names of ``--lipsync`` and each
-frame's weights in that order; both absent with ``--lipsync off``), the same bytes as ``json.dumps`` of the
+frame's weights in that order; both absent with ``--lipsync off``; ``speaking``: the voice activity of the
+frame's own audio instant, with a 267 ms hangover), the same bytes as ``json.dumps`` of the
 whole document, but the frames are never all in memory: each batch is formatted and written as it comes, into a
 temporary file that replaces the target on :meth:`PoseJsonWriter.save` (:func:`gesturecast.files.atomic_file`).
 """

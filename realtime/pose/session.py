@@ -6,8 +6,11 @@ arrived; then, in one burst, streaming features of
 the pending audio → normalised feature buffer → one generator step for latent ``i`` (K-step DDIM or
 DDPM, KV cache, CFG) → d motion-feature frames → root integration + 6D → quaternions → idle
 cross-fade in silence → procedural fingers (:mod:`gesturecast.realtime.pose.hands`) → :class:`PoseFrame` with
-capture and presentation times and the viseme weights of the frame's own audio instant
-(:mod:`gesturecast.models.audio.lipsync`, computed by the feature extractor in the same burst). Computing the
+capture and presentation times, and the speaking flag and viseme weights of the frame's own audio instant
+(:mod:`gesturecast.models.audio.vad`, :mod:`gesturecast.models.audio.lipsync`, computed by the feature extractor
+in the same burst). The idle cross-fade decides per latent with look-ahead and a silence hold
+(:meth:`GestureSession._gesturing`); the frame's ``speaking`` flag is not that decision but the voice-activity
+flag of the frame's own audio (its 267 ms hangover included), so it matches the visemes. Computing the
 features in that burst instead of per chunk gives the same bits (the extractor is chunk-size
 invariant) with a quarter of the wake-ups, each on warm caches.
 
@@ -116,8 +119,9 @@ class GestureSession:
         self.travel = RootTravel()  # the root's distance, travel and facing from the start (the run's summary)
         self.smoother.reset()
         self.hands.reset()
-        self._unsmoothed: deque[tuple[int, bool]] = deque()  # (frame, speaking) of frames inside the smoother
+        self._unsmoothed: deque[tuple[int, bool]] = deque()  # (frame, gesturing) of frames inside the smoother
         self._visemes: deque[np.ndarray] = deque()  # (5,) weights of the audio frames not yet posed, in order
+        self._speaking: deque[bool] = deque()  # voice-activity flag of the audio frames not yet posed, in order
         self.crossfade = PoseCrossfade(self.config.idle_fade_s, initial_weight_b=IDLE)
         self.next_latent = 0
         self.frames_out = 0
@@ -152,7 +156,9 @@ class GestureSession:
         self._pending_audio.clear()
         with self.stats.time(STAGE_FEATURES):
             raw = self.extractor.push(samples)  # (n, F)
-        self.features.append(self.bundle.audio_stats.apply(raw), speaking_flags(raw, self.bundle.feature_config))
+        speaking = speaking_flags(raw, self.bundle.feature_config)  # (n,) one per new audio frame
+        self.features.append(self.bundle.audio_stats.apply(raw), speaking)
+        self._speaking.extend(speaking.tolist())
         if self.lipsync_on:
             self._visemes.extend(self.extractor.take_visemes())  # one (5,) row per new audio frame
 
@@ -188,22 +194,25 @@ class GestureSession:
             latent = self.generator.denoise(window, audio_present=True)  # (C,)
         with self.stats.time(STAGE_DECODER):
             motion = self.generator.decode(latent)  # (d, D)
-        speaking = self._is_speaking(index)
-        self._unsmoothed.extend((index * d + j, speaking) for j in range(d))
+        gesturing = self._gesturing(index)
+        self._unsmoothed.extend((index * d + j, gesturing) for j in range(d))
         return self._pose_frames(self.smoother.push(motion))
 
     def _pose_frames(self, smoothed: np.ndarray) -> list[PoseFrame]:
         """Pose frames of the rows (m, D) that left the smoother, the oldest frames inside it, in order."""
         frames = []
         for row in smoothed:
-            frame, speaking = self._unsmoothed.popleft()
+            frame, gesturing = self._unsmoothed.popleft()
+            speaking = self._speaking.popleft()  # audio frame ``frame``'s voice activity
             visemes = self._visemes.popleft() if self.lipsync_on else None  # audio frame ``frame``'s
             if self._wanted(frame):
-                frames.append(self._pose_frame(frame, row, speaking, visemes))
+                frames.append(self._pose_frame(frame, row, gesturing, speaking, visemes))
         return frames
 
-    def _is_speaking(self, index: int) -> bool:
-        """Speech within the hold time before this latent or in its look-ahead (only audio it may see)."""
+    def _gesturing(self, index: int) -> bool:
+        """Whether latent ``index``'s frames fade to speech gestures (else to idle): speech within the hold time
+        before this latent or in its look-ahead (only audio it may see). The idle cross-fade's decision, made
+        early so the arms are up when the voice starts; not the frames' ``speaking`` flag."""
         previous_end = audio_window_end(index - 1, self.denoiser_config) if index else 0
         last = self.features.last_speech(previous_end, audio_window_end(index, self.denoiser_config))
         if last is not None:
@@ -213,9 +222,12 @@ class GestureSession:
     def _wanted(self, frame: int) -> bool:
         return self._frame_limit is None or frame < self._frame_limit
 
-    def _pose_frame(self, frame: int, features: np.ndarray, speaking: bool, visemes: np.ndarray | None) -> PoseFrame:
+    def _pose_frame(self, frame: int, features: np.ndarray, gesturing: bool, speaking: bool,
+                    visemes: np.ndarray | None) -> PoseFrame:
+        """The PoseFrame of one (D,) motion-feature row: cross-faded toward speech or idle by ``gesturing``,
+        flagged ``speaking`` by the voice activity of its own audio instant."""
         t = frame / self.fps
-        self.crossfade.fade_to(SPEECH if speaking else IDLE, t)
+        self.crossfade.fade_to(SPEECH if gesturing else IDLE, t)
         rotations, root = self._finite_pose(frame, features, t)  # (J, 4), (3,)
         rotations = self.hands.append(rotations, t)  # (J + 30, 4) on CANONICAL_WITH_HANDS
         capture = self._capture_time(frame)

@@ -5,8 +5,8 @@ import pytest
 import soundfile
 
 from gesturecast.models.audio.dsp import frame_boundary, frames_complete
-from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
-from gesturecast.models.audio.streaming import extract_visemes
+from gesturecast.models.audio.files import PACKAGED_SAMPLE, SAMPLE_RATE, load_audio
+from gesturecast.models.audio.streaming import extract_features, extract_visemes, speaking_flags
 from gesturecast.models.generator.diffusion import SamplerConfig
 from gesturecast.models.generator.style_prompt import StylePrompt
 from gesturecast.models.motion.root_anchor import RootMode
@@ -17,9 +17,10 @@ from gesturecast.realtime.audio.sources import FastFileSource, PacedFileSource
 from gesturecast.realtime.generation.generator import Generator, GeneratorSettings
 from gesturecast.realtime.pose.session import GestureSession, SessionConfig
 from gesturecast.realtime.run.engine import LiveEngine, run_offline
+from gesturecast.realtime.run.engine_setup import build_session
 from gesturecast.realtime.timing.clock import FakeClock, MonotonicClock
 from gesturecast.realtime.timing.latency import LatencyBudget
-from gesturecast.settings import LATENCY_SETTINGS
+from gesturecast.settings import LATENCY_SETTINGS, Settings
 
 SECONDS = 4.0
 MIN_MEAN_FINGER_BEND_DEG = 5.0  # a relaxed hand: its finger joints bend by more than this on average
@@ -102,6 +103,38 @@ def test_each_frame_carries_the_visemes_of_its_own_audio_instant(bundle, speech)
     np.testing.assert_array_equal(np.stack([f.visemes for f in frames]), expected)
     assert expected.sum(axis=1).max() > 0.5  # speech opens the mouth
     assert session.viseme_names == ("A", "I", "U", "E", "O")
+
+
+FLAG_EDGE_TOLERANCE_FRAMES = 3  # 100 ms
+
+
+def flag_edges(flags: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Frame indices where a (T,) bool flag turns on, and where it turns off."""
+    steps = np.diff(flags.astype(int), prepend=0)
+    return np.flatnonzero(steps == 1), np.flatnonzero(steps == -1)
+
+
+def test_the_speaking_flag_follows_its_own_frames_voice_activity_not_the_idle_fade(tmp_path):
+    """The packaged sample with two 1.5 s silences inserted, on the default model: each frame's flag turns on and
+    off with the VAD's decision for that audio frame (within 100 ms; in fact exactly), not 0.3 s early and 1 s
+    late as the idle cross-fade's look-ahead decision does; the same flags at any chunk size."""
+    sample = load_audio(PACKAGED_SAMPLE)
+    gap = np.zeros(int(1.5 * SAMPLE_RATE), np.float32)
+    audio = np.concatenate([gap, sample[: 4 * SAMPLE_RATE], gap, sample[4 * SAMPLE_RATE : 7 * SAMPLE_RATE], gap])
+    path = tmp_path / "gaps.wav"
+    soundfile.write(path, audio, SAMPLE_RATE, subtype="FLOAT")
+    runs = [run_offline(build_session(Settings(), FakeClock()), FastFileSource(path, chunk_samples=chunk))[0]
+            for chunk in (16000, 333)]
+    flags = np.array([f.speaking for f in runs[0]])  # (T,)
+    assert [f.speaking for f in runs[1]] == flags.tolist()  # streaming = offline
+    session = build_session(Settings(), FakeClock())
+    vad = speaking_flags(extract_features(audio, session.bundle.feature_config), session.bundle.feature_config)
+    vad = vad[: len(flags)]  # (T,) the VAD's per-frame decision, its 267 ms hangover included
+    (vad_on, vad_off), (on, off) = flag_edges(vad), flag_edges(flags)
+    assert len(vad_on) >= 2 and len(on) == len(vad_on) and len(off) == len(vad_off)  # the gaps are silent
+    assert np.abs(on - vad_on).max() <= FLAG_EDGE_TOLERANCE_FRAMES
+    assert np.abs(off - vad_off).max() <= FLAG_EDGE_TOLERANCE_FRAMES
+    assert np.array_equal(flags, vad)
 
 
 def test_lipsync_off_leaves_the_visemes_out(bundle, speech):
