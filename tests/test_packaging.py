@@ -166,3 +166,24 @@ def test_an_installed_wheel_finds_its_model_viewer_avatar_and_sample_inside_itse
         for path in map(Path, paths):
             assert path.resolve().is_relative_to(root) and path.is_file(), f"{what}: {path}"
     assert Path(found["avatar"][0]).read_bytes()[:4] == b"glTF"
+
+
+def test_an_installed_wheel_generates_from_any_folder_with_the_one_liner(built, tmp_path):
+    """What the README promises a new user: ``generate('talk.wav', style='happy').save('talk.bvh')``."""
+    import soundfile
+
+    from gesturecast.models.audio.files import PACKAGED_SAMPLE, SAMPLE_RATE, load_audio
+    from gesturecast.models.motion.bvh import read_bvh
+
+    target = tmp_path / "site"
+    pip("install", "--no-deps", "--no-index", "--target", str(target), str(built[0]), cwd=tmp_path)
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    soundfile.write(elsewhere / "talk.wav", load_audio(PACKAGED_SAMPLE)[: 2 * SAMPLE_RATE], SAMPLE_RATE)
+    code = ("import gesturecast; m = gesturecast.generate('talk.wav', style='happy'); m.save('talk.bvh'); "
+            "print(gesturecast.__file__)")
+    result = subprocess.run([sys.executable, "-c", code], cwd=elsewhere, env={**os.environ, "PYTHONPATH": str(target)},
+                            capture_output=True, text=True, timeout=PIP_TIMEOUT_S)
+    assert result.returncode == 0, result.stderr
+    assert Path(result.stdout.strip()).resolve().is_relative_to(target.resolve())
+    assert read_bvh(elsewhere / "talk.bvh").num_frames == 2 * 30
