@@ -3,10 +3,13 @@
 A **folder** gives every audio file under it (any depth, by extension, sorted), with the command's
 style flags. A **CSV** gives one file per row; ``path`` (relative to the CSV's folder) is required,
 the other columns (:data:`CSV_COLUMNS`) set that file's style options; an empty cell keeps the
-flag's value. Outputs mirror the input's relative path under the output folder with ``.bvh`` (and
-``.json`` / ``.vrma``) in place of the audio suffix. Everything here is checked before any file is generated:
+flag's value (a row with fewer cells leaves the rest empty; one with more cells than the header,
+a header naming a column twice, or a ``path`` that names no file such as ``.`` is refused). Outputs
+mirror the input's relative path under the output folder with ``.bvh`` (and ``.json`` / ``.vrma``) in
+place of the audio suffix. Everything here is checked before any file is generated:
 an unknown column, a bad value, two inputs with the same output, or an output that is an input is one
-:class:`UserError` line. A missing or broken audio file is not: it fails only its own job.
+:class:`UserError` line. A missing or broken audio file is not: it fails only its own job (a missing one,
+or one that is not a regular file, before any worker sees it: :meth:`BatchJob.missing_reason`).
 """
 
 from __future__ import annotations
@@ -62,6 +65,15 @@ class BatchJob:
         """Every output exists; they are written atomically, so existing means complete (resumable)."""
         return all(path.is_file() for path in self.outputs())
 
+    def missing_reason(self) -> str | None:
+        """Why the audio file cannot be read at all (missing, or a folder or device), as a failure line; None when
+        it is a regular file. Checked before dispatching, so a CSV of missing files fails in a stat each."""
+        if not self.audio.exists():
+            return f"{self.audio}: no such audio file"
+        if not self.audio.is_file():
+            return f"{self.audio}: not a regular file (a folder or a device), not an audio file"
+        return None
+
     def settings(self, base: Settings) -> Settings:
         """The settings for this file: ``base`` with this row's overrides."""
         return base.replace(**self.overrides)
@@ -95,35 +107,57 @@ def _job(audio: Path, relative: Path, output_dir: Path, extras: tuple[bool, bool
 
 
 def _csv_jobs(table: Path, output_dir: Path, extras: tuple[bool, bool]) -> list[BatchJob]:
+    columns, rows = _read_csv(table)
+    if PATH_COLUMN not in columns or not rows:
+        raise UserError(f"--batch {table}: needs a header row with a '{PATH_COLUMN}' column and at least one row")
+    _check_header(table, columns)
+    return [_csv_job(table, line, row, output_dir, extras) for line, row in rows]
+
+
+def _read_csv(table: Path) -> tuple[list[str], list[tuple[int, dict]]]:
+    """The header's column names and each data row with the file line it ends on (blank lines are skipped)."""
     try:
         with table.open(newline="", encoding="utf-8-sig") as handle:
-            rows = list(csv.DictReader(handle))
-            columns = rows[0].keys() if rows else []
+            reader = csv.DictReader(handle)
+            rows = [(reader.line_num, row) for row in reader]
+            return list(reader.fieldnames or []), rows
     except (OSError, UnicodeDecodeError, csv.Error) as error:
         raise UserError(f"--batch {table}: cannot read it as a UTF-8 CSV file ({error})") from None
-    if PATH_COLUMN not in columns:
-        raise UserError(f"--batch {table}: needs a header row with a '{PATH_COLUMN}' column and at least one row")
+
+
+def _check_header(table: Path, columns: list[str]) -> None:
+    """Refuse unknown columns and a column named twice (csv.DictReader would keep only its last cell)."""
+    twice = sorted({column for column in columns if columns.count(column) > 1})
+    if twice:
+        raise UserError(f"--batch {table} line 1: column(s) {', '.join(twice)} appear more than once in the header")
     unknown = sorted(set(columns) - {PATH_COLUMN, *CSV_COLUMNS})
     if unknown:
         raise UserError(f"--batch {table}: unknown column(s) {', '.join(unknown)}; "
                         f"known: {PATH_COLUMN}, {', '.join(CSV_COLUMNS)}")
-    return [_csv_job(table, line, row, output_dir, extras)
-            for line, row in enumerate(rows, start=2)]  # line 1 is the header
 
 
 def _csv_job(table: Path, line: int, row: dict, output_dir: Path, extras: tuple[bool, bool]) -> BatchJob:
+    if None in row:  # csv.DictReader puts the cells beyond the header under the key None
+        raise UserError(f"--batch {table} line {line}: {len(row) - 1 + len(row[None])} cells, "
+                        f"the header has {len(row) - 1} columns")
     written = (row.get(PATH_COLUMN) or "").strip()
     if not written:
         raise UserError(f"--batch {table} line {line}: empty '{PATH_COLUMN}'")
     audio = table.parent / written
-    return _job(audio, _output_name(table.parent, audio), output_dir, extras, _overrides(table, line, row))
+    name = _output_name(table.parent, audio)
+    if name is None:
+        raise UserError(f"--batch {table} line {line}: '{PATH_COLUMN}' {written} names a folder, not an audio file")
+    return _job(audio, name, output_dir, extras, _overrides(table, line, row))
 
 
-def _output_name(base: Path, audio: Path) -> Path:
+def _output_name(base: Path, audio: Path) -> Path | None:
     """The output's path relative to the output folder: the audio's path relative to the CSV's folder when it
-    lies inside it, else the audio's file name."""
-    relative = Path(os.path.relpath(os.path.abspath(audio), os.path.abspath(base)))
-    return Path(audio.name) if relative.parts[0] == os.pardir else relative
+    lies inside it, else the audio's file name; None when the path names no file (``.``, the CSV's folder)."""
+    absolute = os.path.abspath(audio)
+    relative = Path(os.path.relpath(absolute, os.path.abspath(base)))
+    if not relative.parts or not os.path.basename(absolute):
+        return None
+    return Path(os.path.basename(absolute)) if relative.parts[0] == os.pardir else relative
 
 
 def _overrides(table: Path, line: int, row: dict) -> dict:
