@@ -63,11 +63,12 @@ def run_batch(args: argparse.Namespace) -> int:
     run = _ray_runner() if args.ray else run_with_processes
     build_session(base, MonotonicClock())  # the model and the command's style, checked once before any worker
     todo = [job for job in jobs if not job.finished()]
-    workers = max(1, min(args.workers, len(todo)))
+    ready, missing = _split_missing(todo)
+    workers = max(1, min(args.workers, len(ready)))
     summary = BatchSummary(len(jobs), len(jobs) - len(todo), RUNNER_RAY if args.ray else RUNNER_PROCESSES, workers)
     start = time.monotonic()
     if todo:
-        summary.interrupted = _run_with_progress(run, todo, base, summary)
+        summary.interrupted = _run_with_progress(run, ready, missing, base, summary)
     summary.wall_seconds = time.monotonic() - start
     write_text_atomic(summary_path, json.dumps(summary.to_dict(), indent=2) + "\n")
     sys.stdout.write(summary.line() + f" | summary: {summary_path}\n")
@@ -89,6 +90,19 @@ def _check_batch_flags(args: argparse.Namespace) -> Settings:
     return settings_from_args(args)
 
 
+def _split_missing(jobs: list[BatchJob]) -> tuple[list[BatchJob], list[JobResult]]:
+    """The jobs whose audio is a regular file, and a failure for each of the others: a stat each, and no worker
+    ever sees them (a CSV of many missing files no longer goes through the pool one file at a time)."""
+    ready, missing = [], []
+    for job in jobs:
+        reason = job.missing_reason()
+        if reason is None:
+            ready.append(job)
+        else:
+            missing.append(JobResult(str(job.audio), error=reason))
+    return ready, missing
+
+
 def _ray_runner() -> Callable[[list[BatchJob], Settings, int, ResultSink], None]:
     """The Ray Data runner; without Ray installed, one line naming the extra (before any work)."""
     from gesturecast.realtime.jobs.batch_ray import import_ray, run_with_ray
@@ -97,9 +111,12 @@ def _ray_runner() -> Callable[[list[BatchJob], Settings, int, ResultSink], None]
     return run_with_ray
 
 
-def _run_with_progress(run: Callable, jobs: list[BatchJob], base: Settings, summary: BatchSummary) -> bool:
-    """Run the jobs with a progress bar on stderr; True when Ctrl-C stopped the run."""
-    with logging_redirect_tqdm(), tqdm(total=len(jobs), unit="file", desc="generate", file=sys.stderr) as bar:
+def _run_with_progress(run: Callable, jobs: list[BatchJob], missing: list[JobResult], base: Settings,
+                       summary: BatchSummary) -> bool:
+    """Report the ``missing`` files' failures at once, then run the jobs, with a progress bar on stderr; True when
+    Ctrl-C stopped the run."""
+    total = len(jobs) + len(missing)
+    with logging_redirect_tqdm(), tqdm(total=total, unit="file", desc="generate", file=sys.stderr) as bar:
 
         def on_result(result: JobResult) -> None:
             summary.add(result)
@@ -108,7 +125,10 @@ def _run_with_progress(run: Callable, jobs: list[BatchJob], base: Settings, summ
             bar.update()
 
         try:
-            run(jobs, base, summary.workers, on_result)
+            for result in missing:
+                on_result(result)
+            if jobs:
+                run(jobs, base, summary.workers, on_result)
         except KeyboardInterrupt:
             return True
     return False
