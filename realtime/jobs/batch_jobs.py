@@ -132,7 +132,7 @@ def _check_header(table: Path, columns: list[str]) -> None:
         raise UserError(f"--batch {table} line 1: column(s) {', '.join(twice)} appear more than once in the header")
     unknown = sorted(set(columns) - {PATH_COLUMN, *CSV_COLUMNS})
     if unknown:
-        raise UserError(f"--batch {table}: unknown column(s) {', '.join(unknown)}; "
+        raise UserError(f"--batch {table} line 1: unknown column(s) {', '.join(unknown)}; "
                         f"known: {PATH_COLUMN}, {', '.join(CSV_COLUMNS)}")
 
 

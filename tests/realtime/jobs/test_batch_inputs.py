@@ -26,6 +26,7 @@ MISSING_ROWS = 300
     ("path,style\na.wav,happy,old\n", "line 2: 3 cells, the header has 2 columns"),  # was a TypeError
     ("path,style\na.wav,happy\n\nb.wav,happy,old,x\n", "line 4: 4 cells, the header has 2 columns"),  # was ignored
     ("path,style,seed,style\na.wav,happy,1,old\n", "line 1: column(s) style appear more than once"),  # was ignored
+    ("path,mood\na.wav,happy\n", "line 1: unknown column(s) mood"),
 ])
 def test_malformed_csv_is_one_line_naming_the_csv_and_the_line(tmp_path: Path, table: str, message: str):
     (tmp_path / "lines.csv").write_text(table)
