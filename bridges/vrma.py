@@ -8,6 +8,9 @@ What the file holds (VRMC_vrm_animation 1.0 spec, github.com/vrm-c/vrm-specifica
   ``parentWorldRest · q · worldRestᵀ`` leaves the stream's local rotations as they are;
 - one animation, 30 fps (the stream's rate): a rotation channel per bone and the Hips translation
   (metres, internal frame: right-handed, Y-up, facing +Z, as VRM 1.0);
+- by default (``bones="folded"``, ``generate --vrma-bones folded``) the UpperChest rotation is folded into the
+  Chest (:func:`fold_upper_chest`), because stock players skip the tracks of bones an avatar lacks and many
+  avatars have no upper chest; ``"full"`` writes every bone as generated;
 - with viseme weights (``PoseFrame.visemes``), the expression presets ``aa ih ou ee oh`` as nodes whose
   translation x carries the weight (the spec's expression encoding), one translation channel each.
 
@@ -25,6 +28,7 @@ from gesturecast.bridges.gltf_binary import FloatBuffer, glb_bytes
 from gesturecast.errors import UserError
 from gesturecast.files import atomic_file, check_output_target
 from gesturecast.frames import VISEME_NAMES, PoseFrame
+from gesturecast.models.motion.rotations import quat_mul
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS, Skeleton
 
 EXTENSION = "VRMC_vrm_animation"
@@ -32,6 +36,10 @@ SPEC_VERSION = "1.0"
 VRMA_FPS = 30.0
 EXPRESSION_PRESETS = VISEME_NAMES["vrm1"]  # weight order a i u e o
 VRM1_THUMB_NAMES = {"ThumbProximal": "ThumbMetacarpal", "ThumbIntermediate": "ThumbProximal"}  # VRM 1.0 renames
+FOLDED = "folded"  # UpperChest folded into Chest: what a player shows on an avatar without an upper chest
+FULL = "full"  # every bone as generated
+VRMA_BONES = (FOLDED, FULL)
+IDENTITY = (0.0, 0.0, 0.0, 1.0)
 
 
 def vrm_bone_name(unity_name: str) -> str:
@@ -53,9 +61,41 @@ def bone_nodes(skeleton: Skeleton) -> list[dict]:
     return nodes
 
 
+def fold_upper_chest(rotations: np.ndarray, skeleton: Skeleton) -> np.ndarray:
+    """(T, J, 4) local rotations with UpperChest's composed into Chest's (Chest' = Chest·UpperChest) and UpperChest
+    set to identity; unchanged for a skeleton without both bones.
+
+    The world rotation of every bone from the upper chest up (neck, head, shoulders, arms, hands, fingers) stays
+    as generated, as in the project's viewer. Without the fold, a stock player (three-vrm-animation) on an avatar
+    that has no upper chest drops its rotation (8.6° median on the bundled sample), turning the whole upper body
+    with it: the hands move 44 mm (median; up to 91). The price, on an avatar that has an upper chest: the upper
+    body pivots at the chest, 0.23 m lower, which moves the hands by about 35 mm (``--vrma-bones full`` is exact
+    there).
+    """
+    if not {"Chest", "UpperChest"} <= set(skeleton.names):
+        return rotations
+    chest, upper = skeleton.index("Chest"), skeleton.index("UpperChest")
+    if skeleton.parents[upper] != chest:
+        raise ValueError("folding UpperChest needs it to be a child of Chest")
+    folded = np.array(rotations, copy=True)  # (T, J, 4)
+    folded[:, chest] = quat_mul(rotations[:, chest], rotations[:, upper])
+    folded[:, upper] = IDENTITY
+    return folded
+
+
+def check_vrma_bones(bones: str) -> str:
+    """``bones`` when it is one of :data:`VRMA_BONES`; a one-line error otherwise."""
+    if bones not in VRMA_BONES:
+        raise UserError(f"--vrma-bones {bones!r}: use one of {', '.join(VRMA_BONES)}")
+    return bones
+
+
 def vrma_bytes(rotations: np.ndarray, root_positions: np.ndarray, visemes: np.ndarray | None,
-               skeleton: Skeleton = CANONICAL_WITH_HANDS, fps: float = VRMA_FPS) -> bytes:
-    """The .vrma file: rotations (T, J, 4) XYZW local, root_positions (T, 3) metres, visemes (T, 5) or None."""
+               skeleton: Skeleton = CANONICAL_WITH_HANDS, fps: float = VRMA_FPS, bones: str = FOLDED) -> bytes:
+    """The .vrma file: rotations (T, J, 4) XYZW local, root_positions (T, 3) metres, visemes (T, 5) or None;
+    ``bones``: ``"folded"`` (UpperChest into Chest, :func:`fold_upper_chest`) or ``"full"``."""
+    if check_vrma_bones(bones) == FOLDED:
+        rotations = fold_upper_chest(rotations, skeleton)
     buffer = FloatBuffer()
     times = buffer.add(np.arange(len(rotations)) / fps, with_bounds=True)  # (T,) seconds
     nodes = bone_nodes(skeleton)
@@ -91,12 +131,14 @@ def vrma_bytes(rotations: np.ndarray, root_positions: np.ndarray, visemes: np.nd
 
 
 class VrmaWriter:
-    """Append PoseFrame batches with :meth:`write`; :meth:`save` writes the .vrma (``generate --vrma``)."""
+    """Append PoseFrame batches with :meth:`write`; :meth:`save` writes the .vrma (``generate --vrma``), with
+    UpperChest folded into Chest unless ``bones="full"``."""
 
-    def __init__(self, path: str | Path, skeleton: Skeleton = CANONICAL_WITH_HANDS) -> None:
+    def __init__(self, path: str | Path, skeleton: Skeleton = CANONICAL_WITH_HANDS, bones: str = FOLDED) -> None:
         self.path = Path(path)
         check_output_target(self.path)  # a folder or FIFO target is refused before any work
         self.skeleton = skeleton
+        self.bones = check_vrma_bones(bones)
         self.num_frames = 0
         self._rotations: list[np.ndarray] = []
         self._roots: list[np.ndarray] = []
@@ -117,7 +159,7 @@ class VrmaWriter:
         if not self.num_frames:
             raise UserError(f"cannot write {self.path}: no frames")
         data = vrma_bytes(np.stack(self._rotations), np.stack(self._roots),  # (T, J, 4), (T, 3)
-                          np.stack(self._visemes) if self._has_visemes else None, self.skeleton)
+                          np.stack(self._visemes) if self._has_visemes else None, self.skeleton, bones=self.bones)
         with atomic_file(self.path, binary=True) as handle:
             handle.write(data)
 

@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from gesturecast.bridges.fanout import BridgeFanout
+from gesturecast.bridges.vrma import FOLDED, VRMA_BONES
 from gesturecast.errors import INTERRUPTED_EXIT, UserError
 from gesturecast.files import check_distinct
 from gesturecast.frames import PoseFrame
@@ -45,6 +46,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                           "output folder)")
     generate.add_argument("--json", type=Path, metavar="FILE", help="also write the pose stream as JSON")
     generate.add_argument("--vrma", type=Path, metavar="FILE", help="also write the motion as VRM Animation (.vrma)")
+    generate.add_argument("--vrma-bones", choices=VRMA_BONES, default=FOLDED,
+                          help="a .vrma's torso: 'folded' (default) turns the chest by chest·upperChest and leaves the "
+                          "upper chest still, so players that skip bones an avatar lacks (three-vrm-animation on an "
+                          "avatar without an upper chest, like the bundled one) keep the upper body's pose; 'full' "
+                          "writes every bone as generated (exact on avatars with an upper chest)")
     add_batch_arguments(generate)
     add_generation_arguments(generate)
     generate.set_defaults(func=run_generate)
@@ -83,6 +89,8 @@ def raise_output_errors(outputs: BridgeFanout) -> None:
 
 def run_generate(args: argparse.Namespace) -> int:
     if args.batch is not None:
+        if args.vrma_bones != FOLDED:
+            raise UserError("--vrma-bones full is for one file; a batch writes its .vrma files folded")
         return run_batch(args)
     if args.audio is None:
         raise UserError("name an audio file, or a folder / CSV with --batch")
@@ -92,7 +100,8 @@ def run_generate(args: argparse.Namespace) -> int:
         if args.vrma.suffix.lower() != VRMA_SUFFIX:
             raise UserError(f"--vrma {args.vrma}: name a .vrma file")
         motion_paths.append(args.vrma)
-    generate_to_files(build_session(settings_from_args(args), MonotonicClock()), args.audio, motion_paths, args.json)
+    generate_to_files(build_session(settings_from_args(args), MonotonicClock()), args.audio, motion_paths, args.json,
+                      args.vrma_bones)
     return 0
 
 

@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from gesturecast.bridges.pose_json import PoseJsonWriter
-from gesturecast.bridges.vrma import VrmaWriter
+from gesturecast.bridges.vrma import FOLDED, VrmaWriter
 from gesturecast.errors import UserError
 from gesturecast.frames import PoseFrame
 from gesturecast.models.motion.canonical_bvh import CanonicalBvhWriter
@@ -52,10 +52,11 @@ def check_motion_path(path: Path, flag: str) -> Path:
     return path
 
 
-def motion_writer(path: Path) -> BvhFrameWriter | VrmaWriter:
-    """The writer that the file name asks for: ``.vrma`` → VRM Animation, ``.bvh`` → BVH."""
+def motion_writer(path: Path, vrma_bones: str = FOLDED) -> BvhFrameWriter | VrmaWriter:
+    """The writer that the file name asks for: ``.vrma`` → VRM Animation (``vrma_bones``: UpperChest ``"folded"``
+    into Chest, or ``"full"``), ``.bvh`` → BVH."""
     if check_motion_path(path, "output").suffix.lower() == VRMA_SUFFIX:
-        return VrmaWriter(path, skeleton=CANONICAL_WITH_HANDS)
+        return VrmaWriter(path, skeleton=CANONICAL_WITH_HANDS, bones=vrma_bones)
     return BvhFrameWriter(path, skeleton=CANONICAL_WITH_HANDS)
 
 
@@ -68,16 +69,16 @@ def frame_writer(path: Path, viseme_names: tuple[str, ...]) -> BvhFrameWriter | 
     return motion_writer(path)
 
 
-def generate_to_files(session: GestureSession, audio: Path, motion_paths: list[Path], json_path: Path | None = None
-                      ) -> EngineReport:
-    """Run ``session`` over ``audio`` as fast as possible; write each motion file (BVH or .vrma, by suffix) and
-    the JSON; returns the run's report.
+def generate_to_files(session: GestureSession, audio: Path, motion_paths: list[Path], json_path: Path | None = None,
+                      vrma_bones: str = FOLDED) -> EngineReport:
+    """Run ``session`` over ``audio`` as fast as possible; write each motion file (BVH or .vrma, by suffix; a .vrma
+    with ``vrma_bones``) and the JSON; returns the run's report.
 
     Raises :class:`UserError` for a bad audio file or one shorter than a motion frame (no output is left).
     """
     source = FastFileSource(audio)
     with ExitStack() as files:
-        writers = [files.enter_context(motion_writer(path)) for path in motion_paths]
+        writers = [files.enter_context(motion_writer(path, vrma_bones)) for path in motion_paths]
         if json_path is not None:
             writers.append(files.enter_context(PoseJsonWriter(json_path, session.viseme_names)))
         for batch in offline_batches(session, source):
