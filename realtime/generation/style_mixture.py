@@ -151,3 +151,22 @@ def drop_unused_rows(prompts: list[StylePrompt], weights: np.ndarray,
     base_row = prompts.index(base)
     keep = [base_row] + [row for row in range(len(prompts)) if row != base_row and weights[row].any()]
     return [prompts[row] for row in keep], weights[keep]
+
+
+def bound_blend_rows(prompts: list[StylePrompt], start: np.ndarray, target: np.ndarray,
+                     max_rows: int) -> tuple[list[StylePrompt], np.ndarray, np.ndarray]:
+    """A blend's rows (prompts R, W start and target, each (R, C)) cut to at most ``max_rows`` (never fewer than row
+    0 and the target's rows): rows of zero weight at both ends go, then the old rows of least weight, whose share of
+    each channel moves to the row the target gives that channel (those channels jump part of the way: a bounded
+    cost that only controls arriving faster than the fade pay). Both W stay partitions of every channel."""
+    used = start.any(axis=1) | target.any(axis=1)  # (R,)
+    used[0] = True
+    keep = list(np.flatnonzero(used))
+    fading = sorted((row for row in keep if row != 0 and not target[row].any()), key=lambda row: start[row].sum())
+    dropped = fading[: max(0, len(keep) - max_rows)]
+    start = start.copy()
+    owner = target.argmax(axis=0)  # (C,) the target's row of each channel (W target is 0/1 per channel)
+    for row in dropped:
+        np.add.at(start, (owner, np.arange(start.shape[1])), start[row])
+    keep = [row for row in keep if row not in dropped]
+    return [prompts[row] for row in keep], start[keep], target[keep]

@@ -6,7 +6,8 @@ between latent steps. Numbers (guidance s, audio guidance s_a, γ) move along a 
 second style is blended with DiffuseStyleGesture's own mechanism: the generator runs
 x̂0 = γ·D(new) + (1 − γ)·D(old) while γ ramps 0 → 1, then drops the old style. While body parts have their own
 prompts, style and part-style changes ramp the part mixture's channel weights W instead (a soft mask moving from
-the old prompts' channels to the new ones, generation/style_mixture.py), then drop the prompts no channel uses.
+the old prompts' channels to the new ones, generation/style_mixture.py), then drop the prompts no channel uses. A
+stream holds at most MAX_MIXTURE_ROWS style rows, also when part-style changes arrive faster than the fade.
 """
 
 from __future__ import annotations
@@ -18,11 +19,15 @@ from dataclasses import replace
 from gesturecast.models.generator.style_prompt import PartStyles, StylePrompt, parse_part_styles
 from gesturecast.models.motion.root_anchor import RootAnchor, RootMode
 from gesturecast.realtime.generation.generator import Generator
-from gesturecast.realtime.generation.style_mixture import align_mixtures, drop_unused_rows
+from gesturecast.realtime.generation.style_mixture import align_mixtures, bound_blend_rows, drop_unused_rows
 from gesturecast.realtime.pose.transitions import DEFAULT_RAMP_S, Ramp
 from gesturecast.settings import SINGLE_STYLE
 
 MAX_PENDING_CONTROLS = 32  # bounded inbox: the oldest unapplied control is dropped first
+# style rows of one stream while part styles blend (each is a row of every denoiser call): a mixture of the default
+# model's 3 body parts has at most 4 rows, so a blend from one full mixture to another fits; part-style controls
+# faster than the fade fold the oldest rows in instead of growing the batch
+MAX_MIXTURE_ROWS = 8
 
 
 class SessionControls:
@@ -48,7 +53,10 @@ class SessionControls:
         for prompt in _prompts_of(control):
             self.generator.styles.embed(prompt)
         if "part_styles" in control:
-            self.generator.part_mixture(self.generator.settings.style, parse_part_styles(control["part_styles"]))
+            parts = parse_part_styles(control["part_styles"])
+            self.generator.part_mixture(self.generator.settings.style, parts)  # unknown body parts
+            for _, prompt in parts:  # unknown styles (e.g. a misspelt label) inside part_styles
+                self.generator.styles.embed(prompt)
         with self._lock:
             self._inbox.append(dict(control))
 
@@ -118,7 +126,8 @@ class SessionControls:
             self._blending_from = None
             generator.set_style(generator.settings.style)
         old_prompts, old_weights = generator.mixture
-        union, start, target = align_mixtures(old_prompts, old_weights, *generator.part_mixture(style, parts))
+        union, start, target = bound_blend_rows(
+            *align_mixtures(old_prompts, old_weights, *generator.part_mixture(style, parts)), MAX_MIXTURE_ROWS)
         generator.set_mixture(union, start)
         generator.settings = replace(generator.settings, style=style, part_styles=tuple(parts))
         self._mixture_ramp = Ramp(start, self.fade_s, t)

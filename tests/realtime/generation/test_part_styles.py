@@ -16,7 +16,7 @@ from gesturecast.realtime.generation.style_mixture import (
     row_layout,
     smooth_seams,
 )
-from gesturecast.realtime.pose.session_controls import SessionControls
+from gesturecast.realtime.pose.session_controls import MAX_MIXTURE_ROWS, SessionControls
 
 STEPS = 4
 NEUTRAL = StylePrompt("label", "neutral")
@@ -143,3 +143,34 @@ def test_a_live_part_style_change_blends_in_and_then_drops_the_old_prompt(bundle
     assert generator.mixture[0] == [NEUTRAL] and generator.settings.part_styles == ()
     with pytest.raises(UserError, match="unknown body part"):
         controls.submit({"part_styles": {"tail": "happy"}})
+
+
+def test_an_unknown_style_inside_part_styles_is_refused_when_submitted(bundle):
+    """The styles inside part_styles are resolved before the control is accepted, so a misspelt label is the
+    submitter's one-line error instead of a failure of the stream when the control is applied."""
+    generator = make(bundle, style=NEUTRAL)
+    controls = SessionControls(generator, root=None, fade_s=0.5)
+    with pytest.raises(UserError, match="hapy"):
+        controls.submit({"part_styles": {"arms": "hapy"}})
+    controls.advance(0.0)  # nothing was queued: the stream goes on with its mixture
+    assert generator.mixture[0] == [NEUTRAL]
+
+
+def test_part_style_controls_faster_than_the_fade_keep_the_rows_bounded(bundle, audio):
+    """New text prompts every tenth of the fade: the rows stay within MAX_MIXTURE_ROWS, W stays a partition of every
+    channel, and once the fade is over only the prompts in use are left."""
+    generator = make(bundle, style=NEUTRAL)
+    controls = SessionControls(generator, root=None, fade_s=1.0)
+    rows = []
+    for step in range(30):
+        controls.submit({"part_styles": {"arms": f"text:waving number {step}", "legs": f"text:stepping {step}"}})
+        for t in (0.1 * step, 0.1 * step + 0.05):  # two latents per control: each new prompt gets some weight
+            controls.advance(t)
+            generator.denoise(audio[step % STEPS], True)
+        prompts, weights = generator.mixture
+        rows.append(len(prompts))
+        np.testing.assert_allclose(weights.sum(axis=0), np.ones(generator.latent_dim), atol=1e-6)
+    assert 3 < max(rows) <= MAX_MIXTURE_ROWS  # blends overlapped, and the rows stayed bounded
+    controls.advance(10.0)
+    last = [NEUTRAL, StylePrompt("text", "waving number 29"), StylePrompt("text", "stepping 29")]
+    assert generator.mixture[0] == last and generator.layout.mixture_rows == len(last)
