@@ -198,18 +198,23 @@ function enableDrop() {
 }
 
 // ---- drawing ----
+// The "stick figure" box picks the view: ticked, the stick figure; unticked, the avatar. Without an avatar an
+// unticked box leaves the stage empty (floor only, orbit and the drop target still there), never the figure.
 function showView() {
-  const stick = el("show-stick").checked || !state.avatar?.vrm;
-  el("stage").hidden = !stick;
-  el("avatar").hidden = stick;
-  el("drop-hint").hidden = Boolean(state.avatar?.vrm);
+  const hasAvatar = Boolean(state.avatar?.vrm);
+  const stick = el("show-stick").checked;
+  el("stage").hidden = hasAvatar && !stick;
+  el("avatar").hidden = !hasAvatar || stick;
+  el("drop-hint").hidden = hasAvatar;
 }
 
 let lastRenderMs = performance.now();
 function render(nowMs) {
   const seconds = Math.max(0, (nowMs - lastRenderMs) / 1000);
   lastRenderMs = nowMs;
-  if (!el("stage").hidden) drawStickFigure(el("stage"), state.camera, state.hello, state.pose);
+  if (!el("stage").hidden) {
+    drawStickFigure(el("stage"), state.camera, state.hello, el("show-stick").checked ? state.pose : null);
+  }
   if (!el("avatar").hidden) state.avatar.render(state.camera, state.hello, state.frame, seconds);
   requestAnimationFrame(render);
 }

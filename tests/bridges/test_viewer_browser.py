@@ -14,6 +14,8 @@ from gesturecast.bridges.websocket_server import WebSocketBridge, WebSocketConfi
 
 SCREENSHOT_GAP_S = 0.6
 CHANGED_PIXEL_THRESHOLD = 40  # summed RGB difference that counts as a changed pixel
+SETTLE_S = 0.5  # the page redraws after a click
+FIGURE_SATURATION = 80  # max − min channel: the figure's blue, orange and yellow; the floor and background are grey
 
 pytestmark = needs_chromium
 
@@ -129,3 +131,33 @@ def test_viewer_without_body_parts_shows_no_part_selectors(driver):
     finally:
         bridge.close()
     assert hidden
+
+
+def figure_pixels(image: np.ndarray) -> int:
+    """How many pixels of a (H, W, 3) picture have the stick figure's colours."""
+    return int((image.max(axis=-1) - image.min(axis=-1) > FIGURE_SATURATION).sum())
+
+
+def test_unticking_the_stick_figure_without_an_avatar_hides_it(driver):
+    """No avatar on the server: the box is ticked and the figure drawn; unticked, the stage keeps its floor and the
+    drop hint but no figure (it used to stay drawn); ticked again, the figure is back."""
+    bridge = WebSocketBridge(WebSocketConfig(port=0)).start()  # no avatar
+    try:
+        with Feeder(bridge, moving_frame):
+            driver.get(bridge.url)
+            wait_for(lambda: driver.execute_script("return document.body.dataset.avatar") == "none")
+            wait_for(lambda: int(driver.find_element("id", "frames").text or 0) >= 10)
+            ticked = canvas_pixels(driver)
+            box = driver.find_element("id", "show-stick")
+            box.click()
+            time.sleep(SETTLE_S)
+            unticked, still_ticked = canvas_pixels(driver), box.is_selected()
+            hint = driver.find_element("id", "drop-hint").is_displayed()
+            box.click()
+            time.sleep(SETTLE_S)
+            ticked_again = canvas_pixels(driver)
+    finally:
+        bridge.close()
+    assert figure_pixels(ticked) > 300 and figure_pixels(ticked_again) > 300
+    assert not still_ticked and hint
+    assert figure_pixels(unticked) == 0, "the stick figure is still drawn with its box unticked"
