@@ -34,11 +34,13 @@ from websockets.http11 import Request, Response
 from gesturecast.bridges.control import ControlError
 from gesturecast.bridges.ws_protocol import error_message
 from gesturecast.errors import UserError
+from gesturecast.input_files import read_bounded
 
 LOOPBACK_NAMES = frozenset({"localhost"})
 MIN_TOKEN_CHARS = 16
 MIN_DISTINCT_TOKEN_CHARS = 8
 TOKEN_ENV_VAR = "GESTURECAST_TOKEN"
+MAX_TOKEN_FILE_BYTES = 4096  # a token is one short line; more is not a token file (``/dev/zero`` read 4.4 GB)
 MAX_TOKEN_FAILURES = 5
 TOKEN_FAILURE_WINDOW_S = 60.0
 MAX_TRACKED_ADDRESSES = 1024  # the failure table is bounded: the longest-quiet address is forgotten first
@@ -95,10 +97,12 @@ def token_from_sources(flag: str | None, file: Path | None, environ: Mapping[str
 
 
 def _read_token_file(path: Path) -> str:
+    """The token in ``path`` (at most :data:`MAX_TOKEN_FILE_BYTES` read), surrounding whitespace dropped."""
+    data = read_bounded(path, MAX_TOKEN_FILE_BYTES, "the token file")
     try:
-        token = path.read_text(encoding="utf-8").strip()
-    except (OSError, UnicodeDecodeError) as error:
-        raise UserError(f"cannot read the token file {path}: {getattr(error, 'strerror', None) or error}") from None
+        token = data.decode("utf-8").strip()
+    except UnicodeDecodeError as error:
+        raise UserError(f"cannot read the token file {path}: {error}") from None
     if not token:
         raise UserError(f"the token file {path} is empty")
     return token

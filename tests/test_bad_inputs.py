@@ -69,6 +69,13 @@ def write_flat_skeleton(folder: Path) -> Path:
     return path
 
 
+def write_long_token(folder: Path) -> Path:
+    """A token file of 5000 characters: more than a token file may hold (a device such as /dev/zero never ends)."""
+    path = folder / "token"
+    path.write_text("t" * 5000)
+    return path
+
+
 def write_npz(**arrays: object) -> Maker:
     """An SMPL-X .npz with zero poses and trans, overridden or extended by ``arrays``."""
 
@@ -153,6 +160,10 @@ BAD_INPUTS: dict[str, BadInput] = {
     "vrma not vrma": BadInput("generate {speech} -o {out} --vrma {out}.glb", "--vrma"),
     "ws port 70000": BadInput("live --input {speech} --ws 70000", "--ws: must be an integer from 0 to 65535"),
     "serve port 70000": BadInput("serve --port 70000", "--port: must be an integer from 0 to 65535"),
+    "serve token file 5000 bytes": BadInput("serve --port 0 --token-file {file}", "holds more than 4 KiB",
+                                            write_long_token),
+    "live token file 5000 bytes": BadInput("live --input {speech} --ws 0 --token-file {file}", "holds more than 4 KiB",
+                                           write_long_token),
     "block size 0": BadInput("live --input {speech} --bvh {out} --block-size 0", "--block-size: must be an integer"),
     "render start nan": BadInput("render {speech} -o {out} --start nan", "--start: must be a finite number ≥ 0"),
     "render seconds 0": BadInput("render {speech} -o {out} --seconds 0", "--seconds: must be a finite number > 0"),

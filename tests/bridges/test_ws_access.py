@@ -31,7 +31,8 @@ def test_token_sources_file_then_flag_then_environment(tmp_path):
 
 @pytest.mark.parametrize(
     ("flag", "file_text", "message"),
-    [("x", "y", "not both"), (None, "\n", "is empty"), (None, None, "cannot read the token file")],
+    [("x", "y", "not both"), (None, "\n", "is empty"), (None, None, "cannot read the token file"),
+     (None, "t" * 4097, "holds more than 4 KiB")],
 )
 def test_bad_token_sources_are_one_line_errors(tmp_path, flag, file_text, message):
     path = tmp_path / "token"

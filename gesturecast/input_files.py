@@ -1,0 +1,45 @@
+"""Reading a user-given input file whole, with a size bound.
+
+A path a user gives may name a device (``/dev/zero`` never ends), a FIFO or a file far larger than what it
+should hold; ``Path.read_text()`` would read all of it (a ``--token-file /dev/zero`` read 4.4 GB). Every such
+read goes through :func:`read_bounded`: it reads at most ``limit + 1`` bytes and refuses a file that has
+more, so the cost is bounded by the limit whatever the path names.
+
+The limits live beside their readers: a token file (``bridges/ws_access.py``), a joint map
+(``models/motion/joint_maps.py``), a BVH file (``models/motion/motion.py``), a model manifest
+(``models/runtime/bundle.py``) and a batch CSV (``realtime/jobs/batch_jobs.py``).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from gesturecast.errors import UserError
+
+KIB = 1 << 10
+MIB = 1 << 20
+
+
+def format_size(num_bytes: int) -> str:
+    """A byte count as people read it: ``4 KiB``, ``64 MiB``, ``1024 MiB``, ``100 bytes``."""
+    if num_bytes >= MIB and num_bytes % MIB == 0:
+        return f"{num_bytes // MIB} MiB"
+    if num_bytes >= KIB and num_bytes % KIB == 0:
+        return f"{num_bytes // KIB} KiB"
+    return f"{num_bytes} bytes"
+
+
+def read_bounded(path: str | Path, limit: int, what: str) -> bytes:
+    """The whole content of ``path`` when it holds at most ``limit`` bytes, reading at most ``limit + 1``.
+
+    ``what`` names the file in the one-line UserError for a file that cannot be opened (missing, a folder,
+    no permission) or that holds more than ``limit`` bytes (also a device such as ``/dev/zero``).
+    """
+    try:
+        with open(path, "rb") as handle:
+            data = handle.read(limit + 1)
+    except OSError as error:
+        raise UserError(f"cannot read {what} {path}: {error.strerror or error}") from None
+    if len(data) > limit:
+        raise UserError(f"{what} {path} holds more than {format_size(limit)}, the most it may hold")
+    return data
