@@ -15,6 +15,7 @@ must be finite, and every length (an OFFSET, an End Site, a position channel val
 from __future__ import annotations
 
 import math
+import stat
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -22,7 +23,8 @@ import numpy as np
 
 from gesturecast.errors import UserError
 from gesturecast.files import write_text_atomic
-from gesturecast.models.motion.motion import check_clip_header, check_file_size
+from gesturecast.input_files import read_bounded
+from gesturecast.models.motion.motion import MAX_MOTION_FILE_BYTES, check_clip_header, check_file_size
 from gesturecast.models.motion.rotations import quat_from_euler, quat_identity, quat_to_euler
 
 _AXES = "XYZ"
@@ -267,10 +269,13 @@ def read_bvh(path: str | Path) -> BvhData:
     """Parse a BVH file. Raises UserError for missing, truncated or malformed files."""
     path = Path(path)
     try:
-        check_file_size(path.stat().st_size, str(path))
-        text = path.read_text(encoding="utf-8", errors="replace")
+        status = path.stat()
     except OSError as error:
         raise UserError(f"cannot read BVH file {path}: {error.strerror}") from None
+    if not stat.S_ISREG(status.st_mode):  # a device (/dev/zero) or a FIFO has no size to check beforehand
+        raise UserError(f"cannot read BVH file {path}: not a regular file")
+    check_file_size(status.st_size, str(path))
+    text = read_bounded(path, MAX_MOTION_FILE_BYTES, "BVH file").decode("utf-8", errors="replace")  # grown since?
     head, motion_lines = _split_sections(text, path)
     tokens = _Tokens(head.split()[1:], path)
     tokens.expect("ROOT")

@@ -18,11 +18,13 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from gesturecast.errors import UserError
+from gesturecast.input_files import read_bounded
 from gesturecast.models.motion.skeleton import CANONICAL_JOINTS
 
 NAMESPACE_SEPARATOR = ":"  # Mixamo exports name joints "mixamorig:Hips"
 # a built-in map is offered as the likely layout when at least this share of its joints is present
 NEAR_MATCH_FRACTION = 0.5
+MAX_JOINT_MAP_BYTES = 1 << 20  # a joint map is a few hundred joint names: 1 MiB is far more
 
 
 @dataclass(frozen=True)
@@ -177,9 +179,9 @@ def load_joint_map(path: str | Path) -> JointMap:
     """Read a user map: JSON object, canonical joint name -> list of source joint names (or one name)."""
     path = Path(path)
     try:
-        raw = json.loads(path.read_text(encoding="utf-8"))
-    except OSError as error:
-        raise UserError(f"cannot read joint map {path}: {error.strerror}") from None
+        raw = json.loads(read_bounded(path, MAX_JOINT_MAP_BYTES, "joint map").decode("utf-8"))
+    except UnicodeDecodeError as error:
+        raise UserError(f"joint map {path} is not UTF-8 text ({error})") from None
     except json.JSONDecodeError as error:
         raise UserError(f"joint map {path} is not valid JSON: {error.msg} (line {error.lineno})") from None
     if not isinstance(raw, dict):

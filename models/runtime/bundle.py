@@ -28,6 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from gesturecast.errors import UserError
+from gesturecast.input_files import read_bounded
 from gesturecast.models.audio.stats import FeatureStats
 from gesturecast.models.audio.streaming import FeatureConfig
 from gesturecast.models.generator.denoiser_config import DenoiserConfig
@@ -40,6 +41,7 @@ logger = logging.getLogger(__name__)
 
 BUNDLE_FORMAT_VERSION = 2  # 2: one VQ-VAE per body part, stacked latents (``body_parts``)
 MANIFEST_FILE = "model.json"
+MAX_MANIFEST_BYTES = 64 << 20  # the default model's manifest is 0.2 MB; a larger one is not a manifest
 ONNX_FILES = {
     "denoiser": "denoiser.onnx",
     "denoiser_condition": condition_path("denoiser.onnx").name,  # written by export_denoiser next to it
@@ -135,8 +137,8 @@ def read_manifest(directory: Path) -> dict:
     if not path.is_file():
         raise UserError(f"no model bundle at {directory} (missing {MANIFEST_FILE}); train and export one first")
     try:
-        manifest = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, ValueError) as error:  # JSONDecodeError and UnicodeDecodeError are ValueErrors
+        manifest = json.loads(read_bounded(path, MAX_MANIFEST_BYTES, "model manifest").decode("utf-8"))
+    except ValueError as error:  # JSONDecodeError and UnicodeDecodeError are ValueErrors
         raise UserError(f"{path} is not a readable model manifest ({error}); re-export the bundle") from None
     if not isinstance(manifest, dict):
         raise UserError(f"{path} is not a model manifest (a JSON object is expected); re-export the bundle")

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import io
 import os
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -23,6 +24,7 @@ from pathlib import Path
 
 from gesturecast.errors import UserError
 from gesturecast.files import check_distinct
+from gesturecast.input_files import read_bounded
 from gesturecast.settings import NUMBER_LIMITS, Settings
 
 AUDIO_SUFFIXES = (".wav", ".flac", ".ogg", ".oga", ".opus", ".mp3", ".aiff", ".aif", ".au", ".caf", ".w64")
@@ -30,6 +32,7 @@ BVH_SUFFIX = ".bvh"
 JSON_SUFFIX = ".json"
 VRMA_SUFFIX = ".vrma"
 PATH_COLUMN = "path"
+MAX_CSV_BYTES = 64 << 20  # about a million rows; the whole table is read and checked before any work
 # CSV column -> (the Settings field it overrides, parser of its text: the flag's own type)
 CSV_COLUMNS: dict[str, tuple[str, Callable[[str], object]]] = {
     "style": ("style", str),
@@ -116,12 +119,12 @@ def _csv_jobs(table: Path, output_dir: Path, extras: tuple[bool, bool]) -> list[
 
 def _read_csv(table: Path) -> tuple[list[str], list[tuple[int, dict]]]:
     """The header's column names and each data row with the file line it ends on (blank lines are skipped)."""
+    data = read_bounded(table, MAX_CSV_BYTES, "--batch CSV")
     try:
-        with table.open(newline="", encoding="utf-8-sig") as handle:
-            reader = csv.DictReader(handle)
-            rows = [(reader.line_num, row) for row in reader]
-            return list(reader.fieldnames or []), rows
-    except (OSError, UnicodeDecodeError, csv.Error) as error:
+        reader = csv.DictReader(io.StringIO(data.decode("utf-8-sig"), newline=""))
+        rows = [(reader.line_num, row) for row in reader]
+        return list(reader.fieldnames or []), rows
+    except (UnicodeDecodeError, csv.Error) as error:
         raise UserError(f"--batch {table}: cannot read it as a UTF-8 CSV file ({error})") from None
 
 

@@ -110,6 +110,12 @@ def test_missing_file_is_user_error(tmp_path: Path) -> None:
         read_bvh(tmp_path / "nope.bvh")
 
 
+def test_a_folder_or_device_is_refused_before_reading(tmp_path: Path) -> None:
+    """A device (``/dev/zero``) has no size to check: only a regular file is read (at most the size limit)."""
+    with pytest.raises(UserError, match="not a regular file"):
+        read_bvh(tmp_path)
+
+
 def test_failed_write_leaves_no_file(odd_file: Path, tmp_path: Path) -> None:
     data = read_bvh(odd_file)
     data.motion = np.array([["not", "numbers", *["x"] * 13]], dtype=object)

@@ -10,7 +10,7 @@ import pytest
 
 from gesturecast.errors import UserError
 from gesturecast.models.motion.bvh import BvhData, read_bvh, write_bvh
-from gesturecast.models.motion.joint_maps import SMPLX_PARENTS
+from gesturecast.models.motion.joint_maps import SMPLX_PARENTS, load_joint_map
 from gesturecast.models.motion.motion import Motion
 from gesturecast.models.motion.resample import resample_motion
 from gesturecast.models.motion.retarget import load_motion_file, motion_to_bvh, retarget_bvh, source_forward_kinematics
@@ -138,6 +138,13 @@ def test_user_map_file(tmp_path: Path) -> None:
     map_path.write_text(json.dumps({**user_map, "LeftWing": ["x"]}))
     with pytest.raises(UserError, match="unknown canonical joints LeftWing"):
         load_motion_file(path, map_path)
+
+
+def test_a_joint_map_larger_than_1_mib_is_refused_without_reading_it_all(tmp_path: Path) -> None:
+    path = tmp_path / "map.json"
+    path.write_text("{" + " " * (1 << 20) + "}")
+    with pytest.raises(UserError, match="joint map .*map.json holds more than 1 MiB"):
+        load_joint_map(path)
 
 
 def test_missing_mapped_joints_are_named(tmp_path: Path) -> None:
