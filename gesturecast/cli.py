@@ -1,8 +1,9 @@
-"""The ``gesturecast`` console script: one sub-command per module, registered below.
+"""The ``gesturecast`` console script: sub-commands contributed by the modules of :data:`COMMANDS`.
 
 Each command module exposes ``register(subparsers)``, which adds its parser and sets
 ``func`` (``args -> exit code``). Errors meant for the user raise :class:`UserError` and are
-printed as one line, without a traceback.
+printed as one line, without a traceback. SIGTERM and SIGHUP end a command as Ctrl-C does
+(:mod:`gesturecast.stop_signals`).
 """
 
 from __future__ import annotations
@@ -12,35 +13,53 @@ import importlib
 import logging
 import sys
 
+from gesturecast import stop_signals
 from gesturecast.arguments import OneLineParser
 from gesturecast.errors import INTERRUPTED_EXIT, USER_ERROR_EXIT_CODE, UserError
 
 DESCRIPTION = ("Real-time avatar driver: speech from a microphone or a recording in, stylized full-body gestures "
                "out over VMC, OSC, WebSocket and BVH.")
 
-# module paths that provide ``register(subparsers)``; imported lazily so that `--help` is fast
-COMMAND_MODULES: tuple[str, ...] = (
-    "gesturecast.tools.render.cli",
-    "gesturecast.tools.data_cli",
-    "gesturecast.realtime.audio.cli",
-    "gesturecast.tools.bench.cli",
-    "gesturecast.tools.train_cli",
-    "gesturecast.tools.export_cli",
-    "gesturecast.realtime.engine_cli",
-    "gesturecast.tools.demo_cli",
-    "gesturecast.realtime.serve.cli",
-    "gesturecast.tools.eval.cli",
-    "gesturecast.tools.eval.train_cli",
-)
+# command -> (the module whose ``register(subparsers)`` adds it, its line in ``gesturecast --help``), in listing
+# order. Only the module of the command being run is imported: the others would cost seconds of imports
+# (scipy, matplotlib, torch) that the command never uses. tests/test_cli_help.py checks the lines match.
+COMMANDS: dict[str, tuple[str, str]] = {
+    "render": ("gesturecast.tools.render.cli", "draw a .bvh or SMPL-X .npz as a stick figure (front + side)"),
+    "data": ("gesturecast.tools.data_cli", "training data: build the dataset cache"),
+    "devices": ("gesturecast.realtime.audio.cli", "list audio input devices (microphones)"),
+    "bench": ("gesturecast.tools.bench.cli", "speed benchmarks (print JSON)"),
+    "train": ("gesturecast.tools.train_cli", "train the gesture generator from the dataset cache"),
+    "export": ("gesturecast.tools.export_cli", "export a training checkpoint as a model bundle (ONNX + JSON)"),
+    "live": ("gesturecast.realtime.engine_cli", "speech in (microphone or --input FILE), gestures out, live"),
+    "generate": ("gesturecast.realtime.engine_cli", "offline: audio file → BVH (same session code as live); "
+                 "--batch: a folder or CSV of files → a folder of BVHs"),
+    "demo": ("gesturecast.tools.demo_cli", "the bundled sample through the live engine (no arguments needed)"),
+    "serve": ("gesturecast.realtime.serve.cli", "many avatars: audio in / poses out over WebSocket, batched"),
+    "eval": ("gesturecast.tools.eval.cli", "objective evaluation suite (JSON + plots + table)"),
+    "eval-train": ("gesturecast.tools.eval.train_cli", "train the frozen FGD encoder and style classifier"),
+}
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser(only: str | None = None) -> argparse.ArgumentParser:
+    """Every command's parser; with ``only`` (a command name), only that command's module is imported and the
+    others are listed by name and help line."""
     parser = OneLineParser(prog="gesturecast", description=DESCRIPTION)
     parser.add_argument("-v", "--verbose", action="store_true", help="debug logging")
     sub = parser.add_subparsers(dest="command", required=True)
-    for module_name in COMMAND_MODULES:
-        importlib.import_module(module_name).register(sub)
+    wanted = COMMANDS[only][0] if only in COMMANDS else None
+    for module_name in dict.fromkeys(module for module, _ in COMMANDS.values()):
+        if wanted in (None, module_name):
+            importlib.import_module(module_name).register(sub)
+            continue
+        for name, (owner, help_line) in COMMANDS.items():
+            if owner == module_name:
+                sub.add_parser(name, help=help_line)
     return parser
+
+
+def command_in(argv: list[str]) -> str | None:
+    """The sub-command named on a command line (the first word that is not an option)."""
+    return next((word for word in argv if not word.startswith("-")), None)
 
 
 def tolerate_narrow_encodings() -> None:
@@ -53,10 +72,17 @@ def tolerate_narrow_encodings() -> None:
 
 def main(argv: list[str] | None = None) -> int:
     tolerate_narrow_encodings()
-    args = build_parser().parse_args(argv)
+    argv = sys.argv[1:] if argv is None else argv
+    args = build_parser(only=command_in(argv)).parse_args(argv)
     logging.basicConfig(
         level=logging.DEBUG if args.verbose else logging.INFO, format="%(levelname)s %(name)s: %(message)s"
     )
+    with stop_signals.handled():  # SIGTERM / SIGHUP end the command as Ctrl-C does
+        return stop_signals.exit_status(run_command(args))
+
+
+def run_command(args: argparse.Namespace) -> int:
+    """The command's exit status; a :class:`UserError` is printed as one line, Ctrl-C ends with 130."""
     try:
         return int(args.func(args) or 0)
     except UserError as error:
