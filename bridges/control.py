@@ -16,6 +16,7 @@ from gesturecast.settings import GAMMA_RANGE, GUIDANCE_RANGE  # the same ranges 
 
 MAX_STYLE_CHARS = 200
 MAX_PROMPT_CHARS = 500
+MAX_GESTURE_CHARS = 64
 ENVELOPE_FIELDS = frozenset({"type", "token"})
 
 
@@ -129,6 +130,7 @@ CONTROL_FIELDS: dict[str, TextField | NumberField | ChoiceField | PartStylesFiel
     "audio_guidance": NumberField(*GUIDANCE_RANGE),  # s_a: how strongly the motion follows the speech
     "gamma": NumberField(*GAMMA_RANGE),
     "root": ChoiceField(ROOT_MODES),  # bounded (in place), free or locked root motion
+    "gesture": TextField(MAX_GESTURE_CHARS),  # a lexicon gesture (wave, bow, …), carried out as soon as it can
 }
 
 

@@ -28,6 +28,7 @@ class PoseFrame:
         it); not the idle cross-fade's decision, which looks ahead and holds for 1 s (docs/bridges.md).
     visemes: (5,) mouth-shape weights in [0, 1] of the vowels ``VISEME_VOWELS`` at this frame's audio
         instant, or None when lip sync is off. Bridges name them per ``VISEME_NAMES`` (VRM 0.x or 1.0).
+    gesture: the lexicon gesture(s) being carried out at this frame ("wave", "bow+guide"), "" when none.
     """
 
     seq: int
@@ -38,3 +39,4 @@ class PoseFrame:
     style: str = ""
     speaking: bool = False
     visemes: np.ndarray | None = None
+    gesture: str = ""

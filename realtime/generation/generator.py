@@ -255,9 +255,12 @@ class Generator:
         stochastic = sampler.kind == "ddpm" or sampler.eta > 0.0
         return self.rng.standard_normal(self.latent_dim) if stochastic and t_prev != CLEAN_TIMESTEP else None
 
-    def denoise(self, audio_window: np.ndarray, audio_present: bool) -> np.ndarray:
+    def denoise(self, audio_window: np.ndarray, audio_present: bool,
+                imposed: tuple[np.ndarray, np.ndarray] | None = None) -> np.ndarray:
         """Sample the next clean latent (C,) (normalised) from its (A', F) window of :attr:`audio_config` and
-        commit it to the history."""
+        commit it to the history. ``imposed`` = (target (C,), weights (C,) in [0, 1]): at every sampler step the
+        prediction is pulled to x̂0 + w·(target − x̂0), inpainting a gesture clip's part channels
+        (:mod:`gesturecast.realtime.generation.gesture_cues`)."""
         layout = self.layout
         audio_window = pad_visible_window(np.asarray(audio_window, np.float32), self.config)  # (A, F)
         windows = np.broadcast_to(audio_window, (layout.batch, *audio_window.shape))  # (B, A, F)
@@ -272,6 +275,9 @@ class Generator:
                               self._weights)  # (C,)
             if layout.mixture_rows > 1:
                 x0 = smooth_seams(x0, [h.latent for h in list(self.history)[-2:]], self.settings.seam_smoothing)
+            if imposed is not None:
+                target, weights = imposed
+                x0 = x0 + weights * (target - x0)  # (C,)
             x = sampler_step(self.schedule, self.settings.sampler, x0, t, t_prev, x, self._noise(t_prev))
         self.denoiser.commit(np.broadcast_to(x, (layout.batch, self.latent_dim)), condition)
         latent = x.astype(np.float32)  # (C,)

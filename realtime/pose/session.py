@@ -38,6 +38,8 @@ from gesturecast.models.motion.root_anchor import RootAnchor, RootMode, RootTrav
 from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.realtime.audio.sources import AudioChunk
 from gesturecast.realtime.generation.generator import Generator
+from gesturecast.realtime.generation.gesture_cues import Cue, CuePlan, GestureClip, Placement
+from gesturecast.realtime.generation.word_cues import TriggerVocabulary, Word
 from gesturecast.realtime.pose.feature_buffer import FeatureBuffer
 from gesturecast.realtime.pose.hands import HandPose
 from gesturecast.realtime.pose.idle import IdleMotion
@@ -63,6 +65,8 @@ class SessionConfig:
     silence_hold_s: float = 1.0  # silence this long after the last speech frame fades to idle
     root_mode: RootMode = RootMode.BOUNDED  # in place by default (models/motion/root_anchor.py)
     seed_motion: SeedMotion | None = None  # start from this motion's last pose, not idle (realtime/pose/seed_motion.py)
+    gesture_clips: tuple[GestureClip, ...] = ()  # the lexicon in this model's latent space (gesture cues)
+    gesture_triggers: tuple[tuple[str, tuple[str, ...]], ...] = ()  # (gesture, its trigger phrases) for words
     lipsync: str = "vrm0"  # a key of VISEME_NAMES: fill PoseFrame.visemes (docs/lipsync.md); "off": None
 
 
@@ -91,7 +95,7 @@ class GestureSession:
         self.idle = IdleMotion(seed=generator.settings.seed)
         self._hold_frames = round(self.config.silence_hold_s * self.fps)
         self.root = RootAnchor(self.config.root_mode, fps=self.fps)
-        self.controls = SessionControls(generator, self.root)
+        self.controls = SessionControls(generator, self.root, self)
         self.smoother = MotionSmoother(budget.smoothing_frames)
         self.hands = HandPose(self.fps, seed=generator.settings.seed)
         self.reset()
@@ -119,7 +123,9 @@ class GestureSession:
         self.travel = RootTravel()  # the root's distance, travel and facing from the start (the run's summary)
         self.smoother.reset()
         self.hands.reset()
-        self._unsmoothed: deque[tuple[int, bool]] = deque()  # (frame, gesturing) of frames inside the smoother
+        self._unsmoothed: deque[tuple[int, bool, str]] = deque()  # (frame, gesturing, gesture) inside the smoother
+        self.cues = CuePlan({clip.name: clip for clip in self.config.gesture_clips},
+                            self.denoiser_config.frames_per_latent / self.fps)
         self._visemes: deque[np.ndarray] = deque()  # (5,) weights of the audio frames not yet posed, in order
         self._speaking: deque[bool] = deque()  # voice-activity flag of the audio frames not yet posed, in order
         self.crossfade = PoseCrossfade(self.config.idle_fade_s, initial_weight_b=IDLE)
@@ -186,27 +192,44 @@ class GestureSession:
             self.features.forget_before(audio_window_bounds(self.next_latent, self.denoiser_config)[0])
         return frames
 
+    def cue(self, cue: Cue) -> Placement | None:
+        """Carry out a lexicon gesture with its stroke at ``cue.time`` (stream s), or as soon as the latents not yet
+        generated allow; None when it is dropped (refractory time, or its body parts are busy). Call it from the
+        thread that pushes audio (live controls go through :attr:`controls`)."""
+        placement = self.cues.place(cue, self.next_latent)
+        if placement is not None and placement.late_s > 0:
+            logger.info("gesture %s (%s) lands %.0f ms late", cue.gesture, cue.source or "cue", placement.late_s * 1e3)
+        return placement
+
+    def cue_words(self, words: list[Word]) -> list[Placement]:
+        """Cue the gestures of the trigger phrases in ``words`` (stream-time stamps); returns the placed ones."""
+        cues = TriggerVocabulary(dict(self.config.gesture_triggers)).cues(words)
+        return [placement for cue in cues if cue.gesture in self.cues.clips and (placement := self.cue(cue))]
+
     def _generate_latent(self, index: int) -> list[PoseFrame]:
         d = self.denoiser_config.frames_per_latent
         self.controls.advance(index * d / self.fps)
         window = self.features.window(index, self.denoiser_config)  # (A', F)
+        imposed = self.cues.imposition(index)
         with self.stats.time(STAGE_DENOISER):
-            latent = self.generator.denoise(window, audio_present=True)  # (C,)
+            latent = self.generator.denoise(window, True, None if imposed is None else imposed[:2])  # (C,)
         with self.stats.time(STAGE_DECODER):
             motion = self.generator.decode(latent)  # (d, D)
-        gesturing = self._gesturing(index)
-        self._unsmoothed.extend((index * d + j, gesturing) for j in range(d))
+        gesture = "" if imposed is None else imposed[2]
+        gesturing = self._gesturing(index) or bool(gesture)  # a cued gesture shows in silence too
+        self.cues.forget_before(index)
+        self._unsmoothed.extend((index * d + j, gesturing, gesture) for j in range(d))
         return self._pose_frames(self.smoother.push(motion))
 
     def _pose_frames(self, smoothed: np.ndarray) -> list[PoseFrame]:
         """Pose frames of the rows (m, D) that left the smoother, the oldest frames inside it, in order."""
         frames = []
         for row in smoothed:
-            frame, gesturing = self._unsmoothed.popleft()
+            frame, gesturing, gesture = self._unsmoothed.popleft()
             speaking = self._speaking.popleft()  # audio frame ``frame``'s voice activity
             visemes = self._visemes.popleft() if self.lipsync_on else None  # audio frame ``frame``'s
             if self._wanted(frame):
-                frames.append(self._pose_frame(frame, row, gesturing, speaking, visemes))
+                frames.append(self._pose_frame(frame, row, (gesturing, gesture), speaking, visemes))
         return frames
 
     def _gesturing(self, index: int) -> bool:
@@ -222,10 +245,11 @@ class GestureSession:
     def _wanted(self, frame: int) -> bool:
         return self._frame_limit is None or frame < self._frame_limit
 
-    def _pose_frame(self, frame: int, features: np.ndarray, gesturing: bool, speaking: bool,
+    def _pose_frame(self, frame: int, features: np.ndarray, gesture: tuple[bool, str], speaking: bool,
                     visemes: np.ndarray | None) -> PoseFrame:
-        """The PoseFrame of one (D,) motion-feature row: cross-faded toward speech or idle by ``gesturing``,
-        flagged ``speaking`` by the voice activity of its own audio instant."""
+        """The PoseFrame of one (D,) motion-feature row: cross-faded toward speech or idle by ``gesture``'s
+        (gesturing, name) flag, flagged ``speaking`` by the voice activity of its own audio instant."""
+        gesturing, gesture_name = gesture
         t = frame / self.fps
         self.crossfade.fade_to(SPEECH if gesturing else IDLE, t)
         rotations, root = self._finite_pose(frame, features, t)  # (J, 4), (3,)
@@ -241,6 +265,7 @@ class GestureSession:
             style=self.controls.describe(),
             speaking=speaking,
             visemes=visemes,
+            gesture=gesture_name,
         )
 
     def _pose(self, features: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:

@@ -15,10 +15,13 @@ from __future__ import annotations
 import threading
 from collections import deque
 from dataclasses import replace
+from typing import Protocol
 
+from gesturecast.errors import UserError
 from gesturecast.models.generator.style_prompt import PartStyles, StylePrompt, parse_part_styles
 from gesturecast.models.motion.root_anchor import RootAnchor, RootMode
 from gesturecast.realtime.generation.generator import Generator
+from gesturecast.realtime.generation.gesture_cues import Cue, CuePlan
 from gesturecast.realtime.generation.style_mixture import align_mixtures, bound_blend_rows, drop_unused_rows
 from gesturecast.realtime.pose.transitions import DEFAULT_RAMP_S, Ramp
 from gesturecast.settings import SINGLE_STYLE
@@ -30,12 +33,22 @@ MAX_PENDING_CONTROLS = 32  # bounded inbox: the oldest unapplied control is drop
 MAX_MIXTURE_ROWS = 8
 
 
+class GestureDoor(Protocol):
+    """Where a ``gesture`` control goes: the session's cue plan (checked on submit) and its ``cue``."""
+
+    cues: CuePlan
+
+    def cue(self, cue: Cue) -> object: ...
+
+
 class SessionControls:
     """Holds the control inbox and the ramps; :meth:`advance` applies them at stream time ``t``."""
 
-    def __init__(self, generator: Generator, root: RootAnchor, fade_s: float = DEFAULT_RAMP_S) -> None:
+    def __init__(self, generator: Generator, root: RootAnchor, gestures: GestureDoor | None = None,
+                 fade_s: float = DEFAULT_RAMP_S) -> None:
         self.generator = generator
         self.root = root
+        self.gestures = gestures
         self.fade_s = fade_s
         self._inbox: deque[dict] = deque(maxlen=MAX_PENDING_CONTROLS)
         self._lock = threading.Lock()
@@ -50,6 +63,8 @@ class SessionControls:
         audio_guidance, gamma, root); thread-safe. Its styles and body parts are resolved first, so one the model
         cannot use raises UserError here (the caller answers the client) instead of failing the stream when
         applied."""
+        if "gesture" in control:
+            self._check_gesture(control["gesture"])
         for prompt in _prompts_of(control):
             self.generator.styles.embed(prompt)
         if "part_styles" in control:
@@ -88,7 +103,14 @@ class SessionControls:
             return name
         return f"{name}→{_prompt_name(settings.second_style)} γ={settings.gamma:.2f}"
 
+    def _check_gesture(self, name: str) -> None:
+        if self.gestures is None:
+            raise UserError("this stream has no gesture lexicon")
+        self.gestures.cues.check(name)
+
     def _apply(self, control: dict, t: float) -> None:
+        if "gesture" in control:  # as soon as possible: from this latent on, its stroke as early as the clip allows
+            self.gestures.cue(Cue(control["gesture"], t, "control"))
         if "root" in control:
             self.root.set_mode(RootMode(control["root"]))  # re-anchored where the avatar stands: no jump
         if "guidance" in control:

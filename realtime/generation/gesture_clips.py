@@ -1,0 +1,56 @@
+"""Lexicon clips in one model's latent space: canonical motion features → the model's VQ encoder → normalised
+latents, with the channels of the body parts the gesture moves (:class:`GestureClip`).
+
+The whole clip is encoded (the encoder sees its approach and return); only the moving parts' channels are imposed,
+so the clip's legs, root and facing never reach the stream.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from dataclasses import dataclass
+
+import numpy as np
+
+from gesturecast.errors import UserError
+from gesturecast.models.runtime.bundle import ModelBundle
+from gesturecast.realtime.generation.gesture_cues import GestureClip
+
+
+@dataclass(frozen=True)
+class ClipMotion:
+    """A lexicon clip as motion: (T, D) canonical motion features at the model's fps, its stroke frame, the
+    body parts it moves (names of the model's ``body_parts``)."""
+
+    name: str
+    features: np.ndarray
+    stroke_frame: int
+    parts: tuple[str, ...]
+
+
+def part_mask(bundle: ModelBundle, parts: Iterable[str], name: str) -> np.ndarray:
+    """(C,) bool: the latent channels of ``parts``; UserError for a part the model does not have."""
+    mask = np.zeros(bundle.denoiser_config.latent_dim, bool)
+    for part in parts:
+        if part not in bundle.part_channels:
+            raise UserError(f"gesture {name!r} moves the body part {part!r}, which this model does not have "
+                            f"(it has {', '.join(bundle.part_channels)})")
+        mask[bundle.part_channels[part]] = True
+    return mask
+
+
+def encode_clip(bundle: ModelBundle, motion: ClipMotion, threads: int = 1) -> GestureClip:
+    """The clip's normalised latents (N, C) and part channels for ``bundle``'s model."""
+    d = bundle.frames_per_latent
+    usable = motion.features.shape[0] - motion.features.shape[0] % d
+    if usable == 0 or not 0 <= motion.stroke_frame < usable:
+        raise UserError(f"gesture {motion.name!r}: {motion.features.shape[0]} frames with the stroke at frame "
+                        f"{motion.stroke_frame}; it needs at least {d} frames and its stroke inside them")
+    normalized = bundle.motion_stats.normalize(np.asarray(motion.features[:usable], np.float32))  # (T', D)
+    latents = bundle.vq_encoder(threads).encode(normalized)  # (N, C)
+    return GestureClip(motion.name, bundle.latent_stats.normalize(latents).astype(np.float32),
+                       part_mask(bundle, motion.parts, motion.name), motion.stroke_frame // d)
+
+
+def encode_clips(bundle: ModelBundle, motions: Iterable[ClipMotion], threads: int = 1) -> tuple[GestureClip, ...]:
+    return tuple(encode_clip(bundle, motion, threads) for motion in motions)
