@@ -2,7 +2,9 @@
 
 Frames go to a temporary file next to the target (:func:`gesturecast.files.atomic_file`), which
 replaces the target only when the recording is closed (end of input, Ctrl-C): an existing file of
-that name is never truncated by a run that fails. The ``Frames:`` count sits in a fixed-width field
+that name is never truncated by a run that fails. A recording closed with no frames (an input that
+failed at once, Ctrl-C before the first frame) is dropped: a BVH without frames replaces nothing.
+The ``Frames:`` count sits in a fixed-width field
 that is rewritten after every frame, so even the temporary file of a killed run is a valid BVH of
 the frames written. A write error (disk full, file size limit) stops the recording, leaves the
 target as it was, and :meth:`BvhRecorder.close` raises it as one :class:`UserError` line.
@@ -12,6 +14,7 @@ The hierarchy and number formatting come from :mod:`gesturecast.models.motion.bv
 
 from __future__ import annotations
 
+import logging
 from collections.abc import Callable
 from contextlib import ExitStack
 from dataclasses import dataclass
@@ -28,6 +31,8 @@ from gesturecast.models.motion.motion import MOTION_FPS
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS, Skeleton
 
 FRAME_COUNT_WIDTH = 12  # digits reserved for the frame count: room for 10^12 frames
+
+logger = logging.getLogger(__name__)
 
 
 @dataclass(frozen=True)
@@ -90,12 +95,15 @@ class BvhRecorder:
             raise UserError(self.error) from None
 
     def close(self) -> None:
-        """Finish the file: it replaces the target, or, after a write error, is removed and the error raised."""
-        if self.error is None:
+        """Finish the file: it replaces the target; with no frames it is dropped; after a write error it is
+        removed and the error raised."""
+        if self.error is None and self.frames_written:
             self._stack.close()
             return
         abandon(self._stack)
-        raise UserError(f"{self.error}; {self.path} was left as it was")
+        if self.error is not None:
+            raise UserError(f"{self.error}; {self.path} was left as it was")
+        logger.warning("no frames recorded, so %s was not written (an existing file is left as it was)", self.path)
 
     def __enter__(self) -> BvhRecorder:
         return self

@@ -8,11 +8,14 @@ from pathlib import Path
 
 import numpy as np
 
+from gesturecast import stop_signals
 from gesturecast.bridges.fanout import BridgeFanout
 from gesturecast.bridges.vrma import FOLDED, VRMA_BONES
 from gesturecast.errors import INTERRUPTED_EXIT, UserError
 from gesturecast.files import check_distinct
 from gesturecast.frames import PoseFrame
+from gesturecast.models.audio.dsp import frame_boundary
+from gesturecast.models.audio.files import SAMPLE_RATE, AudioFileReader
 from gesturecast.models.motion.motion import MOTION_FPS, Motion
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
 from gesturecast.realtime.audio.cli import add_source_arguments, open_source
@@ -63,15 +66,17 @@ def run_live(args: argparse.Namespace) -> int:
         raise UserError("no output chosen: add --vmc HOST:PORT, --osc HOST:PORT, --ws PORT and/or --bvh FILE")
     clock = MonotonicClock()
     session = build_session(settings, clock)
+    if args.input:
+        check_input_length(args.input)
     source = open_source(args, clock)  # checks the input before any output file is opened
     try:
         outputs = build_outputs(chosen, settings, session, clock)
     except BaseException:
         source.close()
         raise
-    sys.stdout.write(session.budget.describe() + "\n")
-    engine = LiveEngine(session, source, outputs.send, clock, scheduler_config(args), StatusLine(clock))
     try:
+        sys.stdout.write(session.budget.describe() + "\n")
+        engine = LiveEngine(session, source, outputs.send, clock, scheduler_config(args), StatusLine(clock))
         report = engine.run()
     finally:
         outputs.close()
@@ -79,6 +84,13 @@ def run_live(args: argparse.Namespace) -> int:
     sys.stdout.write(summary_line(report) + "\n")
     raise_output_errors(outputs)
     return exit_status(report)
+
+
+def check_input_length(path: Path) -> None:
+    """Refuse, before any output opens, an input file too short to complete one motion frame (no pose at all)."""
+    first_frame_samples = frame_boundary(1, SAMPLE_RATE, int(MOTION_FPS))
+    if round(AudioFileReader(path).duration_s * SAMPLE_RATE) < first_frame_samples:
+        raise UserError(f"{path} is shorter than one motion frame (1/{MOTION_FPS:g} s)")
 
 
 def raise_output_errors(outputs: BridgeFanout) -> None:
@@ -122,7 +134,7 @@ def summary_line(report: EngineReport) -> str:
     sched = report.scheduler
     latency = (f"end-to-end p50 {e2e['p50']:.0f} p95 {e2e['p95']:.0f} p99 {e2e['p99']:.0f} ms" if e2e
                else "end-to-end n/a (unpaced)")
-    prefix = "stopped by Ctrl-C: " if report.interrupted else ""
+    prefix = f"stopped by {stop_signals.stopped_by()}: " if report.interrupted else ""
     parts = [
         f"{prefix}{report.frames} frames from {report.audio_seconds:.1f} s of audio",
         f"rtf {report.rtf:.3f}",

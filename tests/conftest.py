@@ -1,5 +1,7 @@
 """Shared fixtures: where the real training data lives (a shared/data folder beside the repository)."""
 
+import contextlib
+import os
 import shutil
 import signal
 import subprocess
@@ -75,9 +77,35 @@ def speech_16k(shared_data):
 POLL_S = 0.05  # how often CliProcess looks at the stderr lines collected so far
 
 
+STOP_SIGNAL_NAMES = ("SIGINT", "SIGTERM", "SIGHUP")  # Ctrl-C, a service manager's stop, a closed terminal
+
+
 def default_sigint() -> None:
-    """In a child before exec: SIGINT back to its default disposition."""
-    signal.signal(signal.SIGINT, signal.SIG_DFL)
+    """In a child before exec: SIGINT, SIGTERM and SIGHUP back to their default dispositions (a suite started
+    under ``nohup`` ignores SIGHUP, and children would inherit that)."""
+    for name in STOP_SIGNAL_NAMES:
+        if hasattr(signal, name):
+            signal.signal(getattr(signal, name), signal.SIG_DFL)
+
+
+def child_pids(pid: int) -> list[int]:
+    """The processes ``pid`` started, and theirs (Linux: /proc), e.g. a process pool's server and workers."""
+    children = []
+    for task in Path(f"/proc/{pid}/task").glob("*"):
+        try:
+            children += [int(child) for child in (task / "children").read_text().split()]
+        except OSError:  # the thread or the process ended meanwhile
+            continue
+    return [grandchild for child in children for grandchild in (child, *child_pids(child))]
+
+
+def pid_running(pid: int) -> bool:
+    """Whether process ``pid`` still runs (an exited one waiting to be reaped, a zombie, does not)."""
+    try:
+        state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
+    except OSError:
+        return False
+    return state not in ("Z", "X")
 
 
 class CliProcess:
@@ -112,7 +140,16 @@ class CliProcess:
 
     def interrupt(self, bound_s: float) -> tuple[int, float, str]:
         """Send SIGINT; (exit status, seconds until exit, stdout). Fails if it is still running after ``bound_s``."""
-        self.process.send_signal(signal.SIGINT)
+        return self.stop(signal.SIGINT, bound_s)
+
+    def stop(self, signum: int, bound_s: float, with_children: bool = False) -> tuple[int, float, str]:
+        """Send ``signum`` (to its child processes too with ``with_children``, as systemd and a closed terminal
+        do); (exit status, seconds until exit, stdout). Fails if it is still running after ``bound_s``."""
+        children = child_pids(self.process.pid) if with_children else []
+        self.process.send_signal(signum)
+        for child in children:
+            with contextlib.suppress(ProcessLookupError):
+                os.kill(child, signum)
         return self.wait(bound_s, since=time.monotonic())
 
     def wait(self, bound_s: float, since: float | None = None) -> tuple[int, float, str]:

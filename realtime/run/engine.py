@@ -108,10 +108,14 @@ def compute_seconds(session: GestureSession) -> float:
 
 def make_report(session: GestureSession, audio: SourceStats, scheduler_stats: dict,
                 interrupted: bool = False, warm_up_s: float = 0.0) -> EngineReport:
-    """The report of a run whose audio came in as ``audio`` (an :class:`AudioSource`'s stats)."""
+    """The report of a run whose audio came in as ``audio`` (an :class:`AudioSource`'s stats).
+
+    ``frames`` counts what reached the outputs: with a scheduler, the frames it released (after Ctrl-C the
+    frames not yet due were dropped, and are not output); without one (offline), every frame generated.
+    """
     return EngineReport(
         audio_seconds=audio.samples / session.sample_rate,
-        frames=session.frames_out,
+        frames=scheduler_stats.get("released", session.frames_out),
         compute_seconds=compute_seconds(session),
         latency=session.stats.summary(),
         scheduler=scheduler_stats,

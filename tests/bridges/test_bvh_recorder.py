@@ -47,3 +47,11 @@ def test_interrupted_recording_is_readable_and_replaces_the_target_only_when_clo
         assert target.read_text() == "an older take\n"
     recorder.close()
     assert read_bvh(target).num_frames == 5 and not recorder.partial_path.exists()
+
+
+def test_a_recording_closed_without_frames_replaces_nothing(tmp_path: Path) -> None:
+    kept, absent = tmp_path / "kept.bvh", tmp_path / "absent.bvh"
+    kept.write_text("an older take\n")
+    for target in (kept, absent):
+        BvhRecorder(target).close()  # e.g. the input failed before its first frame
+    assert kept.read_text() == "an older take\n" and sorted(tmp_path.iterdir()) == [kept]

@@ -9,6 +9,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 import soundfile
 
@@ -126,3 +127,21 @@ def test_live_bvh_replaces_the_old_take_when_done(tiny_model, speech, tmp_path):
                      "--model", str(tiny_model[1]))
     assert result.returncode == 0, result.stderr[-2000:]
     assert read_bvh(take).num_frames > 0 and sorted(tmp_path.iterdir()) == [take]
+
+
+SHORT_INPUT_SAMPLES = 160  # 10 ms: less than one motion frame (533 samples)
+
+
+@pytest.mark.parametrize(("name", "message"), [("nan.wav", "NaN/inf samples"),
+                                               ("short.wav", "shorter than one motion frame")])
+def test_live_input_that_gives_no_frame_is_an_error_and_keeps_the_old_take(tiny_model, tmp_path, name, message):
+    audio = np.full(SAMPLE_RATE if name == "nan.wav" else SHORT_INPUT_SAMPLES, 0.1, np.float32)  # (n,)
+    if name == "nan.wav":
+        audio[100] = np.nan  # in the first motion frame: the run fails before any frame
+    soundfile.write(tmp_path / name, audio, SAMPLE_RATE, subtype="FLOAT")
+    take = tmp_path / "take.bvh"
+    take.write_text(OLD_TAKE)
+    result = run_cli("live", "--input", str(tmp_path / name), "--pace", "fast", "--bvh", str(take),
+                     "--model", str(tiny_model[1]))
+    assert_one_line_error(result, "live", message)
+    assert take.read_text() == OLD_TAKE and sorted(tmp_path.iterdir()) == sorted([take, tmp_path / name])
