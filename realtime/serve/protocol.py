@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import json
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass
 
 import numpy as np
@@ -83,21 +84,35 @@ def check_control(message: dict) -> dict:
     return control
 
 
+def start_choice(message: dict, name: str, choices: Iterable[str]) -> str | None:
+    """The ``start`` field ``name`` when it is one of ``choices`` (None when absent or null); a one-line
+    ControlError for anything else, also for another JSON type (a list or object cannot be looked up by name)."""
+    value = message.get(name)
+    if value is None:
+        return None
+    if not isinstance(value, str) or value not in choices:
+        shown = repr(value) if isinstance(value, str) else f"a JSON {json_type(value)}"
+        raise ControlError(f"{name} must be one of {', '.join(choices)}, got {shown:.60}")
+    return value
+
+
+def json_type(value: object) -> str:
+    """The JSON name of a decoded value's type (for messages)."""
+    names = {bool: "boolean", int: "number", float: "number", str: "string", list: "array", dict: "object"}
+    return names.get(type(value), type(value).__name__)
+
+
 def parse_start(message: dict) -> StreamOptions:
     unknown = sorted(set(message) - START_FIELDS)
     if unknown:
         raise ControlError(f"unknown start field(s): {', '.join(unknown)}; known: {', '.join(sorted(START_FIELDS))}")
     styles = {k: v for k, v in message.items() if k in CONTROL_FIELDS}
     control = check_control(styles) if styles else {}
-    audio_format = message.get("audio_format", DEFAULT_AUDIO_FORMAT)
-    if audio_format not in AUDIO_FORMATS:
-        raise ControlError(f"audio_format must be one of {', '.join(AUDIO_FORMATS)}, got {audio_format!r}")
+    audio_format = start_choice(message, "audio_format", AUDIO_FORMATS) or DEFAULT_AUDIO_FORMAT
     seed = message.get("seed")
     if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed <= MAX_SEED):
         raise ControlError(f"seed must be an integer in [0, {MAX_SEED}]")
-    latency = message.get("latency")
-    if latency is not None and latency not in LATENCY_SETTINGS:
-        raise ControlError(f"latency must be one of {', '.join(LATENCY_SETTINGS)}, got {latency!r:.40}")
+    latency = start_choice(message, "latency", LATENCY_SETTINGS)
     style = StylePrompt("text", control["prompt"]) if "prompt" in control else None
     if style is None and "style" in control:
         style = client_style(control["style"])

@@ -16,6 +16,7 @@ import json
 import logging
 import threading
 from collections import deque
+from contextlib import suppress
 from dataclasses import dataclass, field
 
 from websockets.asyncio.server import ServerConnection, broadcast
@@ -52,6 +53,12 @@ SERVE_PORT_FLAG = "--port"
 STOP_TIMEOUT_S = 10.0
 MAX_OUTGOING_MESSAGES = 64  # per connection, waiting for the event loop (drop-oldest beyond, counted)
 SLOW_CLIENT_BUFFER_BYTES = 256 * 1024  # a client whose socket buffer holds more skips pose frames
+START_TIMEOUT_S = 10.0  # a connection that neither starts nor sends audio within this is closed (1008)
+MAX_UNSTARTED = 8  # connections waiting to start, besides the --max-streams started ones (more: the oldest goes)
+
+
+class ServerFull(ControlError):
+    """A start while every stream slot is taken: answered with an ``error``, then closed with 1013."""
 
 
 @dataclass(frozen=True)
@@ -63,6 +70,8 @@ class ServeConfig:
     coordinate_frame: str = "internal"
     stream: StreamConfig = field(default_factory=StreamConfig)
     allow_origins: tuple[str, ...] = ()  # browser origins allowed to connect (ws_access)
+    start_timeout_s: float = START_TIMEOUT_S  # from the hello to a start (or the first audio)
+    max_unstarted: int = MAX_UNSTARTED  # connections not started yet (they hold no --max-streams slot)
 
 
 class LoopSender:
@@ -120,6 +129,8 @@ class StreamConnection:
         self.websocket = websocket
         self.sender = LoopSender(asyncio.get_running_loop(), websocket)
         self.stream: ServeStream | None = None
+        self.holds_slot = False  # from the moment a start is accepted: counts against --max-streams
+        self.evicted = False  # closed unstarted to make room for a newer connection (GestureServer._make_room)
         self.audio_format = DEFAULT_AUDIO_FORMAT
 
     async def answer(self, message: bytes | str) -> None:
@@ -129,6 +140,8 @@ class StreamConnection:
         except ControlError as error:
             self.server.errors.report(ControlError(f"stream {self.stream_id}: {error}"))
             await send_refusal(self.websocket, error)
+            if isinstance(error, ServerFull):
+                await self.websocket.close(CloseCode.TRY_AGAIN_LATER, str(error))
             return
         if reply is not None:
             await self.websocket.send(reply)
@@ -165,7 +178,12 @@ class StreamConnection:
             raise ControlError("the stream has already started")
         self.server.access.verify_token(self.websocket, message)
         options = parse_start(message)
-        session = await asyncio.to_thread(self.server.sessions.session, options)
+        self.server.claim_slot(self)
+        try:
+            session = await asyncio.to_thread(self.server.sessions.session, options)
+        except BaseException:
+            self.holds_slot = False
+            raise
         self.audio_format = options.audio_format
         self.stream = ServeStream(self.stream_id, session, self.server.clock, self.sender.send, self.server.coords,
                                   self.server.config.stream, on_finished=self.sender.close_when_sent,
@@ -224,7 +242,20 @@ class GestureServer:
         return f"ws://{self.config.host}:{self.port}/stream/"
 
     def active_streams(self) -> int:
+        """Open connections, started or not."""
         return len(self._connections)
+
+    def started_streams(self) -> int:
+        """Connections whose start was accepted: they hold the ``max_streams`` slots."""
+        return sum(connection.holds_slot for connection in self._connections.values())
+
+    def claim_slot(self, connection: StreamConnection) -> None:
+        """Give a starting connection one of the ``max_streams`` slots; ServerFull (1013) when none is free."""
+        if connection.evicted:
+            raise ServerFull("this connection waited longest to start and is being closed to make room")
+        if self.started_streams() >= self.config.max_streams:
+            raise ServerFull(f"server full ({self.config.max_streams} streams)")
+        connection.holds_slot = True
 
     def remember(self, stats: dict) -> None:
         self.finished.append(stats)
@@ -252,16 +283,46 @@ class GestureServer:
         except ControlError as error:
             await self._refuse(websocket, str(error), CloseCode.POLICY_VIOLATION)
             return
-        if len(self._connections) >= self.config.max_streams:
-            await self._refuse(websocket, f"server full ({self.config.max_streams} streams)", CloseCode.TRY_AGAIN_LATER)
+        refusal = self._full_reason()
+        if refusal is not None:
+            await self._refuse(websocket, refusal, CloseCode.TRY_AGAIN_LATER)
             return
         if stream_id in self._connections:
             await self._refuse(websocket, f"stream id {stream_id!r} is in use", CloseCode.POLICY_VIOLATION)
             return
         await self._serve_stream(websocket, stream_id)
 
+    def _full_reason(self) -> str | None:
+        """Why a new connection is refused (1013), or None: every stream slot is taken by a started stream."""
+        if self.started_streams() >= self.config.max_streams:
+            return f"server full ({self.config.max_streams} streams)"
+        return None
+
+    def _make_room(self) -> None:
+        """With ``max_unstarted`` connections waiting to start, the one that has waited longest is closed (1013), so
+        idle connections never keep a new client out."""
+        waiting = [c for c in self._connections.values() if not (c.holds_slot or c.evicted)]
+        if len(waiting) >= self.config.max_unstarted:
+            reason = f"server busy: {len(waiting)} connections were waiting to start and this one waited longest"
+            waiting[0].evicted = True  # it can no longer start; its handler ends when the close is done
+            asyncio.create_task(self._refuse_quietly(waiting[0].websocket, reason, CloseCode.TRY_AGAIN_LATER))
+
+    async def _refuse_quietly(self, websocket: ServerConnection, reason: str, code: CloseCode) -> None:
+        """:meth:`_refuse` on a connection that may be gone already."""
+        with suppress(ConnectionClosed):
+            await self._refuse(websocket, reason, code)
+
+    async def _close_if_not_started(self, connection: StreamConnection) -> None:
+        """The pre-start timeout: a connection that has not started after ``start_timeout_s`` is closed (1008)."""
+        await asyncio.sleep(self.config.start_timeout_s)
+        if not connection.holds_slot:
+            reason = f"no start message or audio within {self.config.start_timeout_s:g} s"
+            await self._refuse_quietly(connection.websocket, reason, CloseCode.POLICY_VIOLATION)
+
     async def _serve_stream(self, websocket: ServerConnection, stream_id: str) -> None:
+        self._make_room()
         connection = self._connections[stream_id] = StreamConnection(self, websocket, stream_id)
+        deadline = asyncio.create_task(self._close_if_not_started(connection))
         try:
             await websocket.send(self._hello(stream_id))
             async for message in websocket:
@@ -269,6 +330,7 @@ class GestureServer:
         except ConnectionClosed:
             logger.debug("stream %s: client went away", stream_id)
         finally:
+            deadline.cancel()
             try:
                 await connection.close()  # records the stream's stats before it stops counting as active
             finally:

@@ -82,6 +82,7 @@ BAD_CONTROLS = [
     ({"style2": "nope"}, "unknown style 'nope'"),
     ({"style": "text:  "}, "empty style prompt"),
     ({"guidance": 10**400}, "finite number"),  # an int beyond float range
+    ({"part_styles": {"arms": "hapy"}}, "unknown style 'hapy'"),  # resolved before the ack, like "style"
 ]
 LONE_SURROGATE = '{"type": "control", "prompt": "calm \\ud800"}'
 
@@ -260,6 +261,8 @@ def test_max_streams_refuses_at_connection_time_with_1013(bundle):
     async def crowd(url):
         async with connect(f"{url}a") as first, connect(f"{url}b") as second:
             hellos = [json.loads(await first.recv()), json.loads(await second.recv())]
+            for websocket in (first, second):  # started streams hold the slots
+                assert (await exchange(websocket, json.dumps({"type": "start"})))["type"] == "started"
             refusals = []
             for name in ("c", "d"):
                 async with connect(f"{url}{name}") as extra:
@@ -270,6 +273,53 @@ def test_max_streams_refuses_at_connection_time_with_1013(bundle):
         hellos, refusals = run(crowd(server.url))
     assert [h["type"] for h in hellos] == ["hello", "hello"]
     assert refusals == [({"type": "error", "message": "server full (2 streams)"}, 1013)] * 2
+
+
+def test_connections_that_never_start_hold_no_stream_slot_and_are_closed_after_the_start_timeout(bundle):
+    """Idle connections (no start, no audio) neither keep a starting client out nor stay open for ever: they hold no
+    --max-streams slot, the one that waited longest makes room when ``max_unstarted`` wait, and each is closed with
+    a reason after the pre-start timeout."""
+    async def crowd(url):
+        idle = [await connect(f"{url}idle-{i}") for i in range(2)]
+        hellos = [json.loads(await websocket.recv())["type"] for websocket in idle]
+        async with connect(f"{url}worker") as worker:
+            await worker.recv()  # hello: the oldest idle connection made room
+            evicted = json.loads(await idle[0].recv()), await close_code(idle[0])
+            started = await exchange(worker, json.dumps({"type": "start"}))
+            async with connect(f"{url}late") as late:  # the one slot is the worker's now
+                full = json.loads(await late.recv()), await close_code(late)
+            timed_out = json.loads(await idle[1].recv()), await close_code(idle[1])
+        return hellos, evicted, started, full, timed_out
+
+    with serving(bundle, max_streams=1, start_timeout_s=2.0, max_unstarted=2) as server:
+        hellos, evicted, started, full, timed_out = run(crowd(server.url))
+    assert hellos == ["hello", "hello"]
+    assert evicted[1] == 1013 and "waited longest" in evicted[0]["message"]
+    assert started["type"] == "started"  # the idle connection left holds no --max-streams slot
+    assert full == ({"type": "error", "message": "server full (1 streams)"}, 1013)
+    assert timed_out == ({"type": "error", "message": "no start message or audio within 2 s"}, 1008)
+
+
+def test_start_fields_of_another_json_type_get_an_error_reply_not_a_1011(bundle, caplog):
+    bad_starts = [{"audio_format": []}, {"audio_format": {}}, {"latency": []}, {"latency": {"a": 1}}]
+
+    async def session(url):
+        async with connect(f"{url}typed") as websocket:
+            await websocket.recv()  # hello
+            replies = [await exchange(websocket, json.dumps({"type": "start", **bad})) for bad in bad_starts]
+            started = await exchange(websocket, json.dumps({"type": "start", "latency": "low"}))
+            return replies, started
+
+    with caplog.at_level(logging.DEBUG), serving(bundle) as server:
+        replies, started = run(session(server.url))
+    assert [r["message"] for r in replies] == [
+        "audio_format must be one of f32le, s16le, got a JSON array",
+        "audio_format must be one of f32le, s16le, got a JSON object",
+        "latency must be one of low, balanced, quality, got a JSON array",
+        "latency must be one of low, balanced, quality, got a JSON object",
+    ]
+    assert started["type"] == "started"  # the connection is still open
+    assert not [r for r in caplog.records if r.exc_info], "a traceback was logged"
 
 
 def test_a_duplicate_stream_id_gets_an_error_then_a_close(bundle):

@@ -96,15 +96,25 @@ def deploy(args: argparse.Namespace, url: str | None = None) -> None:
         assert run(every_replica_answers(url, args.replicas))
 
 
+async def hold_a_stream(websocket) -> str:
+    """``started`` once this connection holds its replica's stream slot (only started streams hold one), else the
+    type of the refusal (``error``: the replica it reached is full)."""
+    first = json.loads(await websocket.recv())
+    if first["type"] != "hello":
+        return first["type"]
+    await websocket.send(json.dumps({"type": "start"}))
+    return json.loads(await websocket.recv())["type"]
+
+
 async def every_replica_answers(url: str, replicas: int) -> bool:
-    """Hold one stream per replica (opened one after the other); True once all get a hello, not a 1013."""
+    """Hold one started stream per replica (opened one after the other); True once all start, none gets a 1013."""
     for _ in range(RECONNECT_TRIES):
         async with contextlib.AsyncExitStack() as held:
             kinds = []
             for index in range(replicas):
                 websocket = await held.enter_async_context(connect(f"{url}probe-{index}"))
-                kinds.append(json.loads(await websocket.recv())["type"])
-        if kinds == ["hello"] * replicas:
+                kinds.append(await hold_a_stream(websocket))
+        if kinds == ["started"] * replicas:
             return True
         await asyncio.sleep(RECONNECT_PAUSE_S)
     return False
@@ -141,10 +151,10 @@ def test_streams_through_two_replicas_equal_plain_serve(cluster, speech):
         np.testing.assert_array_equal(ray_result.poses(), plain_result.poses())
 
 
-async def hold_and_overflow(url: str) -> tuple[list[dict], dict, int]:
-    """Two streams held open (one per replica), then a third connection: its reply and close code."""
+async def hold_and_overflow(url: str) -> tuple[list[str], dict, int]:
+    """Two streams started and held open (one per replica), then a third connection: its reply and close code."""
     async with connect(f"{url}a") as first, connect(f"{url}b") as second:
-        hellos = [json.loads(await first.recv()), json.loads(await second.recv())]
+        hellos = [await hold_a_stream(first), await hold_a_stream(second)]
         async with connect(f"{url}c") as third:
             refusal = json.loads(await third.recv())
             with pytest.raises(ConnectionClosed) as closed:
@@ -153,8 +163,8 @@ async def hold_and_overflow(url: str) -> tuple[list[dict], dict, int]:
 
 
 def test_full_replicas_refuse_a_new_stream_with_1013(cluster):
-    hellos, refusal, code = run(hold_and_overflow(cluster[1]))
-    assert [h["type"] for h in hellos] == ["hello", "hello"]
+    started, refusal, code = run(hold_and_overflow(cluster[1]))
+    assert started == ["started", "started"]
     assert refusal == {"type": "error", "message": f"server full ({STREAMS_PER_REPLICA} streams)"}
     assert code == CloseCode.TRY_AGAIN_LATER
 
