@@ -15,6 +15,7 @@ origins, wrong-token limit) is :mod:`ws_access`.
 from __future__ import annotations
 
 import asyncio
+import functools
 import json
 import logging
 import threading
@@ -32,7 +33,7 @@ from gesturecast.bridges import ws_protocol
 from gesturecast.bridges.control import ControlError, control_schema, decode_client_message, validate_control
 from gesturecast.bridges.coords import coordinate_frame
 from gesturecast.bridges.transport import ErrorThrottle
-from gesturecast.bridges.viewer_http import is_websocket_upgrade, static_response
+from gesturecast.bridges.viewer_http import AvatarServer, ViewerConnection, is_websocket_upgrade, static_response
 from gesturecast.bridges.ws_access import AccessPolicy, send_refusal
 from gesturecast.bridges.ws_listener import ThreadedListener
 from gesturecast.errors import UserError
@@ -90,6 +91,7 @@ class WebSocketBridge:
         skeleton: Skeleton = CANONICAL_WITH_HANDS,
     ) -> None:
         self.access = AccessPolicy(config.host, config.token, config.allow_origins, config.clock)
+        self.avatar = AvatarServer(config.avatar, self.access)  # /avatar.vrm, streamed (viewer_http)
         self.config = config
         self.on_control = on_control
         self.skeleton = skeleton
@@ -107,7 +109,8 @@ class WebSocketBridge:
 
     # ---- lifecycle (caller's thread) ----
     def start(self) -> WebSocketBridge:
-        self._listener.start(self._handle, process_request=self._process_request, max_size=MAX_CLIENT_MESSAGE_BYTES)
+        self._listener.start(self._handle, process_request=self._process_request, max_size=MAX_CLIENT_MESSAGE_BYTES,
+                             create_connection=functools.partial(ViewerConnection, self.avatar), open_timeout=None)
         logger.info("WebSocket stream and viewer on %s", self.url)
         return self
 
@@ -121,6 +124,8 @@ class WebSocketBridge:
         return f"http://{self.config.host}:{self.port}/"
 
     def close(self) -> None:
+        if self._listener.loop.is_running():  # avatar downloads end now: a stalled one must not hold the close up
+            self._listener.loop.call_soon_threadsafe(self.avatar.abort_all)
         self._listener.close()
 
     def client_count(self) -> int:
@@ -162,10 +167,11 @@ class WebSocketBridge:
         return self.config.viseme_names if self.config.lipsync else ()
 
     def _process_request(self, connection: ServerConnection, request: Request) -> Response | None:
-        """Upgrades pass the access policy (origin, wrong-token limit); plain GETs get the viewer files."""
+        """Upgrades pass the access policy (origin, wrong-token limit); plain GETs get the viewer files (the avatar
+        is streamed by :class:`ViewerConnection` before this hook)."""
         if is_websocket_upgrade(request):
             return self.access.process_request(connection, request)
-        return static_response(request.path, self.config.avatar)
+        return static_response(request.path, request.method)
 
     async def _handle(self, connection: ServerConnection) -> None:
         client = ClientState(address=str(connection.remote_address))

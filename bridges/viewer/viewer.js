@@ -165,7 +165,9 @@ async function showAvatar(buffer, name) {
 }
 
 async function loadServedAvatar() {
-  const response = await fetch("avatar.vrm");
+  // the avatar is behind the port's token, like the controls: the page's own ?token= goes in a header
+  const token = new URLSearchParams(location.search).get("token");
+  const response = await fetch("avatar.vrm", token ? { headers: { Authorization: `Bearer ${token}` } } : {});
   if (!response.ok) {
     el("avatar-status").textContent = "none: drop a .vrm file here";
     document.body.dataset.avatar = "none";

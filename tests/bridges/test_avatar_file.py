@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import urllib.request
 from pathlib import Path
 
 import pytest
@@ -9,9 +10,23 @@ import pytest
 from gesturecast.bridges import avatar_file
 from gesturecast.bridges.avatar_file import AVATAR_ENV_VAR, PACKAGED_AVATAR, PACKAGED_AVATAR_LICENSE, resolve_avatar
 from gesturecast.bridges.viewer_http import static_response
+from gesturecast.bridges.websocket_server import WebSocketBridge, WebSocketConfig
 from gesturecast.errors import UserError
 
 GLB_START = b"glTF\x02\x00\x00\x00"
+TIMEOUT_S = 10.0
+
+
+def served_avatar(avatar: Path | None, path: str = "/avatar.vrm") -> tuple[int, bytes, str]:
+    """(status, body, content type) of ``path`` from a viewer bridge serving ``avatar``."""
+    bridge = WebSocketBridge(WebSocketConfig(port=0, avatar=avatar)).start()
+    try:
+        with urllib.request.urlopen(f"http://127.0.0.1:{bridge.port}{path}", timeout=TIMEOUT_S) as response:
+            return response.status, response.read(), response.headers["Content-Type"]
+    except urllib.error.HTTPError as error:
+        return error.code, error.read(), error.headers["Content-Type"]
+    finally:
+        bridge.close()
 
 
 @pytest.fixture
@@ -51,8 +66,8 @@ def test_without_a_choice_the_packaged_avatar_is_served_from_inside_the_package(
     note = PACKAGED_AVATAR_LICENSE.read_text(encoding="utf-8")
     assert PACKAGED_AVATAR_LICENSE.parent == found.parent
     assert '"jin"' in note and "redistribution allowed" in note and "madjin/vrm-samples" in note
-    served = static_response("/avatar.vrm", found)
-    assert served.status_code == 200 and served.body[:4] == b"glTF"
+    status, body, _ = served_avatar(found)
+    assert status == 200 and body == found.read_bytes()
 
 
 def test_a_missing_packaged_avatar_is_none(elsewhere, tmp_path, monkeypatch):
@@ -72,10 +87,8 @@ def test_an_unusable_choice_is_one_line_naming_it(tmp_path, content, message):
 
 
 def test_the_page_gets_the_avatar_and_the_bundled_libraries(vrm):
-    served = static_response("/avatar.vrm?x=1", vrm)
-    assert served.status_code == 200 and served.body == vrm.read_bytes()
-    assert served.headers["Content-Type"] == "model/gltf-binary"
-    assert static_response("/avatar.vrm", None).status_code == 404
+    assert served_avatar(vrm, "/avatar.vrm?x=1") == (200, vrm.read_bytes(), "model/gltf-binary")
+    assert served_avatar(None)[0] == 404
     bundle = static_response("/vendor/three-vrm.bundle.js")
     assert bundle.status_code == 200 and b"VRMLoaderPlugin" in bundle.body
     assert b"MIT License" in static_response("/vendor/three-vrm.LICENSE").body

@@ -182,3 +182,19 @@ def test_visemes_open_the_mouth(driver, avatar):
     assert closed_state["kind"] == "procedural"  # this avatar has no mouth blend shapes
     assert open_state["opening"] > 5 * closed_state["opening"]
     assert mouth_pixels(open_).sum() > 3 * max(1, mouth_pixels(closed).sum())
+
+
+def test_on_a_port_with_a_token_the_page_fetches_the_avatar_with_the_token_of_its_url(driver, avatar):
+    token = "correct-horse-battery-staple"
+    bridge = WebSocketBridge(WebSocketConfig(port=0, avatar=avatar, token=token)).start()
+    try:
+        with Feeder(bridge, moving_frame):
+            driver.get(bridge.url)  # no token in the URL: the server refuses the avatar (401)
+            wait_for(lambda: driver.execute_script("return document.body.dataset.avatar") == "none")
+            without = driver.execute_script("return document.body.dataset.avatar")
+            driver.get(f"{bridge.url}?token={token}")
+            wait_for(lambda: driver.execute_script("return document.body.dataset.avatar") == "loaded")
+            with_token = driver.execute_script("return document.body.dataset.avatar")
+    finally:
+        bridge.close()
+    assert (without, with_token) == ("none", "loaded")
