@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import logging
 import math
+import weakref
 from collections import deque
 from dataclasses import dataclass
 
@@ -95,7 +96,9 @@ class GestureSession:
         self.idle = IdleMotion(seed=generator.settings.seed)
         self._hold_frames = round(self.config.silence_hold_s * self.fps)
         self.root = RootAnchor(self.config.root_mode, fps=self.fps)
-        self.controls = SessionControls(generator, self.root, self)
+        # the controls reach the session's cues through a weak proxy: no session <-> controls cycle, so a closed
+        # stream's session is freed by reference counting at once (the controls die with it)
+        self.controls = SessionControls(generator, self.root, weakref.proxy(self))
         self.smoother = MotionSmoother(budget.smoothing_frames)
         self.hands = HandPose(self.fps, seed=generator.settings.seed)
         self.reset()

@@ -31,6 +31,7 @@ from gesturecast.bridges.ws_access import AccessPolicy, send_refusal
 from gesturecast.bridges.ws_listener import ThreadedListener
 from gesturecast.errors import UserError
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
+from gesturecast.realtime.serve.heap import HeapTrimmer
 from gesturecast.realtime.serve.protocol import (
     DEFAULT_AUDIO_FORMAT,
     MAX_AUDIO_MESSAGE_BYTES,
@@ -222,6 +223,7 @@ class GestureServer:
         self.finished: deque[dict] = deque(maxlen=self.config.max_streams)  # stats of recently closed streams
         self._connections: dict[str, StreamConnection] = {}
         self._ids = itertools.count(1)
+        self.heap = HeapTrimmer.for_this_platform()  # freed heap back to the OS after a stream closes (glibc)
         self._listener = ThreadedListener(self.config.host, self.config.port, "gesturecast-serve", STOP_TIMEOUT_S,
                                           port_flag=SERVE_PORT_FLAG)
 
@@ -334,4 +336,5 @@ class GestureServer:
             try:
                 await connection.close()  # records the stream's stats before it stops counting as active
             finally:
-                del self._connections[stream_id]
+                del self._connections[stream_id]  # the stream is freed (reference counting) as this handler returns
+                self.heap.request()

@@ -49,6 +49,24 @@ class StreamConfig:
     output_fps: float = 30.0
 
 
+@dataclass(frozen=True)
+class FrameSender:
+    """The scheduler's sink (scheduler thread): a released pose frame → one binary message through ``send``.
+
+    It holds no reference back to its :class:`ServeStream`, so a closed stream (its session, KV caches, decoder
+    session, statistics rings) is freed by reference counting the moment its connection lets go of it, not later,
+    whenever the garbage collector would have found a stream ↔ scheduler cycle."""
+
+    clock: Clock
+    coords: CoordinateFrame
+    send: Send
+
+    def __call__(self, frame: PoseFrame) -> None:
+        send_unix = time.time()  # wire timestamps are Unix time; the latency arithmetic stays on the clock
+        capture_unix = send_unix - (self.clock.now() - frame.capture_time)
+        self.send(ws_protocol.binary_frame(frame, self.coords, capture_unix, send_unix))
+
+
 class ServeStream:
     """Audio messages in (any thread), binary pose frames out through ``send``; :meth:`stop` frees it."""
 
@@ -79,7 +97,7 @@ class ServeStream:
         self._ending = threading.Event()
         self._stopped = threading.Event()
         release = SchedulerConfig(self.config.output_fps, poll_interval_s=self.config.poll_interval_s)
-        self.scheduler = FrameScheduler(clock, self._send_frame, release, stats=session.stats)
+        self.scheduler = FrameScheduler(clock, FrameSender(clock, coords, send), release, stats=session.stats)
         self._releaser = SchedulerWorker(self.scheduler)
         self._worker = threading.Thread(target=self._run, name=f"stream-{stream_id}", daemon=True)
 
@@ -149,12 +167,6 @@ class ServeStream:
     def _finished(self) -> None:
         if self.on_finished is not None:
             self.on_finished()
-
-    # ---- scheduler thread ----
-    def _send_frame(self, frame: PoseFrame) -> None:
-        send_unix = time.time()  # wire timestamps are Unix time; the latency arithmetic stays on self.clock
-        capture_unix = send_unix - (self.clock.now() - frame.capture_time)
-        self.send(ws_protocol.binary_frame(frame, self.coords, capture_unix, send_unix))
 
     def stats(self) -> dict:
         """Per-stream numbers (JSON-able; ms)."""

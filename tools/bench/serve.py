@@ -7,16 +7,18 @@ end-to-end latency (client capture → frame received), deadline misses, audio d
 (process CPU seconds per second of audio, clients included) and how the batcher grouped calls; then
 the largest N with zero deadline misses and that per CPU core.
 
-``--churn N``: one server, N short streams one after another (start, CHURN_SECONDS of audio as fast as
-the server takes it, end, close); reports the process RSS every CHURN_REPORT_EVERY streams. What a
-closed stream leaves behind shows up as a slope; it must be flat.
+``--churn N [--concurrency C]``: one server, N short streams, C at a time, each with a new id (start,
+CHURN_SECONDS of audio as fast as the server takes it, end, close); reports the process RSS every
+CHURN_REPORT_EVERY finished streams, as a server sees it (no forced garbage collection), and the RSS with no
+stream open after the warm-up streams (the churn pauses there) and at the end. What closed streams leave
+behind shows up as a slope after the warm-up and as idle growth; both must be flat.
 """
 
 from __future__ import annotations
 
 import argparse
 import asyncio
-import gc
+import itertools
 import json
 import os
 import platform
@@ -46,9 +48,12 @@ CHUNK_SAMPLES = 512  # 32 ms, what a microphone client sends
 MAX_STAGGER_S = 1.0  # clients start spread over this long, as independent users would
 STAGGER_SEED = 0
 CHURN_SECONDS = 1.0  # audio per churn stream: a start, a few latent frames, an end
-CHURN_REPORT_EVERY = 100  # streams between RSS samples
+CHURN_REPORT_EVERY = 50  # finished streams between RSS samples
 SLOPE_UNIT_STREAMS = 100  # the slope is reported per this many streams
 CHURN_WARMUP_STREAMS = 100  # left out of the slope (first-use allocations: caches, arenas, code paths)
+MAX_CHURN_CONCURRENCY = 64
+CHURN_CLOSE_WAIT_S = 10.0  # at most this long for the server to close the last streams before counting them
+CHURN_SETTLE_S = 2.0  # then this long for its rate-limited heap trim (realtime/serve/heap.py) before an idle sample
 
 
 def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
@@ -56,8 +61,10 @@ def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--audio", type=Path, default=DEFAULT_AUDIO, help="speech file the clients replay")
     parser.add_argument("--streams", type=int, nargs="+", default=list(DEFAULT_STREAMS), help="stream counts N")
     parser.add_argument("--seconds", type=float, default=DEFAULT_SECONDS, help=f"audio per stream (≤ {MAX_SECONDS:g})")
-    parser.add_argument("--churn", type=int, metavar="N", help="instead: N short streams in a row, RSS every "
-                        f"{CHURN_REPORT_EVERY} (must be flat)")
+    parser.add_argument("--churn", type=int, metavar="N", help="instead: N short streams, each a new id, RSS every "
+                        f"{CHURN_REPORT_EVERY} (must be flat after the first {CHURN_WARMUP_STREAMS})")
+    parser.add_argument("--concurrency", type=int, default=1, metavar="C",
+                        help=f"with --churn: C streams at a time (1..{MAX_CHURN_CONCURRENCY})")
     parser.add_argument("--json", action="store_true", help="print one JSON object on one line")
     parser.add_argument("--url", help="measure a server that is already running (e.g. serve --ray: "
                                       "ws://127.0.0.1:8766/stream/); rtf then counts only the clients' CPU")
@@ -71,7 +78,9 @@ def run_bench_serve(args: argparse.Namespace) -> int:
     if args.churn is not None:
         if args.churn < CHURN_REPORT_EVERY:
             raise UserError(f"--churn wants at least {CHURN_REPORT_EVERY} streams, got {args.churn}")
-        result = measure_churn(args, speech[: int(CHURN_SECONDS * SAMPLE_RATE)], args.churn)
+        if not 1 <= args.concurrency <= MAX_CHURN_CONCURRENCY:
+            raise UserError(f"--concurrency must be within 1..{MAX_CHURN_CONCURRENCY}, got {args.concurrency}")
+        result = measure_churn(args, speech[: int(CHURN_SECONDS * SAMPLE_RATE)], args.churn, args.concurrency)
         sys.stdout.write(json.dumps(result, indent=None if args.json else 2) + "\n")
         return 0
     runs = [measure_streams(args, n, speech, seconds) for n in args.streams]
@@ -143,29 +152,64 @@ def measure_streams(args: argparse.Namespace, streams: int, speech: np.ndarray, 
     return run_summary(results, streams, seconds, cpu, wall, batching, guidance)
 
 
-def measure_churn(args: argparse.Namespace, speech: np.ndarray, count: int) -> dict:
-    """RSS (MiB) after every CHURN_REPORT_EVERY of ``count`` short streams through one server, and its slope."""
-    server = local_server(args, max_streams=args.max_streams)
+def measure_churn(args: argparse.Namespace, speech: np.ndarray, count: int, concurrency: int = 1) -> dict:
+    """RSS (MiB) after every CHURN_REPORT_EVERY of ``count`` short streams, ``concurrency`` at a time, through one
+    server, and its slope after the warm-up; and the RSS with no stream open after the warm-up streams (the churn
+    pauses there) and at the end."""
+    server = local_server(args, max_streams=max(args.max_streams, concurrency))
     samples = [(0, rss_mb())]
     errors: list[str] = []
-
-    async def streams(first: int) -> None:
-        for index in range(first, first + CHURN_REPORT_EVERY):
-            result = await stream_audio(f"{server.url}churn-{index}", speech, CHUNK_SAMPLES, paced=False)
-            errors.extend(result.errors)
-
+    idle: dict[str, float] = {}
+    finished = itertools.count(1)
+    warmup = min(CHURN_WARMUP_STREAMS, count)
     try:
-        for first in range(0, count - count % CHURN_REPORT_EVERY, CHURN_REPORT_EVERY):
-            asyncio.run(streams(first))
-            gc.collect()
-            samples.append((first + CHURN_REPORT_EVERY, rss_mb()))
+        for phase, indices in (("after_warmup", range(warmup)), ("end", range(warmup, count))):
+            asyncio.run(churn_streams(server.url, speech, indices, concurrency, finished, samples, errors))
+            idle[phase] = idle_rss(server)
         active = server.active_streams()
     finally:
         server.close()
-    return {"churn": {"streams": samples[-1][0], "seconds_per_stream": CHURN_SECONDS,
-                      "rss_mib": [{"streams": n, "rss": rss} for n, rss in samples],
-                      "mib_per_100_streams_after_warmup": churn_slope(samples),
-                      "active_streams_after": active, "errors": errors[:10]}}
+    return {"churn": churn_summary(samples, idle, concurrency, active, errors)}
+
+
+def idle_rss(server: GestureServer) -> float:
+    """RSS (MiB) once the server has closed every stream and had time to hand freed heap back."""
+    deadline = time.monotonic() + CHURN_CLOSE_WAIT_S  # the server sees the last clients leave a moment later
+    while server.active_streams() and time.monotonic() < deadline:
+        time.sleep(0.05)
+    time.sleep(CHURN_SETTLE_S)
+    return rss_mb()
+
+
+async def churn_streams(url: str, speech: np.ndarray, indices: range, concurrency: int, finished: itertools.count,
+                        samples: list[tuple[int, float]], errors: list[str]) -> None:
+    """Streams ``indices`` (ids churn-0, churn-1, ...) from ``concurrency`` clients; appends (finished, RSS MiB)
+    to ``samples`` every CHURN_REPORT_EVERY finished streams (others still in flight)."""
+    pending = iter(indices)
+
+    async def client() -> None:
+        for index in pending:  # shared: each client takes the next id
+            result = await stream_audio(f"{url}churn-{index}", speech, CHUNK_SAMPLES, paced=False)
+            errors.extend(result.errors)
+            done = next(finished)
+            if done % CHURN_REPORT_EVERY == 0:
+                samples.append((done, rss_mb()))
+
+    await asyncio.gather(*(client() for _ in range(concurrency)))
+
+
+def churn_summary(samples: list[tuple[int, float]], idle: dict[str, float], concurrency: int, active: int,
+                  errors: list[str]) -> dict:
+    """The churn result: RSS samples, the slope after warm-up, and the idle RSS at the end against the warm-up's."""
+    by_count = dict(samples)
+    return {"streams": samples[-1][0], "concurrency": concurrency, "seconds_per_stream": CHURN_SECONDS,
+            "rss_mib": [{"streams": n, "rss": round(rss, 1)} for n, rss in samples],
+            "rss_at_warmup_mib": by_count.get(CHURN_WARMUP_STREAMS), "rss_max_mib": max(rss for _, rss in samples),
+            "idle_rss_mib": {phase: round(rss, 1) for phase, rss in idle.items()},
+            "idle_end_minus_warmup_mib": round(idle["end"] - idle["after_warmup"], 1),
+            "warmup_streams": CHURN_WARMUP_STREAMS,
+            "mib_per_100_streams_after_warmup": churn_slope(samples),
+            "active_streams_after": active, "errors": errors[:10]}
 
 
 def churn_slope(samples: list[tuple[int, float]]) -> float | None:
