@@ -1,6 +1,6 @@
 """The wheel: built offline from a copy of the source tree, it holds what the runtime needs (the default model, the
-viewer page and its libraries, the avatar, the sample, the licence notes) and nothing that is not the product; and a
-non-editable install of it finds all of that inside itself, from any working folder."""
+gesture lexicon, the viewer page and its libraries, the avatar, the sample, the licence notes) and nothing that is
+not the product; and a non-editable install of it finds all of that inside itself, from any working folder."""
 
 from __future__ import annotations
 
@@ -93,6 +93,9 @@ def test_the_wheel_holds_the_model_viewer_avatar_sample_and_licence_notes(names,
     assert "model.json" in default and {name for name in default if name.endswith(".onnx")}
     assert {f"gesturecast/models/weights/default/{name}" for name in default} <= names
     assert {f"gesturecast/models/weights/eval/{name}" for name in files_under(source / "models/weights/eval")} <= names
+    gestures = files_under(source / "models" / "weights" / "gestures")  # the gesture lexicon (docs/gestures.md)
+    assert gestures == {"lexicon.json", "clips.npz"}
+    assert {f"gesturecast/models/weights/gestures/{name}" for name in gestures} <= names
     viewer = {name for name in files_under(source / "bridges" / "viewer") if "/" not in name}  # the page's own files
     assert {"index.html", "viewer.js"} <= viewer
     assert {f"gesturecast/bridges/viewer/{name}" for name in viewer} <= names
@@ -132,6 +135,7 @@ from gesturecast.bridges.avatar_file import resolve_avatar
 from gesturecast.cli import build_parser
 from gesturecast.models.evaluation.fgd_encoder import DEFAULT_FGD_ENCODER
 from gesturecast.models.runtime.bundle import ONNX_FILES, ModelBundle
+from gesturecast.models.runtime.gesture_lexicon import default_lexicon_dir, load_lexicon
 from gesturecast.tools import demo_cli
 
 model = build_parser().parse_args(["live", "--ws", "0"]).model  # the CLI's default --model
@@ -145,6 +149,8 @@ print(json.dumps({
     "avatar": [str(avatar), str(avatar.with_suffix(".LICENSE"))],
     "sample": [str(demo_cli.PACKAGED_SAMPLE)],
     "eval": [str(DEFAULT_FGD_ENCODER)],
+    "gestures": [str(default_lexicon_dir() / name) for name in ("lexicon.json", "clips.npz")
+                 if load_lexicon()["wave"].variant().num_frames],
 }))
 """
 
