@@ -574,7 +574,10 @@ def lexicon_json(lexicon: Lexicon) -> dict:
         "license": lexicon.license,
         "rules": {"activity_joints": list(ACTIVITY_JOINTS), "smooth_frames": SMOOTH_FRAMES,
                   "active_fraction": ACTIVE_FRACTION, "margin_seconds": MARGIN_SECONDS,
-                  "stroke_tolerance": STROKE_TOLERANCE, "variant": "median trimmed length per style",
+                  "stroke_tolerance": STROKE_TOLERANCE, "max_seconds": MAX_SECONDS, "keep_seconds": KEEP_SECONDS,
+                  "release_fraction": RELEASE_FRACTION, "splice_tolerance": SPLICE_TOLERANCE,
+                  "blend_frames": BLEND_FRAMES, "rest_drop": REST_DROP, "style_preference": list(STYLE_PREFERENCE),
+                  "variant": "per style, the median clip length among takes starting and ending at rest",
                   "docs": "docs/gestures.md"},
         "gestures": [
             {"name": e.name, "description": e.description, "parts": list(e.parts), "triggers": list(e.triggers),
