@@ -333,6 +333,7 @@ class GestureServer:
             logger.debug("stream %s: client went away", stream_id)
         finally:
             deadline.cancel()
+            connection.holds_slot = False  # the client has gone or the stream has ended: a new one may start now
             try:
                 await connection.close()  # records the stream's stats before it stops counting as active
             finally:

@@ -106,14 +106,25 @@ async def hold_a_stream(websocket) -> str:
     return json.loads(await websocket.recv())["type"]
 
 
+async def end_stream(websocket) -> None:
+    """End a started stream and read until the server closes: its replica has let go of the stream by then."""
+    with contextlib.suppress(ConnectionClosed):
+        await websocket.send(json.dumps({"type": "end"}))
+        async for _ in websocket:
+            pass
+
+
 async def every_replica_answers(url: str, replicas: int) -> bool:
     """Hold one started stream per replica (opened one after the other); True once all start, none gets a 1013."""
     for _ in range(RECONNECT_TRIES):
         async with contextlib.AsyncExitStack() as held:
-            kinds = []
+            probes, kinds = [], []
             for index in range(replicas):
-                websocket = await held.enter_async_context(connect(f"{url}probe-{index}"))
-                kinds.append(await hold_a_stream(websocket))
+                probes.append(await held.enter_async_context(connect(f"{url}probe-{index}")))
+                kinds.append(await hold_a_stream(probes[-1]))
+            for websocket, kind in zip(probes, kinds, strict=True):
+                if kind == "started":
+                    await end_stream(websocket)
         if kinds == ["started"] * replicas:
             return True
         await asyncio.sleep(RECONNECT_PAUSE_S)
