@@ -1,7 +1,8 @@
 """The pose stream as JSON (``generate --json``), written frame batch by frame batch.
 
-The document is ``{"bones": [...], "fps": 30, "visemes": [...], "frames": [{seq, capture_time, root,
-rotations, speaking, visemes}, ...]}`` on one line (``visemes``: the blend-shape names of ``--lipsync`` and each
+The document is ``{"bones": [...], "fps": 30, "visemes": [...], "frames": [{seq, capture_time, root, rotations,
+speaking, visemes, gesture}, ...]}`` on one line (``gesture``: the lexicon gesture being carried out, only on
+frames that have one; ``visemes``: the blend-shape names of ``--lipsync`` and each
 frame's weights in that order; both absent with ``--lipsync off``; ``speaking``: the voice activity of the
 frame's own audio instant, with a 267 ms hangover), the same bytes as ``json.dumps`` of the
 whole document, but the frames are never all in memory: each batch is formatted and written as it comes, into a
@@ -38,6 +39,8 @@ def frame_record(frame: PoseFrame) -> dict:
     }
     if frame.visemes is not None:
         record["visemes"] = np.round(np.asarray(frame.visemes, np.float64), VISEME_DECIMALS).tolist()  # (5,) in [0, 1]
+    if frame.gesture:
+        record["gesture"] = frame.gesture  # the lexicon gesture(s) being carried out
     return record
 
 

@@ -17,6 +17,7 @@ from gesturecast.frames import PoseFrame
 from gesturecast.models.motion.motion import MOTION_FPS
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
 from gesturecast.realtime.audio.sources import ArraySource, AudioSource, FastFileSource
+from gesturecast.realtime.generation.word_cues import Word, read_transcript, words_from_list
 from gesturecast.realtime.run.engine import run_offline
 from gesturecast.realtime.run.engine_setup import build_session
 from gesturecast.realtime.run.offline_generate import frame_writer
@@ -79,21 +80,34 @@ class Motion:
         return path
 
 
-def generate(audio: str | Path | np.ndarray, sample_rate: int | None = None, settings: Settings | None = None,
-             **overrides) -> Motion:
+def generate(audio: str | Path | np.ndarray, sample_rate: int | None = None, settings: Settings | None = None, *,
+             transcript: str | Path | list[dict] | None = None, **overrides) -> Motion:
     """Speech → motion, offline (as fast as the CPU allows).
 
     audio: a file path (any format soundfile reads, any rate and channel count), or samples as an array,
         (n,) or (n, channels), float in [-1, 1] or int16, with ``sample_rate``.
     settings: a :class:`Settings` (default ``Settings()``); ``overrides`` change single fields,
         e.g. ``generate("talk.wav", style="happy", seed=3)``.
+    transcript: the audio's words with times, as a file (JSON word list, .srt, .vtt) or a list of
+        ``{"word", "start", "end"}`` (seconds): trigger words ("hello", "thank you") cue lexicon gestures with
+        their stroke on the word (docs/gestures.md).
     """
     settings = with_overrides(settings, overrides)
     source = _source(audio, sample_rate)
-    frames, _ = run_offline(build_session(settings, MonotonicClock()), source)
+    session = build_session(settings, MonotonicClock())
+    session.cue_words(_words(transcript))
+    frames, _ = run_offline(session, source)
     if not frames:
         raise UserError("the audio is shorter than one motion frame (1/30 s)")
     return Motion.from_frames(frames, settings.lipsync_names)
+
+
+def _words(transcript: str | Path | list[dict] | None) -> list[Word]:
+    if transcript is None:
+        return []
+    if isinstance(transcript, (str, Path)):
+        return read_transcript(Path(transcript))
+    return words_from_list(transcript, "transcript")
 
 
 def _source(audio: str | Path | np.ndarray, sample_rate: int | None) -> AudioSource:

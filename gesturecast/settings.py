@@ -43,6 +43,7 @@ LATENCY_SETTINGS = {setting.name: setting for setting in (LOW, BALANCED, QUALITY
 
 
 DEFAULT_MODEL_DIR = Path(str(resources.files("gesturecast.models"))) / "weights" / "default"
+DEFAULT_GESTURES_DIR = Path(str(resources.files("gesturecast.models"))) / "weights" / "gestures"
 SAMPLERS = ("ddim", "ddpm")
 LIPSYNC_OFF = "off"
 LIPSYNC_CHOICES = (*VISEME_NAMES, LIPSYNC_OFF)
@@ -95,6 +96,8 @@ class Settings:
     seed_motion: start from this clip's last pose instead of the idle pose.
     lipsync: viseme names "vrm0" (A I U E O), "vrm1" (aa ih ou ee oh) or "off".
     root: "bounded" (stays near where it started), "free" or "locked".
+    gestures: the gesture lexicon that words and gesture controls draw on (the bundled one; a folder of the
+        user's clips, docs/gestures.md), or None for none.
     fps: output rate, 30 or 60 (slerp upsampling).
     """
 
@@ -119,10 +122,11 @@ class Settings:
     lipsync: str = "vrm0"
     root: str = RootMode.BOUNDED.value
     fps: int = 30
+    gestures: Path | None = DEFAULT_GESTURES_DIR
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "model", Path(self.model))
-        for name in ("motion_prompt", "seed_motion"):
+        for name in ("motion_prompt", "seed_motion", "gestures"):
             if getattr(self, name) is not None:
                 object.__setattr__(self, name, Path(getattr(self, name)))
         object.__setattr__(self, "part_styles", _part_styles(self.part_styles))

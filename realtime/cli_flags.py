@@ -31,6 +31,7 @@ from gesturecast.settings import (
     Settings,
 )
 
+GESTURES_OFF = "off"
 SETTING_NAMES = tuple(field.name for field in dataclasses.fields(Settings))
 FLAG_ALIASES = {"part_style": "part_styles"}  # flag destination -> Settings field
 
@@ -81,9 +82,23 @@ def add_generation_arguments(parser: argparse.ArgumentParser) -> None:
     group.add_argument("--lipsync", choices=(*VISEME_NAMES, LIPSYNC_OFF), default=defaults.lipsync,
                        help="viseme blend shapes from the audio (docs/lipsync.md): vrm0 = A I U E O (VRM 0.x), "
                             "vrm1 = aa ih ou ee oh (VRM 1.0), off")
+    group.add_argument("--gestures", type=gestures_folder, default=defaults.gestures, metavar="DIR|off",
+                       help="gesture lexicon that trigger words and gesture controls draw on: the bundled one "
+                            "(default), a folder of your own clips with gestures.json (docs/gestures.md), or off")
     group.add_argument("--root", choices=ROOT_MODES, default=defaults.root,
                        help="bounded: stays within 0.15 m / 30° of where it started (default); "
                             "free: the generated root motion; locked: pinned in place")
+
+
+def gestures_folder(text: str) -> Path | None:
+    """``--gestures``: a folder, or ``off`` (None: no lexicon)."""
+    return None if text == GESTURES_OFF else Path(text)
+
+
+def add_transcript_argument(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--transcript", type=Path, metavar="FILE",
+                        help="words with times (JSON [{word, start, end}], .srt or .vtt) of the audio: trigger "
+                             "words cue their gestures with the stroke on the word (docs/gestures.md)")
 
 
 def add_output_arguments(parser: argparse.ArgumentParser) -> None:

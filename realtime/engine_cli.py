@@ -22,9 +22,11 @@ from gesturecast.realtime.audio.cli import add_source_arguments, open_source
 from gesturecast.realtime.cli_flags import (
     add_generation_arguments,
     add_output_arguments,
+    add_transcript_argument,
     outputs_from_args,
     settings_from_args,
 )
+from gesturecast.realtime.generation.word_cues import Word, read_transcript
 from gesturecast.realtime.jobs.batch_cli import add_batch_arguments, run_batch
 from gesturecast.realtime.run.engine import EngineReport, LiveEngine
 from gesturecast.realtime.run.engine_setup import build_outputs, build_session
@@ -32,12 +34,14 @@ from gesturecast.realtime.run.offline_generate import VRMA_SUFFIX, check_motion_
 from gesturecast.realtime.timing.clock import MonotonicClock
 from gesturecast.realtime.timing.scheduler import STAGE_END_TO_END, SchedulerConfig
 from gesturecast.realtime.timing.status import StatusLine
+from gesturecast.settings import Settings
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     live = subparsers.add_parser("live", help="speech in (microphone or --input FILE), gestures out, live")
     add_source_arguments(live)
     add_generation_arguments(live)
+    add_transcript_argument(live)
     add_output_arguments(live)
     live.set_defaults(func=run_live)
 
@@ -56,6 +60,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                           "writes every bone as generated (exact on avatars with an upper chest)")
     add_batch_arguments(generate)
     add_generation_arguments(generate)
+    add_transcript_argument(generate)
     generate.set_defaults(func=run_generate)
 
 
@@ -64,6 +69,10 @@ def run_live(args: argparse.Namespace) -> int:
     settings, chosen = settings_from_args(args), outputs_from_args(args)
     if not chosen.any:
         raise UserError("no output chosen: add --vmc HOST:PORT, --osc HOST:PORT, --ws PORT and/or --bvh FILE")
+    if args.transcript is not None and not args.input:
+        raise UserError("--transcript gives the words of an --input file (a microphone's words come as they are "
+                        "spoken: send them as a words message)")
+    words = transcript_words(args.transcript, settings)
     clock = MonotonicClock()
     session = build_session(settings, clock)
     if args.input:
@@ -76,7 +85,8 @@ def run_live(args: argparse.Namespace) -> int:
         raise
     try:
         sys.stdout.write(session.budget.describe() + "\n")
-        engine = LiveEngine(session, source, outputs.send, clock, scheduler_config(args), StatusLine(clock))
+        engine = LiveEngine(session, source, outputs.send, clock, scheduler_config(args), StatusLine(clock),
+                            on_warm=lambda: session.cue_words(words))
         report = engine.run()
     finally:
         outputs.close()
@@ -112,9 +122,21 @@ def run_generate(args: argparse.Namespace) -> int:
         if args.vrma.suffix.lower() != VRMA_SUFFIX:
             raise UserError(f"--vrma {args.vrma}: name a .vrma file")
         motion_paths.append(args.vrma)
-    generate_to_files(build_session(settings_from_args(args), MonotonicClock()), args.audio, motion_paths, args.json,
-                      args.vrma_bones)
+    settings = settings_from_args(args)
+    words = transcript_words(args.transcript, settings)
+    session = build_session(settings, MonotonicClock())
+    session.cue_words(words)
+    generate_to_files(session, args.audio, motion_paths, args.json, args.vrma_bones)
     return 0
+
+
+def transcript_words(path: Path | None, settings: Settings) -> list[Word]:
+    """The words of ``--transcript`` (none without one); refused when gestures are off (nothing to cue)."""
+    if path is None:
+        return []
+    if settings.gestures is None:
+        raise UserError("--transcript cues gestures, and --gestures is off")
+    return read_transcript(path)
 
 
 def scheduler_config(args: argparse.Namespace) -> SchedulerConfig:

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from gesturecast.errors import UserError
+from gesturecast.models.motion.body_parts import PART_JOINTS, joint_columns
 from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.realtime.generation.gesture_cues import GestureClip
 
@@ -46,10 +47,19 @@ def encode_clip(bundle: ModelBundle, motion: ClipMotion, threads: int = 1) -> Ge
     if usable == 0 or not 0 <= motion.stroke_frame < usable:
         raise UserError(f"gesture {motion.name!r}: {motion.features.shape[0]} frames with the stroke at frame "
                         f"{motion.stroke_frame}; it needs at least {d} frames and its stroke inside them")
-    normalized = bundle.motion_stats.normalize(np.asarray(motion.features[:usable], np.float32))  # (T', D)
-    latents = bundle.vq_encoder(threads).encode(normalized)  # (N, C)
+    features = np.asarray(motion.features[:usable], np.float32)  # (T', D)
+    latents = bundle.vq_encoder(threads).encode(bundle.motion_stats.normalize(features))  # (N, C)
     return GestureClip(motion.name, bundle.latent_stats.normalize(latents).astype(np.float32),
-                       part_mask(bundle, motion.parts, motion.name), motion.stroke_frame // d)
+                       part_mask(bundle, motion.parts, motion.name), motion.stroke_frame // d, features,
+                       rotation_columns(motion.parts, features.shape[1]))
+
+
+def rotation_columns(parts: Iterable[str], feature_dim: int) -> np.ndarray:
+    """(D,) bool: the joint-rotation feature columns of ``parts`` (the root's height and travel excluded)."""
+    columns = np.zeros(feature_dim, bool)
+    for part in parts:
+        columns[[c for joint in PART_JOINTS[part] for c in joint_columns(joint)]] = True
+    return columns
 
 
 def encode_clips(bundle: ModelBundle, motions: Iterable[ClipMotion], threads: int = 1) -> tuple[GestureClip, ...]:

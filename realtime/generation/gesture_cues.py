@@ -8,6 +8,9 @@ of the parts the gesture moves (arms for a wave, torso and arms for a bow), ramp
 :data:`RAMP_LATENTS` latents and down over its last ones. The generator pulls its x̂0 prediction toward that latent
 at every sampler step (inpainting those channels, as motion-diffusion models inpaint joints), so the approach and
 the return blend with what it generates from the context, and the parts not gesturing keep following the speech.
+The decoded poses of those parts are then blended toward the clip's own joint rotations with the same ramp (per
+frame): the VQ decoder alone flattens some gestures (a bye's raised hand came out 0.2 m lower than recorded), and
+the blend keeps their shape while the latents keep the neighbouring motion consistent with it.
 
 A gesture is not repeated within :data:`DEFAULT_REFRACTORY_S`, and a body part does one gesture at a time: a cue
 that would overlap a placed clip on a shared part is dropped (and counted). The plan is deterministic in stream
@@ -44,12 +47,16 @@ class GestureClip:
     latents: (N, C) normalised latents of the clip (the model's VQ encoder of its motion features).
     channels: (C,) bool, the latent channels of the body parts the gesture moves.
     stroke_latent: index of the latent that holds the stroke.
+    features: (N·d, D) the clip's motion features (denormalised), d frames per latent.
+    columns: (D,) bool, the feature columns of the moving parts' joint rotations (never the root's travel).
     """
 
     name: str
     latents: np.ndarray
     channels: np.ndarray
     stroke_latent: int
+    features: np.ndarray
+    columns: np.ndarray
 
     @property
     def num_latents(self) -> int:
@@ -76,6 +83,32 @@ class Placement:
 def ramp_weight(k: int, length: int, ramp: int = RAMP_LATENTS) -> float:
     """Imposition weight of clip latent ``k`` of ``length``: rises over the first ``ramp``, falls over the last."""
     return min(1.0, (k + 1) / (ramp + 1), (length - k) / (ramp + 1))
+
+
+@dataclass(frozen=True)
+class Imposition:
+    """What the placed clips ask of one latent: its latent (C,) target and weights, the decoded poses' (d, D)
+    target features and per-frame weights, and the gesture names ("wave", "bow+guide")."""
+
+    target: np.ndarray
+    weights: np.ndarray
+    pose: np.ndarray
+    pose_weights: np.ndarray
+    names: str
+
+    def add(self, placement: Placement, k: int, d: int) -> None:
+        """Clip latent ``k`` of ``placement`` on its channels and columns (ramped per latent and per frame)."""
+        clip = placement.clip
+        self.target[clip.channels] = clip.latents[k, clip.channels]
+        self.weights[clip.channels] = ramp_weight(k, clip.num_latents)
+        frames = np.arange(k * d, (k + 1) * d)  # (d,) clip frames of this latent
+        ramp = np.array([ramp_weight(f, clip.features.shape[0], RAMP_LATENTS * d) for f in frames], np.float32)
+        self.pose[:, clip.columns] = clip.features[frames][:, clip.columns]
+        self.pose_weights[:, clip.columns] = ramp[:, None]
+
+    def blend(self, features: np.ndarray) -> np.ndarray:
+        """(d, D) decoded features pulled toward the clip's joint rotations."""
+        return features + self.pose_weights * (self.pose - features)
 
 
 class CuePlan:
@@ -118,19 +151,20 @@ class CuePlan:
         return any(other.first <= placement.last and placement.first <= other.last
                    and bool((other.clip.channels & placement.clip.channels).any()) for other in self.placements)
 
-    def imposition(self, latent: int) -> tuple[np.ndarray, np.ndarray, str] | None:
-        """(target (C,), weights (C,) in [0, 1], gesture names) for stream latent ``latent``, None if no clip
-        covers it."""
+    def imposition(self, latent: int) -> Imposition | None:
+        """What the clips covering stream latent ``latent`` impose on it (None when none does)."""
         covering = [p for p in self.placements if p.covers(latent)]
         if not covering:
             return None
-        target = np.zeros(covering[0].clip.latents.shape[1], np.float32)  # (C,)
-        weights = np.zeros_like(target)  # (C,)
+        first = covering[0].clip
+        d = first.features.shape[0] // first.num_latents
+        imposition = Imposition(np.zeros(first.latents.shape[1], np.float32), np.zeros(first.latents.shape[1],
+                                np.float32), np.zeros((d, first.features.shape[1]), np.float32),
+                                np.zeros((d, first.features.shape[1]), np.float32),
+                                "+".join(p.cue.gesture for p in covering))
         for placement in covering:
-            k = latent - placement.first
-            target[placement.clip.channels] = placement.clip.latents[k, placement.clip.channels]
-            weights[placement.clip.channels] = ramp_weight(k, placement.clip.num_latents)
-        return target, weights, "+".join(p.cue.gesture for p in covering)
+            imposition.add(placement, latent - placement.first, d)
+        return imposition
 
     def forget_before(self, latent: int) -> None:
         """Drop placements that ended before ``latent`` (their strokes still count for the refractory time)."""

@@ -215,10 +215,13 @@ class GestureSession:
         window = self.features.window(index, self.denoiser_config)  # (A', F)
         imposed = self.cues.imposition(index)
         with self.stats.time(STAGE_DENOISER):
-            latent = self.generator.denoise(window, True, None if imposed is None else imposed[:2])  # (C,)
+            latent = self.generator.denoise(window, True, None if imposed is None else (imposed.target,
+                                                                                       imposed.weights))  # (C,)
         with self.stats.time(STAGE_DECODER):
             motion = self.generator.decode(latent)  # (d, D)
-        gesture = "" if imposed is None else imposed[2]
+        if imposed is not None:
+            motion = imposed.blend(motion)
+        gesture = "" if imposed is None else imposed.names
         gesturing = self._gesturing(index) or bool(gesture)  # a cued gesture shows in silence too
         self.cues.forget_before(index)
         self._unsmoothed.extend((index * d + j, gesturing, gesture) for j in range(d))

@@ -180,9 +180,11 @@ class LiveEngine:
         scheduler_config: SchedulerConfig | None = None,
         status: StatusLine | None = None,
         warm: bool = True,
+        on_warm: Callable[[], object] | None = None,
     ) -> None:
         self.session = session
         self.warm = warm
+        self.on_warm = on_warm  # runs once the stages are warm and the stream is reset, before the source opens
         self.source = source
         self.clock = clock
         self.release = FrameRelease(session, sink, clock, scheduler_config)
@@ -201,6 +203,8 @@ class LiveEngine:
         try:
             if self.warm:
                 warm_up_s = warm_up(self.session, self.clock)
+            if self.on_warm is not None:
+                self.on_warm()  # e.g. a transcript's cues, in the stream that starts now
             for chunk in chunks:
                 self._submit(self.session.push(chunk))
                 self._show_status()

@@ -23,7 +23,9 @@ from gesturecast.models.generator.diffusion import SamplerConfig
 from gesturecast.models.motion.root_anchor import RootMode
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
 from gesturecast.models.runtime.bundle import ModelBundle
+from gesturecast.models.runtime.gesture_lexicon import load_lexicon
 from gesturecast.realtime.generation.generator import Generator, GeneratorSettings
+from gesturecast.realtime.generation.gesture_clips import ClipMotion, encode_clips
 from gesturecast.realtime.pose.seed_motion import load_seed_motion
 from gesturecast.realtime.pose.session import GestureSession, SessionConfig
 from gesturecast.realtime.timing.clock import Clock
@@ -63,13 +65,28 @@ def generator_settings(settings: Settings, bundle: ModelBundle, budget: LatencyB
     )
 
 
+def gesture_setup(settings: Settings, bundle: ModelBundle) -> dict:
+    """The session's gesture lexicon in this model's latent space (each gesture's clip in the style variant named
+    like the settings' style label, else its neutral one) and each gesture's trigger phrases."""
+    if settings.gestures is None:
+        return {}
+    lexicon = load_lexicon(settings.gestures)
+    prompt = settings.style_prompt()
+    style = prompt.value if prompt.kind == "label" else None
+    motions = [ClipMotion(entry.name, variant.features, variant.stroke_frame, entry.parts)
+               for entry in lexicon for variant in [entry.variant(style)]]
+    return {"gesture_clips": encode_clips(bundle, motions, settings.threads),
+            "gesture_triggers": tuple((entry.name, entry.triggers) for entry in lexicon)}
+
+
 def build_session(settings: Settings, clock: Clock, bundle: ModelBundle | None = None) -> GestureSession:
     """A session with these settings, on ``bundle`` (loaded once by batch workers) or on ``settings.model``."""
     bundle = load_bundle(settings.model) if bundle is None else bundle
     budget = resolve_latency(settings, bundle)
     generator = Generator(bundle, generator_settings(settings, bundle, budget))
     seed = None if settings.seed_motion is None else load_seed_motion(settings.seed_motion, bundle)
-    config = SessionConfig(root_mode=RootMode(settings.root), seed_motion=seed, lipsync=settings.lipsync)
+    config = SessionConfig(root_mode=RootMode(settings.root), seed_motion=seed, lipsync=settings.lipsync,
+                           **gesture_setup(settings, bundle))
     return GestureSession(bundle, generator, budget, clock, config)
 
 

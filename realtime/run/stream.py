@@ -28,6 +28,7 @@ from gesturecast.frames import PoseFrame
 from gesturecast.models.audio.files import SAMPLE_RATE
 from gesturecast.realtime.audio.pcm import AudioConverter
 from gesturecast.realtime.audio.sources import AudioChunk, SourceStats
+from gesturecast.realtime.generation.word_cues import words_from_list
 from gesturecast.realtime.run.engine import EngineReport, FrameRelease, make_report, warm_up
 from gesturecast.realtime.run.engine_setup import build_outputs, build_session
 from gesturecast.realtime.timing.clock import Clock, MonotonicClock
@@ -108,6 +109,17 @@ class Stream:
         """Change style, prompt, style2, part_styles, gamma, guidance, audio_guidance or root, blended in from the
         next latent; a style the model does not know is a one-line UserError here (thread-safe)."""
         self.session.controls.submit({**(control or {}), **changes})
+
+    def words(self, words: list[dict]) -> int:
+        """Words with stream-time stamps (``[{"word", "start", "end"}]``, seconds since the first pushed sample), e.g.
+        a TTS service's word timings sent before the audio plays: trigger words cue their gestures with the stroke on
+        the word (late by the wait when the word's latents are already generated). Returns the cues placed."""
+        self._check_open()
+        return len(self.session.cue_words(words_from_list(words, "words")))
+
+    def gesture(self, name: str) -> None:
+        """Carry out a lexicon gesture (``"wave"``, ``"bow"``…) as soon as the look-ahead allows (thread-safe)."""
+        self.control(gesture=name)
 
     def close(self) -> list[PoseFrame]:
         """End the stream: the last poses (look-ahead padded with silence), each released on time, then the

@@ -12,9 +12,9 @@ import pytest
 
 from gesturecast.cli import main
 from gesturecast.errors import USER_ERROR_EXIT_CODE
-from gesturecast.models.dataset import gesture_lexicon as gl
 from gesturecast.models.motion.motion_features import features_to_motion
 from gesturecast.models.motion.retarget import motion_to_bvh
+from gesturecast.models.runtime import gesture_lexicon as gl
 
 RAW_CACHE = Path(__file__).resolve().parents[2] / ".cache" / "raw"  # where `gesturecast data build` unpacks
 NO_TORCH = "import sys; sys.modules['torch'] = None; from gesturecast.cli import main; sys.exit(main({argv!r}))"

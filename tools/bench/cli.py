@@ -25,6 +25,7 @@ BENCH_MODULES: tuple[str, ...] = (
     "gesturecast.tools.bench.root",
     "gesturecast.tools.bench.speech.lipsync",
     "gesturecast.tools.bench.styles.study",
+    "gesturecast.tools.bench.gestures",
 )
 
 

@@ -8,6 +8,7 @@ from gesturecast.errors import UserError
 from gesturecast.realtime.generation.gesture_cues import RAMP_LATENTS, Cue, CuePlan, GestureClip, ramp_weight
 
 C = 8
+D = 10
 SECONDS_PER_LATENT = 4 / 30
 ARMS = np.arange(C) < 4
 TORSO = (np.arange(C) >= 4) & (np.arange(C) < 6)
@@ -15,7 +16,8 @@ TORSO = (np.arange(C) >= 4) & (np.arange(C) < 6)
 
 def clip(name: str, channels: np.ndarray, length: int = 10, stroke: int = 4) -> GestureClip:
     latents = np.arange(length * C, dtype=np.float32).reshape(length, C)  # (N, C)
-    return GestureClip(name, latents, channels, stroke)
+    features = np.arange(length * 4 * D, dtype=np.float32).reshape(length * 4, D)  # (N·d, D)
+    return GestureClip(name, latents, channels, stroke, features, np.arange(D) < 3)
 
 
 @pytest.fixture
@@ -49,9 +51,13 @@ def test_one_gesture_per_body_part_and_no_repeat_within_the_refractory_time(plan
 def test_imposition_holds_the_clip_latent_on_its_parts_with_ramped_weights(plan):
     placement = plan.place(Cue("wave", 3.0), 0)
     assert plan.imposition(placement.first - 1) is None
-    target, weights, names = plan.imposition(placement.first + 5)
-    assert names == "wave"
-    assert np.array_equal(target[ARMS], placement.clip.latents[5, ARMS]) and not weights[~ARMS].any()
+    imposed = plan.imposition(placement.first + 5)
+    assert imposed.names == "wave"
+    assert np.array_equal(imposed.target[ARMS], placement.clip.latents[5, ARMS]) and not imposed.weights[~ARMS].any()
+    assert np.array_equal(imposed.pose[:, :3], placement.clip.features[20:24, :3])
+    assert not imposed.pose_weights[:, 3:].any()
+    decoded = np.zeros((4, D), np.float32)
+    assert np.array_equal(imposed.blend(decoded)[:, :3], placement.clip.features[20:24, :3])  # weight 1 mid-clip
     ramp = [ramp_weight(k, 10) for k in range(10)]
     assert ramp[0] < ramp[1] < ramp[RAMP_LATENTS] == 1.0 == ramp[-RAMP_LATENTS - 1] > ramp[-1] > 0
     plan.forget_before(placement.last + 1)

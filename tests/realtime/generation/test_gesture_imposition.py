@@ -42,7 +42,8 @@ def clip() -> GestureClip:
     channels = np.zeros(session.generator.latent_dim, bool)
     channels[session.bundle.part_channels["arms"]] = True
     latents = np.random.default_rng(1).normal(0.0, 1.5, (8, session.generator.latent_dim)).astype(np.float32)
-    return GestureClip("raise", latents, channels, stroke_latent=3)
+    features = np.zeros((32, session.bundle.motion_feature_dim), np.float32)  # (N·d, D)
+    return GestureClip("raise", latents, channels, 3, features, np.zeros(features.shape[1], bool))
 
 
 def test_the_clip_channels_are_committed_and_the_other_parts_stay_generated(clip, speech):

@@ -9,7 +9,6 @@ import numpy as np
 import pytest
 
 from gesturecast.errors import UserError
-from gesturecast.models.dataset import gesture_lexicon as gl
 from gesturecast.models.dataset.cache import read_take
 from gesturecast.models.dataset.sources import TakeSource, bandai_takes, unpack_archive
 from gesturecast.models.motion.body_parts import PART_NAMES
@@ -17,6 +16,7 @@ from gesturecast.models.motion.motion import Motion
 from gesturecast.models.motion.motion_features import FEATURE_DIM, features_to_motion
 from gesturecast.models.motion.retarget import motion_to_bvh
 from gesturecast.models.motion.skeleton import CANONICAL
+from gesturecast.models.runtime import gesture_lexicon as gl
 
 RAW_CACHE = Path(__file__).resolve().parents[3] / ".cache" / "raw"  # where `gesturecast data build` unpacks
 ARCHIVES = ("dataset-1.tar.xz", "dataset-2-gestures.tar.xz")
