@@ -18,6 +18,7 @@ MAX_STYLE_CHARS = 200
 MAX_PROMPT_CHARS = 500
 MAX_GESTURE_CHARS = 64
 ENVELOPE_FIELDS = frozenset({"type", "token"})
+WORDS_MESSAGE = "words"  # {"type": "words", "words": [...]}: the same as a control with only words
 
 
 class ControlError(ValueError):
@@ -97,6 +98,34 @@ class ChoiceField:
 
 MAX_PARTS = 8
 MAX_PART_NAME_CHARS = 32
+MAX_WORDS = 500  # words of one message: minutes of speech
+MAX_WORD_CHARS = 64
+MAX_STREAM_SECONDS = 1e6  # word times beyond this are not stream times (11 days)
+
+
+@dataclass(frozen=True)
+class WordsField:
+    """``[{"word": "hello", "start": 1.2, "end": 1.5}, ...]``: words with stream-time stamps (seconds since the
+    stream's first sample); trigger words cue the lexicon's gestures with the stroke on the word."""
+
+    def check(self, name: str, value: object) -> list[dict]:
+        if not isinstance(value, list) or not 0 < len(value) <= MAX_WORDS:
+            raise ControlError(f"{name} must be a list of 1..{MAX_WORDS} {{word, start, end}} objects")
+        return [self._word(f"{name}[{index}]", item) for index, item in enumerate(value)]
+
+    @staticmethod
+    def _word(name: str, item: object) -> dict:
+        if not isinstance(item, dict) or set(item) - {"word", "start", "end"}:
+            raise ControlError(f"{name} must be an object with word, start and end only")
+        TextField(MAX_WORD_CHARS).check(f"{name}.word", item.get("word"))
+        times = {key: NumberField(0.0, MAX_STREAM_SECONDS).check(f"{name}.{key}", item.get(key, item.get("start")))
+                 for key in ("start", "end")}
+        if times["end"] < times["start"]:
+            raise ControlError(f"{name}.end is before its start")
+        return {"word": item["word"], **times}
+
+    def describe(self) -> dict:
+        return {"type": "words", "max_words": MAX_WORDS}
 
 
 @dataclass(frozen=True)
@@ -121,7 +150,7 @@ class PartStylesField:
         return {"type": "parts", "max_parts": MAX_PARTS, "style": self.style.describe()}
 
 
-CONTROL_FIELDS: dict[str, TextField | NumberField | ChoiceField | PartStylesField] = {
+CONTROL_FIELDS: dict[str, TextField | NumberField | ChoiceField | PartStylesField | WordsField] = {
     "style": StyleField(MAX_STYLE_CHARS),
     "style2": StyleField(MAX_STYLE_CHARS),
     "part_styles": PartStylesField(StyleField(MAX_STYLE_CHARS)),
@@ -131,6 +160,7 @@ CONTROL_FIELDS: dict[str, TextField | NumberField | ChoiceField | PartStylesFiel
     "gamma": NumberField(*GAMMA_RANGE),
     "root": ChoiceField(ROOT_MODES),  # bounded (in place), free or locked root motion
     "gesture": TextField(MAX_GESTURE_CHARS),  # a lexicon gesture (wave, bow, …), carried out as soon as it can
+    "words": WordsField(),  # words with stream times: trigger words cue gestures (also as a "words" message)
 }
 
 

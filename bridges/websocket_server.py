@@ -30,7 +30,13 @@ from websockets.exceptions import ConnectionClosed
 from websockets.http11 import Request, Response
 
 from gesturecast.bridges import ws_protocol
-from gesturecast.bridges.control import ControlError, control_schema, decode_client_message, validate_control
+from gesturecast.bridges.control import (
+    WORDS_MESSAGE,
+    ControlError,
+    control_schema,
+    decode_client_message,
+    validate_control,
+)
 from gesturecast.bridges.coords import coordinate_frame
 from gesturecast.bridges.transport import ErrorThrottle
 from gesturecast.bridges.viewer_http import AvatarServer, ViewerConnection, is_websocket_upgrade, static_response
@@ -203,10 +209,10 @@ class WebSocketBridge:
         kind = decoded["type"]
         if kind == "subscribe":
             return self._subscribe(client, decoded)
-        if kind == "control":
+        if kind in ("control", WORDS_MESSAGE):  # a words message is a control holding only words
             self.access.verify_token(connection, decoded)
-            return await self._control(decoded)
-        raise ControlError(f"unknown message type {kind!r}; use 'subscribe' or 'control'")
+            return await self._control({**decoded, "type": "control"})
+        raise ControlError(f"unknown message type {kind!r}; use 'subscribe', 'control' or 'words'")
 
     def _subscribe(self, client: ClientState, message: dict) -> str:
         wire_format = message.get("format")

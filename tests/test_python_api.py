@@ -152,3 +152,21 @@ def test_import_gesturecast_loads_no_model_runtime():
     code = "import sys, gesturecast; print('onnxruntime' in sys.modules, 'gesturecast.realtime' in sys.modules)"
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert result.stdout.split() == ["False", "False"]
+
+
+def test_a_stream_waves_at_hello_given_as_words_or_as_a_words_control(speech):
+    for send in ("words", "control"):
+        with gesturecast.Stream(paced=False, warm=False) as stream:
+            frames = stream.push(speech[:SAMPLE_RATE], SAMPLE_RATE)
+            words = [{"word": "Hello", "start": 2.5, "end": 2.8}]
+            stream.words(words) if send == "words" else stream.control(words=words)
+            frames += stream.push(speech[SAMPLE_RATE:], SAMPLE_RATE)
+        frames += stream.close()
+        waving = [frame.seq / 30 for frame in frames if frame.gesture == "wave"]
+        assert waving and waving[0] < 2.5 < waving[-1], send
+
+
+def test_a_gesture_needs_a_lexicon(speech):
+    with gesturecast.Stream(paced=False, warm=False, gestures=None) as stream, pytest.raises(
+            UserError, match="no gesture lexicon"):
+        stream.gesture("wave")

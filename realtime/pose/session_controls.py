@@ -23,6 +23,7 @@ from gesturecast.models.motion.root_anchor import RootAnchor, RootMode
 from gesturecast.realtime.generation.generator import Generator
 from gesturecast.realtime.generation.gesture_cues import Cue, CuePlan
 from gesturecast.realtime.generation.style_mixture import align_mixtures, bound_blend_rows, drop_unused_rows
+from gesturecast.realtime.generation.word_cues import Word, words_from_list
 from gesturecast.realtime.pose.transitions import DEFAULT_RAMP_S, Ramp
 from gesturecast.settings import SINGLE_STYLE
 
@@ -34,11 +35,14 @@ MAX_MIXTURE_ROWS = 8
 
 
 class GestureDoor(Protocol):
-    """Where a ``gesture`` control goes: the session's cue plan (checked on submit) and its ``cue``."""
+    """Where ``gesture`` and ``words`` controls go: the session's cue plan (checked on submit), ``cue`` and
+    ``cue_words``."""
 
     cues: CuePlan
 
     def cue(self, cue: Cue) -> object: ...
+
+    def cue_words(self, words: list[Word]) -> object: ...
 
 
 class SessionControls:
@@ -65,6 +69,9 @@ class SessionControls:
         applied."""
         if "gesture" in control:
             self._check_gesture(control["gesture"])
+        if "words" in control:
+            self._check_gesture(None)
+            words_from_list(control["words"], "words")
         for prompt in _prompts_of(control):
             self.generator.styles.embed(prompt)
         if "part_styles" in control:
@@ -103,14 +110,18 @@ class SessionControls:
             return name
         return f"{name}→{_prompt_name(settings.second_style)} γ={settings.gamma:.2f}"
 
-    def _check_gesture(self, name: str) -> None:
-        if self.gestures is None:
+    def _check_gesture(self, name: str | None) -> None:
+        """UserError unless the stream has a lexicon (and ``name``, when given, is in it)."""
+        if self.gestures is None or not self.gestures.cues.clips:
             raise UserError("this stream has no gesture lexicon")
-        self.gestures.cues.check(name)
+        if name is not None:
+            self.gestures.cues.check(name)
 
     def _apply(self, control: dict, t: float) -> None:
         if "gesture" in control:  # as soon as possible: from this latent on, its stroke as early as the clip allows
             self.gestures.cue(Cue(control["gesture"], t, "control"))
+        if "words" in control:  # on the words' own stream times (late by the wait when already generated)
+            self.gestures.cue_words(words_from_list(control["words"], "words"))
         if "root" in control:
             self.root.set_mode(RootMode(control["root"]))  # re-anchored where the avatar stands: no jump
         if "guidance" in control:

@@ -53,7 +53,24 @@ def test_invalid_controls(message, reason):
 def test_schema_lists_every_field():
     schema = control_schema()
     assert set(schema) == {"style", "style2", "part_styles", "prompt", "guidance", "audio_guidance", "gamma", "root",
-                           "gesture"}
+                           "gesture", "words"}
     assert schema["part_styles"]["type"] == "parts" and schema["part_styles"]["max_parts"] == 8
     assert schema["root"] == {"type": "choice", "choices": ["bounded", "free", "locked"]}
     assert schema["guidance"] == {"type": "number", "min": 0.0, "max": 10.0}
+
+
+@pytest.mark.parametrize("words, reason", [
+    ([], "must be a list of 1..500"),
+    ([{"word": "hi", "start": 1.0, "end": 0.5}], r"words\[0\].end is before its start"),
+    ([{"word": "hi", "start": float("nan")}], r"words\[0\].start must be a finite number"),
+    ([{"word": "hi", "start": 1.0, "speaker": 2}], "word, start and end only"),
+    ([{"word": "", "start": 1.0}], r"words\[0\].word must not be blank"),
+])
+def test_words_are_checked_before_they_reach_the_engine(words, reason):
+    with pytest.raises(ControlError, match=reason):
+        validate_control({"type": "control", "words": words})
+
+
+def test_a_word_without_an_end_ends_where_it_starts():
+    assert validate_control({"type": "control", "words": [{"word": "hello", "start": 2}]}) == {
+        "words": [{"word": "hello", "start": 2.0, "end": 2.0}]}
