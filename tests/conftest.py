@@ -120,6 +120,9 @@ class CliProcess:
         self.stderr_lines: list[str] = []
         self._reader = threading.Thread(target=self._read_stderr, daemon=True)
         self._reader.start()
+        self._stdout: list[str] = []  # read on a thread too: a process it left running may hold the pipe open
+        self._stdout_reader = threading.Thread(target=lambda: self._stdout.extend(self.process.stdout), daemon=True)
+        self._stdout_reader.start()
 
     def _read_stderr(self) -> None:
         for line in self.process.stderr:
@@ -154,7 +157,8 @@ class CliProcess:
 
     def wait(self, bound_s: float, since: float | None = None) -> tuple[int, float, str]:
         """(exit status, seconds from ``since`` until exit, stdout); fails if still running after ``bound_s``.
-        stdout is read after the exit (the commands print a few lines); stderr stays with the reader thread."""
+        stdout is what was printed until the pipe closed (or ``bound_s`` after the exit); stderr stays with the
+        reader thread."""
         since = time.monotonic() if since is None else since
         try:
             self.process.wait(timeout=bound_s)
@@ -163,7 +167,18 @@ class CliProcess:
             pytest.fail(f"still running {bound_s} s later; stderr: {self.stderr_lines}")
         elapsed = time.monotonic() - since
         self._reader.join(bound_s)
-        return self.process.returncode, elapsed, self.process.stdout.read()
+        self._stdout_reader.join(bound_s)
+        return self.process.returncode, elapsed, "".join(self._stdout)
+
+    def children(self) -> list[int]:
+        """The processes it started, and theirs (Linux), e.g. a process pool's server and workers."""
+        return child_pids(self.process.pid)
+
+    @staticmethod
+    def still_running(pids: list[int], bound_s: float) -> list[int]:
+        """Those of ``pids`` still running after waiting up to ``bound_s`` for them to end."""
+        poll_until(lambda: not any(pid_running(pid) for pid in pids), bound_s)
+        return [pid for pid in pids if pid_running(pid)]
 
     def kill(self) -> None:
         if self.process.poll() is None:

@@ -6,19 +6,24 @@ are written atomically, so an existing one is complete); the rest run on a pool 
 (:mod:`gesturecast.realtime.jobs.batch_ray`). Each worker loads the model bundle once and runs
 :func:`gesturecast.realtime.run.offline_generate.generate_to_files` per file with one onnxruntime thread,
 the same code as ``generate FILE``. A file that fails is logged and listed with its one-line reason;
-the others go on. At the end ``OUTDIR/batch_summary.json`` says what was done; the exit status is
-:data:`BATCH_FAILED_EXIT` when any file failed.
+the others go on. Ctrl-C, SIGTERM and SIGHUP are the parent's to handle (also when sent to the whole
+process group, as systemd and a closed terminal do): the files already running finish, no new ones
+start, the workers exit and the summary is written. At the end ``OUTDIR/batch_summary.json`` says what
+was done; the exit status is :data:`BATCH_FAILED_EXIT` when any file failed.
 """
 
 from __future__ import annotations
 
 import logging
 import multiprocessing
+import multiprocessing.forkserver
+import multiprocessing.resource_tracker
 import signal
 from collections.abc import Callable
 from concurrent.futures import Future, ProcessPoolExecutor, as_completed
 from dataclasses import asdict, dataclass, field
 
+from gesturecast import stop_signals
 from gesturecast.errors import UserError
 from gesturecast.realtime.jobs.batch_jobs import BatchJob
 from gesturecast.realtime.pose.session import GestureSession
@@ -94,10 +99,27 @@ _process_worker: BatchWorker | None = None  # in a pool process only: its worker
 
 
 def _start_process_worker(base: Settings) -> None:
-    """Pool initializer: Ctrl-C is the parent's to handle (it lets running files finish, then stops)."""
+    """Pool initializer: Ctrl-C and the stop signals are the parent's to handle (it lets running files finish,
+    then stops the workers)."""
     global _process_worker
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    for signum in (signal.SIGINT, *stop_signals.STOP_SIGNALS):
+        signal.signal(signum, signal.SIG_IGN)
     _process_worker = BatchWorker(base)
+
+
+def _start_process_server() -> None:
+    """Start the forkserver (where there is one) with the stop signals blocked: it and the workers it forks never
+    get them, so a SIGTERM or SIGHUP to the whole process group neither kills a running file nor orphans the
+    workers (a dead forkserver looks like dead workers: the pool breaks and never stops them); the parent, which
+    gets the signal too, stops them in order.
+
+    The resource tracker that the forkserver needs is started first, on its own: starting it unblocks SIGTERM.
+    """
+    if PROCESS_START_METHOD == "forkserver":
+        with stop_signals.shielded_children():
+            multiprocessing.resource_tracker.ensure_running()
+        with stop_signals.shielded_children():
+            multiprocessing.forkserver.ensure_running()
 
 
 def _run_in_process(job: BatchJob) -> JobResult:
@@ -107,6 +129,7 @@ def _run_in_process(job: BatchJob) -> JobResult:
 def run_with_processes(jobs: list[BatchJob], base: Settings, workers: int, on_result: ResultSink) -> None:
     """The jobs on ``workers`` local processes; ``on_result`` sees each result as it completes."""
     context = multiprocessing.get_context(PROCESS_START_METHOD)
+    _start_process_server()
     pool = ProcessPoolExecutor(workers, mp_context=context, initializer=_start_process_worker, initargs=(base,))
     futures = {pool.submit(_run_in_process, job): job for job in jobs}
     unreported = set(futures)
@@ -159,7 +182,7 @@ class BatchSummary:
                 "audio_hours_per_wall_hour": self.audio_hours_per_wall_hour}
 
     def line(self) -> str:
-        stopped = "stopped by Ctrl-C: " if self.interrupted else ""
+        stopped = f"stopped by {stop_signals.stopped_by()}: " if self.interrupted else ""
         return (f"{stopped}{self.files} files: {self.generated} generated, {self.skipped} already done, "
                 f"{len(self.failures)} failed | {self.audio_seconds:.1f} s of audio in {self.wall_seconds:.1f} s "
                 f"({self.audio_hours_per_wall_hour:.1f} audio-h per wall-h, {self.workers} workers on {self.runner})")
