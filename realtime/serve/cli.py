@@ -7,6 +7,7 @@ import logging
 import sys
 import threading
 
+from gesturecast import stop_signals
 from gesturecast.arguments import port_number
 from gesturecast.bridges.coords import FRAMES
 from gesturecast.errors import INTERRUPTED_EXIT
@@ -77,17 +78,17 @@ def run_on_ray(args: argparse.Namespace) -> int:
 
 
 def wait_for_ctrl_c() -> None:
-    """Block the main thread (the server runs on its own) until Ctrl-C."""
+    """Block the main thread (the server runs on its own) until Ctrl-C, SIGTERM or SIGHUP."""
     try:
         threading.Event().wait()
     except KeyboardInterrupt:
-        logger.info("Ctrl-C: closing the streams")
+        logger.info("%s: closing the streams", stop_signals.stopped_by())
 
 
 def served_summary(streams: list[dict]) -> str:
     """One line over the streams closed while serving (those still remembered: at most --max-streams)."""
     total = {key: sum(s[key] for s in streams) for key in ("audio_seconds", "frames", "deadline_misses",
                                                             "audio_dropped_samples")}
-    return (f"stopped by Ctrl-C: last {len(streams)} streams served: {total['frames']} frames from "
-            f"{total['audio_seconds']:.1f} s of audio | deadline misses {total['deadline_misses']} | "
+    return (f"stopped by {stop_signals.stopped_by()}: last {len(streams)} streams served: {total['frames']} frames "
+            f"from {total['audio_seconds']:.1f} s of audio | deadline misses {total['deadline_misses']} | "
             f"audio drops {total['audio_dropped_samples']}")

@@ -11,6 +11,7 @@ the wrong-token limit: :mod:`gesturecast.bridges.ws_access`.
 from __future__ import annotations
 
 import asyncio
+import concurrent.futures
 import itertools
 import json
 import logging
@@ -41,6 +42,7 @@ from gesturecast.realtime.serve.protocol import (
     hello,
     parse_start,
     started,
+    stats_message,
     stream_id_from_path,
 )
 from gesturecast.realtime.serve.setup import StreamSessions
@@ -133,6 +135,7 @@ class StreamConnection:
         self.holds_slot = False  # from the moment a start is accepted: counts against --max-streams
         self.evicted = False  # closed unstarted to make room for a newer connection (GestureServer._make_room)
         self.audio_format = DEFAULT_AUDIO_FORMAT
+        self._closed = False
 
     async def answer(self, message: bytes | str) -> None:
         """Reply to one message; a refused one gets an ``error`` (and a wrong token also a close)."""
@@ -202,12 +205,23 @@ class StreamConnection:
         self.stream.feed(samples, self.server.clock.now())
         return reply
 
-    async def close(self) -> None:
-        if self.stream is not None:
-            await asyncio.to_thread(self.stream.stop)
-            stats = self.stream.stats()
-            logger.info("stream %s closed: %s", self.stream_id, json.dumps(stats))
-            self.server.remember(stats)
+    async def close(self) -> dict | None:
+        """Stop the stream and record its stats, once; returns them (None before a start, or when already closed)."""
+        if self.stream is None or self._closed:
+            return None
+        self._closed = True
+        await asyncio.to_thread(self.stream.stop)
+        stats = self.stream.stats()
+        logger.info("stream %s closed: %s", self.stream_id, json.dumps(stats))
+        self.server.remember(stats)
+        return stats
+
+    async def go_away(self) -> None:
+        """The server is stopping: the stream ends now, and its client gets the stats before the 1001 close."""
+        stats = await self.close()
+        if stats is not None:
+            with suppress(ConnectionClosed):
+                await self.websocket.send(stats_message(stats))
 
 
 class GestureServer:
@@ -263,8 +277,26 @@ class GestureServer:
         self.finished.append(stats)
 
     def close(self) -> None:
+        """Stop serving (Ctrl-C, SIGTERM): every open stream ends at once and its client gets the stream's stats,
+        then each connection is closed with 1001 (going away) and the sessions are freed."""
+        self._send_final_stats()
         self._listener.close()
         self.sessions.close()
+
+    def _send_final_stats(self) -> None:
+        """Run :meth:`StreamConnection.go_away` for every connection, bounded by ``STOP_TIMEOUT_S``."""
+        if not self._listener.loop.is_running():
+            return
+        future = asyncio.run_coroutine_threadsafe(self._going_away(), self._listener.loop)
+        try:
+            future.result(STOP_TIMEOUT_S)
+        except concurrent.futures.TimeoutError:
+            future.cancel()
+            logger.warning("the streams' final stats took over %.0f s; closing without them", STOP_TIMEOUT_S)
+
+    async def _going_away(self) -> None:
+        connections = list(self._connections.values())
+        await asyncio.gather(*(connection.go_away() for connection in connections), return_exceptions=True)
 
     # ---- event-loop thread ----
     def _hello(self, stream_id: str) -> str:

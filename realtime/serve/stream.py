@@ -176,7 +176,7 @@ class ServeStream:
         return {
             "stream": self.stream_id,
             "audio_seconds": audio_seconds,
-            "frames": self.session.frames_out,
+            "frames": self.scheduler.stats.released,  # sent: frames not yet due when a stream stops are not
             "latency_budget_ms": self.session.budget.total_ms,
             "end_to_end_ms": {key: end_to_end.get(key) for key in LATENCY_KEYS},
             "stages_ms": {name: {"p50": s["p50"], "p95": s["p95"]} for name, s in summary.items()},
