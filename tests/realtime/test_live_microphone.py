@@ -1,9 +1,11 @@
+
 """`gesturecast live --device pulse` through real PortAudio on a virtual microphone (a private PulseAudio
 whose source is a FIFO fed with real speech at real-time pace): frames reach VMC and BVH, a stalled device
 is reported and recovers, a silent or vanished device ends the run with one error line, and Ctrl-C ends
 the run within a bound with the final summary, whatever the device does."""
 
 import json
+import re
 import socket
 import subprocess
 import sys
@@ -80,7 +82,7 @@ def test_a_microphone_silent_past_the_stall_timeout_ends_live_with_one_error_lin
     status, _, _ = live.wait(START_BOUND_S)
     errors = [line for line in live.stderr_lines if line.startswith("gesturecast live: error:")]
     assert status == 2 and len(errors) == 1
-    assert f"({DEVICE_NAME}) delivered no audio for 3.0 s" in errors[0]
+    assert re.search(rf"\({DEVICE_NAME}\) delivered no audio for 3\.\d s", errors[0])  # measured: 3.0 s or a bit more
     assert read_bvh(tmp_path / "live.bvh").motion.shape[0] > 0  # the recording is closed and valid
 
 

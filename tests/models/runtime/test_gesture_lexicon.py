@@ -165,7 +165,7 @@ def test_a_small_build_keeps_resting_takes_and_reads_back_the_same(bandai, tmp_p
     lengths = {name: gl.find_gesture(read(bandai[name].motion_path), gl.gesture_spec("wave")).num_frames
                for name in names[:3]}
     assert lengths[lexicon["wave"].variant().source] == sorted(lengths.values())[1]  # the median length
-    assert lexicon["bow"].parts == ("arms", "torso") and lexicon.triggers()["hello"] == "wave"
+    assert lexicon["bow"].parts == ("arms", "torso", "legs") and lexicon.triggers()["hello"] == "wave"
     gl.save_lexicon(lexicon, tmp_path)
     again = gl.load_lexicon(tmp_path)
     for entry in lexicon:
@@ -194,13 +194,14 @@ def test_the_shipped_lexicon_holds_every_gesture_as_small_float16_clips(shipped)
     assert size < SHIPPED_MAX_BYTES, f"{size} bytes"
     for entry in shipped:
         assert entry.variants and entry.styles[0] == gl.DEFAULT_STYLE and len(entry.styles) <= gl.MAX_VARIANTS
-        assert set(entry.parts) <= set(PART_NAMES) and "legs" not in entry.parts
+        assert set(entry.parts) <= set(PART_NAMES)
+        assert ("legs" in entry.parts) == (entry.name in ("bow", "call"))  # a bow bends at the hips (legs part)
         for variant in entry.variants:
             assert variant.features.dtype == np.float16 and variant.features.shape[1] == FEATURE_DIM == 136
             assert np.isfinite(variant.features).all()
             assert 0 <= variant.stroke_frame < variant.num_frames and variant.fps == FPS
             assert variant.duration <= 8.0 and variant.source.startswith("dataset-")
-    assert shipped["bow"].parts == ("arms", "torso") and shipped["wave"].parts == ("arms",)
+    assert shipped["bow"].parts == ("arms", "torso", "legs") and shipped["wave"].parts == ("arms",)
     assert "CC BY-NC 4.0" in shipped.license
 
 
