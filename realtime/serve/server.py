@@ -25,7 +25,7 @@ from websockets.exceptions import ConnectionClosed
 from websockets.frames import CloseCode
 
 from gesturecast.bridges import ws_protocol
-from gesturecast.bridges.control import ControlError, control_schema, decode_client_message
+from gesturecast.bridges.control import WORDS_MESSAGE, ControlError, control_schema, decode_client_message
 from gesturecast.bridges.coords import coordinate_frame
 from gesturecast.bridges.transport import ErrorThrottle
 from gesturecast.bridges.ws_access import AccessPolicy, send_refusal
@@ -161,12 +161,12 @@ class StreamConnection:
             return await self._start(message)
         if self.stream is None:
             raise ControlError(f"no stream yet: send audio or a start message before {kind!r}")
-        if kind == "control":
-            return await self._control(message)
+        if kind in ("control", WORDS_MESSAGE):  # a words message is a control holding only words
+            return await self._control({**message, "type": "control"})
         if kind == "end":
             self.stream.end()
             return None
-        raise ControlError(f"unknown message type {kind!r}; use start, control or end (audio: binary)")
+        raise ControlError(f"unknown message type {kind!r}; use start, control, words or end (audio: binary)")
 
     async def _control(self, message: dict) -> str:
         """Acknowledged only once the session has resolved its styles (off the event loop)."""

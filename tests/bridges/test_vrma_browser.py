@@ -20,8 +20,8 @@ from gesturecast.bridges.avatar_file import PACKAGED_AVATAR
 from gesturecast.bridges.vrma import vrm_bone_name
 from gesturecast.bridges.websocket_server import WebSocketBridge, WebSocketConfig
 from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
-from gesturecast.models.motion.rotations import quat_mul
 from gesturecast.models.motion.retarget import load_motion_file
+from gesturecast.models.motion.rotations import quat_mul
 
 SAMPLE = Path(__file__).resolve().parents[2] / "gesturecast" / "samples" / "sample_speech.wav"
 SPEECH_SECONDS = 4

@@ -155,6 +155,8 @@ BAD_MESSAGES = [
     (json.dumps({"type": "start"}), "already started"),
     (json.dumps({"type": "control", "part_styles": {"tail": "happy"}}), "unknown body part 'tail'"),
     (json.dumps({"type": "control", "part_styles": "happy"}), "must be an object"),
+    (json.dumps({"type": "words", "words": [{"word": "hi", "start": -1}]}), "words[0].start must be within"),
+    (json.dumps({"type": "words", "words": [{"word": "hello", "start": 1.0}]}), "no gesture lexicon"),  # none here
 ]
 
 
