@@ -9,8 +9,12 @@ from pathlib import Path
 import numpy as np
 
 from gesturecast import stop_signals
+from gesturecast.bridges.control import validate_control
 from gesturecast.bridges.fanout import BridgeFanout
+from gesturecast.bridges.osc_in import GESTURE_ADDRESS, OscControlListener, OscInConfig
+from gesturecast.bridges.output_settings import parse_host_port
 from gesturecast.bridges.vrma import FOLDED, VRMA_BONES
+from gesturecast.bridges.ws_access import is_loopback
 from gesturecast.errors import INTERRUPTED_EXIT, UserError
 from gesturecast.files import check_distinct
 from gesturecast.frames import PoseFrame
@@ -24,10 +28,12 @@ from gesturecast.realtime.cli_flags import (
     add_output_arguments,
     add_transcript_argument,
     outputs_from_args,
+    server_token,
     settings_from_args,
 )
 from gesturecast.realtime.generation.word_cues import Word, read_transcript
 from gesturecast.realtime.jobs.batch_cli import add_batch_arguments, run_batch
+from gesturecast.realtime.pose.session import GestureSession
 from gesturecast.realtime.run.engine import EngineReport, LiveEngine
 from gesturecast.realtime.run.engine_setup import build_outputs, build_session
 from gesturecast.realtime.run.offline_generate import VRMA_SUFFIX, check_motion_path, generate_to_files
@@ -43,6 +49,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     add_generation_arguments(live)
     add_transcript_argument(live)
     add_output_arguments(live)
+    live.add_argument("--osc-in", metavar="[HOST:]PORT", help=f"fire gestures by OSC ({GESTURE_ADDRESS} NAME) from a "
+                      "Stream Deck, TouchOSC, VNyan or a game engine; loopback unless HOST is given (then the "
+                      "token is the message's second string; docs/gestures.md)")
     live.set_defaults(func=run_live)
 
     generate = subparsers.add_parser("generate", help="offline: audio file → BVH (same session code as live); "
@@ -83,17 +92,40 @@ def run_live(args: argparse.Namespace) -> int:
     except BaseException:
         source.close()
         raise
+    gestures_in = None
     try:
+        gestures_in = osc_listener(args, session)
         sys.stdout.write(session.budget.describe() + "\n")
         engine = LiveEngine(session, source, outputs.send, clock, scheduler_config(args), StatusLine(clock),
-                            on_warm=lambda: session.cue_words(words))
+                            on_warm=lambda: start_stream_inputs(session, words, gestures_in))
         report = engine.run()
     finally:
+        source.close()  # already closed after a run; not yet opened when the OSC port was refused
+        if gestures_in is not None:
+            gestures_in.close()
         outputs.close()
     report.outputs = outputs.counters()
     sys.stdout.write(summary_line(report) + "\n")
     raise_output_errors(outputs)
     return exit_status(report)
+
+
+def osc_listener(args: argparse.Namespace, session: GestureSession) -> OscControlListener | None:
+    """The ``--osc-in`` port, bound but not yet listening (None without it): its gesture messages go through the
+    control checks to the session."""
+    if args.osc_in is None:
+        return None
+    host, port = parse_host_port(args.osc_in if ":" in args.osc_in else f":{args.osc_in}", "--osc-in")
+    token = server_token(args) if not is_loopback(host) else None
+    return OscControlListener(OscInConfig(host, port, token),
+                              lambda control: session.controls.submit(validate_control(control)))
+
+
+def start_stream_inputs(session: GestureSession, words: list[Word], gestures_in: OscControlListener | None) -> None:
+    """Once the stages are warm and the stream starts: the transcript's cues, then the OSC gesture port."""
+    session.cue_words(words)
+    if gestures_in is not None:
+        gestures_in.start()
 
 
 def check_input_length(path: Path) -> None:
