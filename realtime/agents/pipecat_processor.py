@@ -5,8 +5,8 @@ the bot's voice) or after the input transport (``audio="input"``: to the user's 
 every frame downstream unchanged; on the side it drives a :class:`gesturecast.Stream` (built from a
 :class:`Settings` and :class:`Outputs`, the library's own types):
 
-- each audio frame (16-bit PCM, any rate / channel count) is converted to 16 kHz mono and pushed to the stream
-  on a worker thread, so the event loop never waits on the model; the stream times the audio as it will be
+- each audio frame (16-bit PCM, any rate / channel count) is pushed to the stream (which converts it to 16 kHz
+  mono) on a worker thread, so the event loop never waits on the model; the stream times the audio as it will be
   heard (a block starts when it arrives or when the previous block ends, whichever is later: TTS audio arrives
   faster than it is played, back to back) and releases each pose at capture + L to the outputs;
 - style changes from the pipeline become the stream's controls: a :class:`GestureStyleFrame` (in order with the
@@ -24,7 +24,6 @@ import logging
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
-import numpy as np
 from pipecat.frames.frames import (
     CancelFrame,
     DataFrame,
@@ -38,8 +37,6 @@ from pipecat.processors.frame_processor import FrameDirection, FrameProcessor
 
 from gesturecast.bridges.output_settings import Outputs
 from gesturecast.errors import UserError
-from gesturecast.models.audio.files import SAMPLE_RATE
-from gesturecast.realtime.audio.pcm import AudioConverter
 from gesturecast.realtime.run.stream import Stream
 from gesturecast.settings import Settings
 
@@ -79,7 +76,6 @@ class GesturecastProcessor(FrameProcessor):
         self.session = self.stream.session
         self._audio_type = AUDIO_FRAME_TYPES[audio]
         self._style_for_text = style_for_text
-        self._converter = AudioConverter()
 
     @property
     def audio_seconds(self) -> float:
@@ -89,7 +85,7 @@ class GesturecastProcessor(FrameProcessor):
     async def process_frame(self, frame: Frame, direction: FrameDirection) -> None:
         await super().process_frame(frame, direction)
         if isinstance(frame, self._audio_type):
-            await self._feed(self._converter.convert(frame.audio, frame.sample_rate, frame.num_channels))
+            await asyncio.to_thread(self.stream.push_pcm16, frame.audio, frame.sample_rate, frame.num_channels)
         elif isinstance(frame, GestureStyleFrame):
             self._submit(frame.control)
         elif isinstance(frame, TTSTextFrame) and self._style_for_text is not None:
@@ -109,12 +105,6 @@ class GesturecastProcessor(FrameProcessor):
         except UserError as error:
             logger.warning("style change %s ignored: %s", control, error)
 
-    async def _feed(self, samples: np.ndarray) -> None:
-        """(n,) 16 kHz samples → poses, generated off the event loop, released at capture + L."""
-        if samples.shape[0]:
-            await asyncio.to_thread(self.stream.push, samples, SAMPLE_RATE)
-
     async def _finish(self) -> None:
         """End of stream: the rest of the audio, the look-ahead's poses, all released on time, outputs closed."""
-        await self._feed(self._converter.flush())
         await asyncio.to_thread(self.stream.close)

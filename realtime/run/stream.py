@@ -105,6 +105,11 @@ class Stream:
         self._check_open()
         return self._generate(self._converter.convert_samples(samples, sample_rate))
 
+    def push_pcm16(self, data: bytes, sample_rate: int, channels: int) -> list[PoseFrame]:
+        """:meth:`push` for interleaved 16-bit little-endian PCM bytes (what voice pipelines and network peers send)."""
+        self._check_open()
+        return self._generate(self._converter.convert(data, sample_rate, channels))
+
     def control(self, control: dict | None = None, **changes) -> None:
         """Change style, prompt, style2, part_styles, gamma, guidance, audio_guidance or root, blended in from the
         next latent; a style the model does not know is a one-line UserError here (thread-safe)."""
