@@ -27,6 +27,7 @@ seconds per second of audio, cued over uncued; a PNG strip of frames around each
 from __future__ import annotations
 
 import argparse
+import hashlib
 import json
 import subprocess
 import sys
@@ -39,11 +40,12 @@ from gesturecast.files import write_text_atomic
 from gesturecast.frames import PoseFrame
 from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
 from gesturecast.models.evaluation.speech_following import speech_following
-from gesturecast.models.motion.motion import MOTION_FPS, Motion
-from gesturecast.models.motion.motion_features import facing_yaw, rotate_planar
+from gesturecast.models.motion.motion import MOTION_FPS
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
+from gesturecast.models.runtime.gesture_lexicon import body_frame_positions
 from gesturecast.realtime.audio.sources import ArraySource
 from gesturecast.realtime.cli_flags import add_generation_arguments, settings_from_args
+from gesturecast.realtime.engine_cli import frames_to_motion
 from gesturecast.realtime.generation.word_cues import Word
 from gesturecast.realtime.run.engine import run_offline
 from gesturecast.realtime.run.engine_setup import build_session
@@ -91,7 +93,7 @@ def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
 def sentence_audio(text: str) -> np.ndarray:
     """(n,) 16 kHz speech of one sentence (espeak-ng, cached)."""
     CACHE.mkdir(parents=True, exist_ok=True)
-    path = CACHE / f"{abs(hash(text)) % 10**12:012d}.wav"
+    path = CACHE / f"{hashlib.sha1(text.encode()).hexdigest()[:16]}.wav"  # the same name in every run
     if not path.is_file():
         subprocess.run([espeak(), "-w", str(path), text], check=True, capture_output=True)
     return load_audio(path)
@@ -131,12 +133,7 @@ def generate(settings: Settings, story: Story, cued: bool) -> tuple[list[PoseFra
 
 def body_positions(frames: list[PoseFrame]) -> tuple[np.ndarray, tuple[str, ...]]:
     """(T, J, 3) joint positions relative to the hips in the hips' facing frame (x left, y up, z forward)."""
-    rotations = np.stack([f.rotations for f in frames])  # (T, J, 4)
-    motion = Motion(rotations, np.stack([f.root_position for f in frames]), MOTION_FPS, CANONICAL_WITH_HANDS)
-    positions = motion.positions()
-    relative = positions - positions[:, :1]  # (T, J, 3)
-    planar = rotate_planar(relative[..., [0, 2]], -facing_yaw(rotations[:, 0])[:, None])  # (T, J, 2)
-    return np.stack([planar[..., 0], relative[..., 1], planar[..., 1]], axis=-1), CANONICAL_WITH_HANDS.names
+    return body_frame_positions(frames_to_motion(frames)), CANONICAL_WITH_HANDS.names
 
 
 def runs_of(mask: np.ndarray, min_frames: int) -> list[tuple[int, int]]:
@@ -251,10 +248,9 @@ def cue_rows(story: Story, frames: list[PoseFrame], placements: list, uncued_bod
 
 
 def following(frames: list[PoseFrame], audio: np.ndarray, outside: np.ndarray) -> float:
-    positions = Motion(np.stack([f.rotations for f in frames]), np.stack([f.root_position for f in frames]),
-                       MOTION_FPS, CANONICAL_WITH_HANDS).positions()[outside][:, :22]
-    keep = np.repeat(outside, SAMPLE_RATE // int(MOTION_FPS))[: len(audio)]
-    return speech_following(positions, audio[: len(keep)][keep], SAMPLE_RATE, MOTION_FPS).best_correlation
+    positions = frames_to_motion(frames).positions()[outside][:, :22]  # (T', 22, 3)
+    frame_of_sample = np.minimum(np.arange(len(audio)) * int(MOTION_FPS) // SAMPLE_RATE, len(outside) - 1)  # (n,)
+    return speech_following(positions, audio[outside[frame_of_sample]], SAMPLE_RATE, MOTION_FPS).best_correlation
 
 
 def study_story(settings: Settings, story: Story) -> dict:
@@ -313,8 +309,7 @@ def plot_cues(stories: list[dict], out: Path) -> Path:
 
     story = next(s for s in stories if s.get("cues"))
     frames = story["frames_cued"]
-    positions = Motion(np.stack([f.rotations for f in frames]), np.stack([f.root_position for f in frames]),
-                       MOTION_FPS, CANONICAL_WITH_HANDS).positions()
+    positions = frames_to_motion(frames).positions()  # (T, J, 3)
     rows = []
     for cue in story["cues"]:
         start = max(int(round((cue["word_s"] - LEAD_S) * MOTION_FPS)), 0)
