@@ -30,7 +30,7 @@ from gesturecast.realtime.pose.seed_motion import load_seed_motion
 from gesturecast.realtime.pose.session import GestureSession, SessionConfig
 from gesturecast.realtime.timing.clock import Clock
 from gesturecast.realtime.timing.latency import LatencyBudget
-from gesturecast.settings import LATENCY_SETTINGS, Settings
+from gesturecast.settings import LATENCY_SETTINGS, LatencySetting, Settings
 
 
 def load_bundle(path: Path) -> ModelBundle:
@@ -41,10 +41,16 @@ def load_bundle(path: Path) -> ModelBundle:
 
 def resolve_latency(settings: Settings, bundle: ModelBundle) -> LatencyBudget:
     """The latency setting (with ``lookahead`` / ``margin_ms`` overriding it) on this model: δ, margin, k → L."""
-    setting = LATENCY_SETTINGS[settings.latency]
-    lookahead = setting.lookahead_for(bundle.audio_lookahead) if settings.lookahead is None else settings.lookahead
-    margin = setting.compute_margin_ms if settings.margin_ms is None else settings.margin_ms
-    return LatencyBudget(bundle.frames_per_latent, lookahead, margin, smoothing_frames=settings.smoothing)
+    return setting_budget(LATENCY_SETTINGS[settings.latency], bundle, settings.smoothing, settings.lookahead,
+                          settings.margin_ms)
+
+
+def setting_budget(setting: LatencySetting, bundle: ModelBundle, smoothing: int, lookahead: int | None = None,
+                   margin_ms: float | None = None) -> LatencyBudget:
+    """A latency dial position on this model (its look-ahead capped at the model's δa), smoothing k frames."""
+    lookahead = setting.lookahead_for(bundle.audio_lookahead) if lookahead is None else lookahead
+    margin = setting.compute_margin_ms if margin_ms is None else margin_ms
+    return LatencyBudget(bundle.frames_per_latent, lookahead, margin, smoothing_frames=smoothing)
 
 
 def generator_settings(settings: Settings, bundle: ModelBundle, budget: LatencyBudget) -> GeneratorSettings:

@@ -10,6 +10,7 @@ from gesturecast.models.motion.root_anchor import RootMode
 from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.realtime.generation.generator import Generator, GeneratorSettings
 from gesturecast.realtime.pose.session import GestureSession, SessionConfig
+from gesturecast.realtime.run.engine_setup import setting_budget
 from gesturecast.realtime.serve.batched_denoiser import DenoiserBatcher, SharedDenoiserBundle
 from gesturecast.realtime.serve.protocol import StreamOptions
 from gesturecast.realtime.timing.clock import Clock
@@ -38,9 +39,7 @@ class StreamSessions:
         """The stream's L: the server's, or the one of the ``start`` message's latency setting."""
         if options.latency is None:
             return self.budget
-        setting = LATENCY_SETTINGS[options.latency]
-        lookahead = setting.lookahead_for(self.bundle.audio_lookahead)
-        return replace(self.budget, lookahead_frames=lookahead, compute_margin_ms=setting.compute_margin_ms)
+        return setting_budget(LATENCY_SETTINGS[options.latency], self.bundle, self.budget.smoothing_frames)
 
     def settings(self, options: StreamOptions) -> GeneratorSettings:
         chosen = {
