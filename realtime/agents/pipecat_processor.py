@@ -9,6 +9,9 @@ every frame downstream unchanged; on the side it drives a :class:`gesturecast.St
   mono) on a worker thread, so the event loop never waits on the model; the stream times the audio as it will be
   heard (a block starts when it arrives or when the previous block ends, whichever is later: TTS audio arrives
   faster than it is played, back to back) and releases each pose at capture + L to the outputs;
+- the words the TTS speaks (``TTSTextFrame``) cue the lexicon's gestures: a trigger phrase ("hello", "thank you")
+  makes its gesture with the stroke on the word; a frame with a presentation time (TTS services with word
+  timestamps stamp each word) is placed at that time, one without at the audio being heard (``gestures=True``);
 - style changes from the pipeline become the stream's controls: a :class:`GestureStyleFrame` (in order with the
   audio), and/or ``style_for_text`` called on each ``TTSTextFrame`` (one style per spoken sentence, as
   GestureDiffuCLIP changes style sentence by sentence).
@@ -68,7 +71,7 @@ class GesturecastProcessor(FrameProcessor):
 
     def __init__(self, settings: Settings | None = None, outputs: Outputs | None = None, *,
                  stream: Stream | None = None, audio: str = AUDIO_OUTPUT,
-                 style_for_text: StyleForText | None = None, **kwargs) -> None:
+                 style_for_text: StyleForText | None = None, gestures: bool = True, **kwargs) -> None:
         super().__init__(**kwargs)
         if audio not in AUDIO_FRAME_TYPES:
             raise UserError(f"audio must be one of {', '.join(AUDIO_FRAME_TYPES)}, got {audio!r}")
@@ -76,6 +79,7 @@ class GesturecastProcessor(FrameProcessor):
         self.session = self.stream.session
         self._audio_type = AUDIO_FRAME_TYPES[audio]
         self._style_for_text = style_for_text
+        self._gestures = gestures and self.stream.settings.gestures is not None
 
     @property
     def audio_seconds(self) -> float:
@@ -88,15 +92,21 @@ class GesturecastProcessor(FrameProcessor):
             await asyncio.to_thread(self.stream.push_pcm16, frame.audio, frame.sample_rate, frame.num_channels)
         elif isinstance(frame, GestureStyleFrame):
             self._submit(frame.control)
-        elif isinstance(frame, TTSTextFrame) and self._style_for_text is not None:
-            control = self._style_for_text(frame.text)
-            if control:
-                self._submit(control)
+        elif isinstance(frame, TTSTextFrame):
+            self._spoken(frame)
         elif isinstance(frame, EndFrame):
             await self._finish()
         elif isinstance(frame, CancelFrame):
             self.stream.stop()
         await self.push_frame(frame, direction)
+
+    def _spoken(self, frame: TTSTextFrame) -> None:
+        """Text the TTS speaks: its style (``style_for_text``) and the gestures of its trigger words."""
+        if self._style_for_text is not None and (control := self._style_for_text(frame.text)):
+            self._submit(control)
+        if self._gestures:
+            ahead_s = 0.0 if frame.pts is None else (frame.pts - self.get_clock().get_time()) / 1e9
+            self.stream.spoken(frame.text, self.stream.heard_time(ahead_s))
 
     def _submit(self, control: dict) -> None:
         """A style change from the pipeline; one the model cannot use is logged and the stream goes on."""

@@ -12,6 +12,7 @@ from __future__ import annotations
 import json
 import math
 import re
+from collections import deque
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -115,21 +116,39 @@ class TriggerVocabulary:
 
     def cues(self, words: list[Word]) -> list[Cue]:
         """One cue per trigger phrase in ``words`` (the longest phrase wins where several start at a word)."""
+        return [cue for cue, _ in self.phrases_in(words)]
+
+    def phrases_in(self, words: list[Word]) -> list[tuple[Cue, int]]:
+        """(cue, index just past the phrase's last word) of each trigger phrase in ``words``, in order."""
         tokens = [normalise(word.text) for word in words]
-        cues, index = [], 0
+        found, index = [], 0
         while index < len(tokens):
             match = self._match(tokens, index) if tokens[index] else None
             if match is None:
                 index += 1
                 continue
             length, gesture = match
-            cues.append(Cue(gesture, words[index].start, " ".join(w.text for w in words[index : index + length])))
+            phrase = " ".join(w.text for w in words[index : index + length])
+            found.append((Cue(gesture, words[index].start, phrase), index + length))
             index += length
-        return cues
+        return found
 
     def _match(self, tokens: list[str], index: int) -> tuple[int, str] | None:
-        for length in range(self.longest, 0, -1):
+        for length in range(min(self.longest, len(tokens) - index), 0, -1):
             phrase = tuple(" ".join(tokens[index : index + length]).split())
             if phrase in self.phrases:
                 return length, self.phrases[phrase]
         return None
+
+
+class WordListener:
+    """Words one at a time, as a TTS service reports them while it speaks → the cues of the trigger phrases that
+    end at each new word ("thank" cues nothing; "you" after it cues the bow, stroke on "thank")."""
+
+    def __init__(self, vocabulary: TriggerVocabulary) -> None:
+        self.vocabulary = vocabulary
+        self.recent: deque[Word] = deque(maxlen=max(vocabulary.longest, 1))
+
+    def hear(self, word: Word) -> list[Cue]:
+        self.recent.append(word)
+        return [cue for cue, end in self.vocabulary.phrases_in(list(self.recent)) if end == len(self.recent)]

@@ -40,7 +40,7 @@ from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.realtime.audio.sources import AudioChunk
 from gesturecast.realtime.generation.generator import Generator
 from gesturecast.realtime.generation.gesture_cues import Cue, CuePlan, GestureClip, Placement
-from gesturecast.realtime.generation.word_cues import TriggerVocabulary, Word
+from gesturecast.realtime.generation.word_cues import TriggerVocabulary, Word, WordListener
 from gesturecast.realtime.pose.feature_buffer import FeatureBuffer
 from gesturecast.realtime.pose.hands import HandPose
 from gesturecast.realtime.pose.idle import IdleMotion
@@ -101,6 +101,7 @@ class GestureSession:
         self.controls = SessionControls(generator, self.root, weakref.proxy(self))
         self.smoother = MotionSmoother(budget.smoothing_frames)
         self.hands = HandPose(self.fps, seed=generator.settings.seed)
+        self.vocabulary = TriggerVocabulary(dict(self.config.gesture_triggers))
         self.reset()
 
     @property
@@ -129,6 +130,7 @@ class GestureSession:
         self._unsmoothed: deque[tuple[int, bool, str]] = deque()  # (frame, gesturing, gesture) inside the smoother
         self.cues = CuePlan({clip.name: clip for clip in self.config.gesture_clips},
                             self.denoiser_config.frames_per_latent / self.fps)
+        self.listener = WordListener(self.vocabulary)  # words reported one at a time (a TTS speaking)
         self._visemes: deque[np.ndarray] = deque()  # (5,) weights of the audio frames not yet posed, in order
         self._speaking: deque[bool] = deque()  # voice-activity flag of the audio frames not yet posed, in order
         self.crossfade = PoseCrossfade(self.config.idle_fade_s, initial_weight_b=IDLE)
@@ -206,7 +208,14 @@ class GestureSession:
 
     def cue_words(self, words: list[Word]) -> list[Placement]:
         """Cue the gestures of the trigger phrases in ``words`` (stream-time stamps); returns the placed ones."""
-        cues = TriggerVocabulary(dict(self.config.gesture_triggers)).cues(words)
+        return self._place(self.vocabulary.cues(words))
+
+    def cue_spoken(self, word: Word) -> list[Placement]:
+        """Cue the trigger phrases that end at ``word``, one of the words a TTS service reports as it speaks them
+        (earlier words of the phrase came in earlier calls); returns the placed ones."""
+        return self._place(self.listener.hear(word))
+
+    def _place(self, cues: list[Cue]) -> list[Placement]:
         return [placement for cue in cues if cue.gesture in self.cues.clips and (placement := self.cue(cue))]
 
     def _generate_latent(self, index: int) -> list[PoseFrame]:

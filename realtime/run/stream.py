@@ -28,7 +28,7 @@ from gesturecast.frames import PoseFrame
 from gesturecast.models.audio.files import SAMPLE_RATE
 from gesturecast.realtime.audio.pcm import AudioConverter
 from gesturecast.realtime.audio.sources import AudioChunk, SourceStats
-from gesturecast.realtime.generation.word_cues import words_from_list
+from gesturecast.realtime.generation.word_cues import Word, words_from_list
 from gesturecast.realtime.run.engine import EngineReport, FrameRelease, make_report, warm_up
 from gesturecast.realtime.run.engine_setup import build_outputs, build_session
 from gesturecast.realtime.timing.clock import Clock, MonotonicClock
@@ -36,6 +36,7 @@ from gesturecast.realtime.timing.scheduler import SchedulerConfig
 from gesturecast.settings import Settings, with_overrides
 
 FrameCallback = Callable[[PoseFrame], None]
+SPOKEN_WORD_S = 0.35  # a word's share of a sentence given without word times (about 170 words a minute)
 
 
 class AudioTimeline:
@@ -44,14 +45,22 @@ class AudioTimeline:
     def __init__(self) -> None:
         self.samples = 0
         self._end_time = float("-inf")
+        self._last: tuple[int, float] | None = None  # (first sample, capture time) of the newest chunk
 
     def chunk(self, samples: np.ndarray, now: float) -> AudioChunk:
         """The chunk of (n,) samples arriving at ``now``: it starts now, or where the previous one ends."""
         start_time = max(now, self._end_time)
         chunk = AudioChunk(samples, self.samples, start_time)
+        self._last = (self.samples, start_time)
         self.samples += samples.shape[0]
         self._end_time = start_time + samples.shape[0] / SAMPLE_RATE
         return chunk
+
+    def stream_time(self, instant: float, now: float) -> float:
+        """Stream seconds of the audio heard at clock time ``instant`` (past the pushed audio: as if it went on;
+        before any audio: as if it started ``now``)."""
+        sample, time = self._last or (0, now)
+        return max(sample / SAMPLE_RATE + instant - time, 0.0)
 
 
 class Stream:
@@ -121,6 +130,24 @@ class Stream:
         the word (late by the wait when the word's latents are already generated). Returns the cues placed."""
         self._check_open()
         return len(self.session.cue_words(words_from_list(words, "words")))
+
+    def spoken(self, text: str, start: float | None = None) -> int:
+        """Words as a TTS service reports them while speaking (one word, or a sentence without word times):
+        ``start`` is the first word's stream time (default :meth:`heard_time`), further words follow at
+        :data:`SPOKEN_WORD_S` each; a trigger phrase cues its gesture when its last word arrives. Returns the cues
+        placed."""
+        self._check_open()
+        start = self.heard_time() if start is None else start
+        words = [Word(token, start + i * SPOKEN_WORD_S, start + (i + 1) * SPOKEN_WORD_S)
+                 for i, token in enumerate(text.split())]
+        return sum(len(self.session.cue_spoken(word)) for word in words)
+
+    def heard_time(self, ahead_s: float = 0.0) -> float:
+        """Stream time of the audio heard ``ahead_s`` seconds from now (unpaced: the end of the pushed audio)."""
+        if not self.paced:
+            return self.audio_seconds + ahead_s
+        now = self.clock.now()
+        return self._timeline.stream_time(now + ahead_s, now)
 
     def gesture(self, name: str) -> None:
         """Carry out a lexicon gesture (``"wave"``, ``"bow"``…) as soon as the look-ahead allows (thread-safe)."""

@@ -27,6 +27,7 @@ from gesturecast.bridges.output_settings import Outputs  # noqa: E402
 from gesturecast.models.audio.files import SAMPLE_RATE, load_audio  # noqa: E402
 from gesturecast.models.motion.bvh import read_bvh  # noqa: E402
 from gesturecast.realtime.agents.pipecat_processor import GesturecastProcessor, GestureStyleFrame  # noqa: E402
+from gesturecast.realtime.run.stream import Stream  # noqa: E402
 from gesturecast.settings import Settings  # noqa: E402
 
 REPO_ROOT = Path(__file__).resolve().parents[3]
@@ -145,6 +146,37 @@ def test_user_audio_and_a_style_per_spoken_sentence(tiny_model, speech, tmp_path
     asyncio.run(asyncio.wait_for(run_pipeline([processor], frames), PIPELINE_BOUND_S))
     assert processor.session.controls.describe() == "old"
     assert abs(read_bvh(tmp_path / "u.bvh").motion.shape[0] - SPEECH_S * FRAMES_PER_S) <= 1
+
+
+class WordTimedTTS(FrameProcessor):
+    """A TTS service's word frames: each TTSTextFrame it passes gets a presentation time on the pipeline's clock,
+    ``ahead_s[word]`` from now, as word-timestamp services stamp the words they are about to speak."""
+
+    def __init__(self, ahead_s: dict[str, float]) -> None:
+        super().__init__()
+        self.ahead_s = ahead_s
+
+    async def process_frame(self, frame: Frame, direction: FrameDirection) -> None:
+        await super().process_frame(frame, direction)
+        if isinstance(frame, TTSTextFrame):
+            frame.pts = self.get_clock().get_time() + round(self.ahead_s[frame.text] * 1e9)
+        await self.push_frame(frame, direction)
+
+
+def test_words_the_tts_speaks_cue_their_gestures_at_their_presentation_time(speech):
+    """Words stamped before their audio: "thank" cues nothing, "you" cues the bow with its stroke on "thank", "Hello"
+    waves at its time; the frames given to the stream's callback say which gesture plays, and when."""
+    ahead_s = {"thank": 2.0, "you": 2.3, "Hello": 5.5}
+    words = [TTSTextFrame(word, text_type="word") for word in ahead_s]
+    audio = pcm_frames(np.tile(speech, 4), SAMPLE_RATE, 1, OutputAudioRawFrame)  # 8 s
+    released = []
+    processor = GesturecastProcessor(stream=Stream(Settings(), on_frame=released.append, paced=False))
+    asyncio.run(asyncio.wait_for(run_pipeline([WordTimedTTS(ahead_s), processor], [*words, *audio]),
+                                 PIPELINE_BOUND_S))
+    playing = {name: [f.seq / FRAMES_PER_S for f in released if f.gesture == name] for name in ("bow", "wave")}
+    assert playing["bow"][0] < ahead_s["thank"] < playing["bow"][-1] < ahead_s["Hello"]
+    assert playing["wave"][0] < ahead_s["Hello"] < playing["wave"][-1]
+    assert {f.gesture for f in released} == {"", "bow", "wave"}
 
 
 def test_the_offline_example_runs_a_pipeline_to_vmc_and_bvh(tiny_model, speech, vmc_receiver, tmp_path):

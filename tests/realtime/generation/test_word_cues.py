@@ -6,7 +6,13 @@ import pytest
 
 from gesturecast.errors import UserError
 from gesturecast.realtime.generation.gesture_cues import Cue
-from gesturecast.realtime.generation.word_cues import TriggerVocabulary, Word, read_transcript, words_from_list
+from gesturecast.realtime.generation.word_cues import (
+    TriggerVocabulary,
+    Word,
+    WordListener,
+    read_transcript,
+    words_from_list,
+)
 
 WORDS = [Word("Hello", 0.4, 0.7), Word("everyone!", 0.7, 1.2), Word("Thank", 2.0, 2.2), Word("you", 2.2, 2.4),
          Word("come", 3.0, 3.2), Word("here,", 3.2, 3.5), Word("look", 4.0, 4.2), Word("here", 4.2, 4.5)]
@@ -44,3 +50,10 @@ def test_a_transcript_that_is_not_json_names_the_suffixes(tmp_path):
     (tmp_path / "t.txt").write_text("hello")
     with pytest.raises(UserError, match=r"not a JSON word list.*\.srt or \.vtt"):
         read_transcript(tmp_path / "t.txt")
+
+
+def test_words_heard_one_at_a_time_cue_a_phrase_when_its_last_word_arrives():
+    listener = WordListener(TriggerVocabulary())
+    heard = [listener.hear(Word(text, t, t + 0.3)) for t, text in enumerate(["thank", "you", "come", "here", "hi"])]
+    assert [[(cue.gesture, cue.time) for cue in cues] for cues in heard] == [
+        [], [("bow", 0.0)], [], [("call", 2.0)], [("wave", 4.0)]]
