@@ -31,16 +31,20 @@ from gesturecast.realtime.cli_flags import (
     server_token,
     settings_from_args,
 )
-from gesturecast.realtime.generation.word_cues import Word, read_transcript
+from gesturecast.realtime.generation.word_cues import Word
 from gesturecast.realtime.jobs.batch_cli import add_batch_arguments, run_batch
 from gesturecast.realtime.pose.session import GestureSession
 from gesturecast.realtime.run.engine import EngineReport, LiveEngine
 from gesturecast.realtime.run.engine_setup import build_outputs, build_session
-from gesturecast.realtime.run.offline_generate import VRMA_SUFFIX, check_motion_path, generate_to_files
+from gesturecast.realtime.run.offline_generate import (
+    VRMA_SUFFIX,
+    check_motion_path,
+    generate_to_files,
+    transcript_words,
+)
 from gesturecast.realtime.timing.clock import MonotonicClock
 from gesturecast.realtime.timing.scheduler import STAGE_END_TO_END, SchedulerConfig
 from gesturecast.realtime.timing.status import StatusLine
-from gesturecast.settings import Settings
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -160,15 +164,6 @@ def run_generate(args: argparse.Namespace) -> int:
     session.cue_words(words)
     generate_to_files(session, args.audio, motion_paths, args.json, args.vrma_bones)
     return 0
-
-
-def transcript_words(path: Path | None, settings: Settings) -> list[Word]:
-    """The words of ``--transcript`` (none without one); refused when gestures are off (nothing to cue)."""
-    if path is None:
-        return []
-    if settings.gestures is None:
-        raise UserError("--transcript cues gestures, and --gestures is off")
-    return read_transcript(path)
 
 
 def scheduler_config(args: argparse.Namespace) -> SchedulerConfig:

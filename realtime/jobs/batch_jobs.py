@@ -2,7 +2,9 @@
 
 A **folder** gives every audio file under it (any depth, by extension, sorted), with the command's
 style flags. A **CSV** gives one file per row; ``path`` (relative to the CSV's folder) is required,
-the other columns (:data:`CSV_COLUMNS`) set that file's style options; an empty cell keeps the
+the other columns (:data:`CSV_COLUMNS`) set that file's style options, and ``transcript`` names the file's words
+(a JSON word list, ``.srt`` or ``.vtt``, relative to the CSV's folder) whose trigger words cue gestures; an empty
+cell keeps the
 flag's value (a row with fewer cells leaves the rest empty; one with more cells than the header,
 a header naming a column twice, or a ``path`` that names no file such as ``.`` is refused). Outputs
 mirror the input's relative path under the output folder with ``.bvh`` (and ``.json`` / ``.vrma``) in
@@ -19,7 +21,7 @@ import csv
 import io
 import os
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from gesturecast.errors import UserError
@@ -32,6 +34,7 @@ BVH_SUFFIX = ".bvh"
 JSON_SUFFIX = ".json"
 VRMA_SUFFIX = ".vrma"
 PATH_COLUMN = "path"
+TRANSCRIPT_COLUMN = "transcript"
 MAX_CSV_BYTES = 64 << 20  # about a million rows; the whole table is read and checked before any work
 # CSV column -> (the Settings field it overrides, parser of its text: the flag's own type)
 CSV_COLUMNS: dict[str, tuple[str, Callable[[str], object]]] = {
@@ -55,6 +58,7 @@ class BatchJob:
     json: Path | None = None
     overrides: dict = field(default_factory=dict)  # Settings field -> value
     vrma: Path | None = None
+    transcript: Path | None = None  # the audio's words (gesture cues); read by the worker: a bad one fails this job
 
     def motion_paths(self) -> list[Path]:
         """The motion files: the BVH, and the VRM Animation when asked for."""
@@ -133,10 +137,10 @@ def _check_header(table: Path, columns: list[str]) -> None:
     twice = sorted({column for column in columns if columns.count(column) > 1})
     if twice:
         raise UserError(f"--batch {table} line 1: column(s) {', '.join(twice)} appear more than once in the header")
-    unknown = sorted(set(columns) - {PATH_COLUMN, *CSV_COLUMNS})
+    unknown = sorted(set(columns) - {PATH_COLUMN, TRANSCRIPT_COLUMN, *CSV_COLUMNS})
     if unknown:
         raise UserError(f"--batch {table} line 1: unknown column(s) {', '.join(unknown)}; "
-                        f"known: {PATH_COLUMN}, {', '.join(CSV_COLUMNS)}")
+                        f"known: {PATH_COLUMN}, {TRANSCRIPT_COLUMN}, {', '.join(CSV_COLUMNS)}")
 
 
 def _csv_job(table: Path, line: int, row: dict, output_dir: Path, extras: tuple[bool, bool]) -> BatchJob:
@@ -150,7 +154,9 @@ def _csv_job(table: Path, line: int, row: dict, output_dir: Path, extras: tuple[
     name = _output_name(table.parent, audio)
     if name is None:
         raise UserError(f"--batch {table} line {line}: '{PATH_COLUMN}' {written} names a folder, not an audio file")
-    return _job(audio, name, output_dir, extras, _overrides(table, line, row))
+    job = _job(audio, name, output_dir, extras, _overrides(table, line, row))
+    transcript = (row.get(TRANSCRIPT_COLUMN) or "").strip()
+    return replace(job, transcript=table.parent / transcript) if transcript else job
 
 
 def _output_name(base: Path, audio: Path) -> Path | None:

@@ -40,13 +40,18 @@ def import_ray():
 def job_row(job: BatchJob) -> dict:
     """A job as a Ray Data row (strings only)."""
     return {"audio": str(job.audio), "bvh": str(job.bvh), "json": NO_FILE if job.json is None else str(job.json),
-            "vrma": NO_FILE if job.vrma is None else str(job.vrma), "overrides": json.dumps(job.overrides)}
+            "vrma": NO_FILE if job.vrma is None else str(job.vrma), "overrides": json.dumps(job.overrides),
+            "transcript": NO_FILE if job.transcript is None else str(job.transcript)}
 
 
 def row_job(row: dict) -> BatchJob:
     """The job of a row made by :func:`job_row`."""
-    return BatchJob(Path(row["audio"]), Path(row["bvh"]), Path(row["json"]) if row["json"] != NO_FILE else None,
-                    json.loads(row["overrides"]), Path(row["vrma"]) if row["vrma"] != NO_FILE else None)
+    return BatchJob(Path(row["audio"]), Path(row["bvh"]), _path(row["json"]), json.loads(row["overrides"]),
+                    _path(row["vrma"]), _path(row["transcript"]))
+
+
+def _path(cell: str) -> Path | None:
+    return None if cell == NO_FILE else Path(cell)
 
 
 class RayBatchActor:

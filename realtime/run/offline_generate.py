@@ -25,8 +25,10 @@ from gesturecast.models.motion.canonical_bvh import CanonicalBvhWriter
 from gesturecast.models.motion.motion import MOTION_FPS
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
 from gesturecast.realtime.audio.sources import FastFileSource
+from gesturecast.realtime.generation.word_cues import Word, read_transcript
 from gesturecast.realtime.pose.session import GestureSession
 from gesturecast.realtime.run.engine import EngineReport, make_report, offline_batches
+from gesturecast.settings import Settings
 
 BVH_SUFFIX = ".bvh"
 VRMA_SUFFIX = ".vrma"
@@ -92,3 +94,12 @@ def generate_to_files(session: GestureSession, audio: Path, motion_paths: list[P
     logger.info("wrote %d frames (%.1f s) to %s; rtf %.3f", writers[0].num_frames, writers[0].num_frames / MOTION_FPS,
                 ", ".join(str(path) for path in motion_paths), report.rtf)
     return report
+
+
+def transcript_words(path: Path | None, settings: Settings) -> list[Word]:
+    """The words of a transcript file (none without one); refused when gestures are off (nothing to cue)."""
+    if path is None:
+        return []
+    if settings.gestures is None:
+        raise UserError(f"the transcript {path} cues gestures, and --gestures is off")
+    return read_transcript(path)

@@ -103,6 +103,25 @@ def test_csv_rows_set_each_file_s_style_and_seed(tiny_model, clips, tmp_path):
     assert styled.read_bytes() != plain.read_bytes()
 
 
+def test_a_csv_transcript_column_cues_gestures_as_generate_transcript_does(tiny_model, clips, tmp_path):
+    words = tmp_path / "a.words.json"
+    words.write_text(json.dumps([{"word": "Hello", "start": 0.5, "end": 0.8}]))
+    (tmp_path / "b.wav").symlink_to(clips / "a.wav")
+    table = tmp_path / "lines.csv"
+    table.write_text(f"path,transcript\n{clips / 'a.wav'},a.words.json\nb.wav,missing.json\n")
+    model = ["--model", str(tiny_model[1])]
+    result = run_cli("generate", "--batch", str(table), "-o", str(tmp_path / "out"), "--with-json", "--workers", "1",
+                     *model)
+    assert result.returncode == BATCH_FAILED_EXIT, result.stderr[-3000:]
+    (failure,) = read_summary(tmp_path / "out")["failures"]
+    assert Path(failure["path"]).name == "b.wav" and "missing.json: cannot read the transcript" in failure["error"]
+    single = tmp_path / "single"
+    assert run_cli("generate", str(clips / "a.wav"), "-o", f"{single}.bvh", "--json", f"{single}.json",
+                   "--transcript", str(words), *model).returncode == 0
+    assert (tmp_path / "out" / "a.json").read_bytes() == Path(f"{single}.json").read_bytes()
+    assert '"gesture": "wave"' in Path(f"{single}.json").read_text()
+
+
 @pytest.mark.parametrize(("table", "extra", "message"), [
     ("path,mood\na.wav,happy\n", [], "unknown column(s) mood"),
     ("path,seed\na.wav,-1\n", [], "line 2: column seed must be an integer from 0 to 4294967295"),
