@@ -66,6 +66,7 @@ class WebSocketConfig:
     style: str = ""  # the style in effect at start (the hello's ``style`` until the first frame)
     style_choices: tuple[str, ...] = ()
     body_parts: tuple[str, ...] = ()  # the model's body parts (part_styles controls); the hello lists them
+    gestures: tuple[str, ...] = ()  # the lexicon's gestures (gesture controls); the hello lists them
     allow_origins: tuple[str, ...] = ()  # browser origins besides the viewer's own (ws_access)
     slow_client_buffer_bytes: int = SLOW_CLIENT_BUFFER_BYTES
     lipsync: bool = False  # frames carry viseme weights: the hello names them, frames append them (ws_protocol)
@@ -165,6 +166,7 @@ class WebSocketBridge:
             self.access.token_required,
             self.visemes,
             self.config.body_parts,
+            self.config.gestures,
         )
 
     @property

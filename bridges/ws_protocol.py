@@ -52,6 +52,7 @@ def hello_message(
     token_required: bool,
     visemes: Sequence[str] = (),
     body_parts: Sequence[str] = (),
+    gestures: Sequence[str] = (),
 ) -> str:
     """The first message on every connection: everything a client needs to interpret frames."""
     return json.dumps(
@@ -72,6 +73,7 @@ def hello_message(
             "token_required": token_required,
             "visemes": list(visemes),
             "body_parts": list(body_parts),  # what a part_styles control may name
+            "gestures": list(gestures),  # what a gesture control may name (the session's lexicon)
         }
     )
 

@@ -74,6 +74,7 @@ function onHello(hello) {
   const root = hello.control_schema.root;  // bounded (in place), free or locked
   if (root) for (const choice of root.choices) el("root").add(new Option(choice, choice));
   addPartSelectors(hello.body_parts || [], hello.style_choices);
+  addGestureButtons(hello.gestures || []);
 }
 
 // One style selector per body part (GestureDiffuCLIP §6.3); "(whole-body style)" lets the part follow the style.
@@ -90,6 +91,20 @@ function addPartSelectors(parts, choices) {
     box.append(label);
   }
   box.hidden = parts.length === 0;
+}
+
+// One button per lexicon gesture: a click sends {"gesture": name}, carried out as soon as the look-ahead allows.
+function addGestureButtons(gestures) {
+  const box = el("gestures");
+  box.hidden = gestures.length === 0;
+  for (const name of gestures) {
+    const button = document.createElement("button");
+    button.type = "button";
+    button.textContent = name;
+    button.dataset.gesture = name;
+    button.addEventListener("click", () => sendControl({ type: "control", gesture: name }));
+    box.append(button);
+  }
 }
 
 // The part_styles control field: every part given its own style ({} sends the whole body back to one style).
@@ -119,6 +134,7 @@ function onText(message) {
 
 function connect() {
   const socket = new WebSocket(`ws://${location.host}/`);
+  state.socket = socket;
   socket.binaryType = "arraybuffer";
   socket.onopen = () => { el("connection").textContent = "connected"; };
   socket.onclose = () => { el("connection").textContent = "disconnected"; };
@@ -135,10 +151,15 @@ function connect() {
     else if (state.styleTouched && el("style-select").value) control.style = el("style-select").value;
     if (el("root").value) control.root = el("root").value;
     if (state.partsTouched) control.part_styles = partStyles();
-    const token = new URLSearchParams(location.search).get("token");
-    if (token) control.token = token;
-    socket.send(JSON.stringify(control));
+    sendControl(control);
   });
+}
+
+// A control message with the page's ?token= (the port's token, when it has one).
+function sendControl(control) {
+  const token = new URLSearchParams(location.search).get("token");
+  if (token) control.token = token;
+  state.socket.send(JSON.stringify(control));
 }
 
 // ---- the avatar: served at avatar.vrm, or dropped on the page ----

@@ -108,7 +108,8 @@ def websocket_config(outputs: Outputs, settings: Settings, session: GestureSessi
     token = token_from_sources(outputs.token, outputs.token_file)
     return WebSocketConfig(host=outputs.host, port=outputs.ws, token=token, fps=float(settings.fps),
                            style=session.controls.describe(), style_choices=tuple(session.bundle.styles.labels),
-                           body_parts=tuple(session.bundle.part_channels), allow_origins=outputs.allow_origins,
+                           body_parts=tuple(session.bundle.part_channels), gestures=tuple(session.cues.clips),
+                           allow_origins=outputs.allow_origins,
                            avatar=resolve_avatar(outputs.avatar), lipsync=bool(settings.lipsync_names),
                            viseme_names=settings.lipsync_names or WebSocketConfig.viseme_names, clock=clock.now)
 

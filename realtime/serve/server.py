@@ -304,7 +304,8 @@ class GestureServer:
         viewer = ws_protocol.hello_message(CANONICAL_WITH_HANDS, self.coords, self.config.stream.output_fps,
                                            self.sessions.defaults.style.value, styles, control_schema(),
                                            self.access.token_required,
-                                           body_parts=tuple(self.sessions.bundle.part_channels))
+                                           body_parts=tuple(self.sessions.bundle.part_channels),
+                                           gestures=self.sessions.gesture_names)
         return hello(viewer, stream_id, self.sessions.budget.total_ms)
 
     async def _refuse(self, websocket: ServerConnection, reason: str, code: CloseCode) -> None:

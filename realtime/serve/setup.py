@@ -35,6 +35,11 @@ class StreamSessions:
         self.batcher = DenoiserBatcher(bundle.path("denoiser"), defaults.threads, max_waiting=max_streams).start()
         self.bundle = SharedDenoiserBundle.wrap(bundle, self.batcher)
 
+    @property
+    def gesture_names(self) -> tuple[str, ...]:
+        """The lexicon's gestures every stream may be asked for (gesture controls)."""
+        return tuple(clip.name for clip in self.session_defaults.gesture_clips)
+
     def budget_for(self, options: StreamOptions) -> LatencyBudget:
         """The stream's L: the server's, or the one of the ``start`` message's latency setting."""
         if options.latency is None:

@@ -122,6 +122,20 @@ def test_viewer_part_selectors_send_part_styles(driver):
     assert received[1] == {"part_styles": {}}  # every part back on the whole-body style
 
 
+def test_viewer_gesture_buttons_send_a_gesture_control(driver):
+    received: list[dict] = []
+    config = WebSocketConfig(port=0, style_choices=("happy",), gestures=("wave", "bow"))
+    bridge = WebSocketBridge(config, on_control=received.append).start()
+    try:
+        driver.get(bridge.url)
+        wait_for(lambda: driver.execute_script("return document.querySelectorAll('#gestures button').length") == 2)
+        driver.find_element("css selector", "#gestures button[data-gesture='bow']").click()
+        wait_for(lambda: len(received) >= 1)
+    finally:
+        bridge.close()
+    assert received == [{"gesture": "bow"}]
+
+
 def test_viewer_without_body_parts_shows_no_part_selectors(driver):
     bridge = WebSocketBridge(WebSocketConfig(port=0, style_choices=("relaxed",))).start()
     try:
