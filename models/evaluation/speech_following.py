@@ -75,21 +75,23 @@ def _pearson(a: np.ndarray, b: np.ndarray) -> float:
     return float((a * b).sum() / scale) if scale > 0 else float("nan")
 
 
-def lagged_correlations(energy: np.ndarray, speed: np.ndarray, max_lag: int) -> dict[int, float]:
-    """{ℓ: corr(energy[t], speed[t + ℓ])} for |ℓ| ≤ max_lag (frames)."""
+def lagged_correlations(energy: np.ndarray, speed: np.ndarray, max_lag: int,
+                        kept: np.ndarray | None = None) -> dict[int, float]:
+    """{ℓ: corr(energy[t], speed[t + ℓ])} for |ℓ| ≤ max_lag (frames), over the pairs whose frames t and t + ℓ are
+    both ``kept`` ((T,) bool; default all)."""
+    kept = np.ones(len(energy), bool) if kept is None else kept
     result = {}
     for lag in range(-max_lag, max_lag + 1):
-        if lag >= 0:
-            a, b = energy[: len(energy) - lag], speed[lag:]
-        else:
-            a, b = energy[-lag:], speed[: len(speed) + lag]
-        result[lag] = _pearson(a, b)
+        first, last = max(-lag, 0), len(energy) - max(lag, 0)  # t ∈ [first, last)
+        pairs = kept[first:last] & kept[first + lag : last + lag]  # (T − |ℓ|,)
+        result[lag] = _pearson(energy[first:last][pairs], speed[first + lag : last + lag][pairs])
     return result
 
 
 def speech_following(positions: np.ndarray, audio: np.ndarray, sample_rate: int, fps: float,
-                     config: FollowingConfig | None = None) -> Following:
-    """The clip's energy–speed correlation (see the module docstring)."""
+                     config: FollowingConfig | None = None, kept: np.ndarray | None = None) -> Following:
+    """The clip's energy–speed correlation (see the module docstring); ``kept`` (T,) bool limits it to those frames,
+    with the speed and energy still computed on the whole clip (no jumps where kept spans meet)."""
     config = config or FollowingConfig()
     energy = frame_energy_db(audio, sample_rate, fps, len(positions), config.floor_db)  # (T,)
     speed = upper_body_speed(positions, fps)  # (T,)
@@ -97,7 +99,8 @@ def speech_following(positions: np.ndarray, audio: np.ndarray, sample_rate: int,
     skip = int(round(config.skip_s * fps))
     energy = moving_average(energy, width)[skip : len(energy) - skip]
     speed = moving_average(speed, width)[skip : len(speed) - skip]
-    correlations = lagged_correlations(energy, speed, int(round(config.max_lag_s * fps)))
+    kept = None if kept is None else np.asarray(kept, bool)[skip : len(kept) - skip]
+    correlations = lagged_correlations(energy, speed, int(round(config.max_lag_s * fps)), kept)
     finite = {lag: r for lag, r in correlations.items() if np.isfinite(r)}
     if not finite:
         return Following(float("nan"), 0.0, float("nan"))

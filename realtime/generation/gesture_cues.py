@@ -28,7 +28,7 @@ import numpy as np
 from gesturecast.errors import UserError
 
 DEFAULT_REFRACTORY_S = 4.0  # the same gesture again within this many seconds is dropped
-RAMP_LATENTS = 2  # latents over which the imposition weight rises to 1 (and falls back) at each end of a clip
+RAMP_LATENTS = 4  # latents over which the imposition weight rises to 1 (and falls back) at each end of a clip
 
 
 @dataclass(frozen=True)

@@ -20,7 +20,8 @@ first arrival near its peak. Detections in the uncued runs are gestures without 
 
 **Measures** (JSON): recognised per gesture type; stroke − word start p50/p95 (ms); the largest jerk within
 0.3 s of each clip's start and end over the uncued stream's 95th-percentile jerk; speech following (correlation
-of speech energy and body speed, :func:`speech_following`) outside the cue windows, cued over uncued; compute
+of speech energy and body speed, :func:`speech_following`, computed on the whole stream) on the frames outside the
+cue windows and :data:`FOLLOWING_MARGIN_S` around them, cued over uncued; compute
 seconds per second of audio, cued over uncued; a PNG strip of frames around each cue with its word.
 """
 
@@ -59,6 +60,7 @@ LEAD_IN_S = 1.5  # silence before the first sentence: room for a gesture whose s
 ONSET_DB = 30.0  # a sentence's voice starts at its first 10 ms frame within this many dB of its loudest
 WINDOW_BEFORE_S, WINDOW_AFTER_S = 1.5, 2.5  # where a cued gesture must show, around its word
 SEAM_S = 0.3
+FOLLOWING_MARGIN_S = 0.5  # the following measure's smoothing width: a clip's own speed spreads this far past its ends
 LEAD_S = 0.8  # the picture starts this long before each word
 STORIES: dict[str, tuple[str, ...]] = {
     "greetings": ("Hello everyone, and welcome back to the show.", "Today I want to talk about the weather.",
@@ -248,9 +250,9 @@ def cue_rows(story: Story, frames: list[PoseFrame], placements: list, uncued_bod
 
 
 def following(frames: list[PoseFrame], audio: np.ndarray, outside: np.ndarray) -> float:
-    positions = frames_to_motion(frames).positions()[outside][:, :22]  # (T', 22, 3)
-    frame_of_sample = np.minimum(np.arange(len(audio)) * int(MOTION_FPS) // SAMPLE_RATE, len(outside) - 1)  # (n,)
-    return speech_following(positions, audio[outside[frame_of_sample]], SAMPLE_RATE, MOTION_FPS).best_correlation
+    """Speech following over the ``outside`` (T,) frames, speed and energy computed on the whole stream."""
+    positions = frames_to_motion(frames).positions()[:, :22]  # (T, 22, 3)
+    return speech_following(positions, audio, SAMPLE_RATE, MOTION_FPS, kept=outside).best_correlation
 
 
 def study_story(settings: Settings, story: Story) -> dict:
@@ -264,8 +266,9 @@ def study_story(settings: Settings, story: Story) -> dict:
     cued, placements, rtf_cued = generate(settings, story, cued=True)
     rows = cue_rows(story, cued, placements, uncued_body)
     outside = np.ones(len(cued), bool)
+    margin = int(FOLLOWING_MARGIN_S * MOTION_FPS)
     for row in rows:
-        outside[row["frames"][0]: row["frames"][1]] = False
+        outside[max(row["frames"][0] - margin, 0): row["frames"][1] + margin] = False
     return {**result, "cues": rows, "rtf_ratio": rtf_cued / rtf_uncued,
             "following_ratio": following(cued, story.audio, outside) / following(uncued, story.audio, outside),
             "frames_cued": cued}

@@ -9,7 +9,7 @@ import pytest
 
 from gesturecast.models.audio.files import PACKAGED_SAMPLE, SAMPLE_RATE, load_audio
 from gesturecast.realtime.audio.sources import AudioChunk
-from gesturecast.realtime.generation.gesture_cues import Cue, GestureClip
+from gesturecast.realtime.generation.gesture_cues import RAMP_LATENTS, Cue, GestureClip
 from gesturecast.realtime.run.engine_setup import build_session
 from gesturecast.realtime.timing.clock import MonotonicClock
 from gesturecast.settings import Settings
@@ -41,8 +41,8 @@ def clip() -> GestureClip:
     session = build_session(Settings(), MonotonicClock())
     channels = np.zeros(session.generator.latent_dim, bool)
     channels[session.bundle.part_channels["arms"]] = True
-    latents = np.random.default_rng(1).normal(0.0, 1.5, (8, session.generator.latent_dim)).astype(np.float32)
-    features = np.zeros((32, session.bundle.motion_feature_dim), np.float32)  # (N·d, D)
+    latents = np.random.default_rng(1).normal(0.0, 1.5, (12, session.generator.latent_dim)).astype(np.float32)
+    features = np.zeros((48, session.bundle.motion_feature_dim), np.float32)  # (N·d, D)
     return GestureClip("raise", latents, channels, 3, features, np.zeros(features.shape[1], bool))
 
 
@@ -52,7 +52,8 @@ def test_the_clip_channels_are_committed_and_the_other_parts_stay_generated(clip
     run(session, speech, 512)
     history = [h.latent for h in session.generator.history]  # the last window of committed latents
     first = placement.first - (session.next_latent - len(history))
-    full = [k for k in range(clip.num_latents) if 2 <= k < clip.num_latents - 2]  # weight 1 (ramp 2)
+    full = [k for k in range(clip.num_latents) if RAMP_LATENTS <= k < clip.num_latents - RAMP_LATENTS]  # weight 1
+    assert full
     for k in full:
         assert np.allclose(history[first + k][clip.channels], clip.latents[k, clip.channels], atol=1e-5)
         assert not np.allclose(history[first + k][~clip.channels], clip.latents[k, ~clip.channels], atol=0.1)
