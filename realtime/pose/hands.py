@@ -62,7 +62,8 @@ class HandConfig:
 
 
 class HandPose:
-    """Stateful per-stream stage: ``append(body (22, 4), t) -> (52, 4)`` in stream order; ``reset()`` forgets."""
+    """Stateful per-stream stage: ``extend(bodies (n, 22, 4), times) -> (n, 52, 4)`` in stream order; ``reset()``
+    forgets."""
 
     def __init__(self, fps: float, seed: int = 0, config: HandConfig | None = None,
                  skeleton: Skeleton = CANONICAL_WITH_HANDS) -> None:
@@ -129,54 +130,62 @@ class HandPose:
 
     def _wrist_range(self) -> tuple[float, float]:
         """Wrist height (UpperChest frame) with the arm hanging straight down, and the arm length (the rise range)."""
-        tpose_wrist_y = self._wrist_positions(quat_identity((CANONICAL.num_joints,)))[0, 1]  # arm level at the shoulder
+        tpose_wrist_y = self._wrist_positions(quat_identity((1, CANONICAL.num_joints)))[0, 0, 1]  # arm at the shoulder
         lower_arm, hand = (CANONICAL.index(f"{SIDES[0]}{bone}") for bone in ("LowerArm", "Hand"))
         length = float(np.linalg.norm(CANONICAL.offsets[lower_arm]) + np.linalg.norm(CANONICAL.offsets[hand]))
         return tpose_wrist_y - length, length
 
-    # ---- per frame ----
-    def _wrist_positions(self, body: np.ndarray) -> np.ndarray:
-        """(2, 3) wrist positions of both arms in the UpperChest frame from a body pose (22, 4).
+    # ---- per latent (a few frames at a time) ----
+    def _wrist_positions(self, bodies: np.ndarray) -> np.ndarray:
+        """(n, 2, 3) wrist positions of both arms in the UpperChest frame from body poses (n, 22, 4).
 
-        Rotation matrices, not quaternion products: a dozen tiny numpy calls instead of a hundred (hot path)."""
-        matrices = quat_to_matrix(body[self._chains])  # (2, C, 3, 3)
-        rotation = _CHEST_FRAME  # (2, 3, 3)
-        position = np.zeros((len(SIDES), 3, 1))  # (2, 3, 1) column vectors
+        Rotation matrices, not quaternion products: a dozen numpy calls per batch of frames (hot path)."""
+        matrices = quat_to_matrix(bodies[:, self._chains])  # (n, 2, C, 3, 3)
+        rotation = np.broadcast_to(_CHEST_FRAME, matrices.shape[:2] + (3, 3))  # (n, 2, 3, 3)
+        position = np.zeros(matrices.shape[:2] + (3, 1))  # (n, 2, 3, 1) column vectors
         for step in range(self._chains.shape[1]):
-            position = position + rotation @ self._chain_offsets[:, step]  # (2, 3, 1)
-            rotation = rotation @ matrices[:, step]  # (2, 3, 3)
-        return position[..., 0]  # (2, 3)
+            position = position + rotation @ self._chain_offsets[:, step]  # (n, 2, 3, 1)
+            rotation = rotation @ matrices[:, :, step]  # (n, 2, 3, 3)
+        return position[..., 0]  # (n, 2, 3)
 
-    def _update_openness(self, body: np.ndarray) -> None:
-        """Move the smoothed openness toward the target set by the wrists' speed and height."""
+    def _update_openness(self, bodies: np.ndarray) -> np.ndarray:
+        """Move the smoothed openness frame by frame toward the target set by the wrists' speed and height;
+        returns each frame's openness (n, 2)."""
         cfg = self.config
-        wrists = self._wrist_positions(body)  # (2, 3)
-        previous = wrists if self._previous_wrists is None else self._previous_wrists
-        speed = np.linalg.norm(wrists - previous, axis=1) / self._dt  # (2,) m/s
-        self._previous_wrists = wrists
-        speed_term = np.clip(speed / cfg.open_speed_mps, 0.0, 1.0)  # (2,)
-        rise_term = np.clip((wrists[:, 1] - self._hang_y) / self._raise_range, 0.0, 1.0)  # (2,)
-        target = cfg.max_open * (cfg.speed_weight * speed_term + (1.0 - cfg.speed_weight) * rise_term)
-        self.openness += (1.0 - math.exp(-self._dt / cfg.smoothing_s)) * (target - self.openness)
+        wrists = self._wrist_positions(bodies)  # (n, 2, 3)
+        previous = np.concatenate([wrists[:1] if self._previous_wrists is None else self._previous_wrists[None],
+                                   wrists[:-1]])  # (n, 2, 3)
+        self._previous_wrists = wrists[-1]
+        speed_term = np.clip(np.linalg.norm(wrists - previous, axis=-1) / self._dt / cfg.open_speed_mps, 0.0, 1.0)
+        rise_term = np.clip((wrists[..., 1] - self._hang_y) / self._raise_range, 0.0, 1.0)  # (n, 2)
+        targets = cfg.max_open * (cfg.speed_weight * speed_term + (1.0 - cfg.speed_weight) * rise_term)  # (n, 2)
+        rate = 1.0 - math.exp(-self._dt / cfg.smoothing_s)
+        openness = np.empty_like(targets)
+        for k, target in enumerate(targets):
+            self.openness = self.openness + rate * (target - self.openness)
+            openness[k] = self.openness
+        return openness
 
-    def finger_rotations(self, t: float) -> np.ndarray:
-        """(2, 15, 4) local XYZW finger rotations for the current openness at stream time ``t``."""
+    def finger_rotations(self, openness: np.ndarray, times: np.ndarray) -> np.ndarray:
+        """(n, 2, 15, 4) local XYZW finger rotations for openness (n, 2) at stream times (n,)."""
         cfg = self.config
-        wobble = np.radians(cfg.variation_deg) * np.sin(self._frequencies * t + self._phases)  # (2, 5)
-        flex = (1.0 - self.openness)[:, None] * self._rest_curl + np.repeat(wobble, len(FINGER_SEGMENTS), axis=1)
-        spread = self._rest_spread + self.openness[:, None] / cfg.max_open * self._open_spread  # (2, 15)
-        axis_angles = flex[..., None] * self._flex_axes + spread[..., None] * self._spread_axes  # (2, 15, 3)
-        thumb = slice(0, len(FINGER_SEGMENTS))  # the thumb's joints come first
-        axis_angles[:, thumb.start] += np.radians(cfg.thumb_opposition_deg) * self._opposition_axes[:, thumb.start]
-        return quat_from_axis_angle(axis_angles)  # (2, 15, 4)
+        wobble = np.radians(cfg.variation_deg) * np.sin(self._frequencies * times[:, None, None] + self._phases)
+        flex = (1.0 - openness)[..., None] * self._rest_curl + np.repeat(wobble, len(FINGER_SEGMENTS), axis=-1)
+        spread = self._rest_spread + openness[..., None] / cfg.max_open * self._open_spread  # (n, 2, 15)
+        axis_angles = flex[..., None] * self._flex_axes + spread[..., None] * self._spread_axes  # (n, 2, 15, 3)
+        axis_angles[:, :, 0] += np.radians(cfg.thumb_opposition_deg) * self._opposition_axes[:, 0]  # thumb first
+        return quat_from_axis_angle(axis_angles)  # (n, 2, 15, 4)
+
+    def extend(self, bodies: np.ndarray, times: np.ndarray) -> np.ndarray:
+        """The next frames' poses with hands: bodies (n, 22, 4) at stream times (n,) → (n, 52, 4) XYZW."""
+        out = np.empty((bodies.shape[0], self.skeleton.num_joints, 4))  # (n, 52, 4)
+        out[:, : CANONICAL.num_joints] = bodies
+        out[:, self._finger_index] = self.finger_rotations(self._update_openness(bodies), np.asarray(times, float))
+        return out
 
     def append(self, body: np.ndarray, t: float) -> np.ndarray:
-        """The next frame's pose with hands: body (22, 4) at stream time ``t`` → (52, 4) XYZW."""
-        self._update_openness(body)
-        out = np.empty((self.skeleton.num_joints, 4))  # (52, 4)
-        out[: CANONICAL.num_joints] = body
-        out[self._finger_index] = self.finger_rotations(t)  # (2, 15, 4)
-        return out
+        """One frame of :meth:`extend`: body (22, 4) at stream time ``t`` → (52, 4)."""
+        return self.extend(body[None], np.array([t]))[0]
 
 
 def _unit(v: np.ndarray) -> np.ndarray:

@@ -36,6 +36,7 @@ from gesturecast.models.audio.streaming import StreamingFeatureExtractor, speaki
 from gesturecast.models.generator.denoiser_config import audio_window_bounds, audio_window_end
 from gesturecast.models.motion.motion_features import features_to_rotations
 from gesturecast.models.motion.root_anchor import RootAnchor, RootMode, RootTravel
+from gesturecast.models.motion.skeleton import CANONICAL
 from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.realtime.audio.sources import AudioChunk
 from gesturecast.realtime.generation.generator import Generator
@@ -237,15 +238,20 @@ class GestureSession:
         return self._pose_frames(self.smoother.push(motion))
 
     def _pose_frames(self, smoothed: np.ndarray) -> list[PoseFrame]:
-        """Pose frames of the rows (m, D) that left the smoother, the oldest frames inside it, in order."""
-        frames = []
-        for row in smoothed:
-            frame, gesturing, gesture = self._unsmoothed.popleft()
-            speaking = self._speaking.popleft()  # audio frame ``frame``'s voice activity
-            visemes = self._visemes.popleft() if self.lipsync_on else None  # audio frame ``frame``'s
-            if self._wanted(frame):
-                frames.append(self._pose_frame(frame, row, (gesturing, gesture), speaking, visemes))
-        return frames
+        """Pose frames of the rows (m, D) that left the smoother, the oldest frames inside it, in order; built
+        per batch (one call per stage for the m rows, the stateful stages stepping frame by frame inside)."""
+        rows = [self._unsmoothed.popleft() for _ in range(len(smoothed))]  # (frame, gesturing, gesture)
+        speaking = [self._speaking.popleft() for _ in rows]  # each audio frame's voice activity
+        visemes = [self._visemes.popleft() if self.lipsync_on else None for _ in rows]  # each audio frame's
+        wanted = sum(self._wanted(frame) for frame, _, _ in rows)  # a prefix: frames past the end are dropped
+        if wanted == 0:
+            return []
+        frames = np.array([frame for frame, _, _ in rows[:wanted]])  # (n,)
+        times = frames / self.fps  # (n,) stream seconds
+        bodies, roots = self._finite_poses(frames, smoothed[:wanted], [g for _, g, _ in rows[:wanted]])
+        rotations = self.hands.extend(bodies, times)  # (n, J + 30, 4) on CANONICAL_WITH_HANDS
+        return [self._pose_frame(int(frame), rotations[k], roots[k], rows[k][2], speaking[k], visemes[k])
+                for k, frame in enumerate(frames)]
 
     def _gesturing(self, index: int) -> bool:
         """Whether latent ``index``'s frames fade to speech gestures (else to idle): speech within the hold time
@@ -260,15 +266,10 @@ class GestureSession:
     def _wanted(self, frame: int) -> bool:
         return self._frame_limit is None or frame < self._frame_limit
 
-    def _pose_frame(self, frame: int, features: np.ndarray, gesture: tuple[bool, str], speaking: bool,
+    def _pose_frame(self, frame: int, rotations: np.ndarray, root: np.ndarray, gesture: str, speaking: bool,
                     visemes: np.ndarray | None) -> PoseFrame:
-        """The PoseFrame of one (D,) motion-feature row: cross-faded toward speech or idle by ``gesture``'s
-        (gesturing, name) flag, flagged ``speaking`` by the voice activity of its own audio instant."""
-        gesturing, gesture_name = gesture
-        t = frame / self.fps
-        self.crossfade.fade_to(SPEECH if gesturing else IDLE, t)
-        rotations, root = self._finite_pose(frame, features, t)  # (J, 4), (3,)
-        rotations = self.hands.append(rotations, t)  # (J + 30, 4) on CANONICAL_WITH_HANDS
+        """The PoseFrame of one pose (rotations (J + 30, 4), root (3,)), flagged ``speaking`` by the voice activity of
+        its own audio instant and naming the lexicon ``gesture`` playing ("" for none)."""
         capture = self._capture_time(frame)
         self.frames_out += 1
         return PoseFrame(
@@ -280,14 +281,40 @@ class GestureSession:
             style=self.controls.describe(),
             speaking=speaking,
             visemes=visemes,
-            gesture=gesture_name,
+            gesture=gesture,
         )
 
-    def _pose(self, features: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:
-        """(J, 4) rotations and (3,) root of one motion-feature row (D,), cross-faded with idle motion."""
-        position, yaw = self.root.step(features)  # (3,), facing yaw
-        self.travel.update(position, yaw)
-        rotations = features_to_rotations(features, np.asarray(yaw))  # (J, 4)
+    def _finite_poses(self, frames: np.ndarray, features: np.ndarray, gesturing: list[bool]
+                      ) -> tuple[np.ndarray, np.ndarray]:
+        """(n, J, 4) rotations and (n, 3) roots of feature rows (n, D), cross-faded toward speech or idle by each
+        frame's ``gesturing`` flag. A row that is not finite, or gives a pose that is not, becomes the last good pose
+        (the idle pose before any), counted and warned about once: no bridge, recorder or JSON writer ever receives a
+        NaN or inf."""
+        times = frames / self.fps  # (n,)
+        finite = np.isfinite(features).all(axis=1)  # (n,) a NaN row never reaches the root integrator
+        roots, yaws = self._root_steps(features, finite)  # (n, 3), (n,)
+        bodies = np.empty((len(frames), CANONICAL.num_joints, 4))  # (n, J, 4)
+        bodies[finite] = features_to_rotations(features[finite], yaws[finite])
+        for k, t in enumerate(times):
+            self.crossfade.fade_to(SPEECH if gesturing[k] else IDLE, t)
+            if finite[k]:
+                bodies[k], roots[k] = self._faded(t, bodies[k], roots[k])
+            if finite[k] and np.isfinite(bodies[k]).all() and np.isfinite(roots[k]).all():
+                self._last_good = (bodies[k], roots[k])
+            else:
+                bodies[k], roots[k] = self._held_pose(int(frames[k]), t)
+        return bodies, roots
+
+    def _root_steps(self, features: np.ndarray, finite: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(n, 3) hips positions and (n,) facing yaws of the finite rows (the others: zeros), in stream order."""
+        roots, yaws = np.zeros((len(features), 3)), np.zeros(len(features))
+        for k in np.flatnonzero(finite):
+            roots[k], yaws[k] = self.root.step(features[k])
+            self.travel.update(roots[k], yaws[k])
+        return roots, yaws
+
+    def _faded(self, t: float, rotations: np.ndarray, position: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """One generated pose ((J, 4), (3,)) cross-faded with idle motion and with the seed motion's last pose."""
         root = position
         if self.crossfade.weight(t) < SPEECH:  # idle visible: blend (skipped while fully in speech: hot path)
             idle_root = np.array([position[0], self.idle.base_root[1], position[2]])  # idle in place
@@ -302,14 +329,8 @@ class GestureSession:
         seed_root = np.array([root[0], seed.height, root[2]])  # the seed's pose where the avatar stands
         return self.seed_fade.mix(t, seed.rotations, seed_root, rotations, root)
 
-    def _finite_pose(self, frame: int, features: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:
-        """The pose of a (D,) feature row when finite; else the last good pose (the idle pose before any),
-        counted and warned about once. No bridge, recorder or JSON writer ever receives a NaN or inf."""
-        if np.isfinite(features).all():  # a NaN row never reaches the root integrator (it would stay NaN)
-            rotations, root = self._pose(features, t)  # (J, 4), (3,)
-            if np.isfinite(rotations).all() and np.isfinite(root).all():
-                self._last_good = (rotations, root)
-                return rotations, root
+    def _held_pose(self, frame: int, t: float) -> tuple[np.ndarray, np.ndarray]:
+        """The last good pose in place of a non-finite one (the idle pose before any)."""
         self.nonfinite_poses += 1
         if self.nonfinite_poses == 1:
             logger.warning("pose %d came out NaN or infinite; holding the last good pose instead "
