@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import argparse
+import logging
 import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -45,6 +47,8 @@ from gesturecast.realtime.run.offline_generate import (
 from gesturecast.realtime.timing.clock import MonotonicClock
 from gesturecast.realtime.timing.scheduler import STAGE_END_TO_END, SchedulerConfig
 from gesturecast.realtime.timing.status import StatusLine
+
+logger = logging.getLogger(__name__)
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -162,7 +166,10 @@ def run_generate(args: argparse.Namespace) -> int:
     words = transcript_words(args.transcript, settings)
     session = build_session(settings, MonotonicClock())
     session.cue_words(words)
-    generate_to_files(session, args.audio, motion_paths, args.json, args.vrma_bones)
+    report = generate_to_files(session, args.audio, motion_paths, args.json, args.vrma_bones)
+    process_cpu = time.process_time()  # the whole command: start-up, model, generation, files
+    logger.info("process CPU %.2f s for %.1f s of audio: %.3f s per second", process_cpu, report.audio_seconds,
+                process_cpu / report.audio_seconds)
     return 0
 
 

@@ -57,6 +57,7 @@ logger = logging.getLogger(__name__)
 STAGE_FEATURES = "features"
 STAGE_DENOISER = "denoiser"
 STAGE_DECODER = "decoder"
+STAGE_POSES = "poses"  # gesture blend, smoothing, root, rotations, cross-fades, hands: decoded features → PoseFrames
 SPEECH = 1.0  # cross-fade weight of the generated stream while speaking (idle = 0)
 IDLE = 0.0
 
@@ -187,7 +188,8 @@ class GestureSession:
         start, time = self._anchor
         pad_time = time + (self.samples_in - start) / self.sample_rate
         frames = self.push(AudioChunk(np.zeros(padding, np.float32), self.samples_in, pad_time))
-        return frames + self._pose_frames(self.smoother.flush(self.bundle.motion_feature_dim))
+        with self.stats.time(STAGE_POSES):
+            return frames + self._pose_frames(self.smoother.flush(self.bundle.motion_feature_dim))
 
     # ---- generation ----
     def _generate_ready(self) -> list[PoseFrame]:
@@ -229,13 +231,14 @@ class GestureSession:
                                                                                        imposed.weights))  # (C,)
         with self.stats.time(STAGE_DECODER):
             motion = self.generator.decode(latent)  # (d, D)
-        if imposed is not None:
-            motion = imposed.blend(motion)
-        gesture = "" if imposed is None else imposed.names
-        gesturing = self._gesturing(index) or bool(gesture)  # a cued gesture shows in silence too
-        self.cues.forget_before(index)
-        self._unsmoothed.extend((index * d + j, gesturing, gesture) for j in range(d))
-        return self._pose_frames(self.smoother.push(motion))
+        with self.stats.time(STAGE_POSES):
+            if imposed is not None:
+                motion = imposed.blend(motion)
+            gesture = "" if imposed is None else imposed.names
+            gesturing = self._gesturing(index) or bool(gesture)  # a cued gesture shows in silence too
+            self.cues.forget_before(index)
+            self._unsmoothed.extend((index * d + j, gesturing, gesture) for j in range(d))
+            return self._pose_frames(self.smoother.push(motion))
 
     def _pose_frames(self, smoothed: np.ndarray) -> list[PoseFrame]:
         """Pose frames of the rows (m, D) that left the smoother, the oldest frames inside it, in order; built
@@ -294,7 +297,8 @@ class GestureSession:
         finite = np.isfinite(features).all(axis=1)  # (n,) a NaN row never reaches the root integrator
         roots, yaws = self._root_steps(features, finite)  # (n, 3), (n,)
         bodies = np.empty((len(frames), CANONICAL.num_joints, 4))  # (n, J, 4)
-        bodies[finite] = features_to_rotations(features[finite], yaws[finite])
+        if finite.any():
+            bodies[finite] = features_to_rotations(features[finite], yaws[finite])
         for k, t in enumerate(times):
             self.crossfade.fade_to(SPEECH if gesturing[k] else IDLE, t)
             if finite[k]:

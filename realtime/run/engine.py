@@ -16,10 +16,16 @@ import numpy as np
 
 from gesturecast.frames import PoseFrame
 from gesturecast.realtime.audio.sources import DEFAULT_CHUNK, AudioChunk, AudioSource, SourceStats
-from gesturecast.realtime.pose.session import GestureSession
+from gesturecast.realtime.pose.session import (
+    STAGE_DECODER,
+    STAGE_DENOISER,
+    STAGE_FEATURES,
+    STAGE_POSES,
+    GestureSession,
+)
 from gesturecast.realtime.timing.clock import Clock
 from gesturecast.realtime.timing.latency import MS_PER_S, LatencyStats
-from gesturecast.realtime.timing.scheduler import FrameScheduler, SchedulerConfig, SchedulerWorker
+from gesturecast.realtime.timing.scheduler import STAGE_SINK, FrameScheduler, SchedulerConfig, SchedulerWorker
 from gesturecast.realtime.timing.status import StatusLine, build_snapshot
 
 logger = logging.getLogger(__name__)
@@ -47,7 +53,7 @@ class EngineReport:
 
     @property
     def rtf(self) -> float:
-        """Compute seconds per second of audio (features + denoiser + decoder)."""
+        """CPU seconds per second of audio of every stage a frame passes through (:data:`COMPUTE_STAGES`)."""
         return self.compute_seconds / self.audio_seconds if self.audio_seconds else float("nan")
 
     def to_dict(self) -> dict:
@@ -67,7 +73,7 @@ class EngineReport:
         }
 
 
-COMPUTE_STAGES = ("features", "denoiser", "decoder")
+COMPUTE_STAGES = (STAGE_FEATURES, STAGE_DENOISER, STAGE_DECODER, STAGE_POSES, STAGE_SINK)  # what rtf counts
 WARM_UP_S = 1.5  # throwaway audio run through every stage before a live source opens (half silence, half noise)
 WARM_UP_NOISE_RMS = 0.1  # -20 dBFS white noise: the VAD calls it speech, so the speaking path runs too
 WARM_UP_SEED = 0
@@ -101,9 +107,9 @@ def warm_up(session: GestureSession, clock: Clock) -> float:
 
 
 def compute_seconds(session: GestureSession) -> float:
-    """Total time spent in the compute stages of a session (mean ms x count, summed)."""
-    summary = session.stats.summary()
-    return sum(s["mean"] * s["count"] for name, s in summary.items() if name in COMPUTE_STAGES) / 1000.0
+    """CPU seconds a session's frames cost in every stage: speech features (lip sync included), denoiser, decoder,
+    pose building and the outputs."""
+    return session.stats.cpu_seconds(COMPUTE_STAGES)
 
 
 def make_report(session: GestureSession, audio: SourceStats, scheduler_stats: dict,

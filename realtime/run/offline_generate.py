@@ -28,6 +28,7 @@ from gesturecast.realtime.audio.sources import FastFileSource
 from gesturecast.realtime.generation.word_cues import Word, read_transcript
 from gesturecast.realtime.pose.session import GestureSession
 from gesturecast.realtime.run.engine import EngineReport, make_report, offline_batches
+from gesturecast.realtime.timing.scheduler import STAGE_SINK
 from gesturecast.settings import Settings
 
 BVH_SUFFIX = ".bvh"
@@ -84,14 +85,17 @@ def generate_to_files(session: GestureSession, audio: Path, motion_paths: list[P
         if json_path is not None:
             writers.append(files.enter_context(PoseJsonWriter(json_path, session.viseme_names)))
         for batch in offline_batches(session, source):
-            for writer in writers:
-                writer.write(batch)
+            with session.stats.time(STAGE_SINK):  # the outputs: the live engine's bridges, here the file writers
+                for writer in writers:
+                    writer.write(batch)
         if writers[0].num_frames == 0:
             raise UserError(f"{audio} is shorter than one motion frame (1/30 s)")
-        for writer in writers:
-            writer.save()
+        with session.stats.time(STAGE_SINK):
+            for writer in writers:
+                writer.save()
     report = make_report(session, source.stats(), {})
-    logger.info("wrote %d frames (%.1f s) to %s; rtf %.3f", writers[0].num_frames, writers[0].num_frames / MOTION_FPS,
+    logger.info("wrote %d frames (%.1f s) to %s; rtf %.3f (CPU of every stage per second of audio)",
+                writers[0].num_frames, writers[0].num_frames / MOTION_FPS,
                 ", ".join(str(path) for path in motion_paths), report.rtf)
     return report
 

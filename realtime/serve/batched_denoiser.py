@@ -17,6 +17,7 @@ from __future__ import annotations
 import logging
 import queue
 import threading
+import time
 from collections import Counter
 from collections.abc import Sequence
 from dataclasses import dataclass, field, fields
@@ -27,6 +28,7 @@ import numpy as np
 from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.models.runtime.denoiser import FRAME_INPUT_NAMES, OUTPUT_NAMES, DenoiserRuntime
 from gesturecast.models.runtime.ort_session import DEFAULT_THREADS
+from gesturecast.realtime.timing.latency import charge_cpu
 
 logger = logging.getLogger(__name__)
 
@@ -72,6 +74,7 @@ class _Request:
     done: threading.Event = field(default_factory=threading.Event)
     outputs: Outputs | None = None
     error: Exception | None = None
+    cpu_seconds: float = 0.0  # its rows' share of the batched call's CPU time
 
 
 @dataclass
@@ -144,6 +147,7 @@ class DenoiserBatcher:
         request = _Request(feeds)
         self._requests.put(request)
         request.done.wait()
+        charge_cpu(request.cpu_seconds)  # the stream's denoiser stage counts its share of the call
         if request.error is not None:
             raise request.error
         return request.outputs
@@ -185,6 +189,7 @@ class DenoiserBatcher:
 
     def _run_group(self, group: list[_Request]) -> None:
         sizes = [batch_size(r.feeds) for r in group]
+        cpu_start = time.thread_time()
         try:
             outputs = self.runtime.session.run(None, stack_feeds([r.feeds for r in group]))
             for request, own in zip(group, split_outputs(outputs, sizes), strict=True):
@@ -194,7 +199,9 @@ class DenoiserBatcher:
             for request in group:
                 request.error = error
         self.stats.add(len(group), sum(sizes))
-        for request in group:
+        cpu = time.thread_time() - cpu_start
+        for request, rows in zip(group, sizes, strict=True):
+            request.cpu_seconds = cpu * rows / sum(sizes)
             request.done.set()
 
 

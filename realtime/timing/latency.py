@@ -18,7 +18,8 @@ the model's δa need a model trained with look-ahead truncation.
 from __future__ import annotations
 
 import threading
-from collections.abc import Iterator
+import time
+from collections.abc import Iterable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
 
@@ -32,6 +33,20 @@ MS_PER_S = 1000.0
 DEFAULT_WINDOW = 1 << 16  # samples kept per stage: ~36 minutes of 30 fps frames, 512 KiB
 INITIAL_RING_SAMPLES = 1 << 9  # a stage's ring starts at 4 KiB and doubles up to the window
 SUMMARY_PERCENTILES = (50.0, 95.0, 99.0)
+
+
+_charged = threading.local()  # per thread: CPU seconds other threads spent on its behalf
+
+
+def charge_cpu(seconds: float) -> None:
+    """Count ``seconds`` of CPU that another thread spent for the calling thread (its share of a batched call, as
+    ``gesturecast serve``'s shared denoiser runs it) in the stage the calling thread is timing."""
+    _charged.seconds = getattr(_charged, "seconds", 0.0) + seconds
+
+
+def thread_cpu() -> float:
+    """The calling thread's CPU seconds so far, with what was charged to it (:func:`charge_cpu`)."""
+    return time.thread_time() + getattr(_charged, "seconds", 0.0)
 
 
 @dataclass(frozen=True)
@@ -138,7 +153,9 @@ class LatencyStats:
     """Per-stage timing samples with bounded memory (thread-safe).
 
     Each stage keeps its newest ``window`` samples in a fixed ring; percentiles are over that window,
-    count / mean / max over the whole run. Samples are recorded in seconds, summaries are in ms.
+    count / mean / max over the whole run. Samples are recorded in seconds, summaries are in ms. Stages timed
+    with :meth:`time` also add up the CPU time of the thread that ran them (:meth:`cpu_seconds`): what the work
+    cost, where the durations on the clock include waiting and other threads' turns on a busy machine.
     """
 
     def __init__(self, clock: Clock, window: int = DEFAULT_WINDOW) -> None:
@@ -147,23 +164,31 @@ class LatencyStats:
         self.clock = clock
         self.window = window
         self._rings: dict[str, _Ring] = {}
+        self._cpu: dict[str, float] = {}  # stage -> thread CPU seconds of its timed blocks
         self._lock = threading.Lock()
 
-    def record(self, stage: str, seconds: float) -> None:
+    def record(self, stage: str, seconds: float, cpu_seconds: float = 0.0) -> None:
         with self._lock:
             ring = self._rings.get(stage)
             if ring is None:
                 ring = self._rings[stage] = _Ring(self.window)
             ring.add(float(seconds))
+            self._cpu[stage] = self._cpu.get(stage, 0.0) + cpu_seconds
 
     @contextmanager
     def time(self, stage: str) -> Iterator[None]:
-        """``with stats.time("denoiser"): ...`` records the block's duration on the injected clock."""
-        start = self.clock.now()
+        """``with stats.time("denoiser"): ...`` records the block's duration on the injected clock and the CPU time
+        its thread spent in it."""
+        start, cpu_start = self.clock.now(), thread_cpu()
         try:
             yield
         finally:
-            self.record(stage, self.clock.now() - start)
+            self.record(stage, self.clock.now() - start, thread_cpu() - cpu_start)
+
+    def cpu_seconds(self, stages: Iterable[str]) -> float:
+        """Thread CPU seconds spent in the timed blocks of ``stages``, summed."""
+        with self._lock:
+            return sum(self._cpu.get(stage, 0.0) for stage in stages)
 
     def stages(self) -> list[str]:
         with self._lock:

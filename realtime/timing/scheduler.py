@@ -30,7 +30,7 @@ import numpy as np
 from gesturecast.frames import PoseFrame
 from gesturecast.models.motion.rotations import quat_slerp
 from gesturecast.realtime.timing.clock import Clock
-from gesturecast.realtime.timing.latency import MS_PER_S, LatencyStats
+from gesturecast.realtime.timing.latency import MS_PER_S, LatencyStats, thread_cpu
 
 logger = logging.getLogger(__name__)
 
@@ -192,11 +192,13 @@ class FrameScheduler:
         return None
 
     def _release(self, frame: PoseFrame) -> None:
-        start = self.clock.now()
+        start, cpu_start = self.clock.now(), thread_cpu()
         self.sink(frame)
         end = self.clock.now()
         with self._lock:
             self.stats.released += 1
+        if self.latency_stats is not None:
+            self.latency_stats.record(STAGE_SINK, end - start, thread_cpu() - cpu_start)
         if not self.config.paced:
             return
         lateness = start - frame.presentation_time
@@ -206,7 +208,6 @@ class FrameScheduler:
                 self.stats.late_releases += 1
         if self.latency_stats is not None:
             self.latency_stats.record(STAGE_LATENESS, lateness)
-            self.latency_stats.record(STAGE_SINK, end - start)
             self.latency_stats.record(STAGE_END_TO_END, end - frame.capture_time)
 
     def run_until(self, t: float) -> int:
