@@ -10,6 +10,7 @@ from __future__ import annotations
 import argparse
 import dataclasses
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from gesturecast.arguments import port_number
 from gesturecast.bridges.avatar_file import AVATAR_ENV_VAR
@@ -19,8 +20,6 @@ from gesturecast.bridges.vmc_roles import MARIONETTE
 from gesturecast.bridges.ws_access import MIN_TOKEN_CHARS, TOKEN_ENV_VAR, token_from_sources
 from gesturecast.frames import VISEME_NAMES
 from gesturecast.models.motion.root_anchor import ROOT_MODES
-from gesturecast.realtime.serve.server import ServeConfig
-from gesturecast.realtime.serve.stream import StreamConfig
 from gesturecast.settings import (
     DEFAULT_MODEL_DIR,
     LATENCY_SETTINGS,
@@ -30,6 +29,9 @@ from gesturecast.settings import (
     SAMPLERS,
     Settings,
 )
+
+if TYPE_CHECKING:
+    from gesturecast.realtime.serve.server import ServeConfig
 
 GESTURES_OFF = "off"
 SETTING_NAMES = tuple(field.name for field in dataclasses.fields(Settings))
@@ -155,6 +157,9 @@ def server_token(args: argparse.Namespace) -> str | None:
 
 def serve_config(args: argparse.Namespace, token: str | None) -> ServeConfig:
     """The server's listening and stream options from the flags."""
+    from gesturecast.realtime.serve.server import ServeConfig  # here: `live` and `generate` never load the server
+    from gesturecast.realtime.serve.stream import StreamConfig
+
     return ServeConfig(host=args.host, port=args.port, token=token, max_streams=args.max_streams,
                        coordinate_frame=args.coordinate_frame, stream=StreamConfig(output_fps=float(args.fps)),
                        allow_origins=tuple(args.allow_origin))

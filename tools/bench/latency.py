@@ -35,7 +35,7 @@ from gesturecast.frames import PoseFrame
 from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
 from gesturecast.realtime.audio.sources import DEFAULT_CHUNK, AudioSource, MicConfig, MicSource, PacedFileSource
 from gesturecast.realtime.cli_flags import add_generation_arguments, settings_from_args
-from gesturecast.realtime.run.engine import STAGE_MARGIN_USED, EngineReport, LiveEngine, Sink
+from gesturecast.realtime.run.engine import COMPUTE_STAGES, STAGE_MARGIN_USED, EngineReport, LiveEngine, Sink
 from gesturecast.realtime.run.engine_setup import build_session
 from gesturecast.realtime.timing.clock import Clock, MonotonicClock
 from gesturecast.realtime.timing.latency import MS_PER_S
@@ -44,7 +44,6 @@ from gesturecast.tools.bench.latency_sweep import latency_sweep
 
 SWEEP_STEPS = (1, 2, 4, 8, 16)
 PERCENTILES = ("p50", "p95", "p99", "max")
-STAGES = ("features", "denoiser", "decoder", "bridge")
 DEFAULT_DEVICE_SECONDS = 60.0  # how long --device records when --seconds is not given
 START_WINDOW_S = 5.0  # frames captured in the first seconds are reported apart ("start" vs "after_start")
 LATE_AFTER_S = 1.0 / 30.0  # a frame sent a whole frame period after its presentation time counts as late
@@ -180,7 +179,7 @@ def benchmark_json(report: EngineReport, args: argparse.Namespace, settings: Set
     return {
         "latency_budget_ms": report.budget["latency_budget_ms"],
         "end_to_end_ms": {p: end_to_end.get(p) for p in PERCENTILES},
-        "stages_ms": {name: {p: stages[name][p] for p in ("p50", "p95")} for name in STAGES if name in stages},
+        "stages_ms": {name: {p: stages[name][p] for p in PERCENTILES} for name in COMPUTE_STAGES if name in stages},
         "margin_used_ms": {p: stages.get(STAGE_MARGIN_USED, {}).get(p) for p in PERCENTILES},
         "rtf": report.rtf,
         "deadline_misses": report.scheduler.get("deadline_misses", 0),
