@@ -9,6 +9,8 @@ Address scheme (all arguments float32 ``f`` or int32 ``i``), per frame, in this 
   (Unity HumanBodyBones names: Hips, Spine, ..., RightToes), in the selected frame
 - ``/gesturecast/viseme/<Name>`` f weight   per viseme (``--lipsync vrm0``: A I U E O; ``vrm1``: aa ih ou ee
   oh), mouth-shape weights in [0, 1] of the frame's audio instant; absent with ``--lipsync off``
+- ``/gesturecast/face/<Name>`` f weight   per blink and emotion preset (``--face``: Blink Blink_L Blink_R Joy Angry
+  Sorrow Fun Surprised, VRM 1.0 names with ``--lipsync vrm1``), weights in [0, 1]; absent with ``--face off``
 
 The coordinate frame is ``unity``, ``unreal`` (Z-up, centimetres) or ``internal``
 (right-handed Y-up, metres); see :mod:`gesturecast.bridges.coords`. Messages go out grouped in
@@ -43,6 +45,7 @@ class OscConfig:
     bundled: bool = True
     max_bundle_size: int | None = None  # None: by the target's address family (1472 IPv4, 1452 IPv6)
     viseme_names: tuple[str, ...] = ()  # VISEME_NAMES[mode], or () to send no visemes
+    face_names: tuple[str, ...] = ()  # FACE_NAMES[mode], or () to send no blinks and expressions
 
 
 def bone_address(name: str) -> str:
@@ -60,6 +63,7 @@ class OscEncoder:
         self._root = MessageLayout(f"{ADDRESS_PREFIX}/root", (), "fff")
         self._bones = [MessageLayout(bone_address(name), (), "ffff") for name in skeleton.names]
         self._visemes = [MessageLayout(f"{ADDRESS_PREFIX}/viseme/{name}", (), "f") for name in config.viseme_names]
+        self._face = [MessageLayout(f"{ADDRESS_PREFIX}/face/{name}", (), "f") for name in config.face_names]
 
     def encode(self, frame: PoseFrame, stream_time: float) -> list[bytes]:
         """Datagrams for one frame; ``stream_time`` (s since the first frame) goes to ``/gesturecast/frame``."""
@@ -68,8 +72,9 @@ class OscEncoder:
             self._root.encode_floats(self.frame.position(frame.root_position)),
         ]
         messages += encode_float_rows(self._bones, self.frame.rotation(frame.rotations))
-        if self._visemes and frame.visemes is not None:
-            messages += encode_float_rows(self._visemes, np.asarray(frame.visemes)[:, None])  # (V, 1)
+        for layouts, weights in ((self._visemes, frame.visemes), (self._face, frame.face)):
+            if layouts and weights is not None:
+                messages += encode_float_rows(layouts, np.asarray(weights)[:, None])  # (n, 1)
         return pack_bundles(messages, self.max_bundle_size) if self.bundled else messages
 
 

@@ -1,9 +1,10 @@
 """The pose stream as JSON (``generate --json``), written frame batch by frame batch.
 
-The document is ``{"bones": [...], "fps": 30, "visemes": [...], "frames": [{seq, capture_time, root, rotations,
-speaking, visemes, gesture}, ...]}`` on one line (``gesture``: the lexicon gesture being carried out, only on
-frames that have one; ``visemes``: the blend-shape names of ``--lipsync`` and each
-frame's weights in that order; both absent with ``--lipsync off``; ``speaking``: the voice activity of the
+The document is ``{"bones": [...], "fps": 30, "visemes": [...], "face": [...], "frames": [{seq, capture_time, root,
+rotations, speaking, visemes, face, gesture}, ...]}`` on one line (``gesture``: the lexicon gesture being carried out,
+only on frames that have one; ``visemes``: the blend-shape names of ``--lipsync`` and each
+frame's weights in that order; both absent with ``--lipsync off``; ``face``: the same for the blinks and the
+emotion presets, absent with ``--face off``; ``speaking``: the voice activity of the
 frame's own audio instant, with a 267 ms hangover), the same bytes as ``json.dumps`` of the
 whole document, but the frames are never all in memory: each batch is formatted and written as it comes, into a
 temporary file that replaces the target on :meth:`PoseJsonWriter.save` (:func:`gesturecast.files.atomic_file`).
@@ -39,6 +40,8 @@ def frame_record(frame: PoseFrame) -> dict:
     }
     if frame.visemes is not None:
         record["visemes"] = np.round(np.asarray(frame.visemes, np.float64), VISEME_DECIMALS).tolist()  # (5,) in [0, 1]
+    if frame.face is not None:
+        record["face"] = np.round(np.asarray(frame.face, np.float64), VISEME_DECIMALS).tolist()  # (8,) in [0, 1]
     if frame.gesture:
         record["gesture"] = frame.gesture  # the lexicon gesture(s) being carried out
     return record
@@ -47,7 +50,7 @@ def frame_record(frame: PoseFrame) -> dict:
 class PoseJsonWriter:
     """Append frames with :meth:`write`; :meth:`save` finishes the document and replaces the target."""
 
-    def __init__(self, path: str | Path, viseme_names: tuple[str, ...] = ()) -> None:
+    def __init__(self, path: str | Path, viseme_names: tuple[str, ...] = (), face_names: tuple[str, ...] = ()) -> None:
         self.path = Path(path)
         self._stack = ExitStack()
         self._file = self._stack.enter_context(atomic_file(self.path))
@@ -55,6 +58,8 @@ class PoseJsonWriter:
         head = {"bones": list(CANONICAL_WITH_HANDS.names), "fps": int(MOTION_FPS)}
         if viseme_names:
             head["visemes"] = list(viseme_names)
+        if face_names:
+            head["face"] = list(face_names)
         head = json.dumps({**head, "frames": []})
         self._write(head[: -len("]}")])
 

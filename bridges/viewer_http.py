@@ -37,6 +37,7 @@ VIEWER_FILES: dict[str, tuple[str, str]] = {
     "/stick.js": ("stick.js", JAVASCRIPT),
     "/avatar.js": ("avatar.js", JAVASCRIPT),
     "/mouth.js": ("mouth.js", JAVASCRIPT),
+    "/face.js": ("face.js", JAVASCRIPT),
     "/viewer.css": ("viewer.css", "text/css; charset=utf-8"),
     "/vendor/three-vrm.bundle.js": ("vendor/three-vrm.bundle.js", JAVASCRIPT),
     "/vendor/three.LICENSE": ("vendor/three.LICENSE", TEXT),

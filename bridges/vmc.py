@@ -7,9 +7,10 @@ Per frame, in this order (docs/architecture.md, "VMC protocol essentials"):
   rotation carries the facing. So root + Hips rest offset = the frame's Hips position.
 - ``/VMC/Ext/Bone/Pos`` (s HumanBodyBones name, f px py pz, f qx qy qz qw) per canonical bone:
   local position = the bone's rest offset, local rotation; both in Unity space.
-- ``/VMC/Ext/Blend/Val`` (s name, f weight) per viseme, then one ``/VMC/Ext/Blend/Apply`` (no arguments), when
-  the frame carries viseme weights and names were configured (``--lipsync vrm0``: A I U E O; ``vrm1``: aa ih
-  ou ee oh; case-sensitive in receivers).
+- ``/VMC/Ext/Blend/Val`` (s name, f weight) per viseme and per face blend shape, then one
+  ``/VMC/Ext/Blend/Apply`` (no arguments), when the frame carries those weights and names were configured
+  (``--lipsync vrm0``: A I U E O; ``vrm1``: aa ih ou ee oh; ``--face``: Blink Blink_L Blink_R Joy Angry Sorrow Fun
+  Surprised, or the VRM 1.0 names with ``vrm1``; case-sensitive in receivers).
 - ``/VMC/Ext/OK`` (i 1) and ``/VMC/Ext/T`` (f seconds since the stream started).
 
 In the Assistant role (:mod:`gesturecast.bridges.vmc_roles`) the root, OK and T messages are left out and only
@@ -46,7 +47,8 @@ class VmcConfig:
     port: int = VMC_DEFAULT_PORT
     send_rate: float = 30.0
     max_bundle_size: int | None = None  # None: by the target's address family (1472 IPv4, 1452 IPv6)
-    viseme_names: tuple[str, ...] = ()  # VISEME_NAMES[mode], or () to send no blend shapes
+    viseme_names: tuple[str, ...] = ()  # VISEME_NAMES[mode], or () to send no visemes
+    face_names: tuple[str, ...] = ()  # FACE_NAMES[mode], or () to send no blinks and expressions
     bones: tuple[str, ...] | None = None  # bones to send (None: all of the skeleton)
     assistant: bool = False  # Assistant role: no root, OK or T messages
 
@@ -62,7 +64,8 @@ class VmcEncoder:
         self._bone_index = np.array([skeleton.index(name) for name in bones], int)  # (B,)
         self._root = MessageLayout("/VMC/Ext/Root/Pos", (VMC_ROOT_NAME,), POSITION_AND_QUATERNION)
         self._bones = [MessageLayout("/VMC/Ext/Bone/Pos", (name,), POSITION_AND_QUATERNION) for name in bones]
-        self._blends = [MessageLayout("/VMC/Ext/Blend/Val", (name,), "f") for name in config.viseme_names]
+        self._visemes = [MessageLayout("/VMC/Ext/Blend/Val", (name,), "f") for name in config.viseme_names]
+        self._face = [MessageLayout("/VMC/Ext/Blend/Val", (name,), "f") for name in config.face_names]
         self._apply = MessageLayout("/VMC/Ext/Blend/Apply")
         self._ok = MessageLayout("/VMC/Ext/OK", (), "i")
         self._time = MessageLayout("/VMC/Ext/T", (), "f")
@@ -85,10 +88,13 @@ class VmcEncoder:
         return self._root.encode_floats(np.concatenate([root_unity, [0.0, 0.0, 0.0, 1.0]]))  # (7,)
 
     def _blend_messages(self, frame: PoseFrame) -> list[bytes]:
-        """One Val per viseme name with the frame's weight, then Apply; none without names or weights."""
-        if not self._blends or frame.visemes is None:
-            return []
-        return [*encode_float_rows(self._blends, np.asarray(frame.visemes)[:, None]), self._apply.encode()]
+        """One Val per viseme and face name with the frame's weight, then one Apply; none without names or
+        weights."""
+        messages = []
+        for layouts, weights in ((self._visemes, frame.visemes), (self._face, frame.face)):
+            if layouts and weights is not None:
+                messages += encode_float_rows(layouts, np.asarray(weights)[:, None])  # (n, 1)
+        return [*messages, self._apply.encode()] if messages else []
 
 
 class VmcBridge:

@@ -11,7 +11,8 @@ What the file holds (VRMC_vrm_animation 1.0 spec, github.com/vrm-c/vrm-specifica
 - by default (``bones="folded"``, ``generate --vrma-bones folded``) the UpperChest rotation is folded into the
   Chest (:func:`fold_upper_chest`), because stock players skip the tracks of bones an avatar lacks and many
   avatars have no upper chest; ``"full"`` writes every bone as generated;
-- with viseme weights (``PoseFrame.visemes``), the expression presets ``aa ih ou ee oh`` as nodes whose
+- with viseme weights (``PoseFrame.visemes``), the expression presets ``aa ih ou ee oh``, and with face weights
+  (``PoseFrame.face``) ``blink blinkLeft blinkRight happy angry sad relaxed surprised``, as nodes whose
   translation x carries the weight (the spec's expression encoding), one translation channel each.
 
 Frames are kept in memory until :meth:`VrmaWriter.save` (52 bones · 16 bytes · 30 fps ≈ 25 kB per second);
@@ -27,14 +28,15 @@ import numpy as np
 from gesturecast.bridges.gltf_binary import FloatBuffer, glb_bytes
 from gesturecast.errors import UserError
 from gesturecast.files import atomic_file, check_output_target
-from gesturecast.frames import VISEME_NAMES, PoseFrame
+from gesturecast.frames import FACE_NAMES, VISEME_NAMES, PoseFrame
 from gesturecast.models.motion.rotations import quat_mul
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS, Skeleton
 
 EXTENSION = "VRMC_vrm_animation"
 SPEC_VERSION = "1.0"
 VRMA_FPS = 30.0
-EXPRESSION_PRESETS = VISEME_NAMES["vrm1"]  # weight order a i u e o
+VISEME_PRESETS = VISEME_NAMES["vrm1"]  # weight order a i u e o
+FACE_PRESETS = FACE_NAMES["vrm1"]  # PoseFrame.face order
 VRM1_THUMB_NAMES = {"ThumbProximal": "ThumbMetacarpal", "ThumbIntermediate": "ThumbProximal"}  # VRM 1.0 renames
 FOLDED = "folded"  # UpperChest folded into Chest: what a player shows on an avatar without an upper chest
 FULL = "full"  # every bone as generated
@@ -90,10 +92,11 @@ def check_vrma_bones(bones: str) -> str:
     return bones
 
 
-def vrma_bytes(rotations: np.ndarray, root_positions: np.ndarray, visemes: np.ndarray | None,
+def vrma_bytes(rotations: np.ndarray, root_positions: np.ndarray, expressions: dict[str, np.ndarray] | None = None,
                skeleton: Skeleton = CANONICAL_WITH_HANDS, fps: float = VRMA_FPS, bones: str = FOLDED) -> bytes:
-    """The .vrma file: rotations (T, J, 4) XYZW local, root_positions (T, 3) metres, visemes (T, 5) or None;
-    ``bones``: ``"folded"`` (UpperChest into Chest, :func:`fold_upper_chest`) or ``"full"``."""
+    """The .vrma file: rotations (T, J, 4) XYZW local, root_positions (T, 3) metres, expressions {VRM 1.0 preset
+    name: (T,) weights} (none: no expression tracks); ``bones``: ``"folded"`` (UpperChest into Chest,
+    :func:`fold_upper_chest`) or ``"full"``."""
     if check_vrma_bones(bones) == FOLDED:
         rotations = fold_upper_chest(rotations, skeleton)
     buffer = FloatBuffer()
@@ -103,12 +106,12 @@ def vrma_bytes(rotations: np.ndarray, root_positions: np.ndarray, visemes: np.nd
     channels.append((0, "translation", buffer.add(root_positions)))  # (T, 3) Hips
     extension = {"specVersion": SPEC_VERSION,
                  "humanoid": {"humanBones": {node["name"]: {"node": j} for j, node in enumerate(nodes)}}}
-    if visemes is not None:
+    if expressions:
         presets = {}
-        for k, name in enumerate(EXPRESSION_PRESETS):
+        for name, weights in expressions.items():
             presets[name] = {"node": len(nodes)}
-            weight_as_x = np.zeros((len(visemes), 3))  # (T, 3): translation x = weight
-            weight_as_x[:, 0] = visemes[:, k]
+            weight_as_x = np.zeros((len(weights), 3))  # (T, 3): translation x = weight
+            weight_as_x[:, 0] = weights
             channels.append((len(nodes), "translation", buffer.add(weight_as_x)))
             nodes.append({"name": f"expression_{name}"})
         extension["expressions"] = {"preset": presets}
@@ -142,24 +145,35 @@ class VrmaWriter:
         self.num_frames = 0
         self._rotations: list[np.ndarray] = []
         self._roots: list[np.ndarray] = []
-        self._visemes: list[np.ndarray] = []
-        self._has_visemes = False
+        self._weights: dict[tuple[str, ...], list[np.ndarray]] = {VISEME_PRESETS: [], FACE_PRESETS: []}
+        self._carried: set[tuple[str, ...]] = set()  # the weight kinds some frame carried
 
     def write(self, frames: list[PoseFrame]) -> None:
-        """Add frames (in stream order); frames without viseme weights count as a closed mouth."""
+        """Add frames (in stream order); frames without viseme or face weights count as a closed mouth and a
+        neutral, open-eyed face."""
         for frame in frames:
             self._rotations.append(frame.rotations)
             self._roots.append(frame.root_position)
-            self._visemes.append(np.zeros(len(EXPRESSION_PRESETS)) if frame.visemes is None else frame.visemes)
-            self._has_visemes |= frame.visemes is not None
+            for names, weights in ((VISEME_PRESETS, frame.visemes), (FACE_PRESETS, frame.face)):
+                self._weights[names].append(np.zeros(len(names)) if weights is None else weights)
+                if weights is not None:
+                    self._carried.add(names)
         self.num_frames += len(frames)
+
+    def _expressions(self) -> dict[str, np.ndarray]:
+        """{preset name: (T,) weights} of the weight kinds some frame carried."""
+        tracks = {}
+        for names in (names for names in self._weights if names in self._carried):  # visemes, then the face
+            weights = np.stack(self._weights[names])  # (T, n)
+            tracks.update({name: weights[:, k] for k, name in enumerate(names)})
+        return tracks
 
     def save(self) -> None:
         """Write the file (replacing ``path`` in one step)."""
         if not self.num_frames:
             raise UserError(f"cannot write {self.path}: no frames")
         data = vrma_bytes(np.stack(self._rotations), np.stack(self._roots),  # (T, J, 4), (T, 3)
-                          np.stack(self._visemes) if self._has_visemes else None, self.skeleton, bones=self.bones)
+                          self._expressions(), self.skeleton, bones=self.bones)
         with atomic_file(self.path, binary=True) as handle:
             handle.write(data)
 
@@ -167,4 +181,5 @@ class VrmaWriter:
         return self
 
     def __exit__(self, *exc_info: object) -> None:
-        self._rotations, self._roots, self._visemes = [], [], []
+        self._rotations, self._roots = [], []
+        self._weights = {names: [] for names in self._weights}

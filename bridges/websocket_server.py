@@ -71,6 +71,7 @@ class WebSocketConfig:
     slow_client_buffer_bytes: int = SLOW_CLIENT_BUFFER_BYTES
     lipsync: bool = False  # frames carry viseme weights: the hello names them, frames append them (ws_protocol)
     viseme_names: tuple[str, ...] = VISEME_NAMES["vrm0"]  # their names in the hello when ``lipsync``
+    face_names: tuple[str, ...] = ()  # frames carry these face weights (blinks, expressions) after the visemes
     avatar: Path | None = None  # the VRM file the viewer page shows (avatar_file.resolve_avatar); None: stick figure
     clock: Callable[[], float] = field(default=time.monotonic, compare=False)  # the engine's clock
 
@@ -167,7 +168,13 @@ class WebSocketBridge:
             self.visemes,
             self.config.body_parts,
             self.config.gestures,
+            self.config.face_names,
         )
+
+    @property
+    def _blend_counts(self) -> tuple[int, int]:
+        """(V, E): how many viseme and face weights each frame carries."""
+        return len(self.visemes), len(self.config.face_names)
 
     @property
     def visemes(self) -> tuple[str, ...]:
@@ -251,10 +258,10 @@ class WebSocketBridge:
         json_clients = [c for c, state in ready if state.wants_json]
         if binary_clients:
             broadcast(binary_clients, ws_protocol.binary_frame(frame, self.coords, capture_unix, send_unix,
-                                                               len(self.visemes)))
+                                                               *self._blend_counts))
         if json_clients:
             broadcast(json_clients, ws_protocol.json_frame(frame, self.coords, capture_unix, send_unix,
-                                                           len(self.visemes)))
+                                                           *self._blend_counts))
 
     def _ready_clients(self) -> Sequence[tuple[ServerConnection, ClientState]]:
         """Clients whose write buffer has room; the others skip this frame (never queued)."""

@@ -14,12 +14,14 @@ offset  size  type         field
 38      2     uint16       flags: bit 0 = speaking
 40      16·J  float32 × 4  local rotation per joint, XYZW, selected coordinate frame
 40+16J  4·V   float32      viseme weights in [0, 1], V = len(hello ``visemes``) (0 without lip sync)
++4V     4·E   float32      face weights in [0, 1], E = len(hello ``face``) (0 with the face off)
 ======  ====  ===========  =====================================================
 
 The viseme weights are those of ``PoseFrame.visemes`` (vowels a, i, u, e, o), named in the hello by
 ``visemes`` (VRM 0.x ``A I U E O`` or VRM 1.0 ``aa ih ou ee oh``). Without lip sync the hello's
 ``visemes`` is empty and frames end after the rotations: byte-identical to format version 1 before
-visemes, and a client reading J rotations after the header is unaffected either way.
+visemes, and a client reading J rotations after the header is unaffected either way. The face weights (blinks and
+emotion presets, ``PoseFrame.face``) follow in the same way, named by the hello's ``face``.
 """
 
 from __future__ import annotations
@@ -53,6 +55,7 @@ def hello_message(
     visemes: Sequence[str] = (),
     body_parts: Sequence[str] = (),
     gestures: Sequence[str] = (),
+    face: Sequence[str] = (),
 ) -> str:
     """The first message on every connection: everything a client needs to interpret frames."""
     return json.dumps(
@@ -72,35 +75,37 @@ def hello_message(
             "control_schema": control_schema,
             "token_required": token_required,
             "visemes": list(visemes),
+            "face": list(face),  # blink and emotion-preset names of the face weights after the visemes
             "body_parts": list(body_parts),  # what a part_styles control may name
             "gestures": list(gestures),  # what a gesture control may name (the session's lexicon)
         }
     )
 
 
-def viseme_weights(frame: PoseFrame, count: int) -> np.ndarray:
-    """(count,) the weights a frame sends when the hello names ``count`` visemes (0: none; zeros when the frame
+def blend_weights(weights: np.ndarray | None, count: int) -> np.ndarray:
+    """(count,) the weights a frame sends when the hello names ``count`` of them (0: none; zeros when the frame
     carries none, so every frame of a stream has the same size)."""
-    if count == 0 or frame.visemes is None:
+    if count == 0 or weights is None:
         return np.zeros(count)
-    return np.asarray(frame.visemes, dtype=np.float64)
+    return np.asarray(weights, dtype=np.float64)
 
 
 def binary_frame(frame: PoseFrame, coords: CoordinateFrame, capture_unix: float, send_unix: float,
-                 viseme_count: int = 0) -> bytes:
-    """One binary frame (layout in the module docstring); ``viseme_count`` = len(hello ``visemes``)."""
+                 viseme_count: int = 0, face_count: int = 0) -> bytes:
+    """One binary frame (layout in the module docstring); ``viseme_count`` = len(hello ``visemes``), ``face_count``
+    = len(hello ``face``)."""
     rotations = coords.rotation(frame.rotations)  # (J, 4)
     root = coords.position(frame.root_position)  # (3,)
     flags = FLAG_SPEAKING if frame.speaking else 0
     header = BINARY_HEADER.pack(
         FRAME_MAGIC, frame.seq % UINT32_MODULUS, capture_unix, send_unix, *root.tolist(), len(rotations), flags
     )
-    weights = viseme_weights(frame, viseme_count)  # (V,)
+    weights = np.concatenate([blend_weights(frame.visemes, viseme_count), blend_weights(frame.face, face_count)])
     return header + np.ascontiguousarray(rotations, dtype="<f4").tobytes() + weights.astype("<f4").tobytes()
 
 
 def json_frame(frame: PoseFrame, coords: CoordinateFrame, capture_unix: float, send_unix: float,
-               viseme_count: int = 0) -> str:
+               viseme_count: int = 0, face_count: int = 0) -> str:
     """The same content as :func:`binary_frame`, as JSON (for clients that subscribe to it)."""
     return json.dumps(
         {
@@ -111,7 +116,8 @@ def json_frame(frame: PoseFrame, coords: CoordinateFrame, capture_unix: float, s
             "root": np.round(coords.position(frame.root_position), JSON_DECIMALS).tolist(),
             "rotations": np.round(coords.rotation(frame.rotations), JSON_DECIMALS).tolist(),
             "speaking": bool(frame.speaking),
-            "visemes": np.round(viseme_weights(frame, viseme_count), JSON_DECIMALS).tolist(),
+            "visemes": np.round(blend_weights(frame.visemes, viseme_count), JSON_DECIMALS).tolist(),
+            "face": np.round(blend_weights(frame.face, face_count), JSON_DECIMALS).tolist(),
         }
     )
 

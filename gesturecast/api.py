@@ -34,6 +34,7 @@ class Motion:
     root_positions: (T, 3) hips position.
     bone_names: the J joint names; fps: frames per second (30).
     visemes: (T, 5) mouth-shape weights in [0, 1] named by ``viseme_names``, or None with lip sync off.
+    face: (T, 8) blink and emotion-preset weights in [0, 1] named by ``face_names``, or None with the face off.
     speaking: (T,) the voice-activity flag of each frame.
     frames: the pose frames themselves (times, style, flags), as a stream would deliver them.
     """
@@ -46,10 +47,14 @@ class Motion:
     viseme_names: tuple[str, ...]
     speaking: np.ndarray
     frames: tuple[PoseFrame, ...] = field(repr=False)
+    face: np.ndarray | None = None
+    face_names: tuple[str, ...] = ()
 
     @classmethod
-    def from_frames(cls, frames: list[PoseFrame], viseme_names: tuple[str, ...]) -> Motion:
+    def from_frames(cls, frames: list[PoseFrame], viseme_names: tuple[str, ...],
+                    face_names: tuple[str, ...] = ()) -> Motion:
         lipsync = bool(frames) and frames[0].visemes is not None
+        face = bool(frames) and frames[0].face is not None
         return cls(
             rotations=np.stack([frame.rotations for frame in frames]),  # (T, J, 4)
             root_positions=np.stack([frame.root_position for frame in frames]),  # (T, 3)
@@ -59,6 +64,8 @@ class Motion:
             viseme_names=viseme_names if lipsync else (),
             speaking=np.array([frame.speaking for frame in frames]),  # (T,)
             frames=tuple(frames),
+            face=np.stack([frame.face for frame in frames]) if face else None,  # (T, 8)
+            face_names=face_names if face else (),
         )
 
     @property
@@ -74,7 +81,7 @@ class Motion:
         """Write ``.bvh`` (centimetres, any BVH tool), ``.vrma`` (VRM Animation) or ``.json`` (the pose stream);
         the file is replaced only once complete. Another suffix is a one-line error."""
         path = Path(path)
-        with frame_writer(path, self.viseme_names) as writer:
+        with frame_writer(path, self.viseme_names, self.face_names) as writer:
             writer.write(list(self.frames))
             writer.save()
         return path
@@ -99,7 +106,7 @@ def generate(audio: str | Path | np.ndarray, sample_rate: int | None = None, set
     frames, _ = run_offline(session, source)
     if not frames:
         raise UserError("the audio is shorter than one motion frame (1/30 s)")
-    return Motion.from_frames(frames, settings.lipsync_names)
+    return Motion.from_frames(frames, settings.lipsync_names, settings.face_names)
 
 
 def _words(transcript: str | Path | list[dict] | None) -> list[Word]:

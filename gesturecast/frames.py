@@ -11,6 +11,11 @@ VISEME_NAMES = {
     "vrm0": ("A", "I", "U", "E", "O"),  # VRM 0.x blend shape presets (case-sensitive in VMC)
     "vrm1": ("aa", "ih", "ou", "ee", "oh"),  # VRM 1.0 expression presets
 }
+EXPRESSION_PRESETS = ("happy", "angry", "sad", "relaxed", "surprised")  # the emotion presets, VRM 1.0 names
+FACE_NAMES = {  # blinks, then the emotion presets (the order of PoseFrame.face)
+    "vrm0": ("Blink", "Blink_L", "Blink_R", "Joy", "Angry", "Sorrow", "Fun", "Surprised"),
+    "vrm1": ("blink", "blinkLeft", "blinkRight", *EXPRESSION_PRESETS),
+}
 
 
 @dataclass(frozen=True)
@@ -29,6 +34,8 @@ class PoseFrame:
     visemes: (5,) mouth-shape weights in [0, 1] of the vowels ``VISEME_VOWELS`` at this frame's audio
         instant, or None when lip sync is off. Bridges name them per ``VISEME_NAMES`` (VRM 0.x or 1.0).
     gesture: the lexicon gesture(s) being carried out at this frame ("wave", "bow+guide"), "" when none.
+    face: (8,) weights in [0, 1] of both eyes' blink, each eye's blink and the emotion presets, in the order of
+        ``FACE_NAMES`` (VRM 0.x or 1.0 names), or None when the face is off (realtime/pose/face.py).
     """
 
     seq: int
@@ -40,3 +47,4 @@ class PoseFrame:
     speaking: bool = False
     visemes: np.ndarray | None = None
     gesture: str = ""
+    face: np.ndarray | None = None

@@ -19,7 +19,7 @@ from pathlib import Path
 
 from gesturecast.arguments import NumberLimit
 from gesturecast.errors import UserError
-from gesturecast.frames import VISEME_NAMES
+from gesturecast.frames import FACE_NAMES, VISEME_NAMES
 from gesturecast.models.generator.style_prompt import PartStyles, StylePrompt, parse_part_styles
 from gesturecast.models.motion.root_anchor import ROOT_MODES, RootMode
 
@@ -47,6 +47,8 @@ DEFAULT_GESTURES_DIR = Path(str(resources.files("gesturecast.models"))) / "weigh
 SAMPLERS = ("ddim", "ddpm")
 LIPSYNC_OFF = "off"
 LIPSYNC_CHOICES = (*VISEME_NAMES, LIPSYNC_OFF)
+FACE_OFF, FACE_BLINK, FACE_FULL = "off", "blink", "full"
+FACE_MODES = (FACE_OFF, FACE_BLINK, FACE_FULL)  # what the face does besides the mouth
 OUTPUT_RATES = (30, 60)  # 60: slerp upsampling of the 30 fps motion
 GUIDANCE_RANGE = (0.0, 10.0)  # classifier-free guidance s and audio guidance s_a (also for live controls)
 GAMMA_RANGE = (-2.0, 3.0)  # γ: interpolation in 0..1, extrapolation outside (also for live controls)
@@ -71,6 +73,7 @@ CHOICES: dict[str, tuple] = {
     "sampler": SAMPLERS,
     "latency": tuple(LATENCY_SETTINGS),
     "lipsync": LIPSYNC_CHOICES,
+    "face": FACE_MODES,
     "root": ROOT_MODES,
     "fps": OUTPUT_RATES,
 }
@@ -95,6 +98,7 @@ class Settings:
     threads: onnxruntime intra-op threads.
     seed_motion: start from this clip's last pose instead of the idle pose.
     lipsync: viseme names "vrm0" (A I U E O), "vrm1" (aa ih ou ee oh) or "off".
+    face: "full" (blinks and the style's expression), "blink" or "off"; named like ``lipsync`` (VRM 0.x when off).
     root: "bounded" (stays near where it started), "free" or "locked".
     gestures: the gesture lexicon that words and gesture controls draw on (the bundled one; a folder of the
         user's clips, docs/gestures.md), or None for none.
@@ -120,6 +124,7 @@ class Settings:
     threads: int = 1
     seed_motion: Path | None = None
     lipsync: str = "vrm0"
+    face: str = FACE_FULL
     root: str = RootMode.BOUNDED.value
     fps: int = 30
     gestures: Path | None = DEFAULT_GESTURES_DIR
@@ -157,9 +162,21 @@ class Settings:
         """The viseme blend-shape names of ``lipsync`` (VRM 0.x or 1.0), () when off."""
         return VISEME_NAMES.get(self.lipsync, ())
 
+    @property
+    def face_names(self) -> tuple[str, ...]:
+        """The blink and expression blend-shape names (VRM 0.x or 1.0, as ``lipsync``), () when the face is off."""
+        return face_names(self.face, self.lipsync)
+
     def replace(self, **changes) -> Settings:
         """A copy with ``changes`` (unknown names and bad values are one-line errors)."""
         return with_overrides(self, changes)
+
+
+def face_names(face: str, lipsync: str) -> tuple[str, ...]:
+    """The face's blend-shape names for a ``face`` mode, named like ``lipsync`` (VRM 0.x when it is off)."""
+    if face == FACE_OFF:
+        return ()
+    return FACE_NAMES["vrm1" if lipsync == "vrm1" else "vrm0"]
 
 
 def with_overrides(settings: Settings | None, overrides: Mapping[str, object]) -> Settings:

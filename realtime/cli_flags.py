@@ -22,6 +22,7 @@ from gesturecast.frames import VISEME_NAMES
 from gesturecast.models.motion.root_anchor import ROOT_MODES
 from gesturecast.settings import (
     DEFAULT_MODEL_DIR,
+    FACE_MODES,
     LATENCY_SETTINGS,
     LIPSYNC_OFF,
     NUMBER_LIMITS,
@@ -84,6 +85,9 @@ def add_generation_arguments(parser: argparse.ArgumentParser) -> None:
     group.add_argument("--lipsync", choices=(*VISEME_NAMES, LIPSYNC_OFF), default=defaults.lipsync,
                        help="viseme blend shapes from the audio (docs/lipsync.md): vrm0 = A I U E O (VRM 0.x), "
                             "vrm1 = aa ih ou ee oh (VRM 1.0), off")
+    group.add_argument("--face", choices=FACE_MODES, default=defaults.face,
+                       help="the face besides the mouth: full = blinks and the style's expression (default), blink, "
+                            "off; blend shapes named like --lipsync (docs/face.md)")
     group.add_argument("--gestures", type=gestures_folder, default=defaults.gestures, metavar="DIR|off",
                        help="gesture lexicon that trigger words and gesture controls draw on: the bundled one "
                             "(default), a folder of your own clips with gestures.json (docs/gestures.md), or off")

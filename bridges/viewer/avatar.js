@@ -8,10 +8,13 @@ import {
   GLTFLoader, VRMLoaderPlugin, VRMUtils, VRMAnimationLoaderPlugin, createVRMAnimationClip,
 } from "./vendor/three-vrm.bundle.js";
 import { CAMERA_TARGET, VERTICAL_FOV_DEGREES, cameraEye, matVec, rotationToInternal } from "./stick.js";
+import { ProceduralFace } from "./face.js";
 import { ProceduralMouth } from "./mouth.js";
 
 const BACKGROUND = 0x1d2026;
 const VRM1_EXPRESSIONS = ["aa", "ih", "ou", "ee", "oh"];  // the stream's weight order: vowels a i u e o
+// the face weights' order (hello "face"), as three-vrm names the presets of VRM 1.0 and 0.x avatars alike
+const FACE_EXPRESSIONS = ["blink", "blinkLeft", "blinkRight", "happy", "angry", "sad", "relaxed", "surprised"];
 const FOLDED = new THREE.Quaternion();
 const THUMB_RENAMES = [["ThumbProximal", "ThumbMetacarpal"], ["ThumbIntermediate", "ThumbProximal"]];
 
@@ -47,6 +50,7 @@ export class AvatarView {
     this.loader.register((parser) => new VRMAnimationLoaderPlugin(parser));
     this.vrm = null;
     this.mouth = null;
+    this.face = null;  // drawn eyes and brows, for an avatar without blink expressions
     this.mixer = null;  // a dropped .vrma playing
     this.animationEnd = 0;  // its duration, seconds
     this.bound = null;  // the hello the bone table was built for
@@ -65,14 +69,15 @@ export class AvatarView {
     this.isVrm0 = vrm.meta.metaVersion === "0";
     this.scene.add(vrm.scene);
     vrm.update(0);
-    this.mouth = this.hasMouthExpressions() ? null : new ProceduralMouth(THREE, vrm, this.scene);
+    this.mouth = this.hasExpressions(VRM1_EXPRESSIONS) ? null : new ProceduralMouth(THREE, vrm, this.scene);
+    this.face = this.hasExpressions(["blink"]) ? null : new ProceduralFace(THREE, vrm, this.scene);
     this.bound = null;
     this.mixer = null;
   }
 
-  hasMouthExpressions() {
+  hasExpressions(names) {
     const manager = this.vrm.expressionManager;
-    return Boolean(manager) && VRM1_EXPRESSIONS.every((name) => manager.getExpression(name));
+    return Boolean(manager) && names.every((name) => manager.getExpression(name));
   }
 
   // The bone table for this hello: per stream joint, its normalized node, or for a bone the avatar lacks
@@ -94,7 +99,8 @@ export class AvatarView {
     this.bound = { hello, toInternal, rootScale: avatarHipsY / restHipsY, nodes, foldInto };
   }
 
-  // Pose the normalized bones from one stream frame; visemes drive the expressions or the procedural mouth.
+  // Pose the normalized bones from one stream frame; visemes and face weights drive the expressions, or the drawn
+  // mouth, eyes and brows.
   applyFrame(hello, frame) {
     if (this.bound?.hello !== hello) this.bind(hello);
     const { toInternal, rootScale, nodes, foldInto } = this.bound;
@@ -107,6 +113,21 @@ export class AvatarView {
     const [x, y, z] = matVec(hello.to_internal, frame.root);
     nodes[0]?.position.set(mirror * x * rootScale, y * rootScale, mirror * z * rootScale);
     this.setVisemes(frame.visemes ?? []);
+    this.setFace(frame.face ?? []);
+  }
+
+  // Blinks and emotion presets: the avatar's own expressions where it has them, else the drawn eyes and brows.
+  setFace(weights) {
+    const padded = FACE_EXPRESSIONS.map((_, k) => weights[k] ?? 0);
+    if (this.face) this.face.setWeights(padded);
+    const manager = this.vrm.expressionManager;
+    FACE_EXPRESSIONS.forEach((name, k) => { if (manager?.getExpression(name)) manager.setValue(name, padded[k]); });
+  }
+
+  // The face's state for tests and the console: drawn eyes and brows, or the expression weights.
+  faceState() {
+    if (this.face) return { kind: "procedural", opening: this.face.opening, tilt: this.face.tilt };
+    return { kind: "expressions", weights: FACE_EXPRESSIONS.map((name) => this.vrm.expressionManager.getValue(name)) };
   }
 
   setVisemes(weights) {

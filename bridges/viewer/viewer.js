@@ -1,7 +1,8 @@
 // gesturecast browser viewer: WebSocket client, controls, and the two views (VRM avatar, stick figure).
 // Binary frame layout: docs/bridges.md (little-endian, 40-byte header, float32 XYZW per joint, then the
-// hello's viseme weights). The avatar view (avatar.js, three.js + three-vrm) is loaded only when there is an
-// avatar: the one the server offers at avatar.vrm, or a .vrm file dropped on the page (never uploaded).
+// hello's viseme weights, then its face weights). The avatar view (avatar.js, three.js + three-vrm) is loaded
+// only when there is an avatar: the one the server offers at avatar.vrm, or a .vrm file dropped on the page
+// (never uploaded).
 import { drawStickFigure, forwardKinematics } from "./stick.js";
 
 const HEADER_BYTES = 40;
@@ -21,7 +22,7 @@ const el = (id) => document.getElementById(id);
 window.gesturecastViewer = state;  // for the browser tests and the console
 
 // ---- messages ----
-function parseBinaryFrame(buffer, jointCount, visemeCount) {
+function parseBinaryFrame(buffer, jointCount, visemeCount, faceCount) {
   const view = new DataView(buffer);
   const magic = String.fromCharCode(...new Uint8Array(buffer, 0, 4));
   if (magic !== MAGIC) throw new Error("bad frame magic " + magic);
@@ -34,6 +35,8 @@ function parseBinaryFrame(buffer, jointCount, visemeCount) {
   }
   const visemeBase = HEADER_BYTES + 16 * count;
   const visemes = Array.from({ length: visemeCount }, (_, k) => view.getFloat32(visemeBase + 4 * k, true));
+  const faceBase = visemeBase + 4 * visemeCount;
+  const face = Array.from({ length: faceCount }, (_, k) => view.getFloat32(faceBase + 4 * k, true));
   return {
     seq: view.getUint32(4, true),
     captureTime: view.getFloat64(8, true),
@@ -42,6 +45,7 @@ function parseBinaryFrame(buffer, jointCount, visemeCount) {
     speaking: (view.getUint16(38, true) & 1) === 1,
     rotations,
     visemes,
+    face,
   };
 }
 
@@ -140,7 +144,10 @@ function connect() {
   socket.onclose = () => { el("connection").textContent = "disconnected"; };
   socket.onmessage = (event) => {
     if (typeof event.data === "string") onText(JSON.parse(event.data));
-    else if (state.hello) onFrame(parseBinaryFrame(event.data, state.hello.bones.length, state.hello.visemes.length));
+    else if (state.hello) {
+      const { bones, visemes, face } = state.hello;
+      onFrame(parseBinaryFrame(event.data, bones.length, visemes.length, (face ?? []).length));
+    }
   };
   el("controls").addEventListener("submit", (event) => {
     event.preventDefault();

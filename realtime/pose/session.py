@@ -42,6 +42,7 @@ from gesturecast.realtime.audio.sources import AudioChunk
 from gesturecast.realtime.generation.generator import Generator
 from gesturecast.realtime.generation.gesture_cues import Cue, CuePlan, GestureClip, Placement
 from gesturecast.realtime.generation.word_cues import TriggerVocabulary, Word, WordListener
+from gesturecast.realtime.pose.face import Expressions, FaceAnimator, text_embedder
 from gesturecast.realtime.pose.feature_buffer import FeatureBuffer
 from gesturecast.realtime.pose.hands import HandPose
 from gesturecast.realtime.pose.idle import IdleMotion
@@ -51,6 +52,7 @@ from gesturecast.realtime.pose.session_controls import SessionControls
 from gesturecast.realtime.pose.transitions import PoseCrossfade
 from gesturecast.realtime.timing.clock import Clock
 from gesturecast.realtime.timing.latency import LatencyBudget, LatencyStats
+from gesturecast.settings import FACE_FULL, FACE_OFF, face_names
 
 logger = logging.getLogger(__name__)
 
@@ -71,6 +73,7 @@ class SessionConfig:
     gesture_clips: tuple[GestureClip, ...] = ()  # the lexicon in this model's latent space (gesture cues)
     gesture_triggers: tuple[tuple[str, tuple[str, ...]], ...] = ()  # (gesture, its trigger phrases) for words
     lipsync: str = "vrm0"  # a key of VISEME_NAMES: fill PoseFrame.visemes (docs/lipsync.md); "off": None
+    face: str = FACE_FULL  # blinks and expression in PoseFrame.face ("blink": blinks only; "off": None)
 
 
 class GestureSession:
@@ -103,6 +106,8 @@ class GestureSession:
         self.controls = SessionControls(generator, self.root, weakref.proxy(self))
         self.smoother = MotionSmoother(budget.smoothing_frames)
         self.hands = HandPose(self.fps, seed=generator.settings.seed)
+        self.face = None if self.config.face == FACE_OFF else FaceAnimator(
+            self.config.face, generator.settings.seed, Expressions(text_embedder(generator.styles)))
         self.vocabulary = TriggerVocabulary(dict(self.config.gesture_triggers))
         self.reset()
 
@@ -114,6 +119,11 @@ class GestureSession:
     def viseme_names(self) -> tuple[str, ...]:
         """Blend-shape names of the frames' viseme weights (VRM 0.x or 1.0), () with lip sync off."""
         return VISEME_NAMES.get(self.config.lipsync, ())
+
+    @property
+    def face_names(self) -> tuple[str, ...]:
+        """Blend-shape names of the frames' face weights (blinks, emotion presets), () with the face off."""
+        return face_names(self.config.face, self.config.lipsync)
 
     def reset(self) -> None:
         """Forget the stream (features, generator history, root anchor, idle fade): the next chunk is sample 0.
@@ -129,6 +139,8 @@ class GestureSession:
         self.travel = RootTravel()  # the root's distance, travel and facing from the start (the run's summary)
         self.smoother.reset()
         self.hands.reset()
+        if self.face is not None:
+            self.face.reset()
         self._unsmoothed: deque[tuple[int, bool, str]] = deque()  # (frame, gesturing, gesture) inside the smoother
         self.cues = CuePlan({clip.name: clip for clip in self.config.gesture_clips},
                             self.denoiser_config.frames_per_latent / self.fps)
@@ -253,8 +265,21 @@ class GestureSession:
         times = frames / self.fps  # (n,) stream seconds
         bodies, roots = self._finite_poses(frames, smoothed[:wanted], [g for _, g, _ in rows[:wanted]])
         rotations = self.hands.extend(bodies, times)  # (n, J + 30, 4) on CANONICAL_WITH_HANDS
-        return [self._pose_frame(int(frame), rotations[k], roots[k], rows[k][2], speaking[k], visemes[k])
-                for k, frame in enumerate(frames)]
+        faces = self._faces(times, speaking[:wanted])  # (n, 8) or None
+        return [self._pose_frame(int(frame), rotations[k], roots[k], rows[k][2], speaking[k], visemes[k],
+                                 None if faces is None else faces[k]) for k, frame in enumerate(frames)]
+
+    def _faces(self, times: np.ndarray, speaking: list[bool]) -> np.ndarray | None:
+        """(n, 8) face weights of the frames (the expression of the style in effect), None with the face off."""
+        if self.face is None:
+            return None
+        settings = self.generator.settings
+        expression = self.face.expressions.of(settings.style)  # (5,)
+        if settings.second_style is not None:  # x̂0 = γ·D(c1) + (1 − γ)·D(c2): the faces mix the same way
+            second = self.face.expressions.of(settings.second_style)
+            expression = np.clip(settings.gamma * expression + (1.0 - settings.gamma) * second, 0.0, 1.0)
+        self.face.set_style(expression, float(times[0]))
+        return self.face.frames(times, speaking)
 
     def _gesturing(self, index: int) -> bool:
         """Whether latent ``index``'s frames fade to speech gestures (else to idle): speech within the hold time
@@ -270,9 +295,9 @@ class GestureSession:
         return self._frame_limit is None or frame < self._frame_limit
 
     def _pose_frame(self, frame: int, rotations: np.ndarray, root: np.ndarray, gesture: str, speaking: bool,
-                    visemes: np.ndarray | None) -> PoseFrame:
+                    visemes: np.ndarray | None, face: np.ndarray | None) -> PoseFrame:
         """The PoseFrame of one pose (rotations (J + 30, 4), root (3,)), flagged ``speaking`` by the voice activity of
-        its own audio instant and naming the lexicon ``gesture`` playing ("" for none)."""
+        its own audio instant, naming the lexicon ``gesture`` playing ("" for none), with its face weights."""
         capture = self._capture_time(frame)
         self.frames_out += 1
         return PoseFrame(
@@ -285,6 +310,7 @@ class GestureSession:
             speaking=speaking,
             visemes=visemes,
             gesture=gesture,
+            face=face,
         )
 
     def _finite_poses(self, frames: np.ndarray, features: np.ndarray, gesturing: list[bool]

@@ -92,7 +92,7 @@ def build_session(settings: Settings, clock: Clock, bundle: ModelBundle | None =
     generator = Generator(bundle, generator_settings(settings, bundle, budget))
     seed = None if settings.seed_motion is None else load_seed_motion(settings.seed_motion, bundle)
     config = SessionConfig(root_mode=RootMode(settings.root), seed_motion=seed, lipsync=settings.lipsync,
-                           **gesture_setup(settings, bundle))
+                           face=settings.face, **gesture_setup(settings, bundle))
     return GestureSession(bundle, generator, budget, clock, config)
 
 
@@ -100,8 +100,8 @@ def vmc_config(outputs: Outputs, settings: Settings) -> VmcConfig:
     """VMC to ``outputs.vmc`` in its role with its bones (an Assistant sends the upper body by default)."""
     host, port = outputs.vmc_address()
     bones = BoneSelection.parse(outputs.vmc_bone_spec(), CANONICAL_WITH_HANDS).names
-    return VmcConfig(host, port, send_rate=float(settings.fps), viseme_names=settings.lipsync_names, bones=bones,
-                     assistant=outputs.assistant)
+    return VmcConfig(host, port, send_rate=float(settings.fps), viseme_names=settings.lipsync_names,
+                     face_names=settings.face_names, bones=bones, assistant=outputs.assistant)
 
 
 def websocket_config(outputs: Outputs, settings: Settings, session: GestureSession, clock: Clock) -> WebSocketConfig:
@@ -111,7 +111,8 @@ def websocket_config(outputs: Outputs, settings: Settings, session: GestureSessi
                            body_parts=tuple(session.bundle.part_channels), gestures=tuple(session.cues.clips),
                            allow_origins=outputs.allow_origins,
                            avatar=resolve_avatar(outputs.avatar), lipsync=bool(settings.lipsync_names),
-                           viseme_names=settings.lipsync_names or WebSocketConfig.viseme_names, clock=clock.now)
+                           viseme_names=settings.lipsync_names or WebSocketConfig.viseme_names,
+                           face_names=settings.face_names, clock=clock.now)
 
 
 def build_outputs(outputs: Outputs, settings: Settings, session: GestureSession, clock: Clock) -> BridgeFanout:
@@ -124,7 +125,8 @@ def build_outputs(outputs: Outputs, settings: Settings, session: GestureSession,
             host, port = parse_host_port(outputs.osc, "osc")
             bridges.append(OscBridge(OscConfig(host, port, send_rate=float(settings.fps),
                                                coordinate_frame=outputs.osc_frame,
-                                               viseme_names=settings.lipsync_names)))
+                                               viseme_names=settings.lipsync_names,
+                                               face_names=settings.face_names)))
         if outputs.ws is not None:
             config = websocket_config(outputs, settings, session, clock)
             bridges.append(WebSocketBridge(config, on_control=session.controls.submit).start())

@@ -63,10 +63,11 @@ def motion_writer(path: Path, vrma_bones: str = FOLDED) -> BvhFrameWriter | Vrma
     return BvhFrameWriter(path, skeleton=CANONICAL_WITH_HANDS)
 
 
-def frame_writer(path: Path, viseme_names: tuple[str, ...]) -> BvhFrameWriter | VrmaWriter | PoseJsonWriter:
+def frame_writer(path: Path, viseme_names: tuple[str, ...], face_names: tuple[str, ...] = ()
+                 ) -> BvhFrameWriter | VrmaWriter | PoseJsonWriter:
     """A motion writer, or the pose-stream JSON writer for ``.json``; another suffix is a one-line error."""
     if path.suffix.lower() == JSON_SUFFIX:
-        return PoseJsonWriter(path, viseme_names)
+        return PoseJsonWriter(path, viseme_names, face_names)
     if path.suffix.lower() not in MOTION_SUFFIXES:
         raise UserError(f"{path}: name a .bvh, .vrma or .json file (the suffix picks the format)")
     return motion_writer(path)
@@ -83,7 +84,7 @@ def generate_to_files(session: GestureSession, audio: Path, motion_paths: list[P
     with ExitStack() as files:
         writers = [files.enter_context(motion_writer(path, vrma_bones)) for path in motion_paths]
         if json_path is not None:
-            writers.append(files.enter_context(PoseJsonWriter(json_path, session.viseme_names)))
+            writers.append(files.enter_context(PoseJsonWriter(json_path, session.viseme_names, session.face_names)))
         for batch in offline_batches(session, source):
             with session.stats.time(STAGE_SINK):  # the outputs: the live engine's bridges, here the file writers
                 for writer in writers:

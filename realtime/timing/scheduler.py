@@ -107,6 +107,8 @@ def midpoint_frame(a: PoseFrame, b: PoseFrame) -> PoseFrame:
         style=a.style,
         speaking=a.speaking,
         visemes=None if a.visemes is None or b.visemes is None else HALF * (a.visemes + b.visemes),  # (5,)
+        gesture=a.gesture,
+        face=None if a.face is None or b.face is None else HALF * (a.face + b.face),  # (8,)
     )
 
 

@@ -20,7 +20,7 @@ from PIL import Image
 
 from gesturecast.bridges.avatar_file import AVATAR_ENV_VAR, PACKAGED_AVATAR, resolve_avatar
 from gesturecast.bridges.websocket_server import WebSocketBridge, WebSocketConfig
-from gesturecast.frames import VISEME_NAMES, PoseFrame
+from gesturecast.frames import FACE_NAMES, VISEME_NAMES, PoseFrame
 from gesturecast.models.motion.rotations import quat_from_axis_angle
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS as SKELETON
 
@@ -182,6 +182,38 @@ def test_visemes_open_the_mouth(driver, avatar):
     assert closed_state["kind"] == "procedural"  # this avatar has no mouth blend shapes
     assert open_state["opening"] > 5 * closed_state["opening"]
     assert mouth_pixels(open_).sum() > 3 * max(1, mouth_pixels(closed).sum())
+
+
+def eye_pixels(image: np.ndarray) -> np.ndarray:
+    """(H, W) pixels of the drawn eyes' near-black."""
+    return image.sum(axis=-1) < 90
+
+
+def test_blinks_close_the_drawn_eyes_and_anger_tilts_the_brows(driver, avatar):
+    config = WebSocketConfig(port=0, avatar=avatar, face_names=FACE_NAMES["vrm1"])
+    bridge = WebSocketBridge(config).start()
+    pose = moving_frame(0)
+    state = "return window.gesturecastViewer.avatar.faceState()"
+    faces = {"open": np.zeros(8), "shut": np.r_[1.0, 1.0, 1.0, np.zeros(5)], "angry": np.r_[np.zeros(4), 1.0, 0, 0, 0]}
+    seen = {}
+    try:
+        for name, weights in faces.items():
+            with Feeder(bridge, lambda seq, w=weights: dataclasses.replace(pose, seq=seq, face=w)):
+                if not seen:
+                    open_avatar_page(driver, bridge)
+                    look_from(driver, 0.0)
+                time.sleep(SETTLE_S)
+                seen[name] = (canvas_pixels(driver, "avatar"), driver.execute_script(state))
+    finally:
+        bridge.close()
+    assert seen["open"][1]["kind"] == "procedural"  # this avatar has no blink expression
+    assert seen["shut"][1]["opening"] < 0.1 * seen["open"][1]["opening"]
+    assert seen["angry"][1]["tilt"] < 0 == seen["open"][1]["tilt"]  # the inner ends of the brows go down
+    head = slice(0, int(UPPER_PART * seen["open"][0].shape[0]))
+    assert eye_pixels(seen["open"][0][head]).sum() > 2 * max(1, eye_pixels(seen["shut"][0][head]).sum())
+    SCREENSHOT_DIR.mkdir(exist_ok=True)
+    for name, (image, _) in seen.items():
+        Image.fromarray(image.astype(np.uint8)).save(SCREENSHOT_DIR / f"face_{name}.png")
 
 
 def test_on_a_port_with_a_token_the_page_fetches_the_avatar_with_the_token_of_its_url(driver, avatar):

@@ -9,7 +9,7 @@ import pytest
 from bridge_test_frames import moving_frame
 
 from gesturecast.bridges.gltf_binary import accessor_values, read_glb
-from gesturecast.bridges.vrma import EXPRESSION_PRESETS, EXTENSION, FULL, VrmaWriter, vrm_bone_name
+from gesturecast.bridges.vrma import EXTENSION, FACE_PRESETS, FULL, VISEME_PRESETS, VrmaWriter, vrm_bone_name
 from gesturecast.errors import UserError
 from gesturecast.frames import PoseFrame
 from gesturecast.models.motion.rotations import quat_from_axis_angle, quat_mul
@@ -63,16 +63,17 @@ def test_times_are_thirty_frames_per_second_and_the_hierarchy_is_the_skeleton(tm
     assert vrm_bone_name("LeftThumbIntermediate") == "leftThumbProximal"
 
 
-def test_viseme_weights_become_preset_expression_nodes(tmp_path):
-    weights = np.linspace(0.0, 1.0, FRAMES * 5).reshape(FRAMES, 5)  # (T, 5)
-    frames = [dataclasses.replace(moving_frame(i), visemes=weights[i]) for i in range(FRAMES)]
-    frames[3] = moving_frame(3)  # a frame without weights: a closed mouth
+def test_viseme_and_face_weights_become_preset_expression_nodes(tmp_path):
+    weights = np.linspace(0.0, 1.0, FRAMES * 13).reshape(FRAMES, 13)  # (T, 5 visemes + 8 face)
+    frames = [dataclasses.replace(moving_frame(i), visemes=weights[i, :5], face=weights[i, 5:]) for i in range(FRAMES)]
+    frames[3] = moving_frame(3)  # a frame without weights: a closed mouth, open eyes, a neutral face
     weights[3] = 0.0
     document, binary = written(tmp_path, frames)
     presets = document["extensions"][EXTENSION]["expressions"]["preset"]
-    assert list(presets) == list(EXPRESSION_PRESETS)
+    assert list(presets) == [*VISEME_PRESETS, *FACE_PRESETS]
+    assert FACE_PRESETS[:4] == ("blink", "blinkLeft", "blinkRight", "happy")  # VRM 1.0 preset names
     channels = channels_by_target(document)
-    for k, name in enumerate(EXPRESSION_PRESETS):
+    for k, name in enumerate([*VISEME_PRESETS, *FACE_PRESETS]):
         values = accessor_values(document, binary, channels[(presets[name]["node"], "translation")])  # (T, 3)
         np.testing.assert_allclose(values[:, 0], weights[:, k], atol=1e-7)
         assert not values[:, 1:].any()
