@@ -15,7 +15,8 @@ embedding, by its cosine similarity to each preset's name: none at :data:`TEXT_S
 label gives (:data:`TEXT_WEIGHT`) at :data:`TEXT_SIMILARITY_FULL` ("cheerful" smiles, "furious" frowns,
 "shocked" looks surprised; the small embedding has quirks: "calm and slow" is nearer "angry" than "relaxed");
 a motion prompt gets none. A γ mix of two styles mixes their expressions. The weights are eased to a new style over
-:data:`EXPRESSION_RAMP_S` and are a little stronger while speaking (:data:`SPEAKING_GAIN`).
+:data:`EXPRESSION_RAMP_S` and are a little stronger while speaking (:data:`SPEAKING_GAIN`, reached with a
+:data:`GAIN_SMOOTHING_S` time constant, so a pause never pops the face).
 
 Everything is a function of stream time, the frames' voice-activity flags and the seed, drawn in frame order:
 streaming and offline runs give the same face. Weights are in the order of :data:`gesturecast.frames.FACE_NAMES`.
@@ -45,6 +46,7 @@ DOUBLE_CHANCE = 0.125
 DOUBLE_GAP_S = (0.15, 0.25)
 EXPRESSION_RAMP_S = 0.8
 SPEAKING_GAIN = 1.2  # expression weight × this while speaking (capped at 1)
+GAIN_SMOOTHING_S = 0.3  # time constant of the move between the speaking and the silent gain
 TEXT_SIMILARITY_FLOOR = 0.25  # free text: cosine similarity to a preset's name at or below this gives no weight
 TEXT_SIMILARITY_FULL = 0.5  # ... and from this on the full TEXT_WEIGHT
 TEXT_WEIGHT = 0.7
@@ -168,6 +170,8 @@ class FaceAnimator:
         """A new stream: fresh blink draws, a neutral expression."""
         self.blinks = Blinks(self._seed)
         self._expression = Ramp(np.zeros(len(EXPRESSION_PRESETS)), EXPRESSION_RAMP_S)
+        self._gain = 1.0
+        self._last_t: float | None = None
 
     def set_style(self, weights: np.ndarray, t: float) -> None:
         """Ease toward these (5,) preset weights from stream time ``t`` (no-op when they are already the target)."""
@@ -180,6 +184,14 @@ class FaceAnimator:
         for k, t in enumerate(times):
             out[k, :BLINK_SHAPES] = self.blinks.weight(float(t), speaking[k])
             if self.mode == FACE_FULL:
-                gain = SPEAKING_GAIN if speaking[k] else 1.0
-                out[k, BLINK_SHAPES:] = np.minimum(self._expression.value(float(t)) * gain, 1.0)
+                out[k, BLINK_SHAPES:] = np.minimum(self._expression.value(float(t)) * self._step_gain(t, speaking[k]),
+                                                   1.0)
         return out
+
+    def _step_gain(self, t: float, speaking: bool) -> float:
+        """The expression's gain at stream time ``t``, moved toward the speaking or the silent one."""
+        dt = 0.0 if self._last_t is None else t - self._last_t
+        self._last_t = t
+        target = SPEAKING_GAIN if speaking else 1.0
+        self._gain += (1.0 - math.exp(-dt / GAIN_SMOOTHING_S)) * (target - self._gain)
+        return self._gain

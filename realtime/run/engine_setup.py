@@ -97,11 +97,13 @@ def build_session(settings: Settings, clock: Clock, bundle: ModelBundle | None =
 
 
 def vmc_config(outputs: Outputs, settings: Settings) -> VmcConfig:
-    """VMC to ``outputs.vmc`` in its role with its bones (an Assistant sends the upper body by default)."""
+    """VMC to ``outputs.vmc`` in its role with its bones (an Assistant sends the upper body by default, and no
+    blinks or expressions: the Performer's face tracking keeps the eyes and the face)."""
     host, port = outputs.vmc_address()
     bones = BoneSelection.parse(outputs.vmc_bone_spec(), CANONICAL_WITH_HANDS).names
     return VmcConfig(host, port, send_rate=float(settings.fps), viseme_names=settings.lipsync_names,
-                     face_names=settings.face_names, bones=bones, assistant=outputs.assistant)
+                     face_names=() if outputs.assistant else settings.face_names, bones=bones,
+                     assistant=outputs.assistant)
 
 
 def websocket_config(outputs: Outputs, settings: Settings, session: GestureSession, clock: Clock) -> WebSocketConfig:
