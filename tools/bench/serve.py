@@ -1,11 +1,12 @@
 """``gesturecast bench serve --streams N [N ...] --seconds S --json``: how many live avatars one process carries.
 
-For each N: a fresh ``serve`` server on loopback (in this process) and N clients, each streaming its
-own slice of real speech at real-time pace in 512-sample float32 chunks, starting at staggered times.
-Reports per-stream server-side end-to-end latency (capture → handed to the socket), client-side
-end-to-end latency (client capture → frame received), deadline misses, audio drops, real-time factor
-(process CPU seconds per second of audio, clients included) and how the batcher grouped calls; then
-the largest N with zero deadline misses and that per CPU core.
+For each N: a fresh ``serve`` server on loopback (in this process) and N clients in a second process, each
+streaming its own slice of real speech at real-time pace in 512-sample float32 chunks, starting at staggered
+times. Reports per-stream server-side end-to-end latency (capture → handed to the socket), client-side
+end-to-end latency (client capture → frame received), deadline misses, audio drops, the server's real-time
+factor (its process CPU seconds per second of audio per stream) and the clients' apart, the server's memory per
+added stream, and how the batcher grouped calls; then the largest N with zero deadline misses and that per CPU
+core.
 
 ``--churn N [--concurrency C]``: one server, N short streams, C at a time, each with a new id (start,
 CHURN_SECONDS of audio as fast as the server takes it, end, close); reports the process RSS every
@@ -18,11 +19,14 @@ from __future__ import annotations
 
 import argparse
 import asyncio
+import concurrent.futures
 import itertools
 import json
+import multiprocessing
 import os
 import platform
 import sys
+import threading
 import time
 from dataclasses import replace
 from pathlib import Path
@@ -132,6 +136,38 @@ def timed_clients(url: str, slices: list[np.ndarray]) -> tuple[list[ClientResult
     return results, time.process_time() - cpu_start, time.monotonic() - wall_start
 
 
+def timed_clients_apart(url: str, slices: list[np.ndarray]) -> tuple[list[ClientResult], float, float, float]:
+    """The clients run in a child process (their event loop and parsing never take this process's turns): their
+    results, this process's CPU seconds meanwhile (the server's), the clients' CPU seconds and the wall seconds."""
+    with concurrent.futures.ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("spawn")) as pool:
+        pool.submit(int).result()  # the child is up and has imported this module: its start-up is not timed
+        cpu_start, wall_start = time.process_time(), time.monotonic()
+        results, client_cpu, _ = pool.submit(timed_clients, url, slices).result()
+        return results, time.process_time() - cpu_start, client_cpu, time.monotonic() - wall_start
+
+
+class PeakRss:
+    """The largest RSS (MiB) of this process while the ``with`` block runs, sampled every 0.2 s on a thread."""
+
+    def __init__(self) -> None:
+        self.mb = rss_mb()
+        self._done = threading.Event()
+        self._thread = threading.Thread(target=self._sample, daemon=True)
+
+    def _sample(self) -> None:
+        while not self._done.wait(0.2):
+            self.mb = max(self.mb, rss_mb())
+
+    def __enter__(self) -> PeakRss:
+        self._thread.start()
+        return self
+
+    def __exit__(self, *exc_info: object) -> None:
+        self._done.set()
+        self._thread.join()
+        self.mb = max(self.mb, rss_mb())
+
+
 def local_server(args: argparse.Namespace, max_streams: int) -> GestureServer:
     """A server on loopback, any free port, no token, at most ``max_streams`` streams, with the flags' settings."""
     config = replace(serve_config(args, token=None), host="127.0.0.1", port=0, max_streams=max_streams)
@@ -142,14 +178,20 @@ def measure_streams(args: argparse.Namespace, streams: int, speech: np.ndarray, 
     if args.url is not None:
         return measure_running_server(args.url, streams, speech, seconds)
     server = local_server(args, max_streams=streams)
+    idle_mb = rss_mb()
     try:
-        results, cpu, wall = timed_clients(server.url, stream_slices(speech, streams, seconds))
+        with PeakRss() as peak:
+            results, cpu, client_cpu, wall = timed_clients_apart(server.url, stream_slices(speech, streams, seconds))
+        busy_mb = peak.mb
         batching = server.sessions.batcher.stats.to_dict()
         guidance = server.sessions.defaults.guidance
         guidance = server.sessions.bundle.default_guidance if guidance is None else guidance
     finally:
         server.close()
-    return run_summary(results, streams, seconds, cpu, wall, batching, guidance)
+    summary = run_summary(results, streams, seconds, cpu, wall, batching, guidance)
+    return summary | {"client_rtf": client_cpu / (streams * seconds),
+                      "server_mb": {"idle": idle_mb, "peak": busy_mb,
+                                    "per_stream": (busy_mb - idle_mb) / streams}}
 
 
 def measure_churn(args: argparse.Namespace, speech: np.ndarray, count: int, concurrency: int = 1) -> dict:
@@ -223,7 +265,8 @@ def churn_slope(samples: list[tuple[int, float]]) -> float | None:
 def measure_running_server(url: str, streams: int, speech: np.ndarray, seconds: float) -> dict:
     """N clients against a server started elsewhere (its batching and CPU are not visible from here)."""
     results, cpu, wall = timed_clients(url, stream_slices(speech, streams, seconds))
-    return run_summary(results, streams, seconds, cpu, wall, None, None) | {"url": url}
+    return run_summary(results, streams, seconds, float("nan"), wall, None, None) | {
+        "url": url, "client_rtf": cpu / (streams * seconds)}
 
 
 def run_summary(results: list[ClientResult], streams: int, seconds: float, cpu: float, wall: float,
