@@ -1,4 +1,5 @@
-"""bench serve --url: the load generator against a server it did not start (as for serve --ray)."""
+"""bench serve: against a server it did not start (--url, as for serve --ray), and its own server with the clients in
+another process."""
 
 import json
 
@@ -37,3 +38,13 @@ def test_bench_serve_measures_a_running_server(tiny_model, shared_data, capsys, 
     assert run["frames"] == STREAMS * SECONDS * FPS and run["errors"] == [] and run["missing_stats"] == 0
     assert served == {f"bench-{i}" for i in range(STREAMS)}  # the clients streamed to that server
     assert run["client_end_to_end_ms"]["p95"] > 0
+
+
+def test_bench_serve_runs_its_clients_in_another_process_and_counts_their_cpu_apart(tiny_model, shared_data, capsys):
+    code = main(["bench", "serve", "--model", str(tiny_model[1]), "--steps", "2", "--streams", str(STREAMS),
+                 "--seconds", str(SECONDS), "--audio", str(shared_data / "zeggs" / "067_Speech_2_x_1_0.wav"), "--json"])
+    assert code == 0
+    run = json.loads(capsys.readouterr().out)["runs"][0]
+    assert run["frames"] == STREAMS * SECONDS * FPS and run["errors"] == [] and run["missing_stats"] == 0
+    assert run["rtf"] > 0 and run["client_rtf"] > 0  # the server's CPU and the clients' (another process), apart
+    assert run["server_mb"]["peak"] >= run["server_mb"]["idle"] > 0
