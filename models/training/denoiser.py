@@ -22,7 +22,8 @@ from tqdm import tqdm
 from gesturecast.models.generator.denoiser_config import DenoiserConfig, audio_frames_needed, sequence_audio
 from gesturecast.models.generator.diffusion import get_schedule
 from gesturecast.models.networks.denoiser import CausalDenoiser
-from gesturecast.models.training.denoiser_objective import training_loss
+from gesturecast.models.networks.style_critic import StyleCritic
+from gesturecast.models.training.denoiser_objective import DenoiserTrainConfig, training_loss
 
 logger = logging.getLogger(__name__)
 
@@ -107,23 +108,28 @@ def train_denoiser(
     seed: int,
     progress: bool = True,
     augmenter: AudioAugmenter | None = None,
+    critic: StyleCritic | None = None,
+    style_loss_weight: float = 0.0,
 ) -> tuple[CausalDenoiser, dict]:
     """Train from scratch, deterministically under ``seed``; returns (model in eval mode, metrics).
 
-    ``augmenter`` (optional) changes every paired audio window (voice / channel augmentation)."""
+    ``augmenter`` (optional) changes every paired audio window (voice / channel augmentation); ``critic`` and
+    ``style_loss_weight`` add GestureDiffuCLIP's style loss (:mod:`denoiser_objective`)."""
     torch.manual_seed(seed)
     generator = torch.Generator().manual_seed(seed)
     model = CausalDenoiser(config).train()
     sampler = LatentBatchSampler(clips, config, num_latents, paired_fraction, np.random.default_rng(seed),
                                  augmenter)
     schedule = get_schedule()
+    objective = DenoiserTrainConfig(style_loss_weight=style_loss_weight)
     optimizer = torch.optim.AdamW(model.parameters(), lr=learning_rate, weight_decay=0.0)
     scheduler = torch.optim.lr_scheduler.LambdaLR(optimizer, lambda s: learning_rate_factor(s, steps))
     history, recent = [], []
     started = time.perf_counter()
     for step in tqdm(range(steps), desc="denoiser", disable=not progress):
         latents, audio, mask, style, latent_mask = sampler.sample(batch_size)
-        loss = training_loss(model, latents, audio, mask, style, schedule, generator, latent_mask=latent_mask)
+        loss = training_loss(model, latents, audio, mask, style, schedule, generator, objective,
+                             latent_mask=latent_mask, critic=critic)
         optimizer.zero_grad(set_to_none=True)
         loss.backward()
         torch.nn.utils.clip_grad_norm_(model.parameters(), GRAD_CLIP_NORM)

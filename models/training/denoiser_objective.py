@@ -13,6 +13,11 @@
 - Random look-ahead truncation (models with ``lookahead_truncation``): every sequence draws its
   look-ahead δ uniformly from 0..δa; the network masks the audio past δ and is told δ, so one model
   serves every latency setting (docs/latency.md "Latency settings").
+- Optionally GestureDiffuCLIP's style loss (§4.3, Eq. 16), weighted by ``style_loss_weight`` (0.07 in the paper):
+  1 − cos(E(x̂0), s) for the sequences whose style was given and whose every body part is present, where x̂0 is
+  the prediction on the noisy frames (the given clean history elsewhere), E the frozen :class:`StyleCritic` and
+  s the style's embedding. The paper completes the denoising from a random step before encoding; with an x0
+  prediction the network's one-call x̂0 is that completion's estimate, which is what is used here.
 """
 
 from __future__ import annotations
@@ -24,6 +29,7 @@ import torch.nn.functional as F
 
 from gesturecast.models.generator.diffusion import CLEAN_TIMESTEP, DiffusionSchedule, q_sample
 from gesturecast.models.networks.denoiser import CausalDenoiser
+from gesturecast.models.networks.style_critic import StyleCritic
 
 
 @dataclass(frozen=True)
@@ -31,6 +37,7 @@ class DenoiserTrainConfig:
     style_drop_prob: float = 0.1
     clean_history_prob: float = 0.5
     huber_delta: float = 1.0
+    style_loss_weight: float = 0.0  # w_style of Eq. 16; 0: no style loss
 
 
 def sample_noise_levels(batch: int, num_latents: int, num_timesteps: int, clean_history_prob: float, generator):
@@ -67,8 +74,9 @@ def training_loss(
     generator: torch.Generator,
     config: DenoiserTrainConfig = DenoiserTrainConfig(),  # noqa: B008 (frozen dataclass)
     latent_mask: torch.Tensor | None = None,
+    critic: StyleCritic | None = None,
 ) -> torch.Tensor:
-    """Huber loss of the x0 prediction on noisy frames.
+    """Huber loss of the x0 prediction on noisy frames (plus the weighted style loss with a ``critic``).
 
     latents (B, N, C) clean VQ-VAE latents; audio (B, N*d + δa, F) features aligned with motion frame 0;
     audio_mask (B,) or (B, N): 1 where real audio accompanies the motion (0 for motion-only data);
@@ -84,4 +92,16 @@ def training_loss(
     per_element = F.huber_loss(x0, latents, reduction="none", delta=config.huber_delta)  # (B, N, C)
     channels = torch.ones_like(latents[:, 0]) if latent_mask is None else latent_mask  # (B, C)
     weight = (t != CLEAN_TIMESTEP).float()[..., None] * channels[:, None, :]  # (B, N, C)
-    return (per_element * weight).sum() / weight.sum().clamp(min=1.0)
+    loss = (per_element * weight).sum() / weight.sum().clamp(min=1.0)
+    if critic is None or config.style_loss_weight == 0.0:
+        return loss
+    scored = style_present * (channels.min(dim=1).values == 1.0).float()  # (B,) styled, whole body
+    return loss + config.style_loss_weight * style_loss(critic, torch.where((t == CLEAN_TIMESTEP)[..., None],
+                                                                           latents, x0), style, scored)
+
+
+def style_loss(critic: StyleCritic, denoised: torch.Tensor, style: torch.Tensor, scored: torch.Tensor
+               ) -> torch.Tensor:
+    """Mean 1 − cos(E(denoised), s) over the ``scored`` (B,) sequences (Eq. 16): denoised (B, N, C), s (B, S)."""
+    cosine = F.cosine_similarity(critic(denoised), style, dim=-1)  # (B,)
+    return ((1.0 - cosine) * scored).sum() / scored.sum().clamp(min=1.0)

