@@ -47,7 +47,9 @@ class ThreadedListener:
         self._stop_loop()
 
     async def _open(self, handler, serve_options: dict) -> None:
-        self._server = await serve(handler, self.host, self.port, **serve_options)
+        # no permessage-deflate: pose frames are float32 rotations that deflate barely shrinks, and compressing
+        # every frame for every client took about 8 % of a busy server's CPU (docs/serve.md)
+        self._server = await serve(handler, self.host, self.port, **{"compression": None, **serve_options})
         self.port = self._server.sockets[0].getsockname()[1]
 
     async def _close_server(self) -> None:
