@@ -21,6 +21,7 @@ from gesturecast.realtime.cli_flags import (
 from gesturecast.realtime.serve.launch import start_server
 from gesturecast.realtime.serve.ray_cli import add_ray_arguments, ray_serving
 from gesturecast.realtime.serve.server import SERVE_DEFAULT_PORT, GestureServer, ServeConfig
+from gesturecast.realtime.serve.workers import Workers
 from gesturecast.realtime.timing.clock import Clock, MonotonicClock
 from gesturecast.settings import OUTPUT_RATES
 
@@ -44,6 +45,9 @@ def add_serve_arguments(parser: argparse.ArgumentParser) -> None:
     group.add_argument("--max-streams", type=int, default=ServeConfig.max_streams, help="concurrent streams allowed")
     group.add_argument("--coordinate-frame", choices=tuple(FRAMES), default="internal", help="frame of sent poses")
     group.add_argument("--fps", type=int, choices=OUTPUT_RATES, default=30, help="output rate (60 = slerp upsampling)")
+    group.add_argument("--workers", type=int, default=1, metavar="N",
+                       help="server processes sharing the port, each with its own model and --max-streams slots "
+                            "(one process uses about one core for the streams' Python work; Linux)")
 
 
 def build_server(args: argparse.Namespace, clock: Clock) -> GestureServer:
@@ -55,6 +59,8 @@ def build_server(args: argparse.Namespace, clock: Clock) -> GestureServer:
 def run_serve(args: argparse.Namespace) -> int:
     if args.ray:
         return run_on_ray(args)
+    if args.workers > 1:
+        return run_workers(args)
     clock = MonotonicClock()
     server = build_server(args, clock)
     sys.stdout.write(f"{server.sessions.budget.describe()}\nstreams: {server.url}<id> (at most {args.max_streams}); "
@@ -65,6 +71,21 @@ def run_serve(args: argparse.Namespace) -> int:
     finally:
         server.close()
     sys.stdout.write(served_summary(list(server.finished)) + "\n")
+    return INTERRUPTED_EXIT
+
+
+def run_workers(args: argparse.Namespace) -> int:
+    """``serve --workers N``: N server processes on one port until Ctrl-C (realtime/serve/workers.py)."""
+    workers = Workers(args, args.workers).start()
+    url = f"ws://{args.host}:{workers.port}/stream/"
+    sys.stdout.write(f"{args.workers} server processes; streams: {url}<id> (at most {args.max_streams} each); "
+                     "Ctrl-C stops\n")
+    sys.stdout.flush()
+    try:
+        wait_for_ctrl_c()
+    finally:
+        served = workers.stop()
+    sys.stdout.write(served_summary(served) + "\n")
     return INTERRUPTED_EXIT
 
 

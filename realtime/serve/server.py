@@ -75,6 +75,8 @@ class ServeConfig:
     allow_origins: tuple[str, ...] = ()  # browser origins allowed to connect (ws_access)
     start_timeout_s: float = START_TIMEOUT_S  # from the hello to a start (or the first audio)
     max_unstarted: int = MAX_UNSTARTED  # connections not started yet (they hold no --max-streams slot)
+    reuse_port: bool = False  # share the port with other server processes (serve --workers: the kernel deals
+    # the connections out among them)
 
 
 class LoopSender:
@@ -244,7 +246,7 @@ class GestureServer:
     # ---- lifecycle (caller's thread) ----
     def start(self) -> GestureServer:
         self._listener.start(self._handle, process_request=self.access.process_request,
-                             max_size=MAX_AUDIO_MESSAGE_BYTES)
+                             max_size=MAX_AUDIO_MESSAGE_BYTES, reuse_port=self.config.reuse_port)
         logger.info("serving streams on %s (at most %d)", self.url, self.config.max_streams)
         return self
 

@@ -39,6 +39,7 @@ from gesturecast.realtime.cli_flags import serve_config, settings_from_args
 from gesturecast.realtime.serve.cli import add_serve_arguments
 from gesturecast.realtime.serve.launch import start_server
 from gesturecast.realtime.serve.server import GestureServer
+from gesturecast.realtime.serve.workers import Workers
 from gesturecast.realtime.timing.clock import MonotonicClock
 from gesturecast.realtime.timing.latency import MS_PER_S
 from gesturecast.tools.bench.memory import rss_mb
@@ -174,9 +175,38 @@ def local_server(args: argparse.Namespace, max_streams: int) -> GestureServer:
     return start_server(settings_from_args(args), config, MonotonicClock())
 
 
+def process_cpu_seconds(pid: int) -> float:
+    """User + system CPU seconds of process ``pid`` so far (Linux /proc)."""
+    fields = Path(f"/proc/{pid}/stat").read_text().rpartition(")")[2].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")  # utime, stime
+
+
+def measure_workers(args: argparse.Namespace, streams: int, speech: np.ndarray, seconds: float) -> dict:
+    """``serve --workers N`` on a free loopback port and the clients in another process: the workers' CPU and
+    summed RSS (the bench's own process only waits)."""
+    server_args = argparse.Namespace(**{**vars(args), "host": "127.0.0.1", "port": 0, "max_streams": streams})
+    workers = Workers(server_args, args.workers).start()
+    pids = [process.pid for process in workers.processes]
+    status = [Path(f"/proc/{pid}/status") for pid in pids]
+    try:
+        idle_mb = sum(rss_mb(path) for path in status)
+        cpu_start = sum(process_cpu_seconds(pid) for pid in pids)
+        results, _, client_cpu, wall = timed_clients_apart(f"ws://127.0.0.1:{workers.port}/stream/",
+                                                           stream_slices(speech, streams, seconds))
+        cpu = sum(process_cpu_seconds(pid) for pid in pids) - cpu_start
+        busy_mb = sum(rss_mb(path) for path in status)
+    finally:
+        workers.stop()
+    summary = run_summary(results, streams, seconds, cpu, wall, None, None)
+    return summary | {"workers": args.workers, "client_rtf": client_cpu / (streams * seconds),
+                      "server_mb": {"idle": idle_mb, "after": busy_mb, "per_stream": (busy_mb - idle_mb) / streams}}
+
+
 def measure_streams(args: argparse.Namespace, streams: int, speech: np.ndarray, seconds: float) -> dict:
     if args.url is not None:
         return measure_running_server(args.url, streams, speech, seconds)
+    if args.workers > 1:
+        return measure_workers(args, streams, speech, seconds)
     server = local_server(args, max_streams=streams)
     idle_mb = rss_mb()
     try:

@@ -1,0 +1,115 @@
+"""``serve --workers N``: N server processes on one port, so that streams use every core.
+
+One server process runs every stream's Python work (features, pose building, the sampler loop, the protocol)
+under one interpreter lock: it gets about one core for it whatever the machine has (docs/serve.md). With
+``--workers N`` the command starts N processes, each a whole ``serve`` server (its own model, batched denoiser
+and ``--max-streams`` slots) listening on the same port with ``SO_REUSEPORT``; the kernel deals each new
+connection to one of them. The parent process loads no model: it reserves the port, starts the workers, waits
+for each to listen (a worker that fails names its error and stops the others), prints where streams go, and on
+Ctrl-C, SIGTERM or SIGHUP asks every worker to close its streams as ``serve`` does, then prints one line over all.
+Linux only (``SO_REUSEPORT`` balances connections there).
+"""
+
+from __future__ import annotations
+
+import argparse
+import logging
+import multiprocessing
+import os
+import signal
+import socket
+import threading
+from contextlib import closing
+from dataclasses import replace
+
+from gesturecast import stop_signals
+from gesturecast.errors import UserError
+from gesturecast.realtime.cli_flags import serve_config, server_token, settings_from_args
+from gesturecast.realtime.serve.launch import start_server
+from gesturecast.realtime.timing.clock import MonotonicClock
+
+READY_TIMEOUT_S = 300.0  # a worker loads the model and builds a probe session before it listens
+STOP_TIMEOUT_S = 20.0
+MAX_WORKERS = 64
+
+
+def reserve_port(host: str, port: int) -> socket.socket:
+    """A bound, not listening socket on ``host:port`` (0: a free port) with SO_REUSEPORT set: the workers' sockets
+    join it; it holds the port until they listen (the kernel gives connections only to listening sockets)."""
+    if not hasattr(socket, "SO_REUSEPORT"):
+        raise UserError("serve --workers needs SO_REUSEPORT (Linux); run one server per port instead")
+    family = socket.AF_INET6 if ":" in host else socket.AF_INET
+    holder = socket.socket(family, socket.SOCK_STREAM)
+    holder.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEPORT, 1)
+    try:
+        holder.bind((host, port))
+    except OSError as error:
+        holder.close()
+        raise UserError(f"cannot listen on {host}:{port}: {error.strerror}; pick another with --port") from None
+    return holder
+
+
+def run_worker(args: argparse.Namespace, port: int, reports: multiprocessing.Queue, log_level: int) -> None:
+    """One worker process: a ``serve`` server on the shared port until asked to stop; reports "ready" (or the error
+    that stopped it), then its closed streams' totals. It logs as the command does, each line naming the worker."""
+    logging.basicConfig(level=log_level, format=f"%(levelname)s {multiprocessing.current_process().name} "
+                                                "%(name)s: %(message)s")
+    with stop_signals.handled():
+        try:
+            config = replace(serve_config(args, server_token(args)), port=port, reuse_port=True)
+            server = start_server(settings_from_args(args), config, MonotonicClock())
+        except UserError as error:
+            reports.put(("error", str(error)))
+            return
+        reports.put(("ready", os.getpid()))
+        try:
+            threading.Event().wait()
+        except KeyboardInterrupt:  # a terminal's Ctrl-C reaches the workers and the parent, which then asks again
+            signal.signal(signal.SIGINT, signal.SIG_IGN)
+        finally:
+            server.close()
+        reports.put(("served", list(server.finished)))
+
+
+class Workers:
+    """The worker processes of one ``serve --workers N`` run (start, wait until they listen, stop)."""
+
+    def __init__(self, args: argparse.Namespace, count: int) -> None:
+        if not 1 <= count <= MAX_WORKERS:
+            raise UserError(f"--workers must be within 1..{MAX_WORKERS}, got {count}")
+        context = multiprocessing.get_context("spawn")
+        self.reports = context.Queue()
+        self._holder = reserve_port(args.host, args.port)
+        self.port = self._holder.getsockname()[1]
+        level = logging.getLogger().getEffectiveLevel()
+        self.processes = [context.Process(target=run_worker, args=(args, self.port, self.reports, level),
+                                          name=f"worker-{i}") for i in range(count)]
+
+    def start(self) -> Workers:
+        """Start every worker and wait until each listens; a failure stops the others and raises its error."""
+        with closing(self._holder):
+            for process in self.processes:
+                process.start()
+            for _ in self.processes:
+                kind, detail = self.reports.get(timeout=READY_TIMEOUT_S)
+                if kind == "error":
+                    self.stop()
+                    raise UserError(detail)
+        return self
+
+    def stop(self) -> list[dict]:
+        """Ask each worker to close its streams (SIGINT, as Ctrl-C); returns the closed streams' stats of all."""
+        for process in self.processes:
+            if process.is_alive():
+                os.kill(process.pid, signal.SIGINT)
+        served = []
+        for process in self.processes:
+            process.join(STOP_TIMEOUT_S)
+            if process.is_alive():
+                process.terminate()
+                process.join()
+        while not self.reports.empty():
+            kind, detail = self.reports.get()
+            if kind == "served":
+                served += detail
+        return served
