@@ -59,7 +59,7 @@ def build_server(args: argparse.Namespace, clock: Clock) -> GestureServer:
 def run_serve(args: argparse.Namespace) -> int:
     if args.ray:
         return run_on_ray(args)
-    if args.workers > 1:
+    if args.workers != 1:  # Workers refuses a count out of range
         return run_workers(args)
     clock = MonotonicClock()
     server = build_server(args, clock)

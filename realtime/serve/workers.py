@@ -16,9 +16,10 @@ import argparse
 import logging
 import multiprocessing
 import os
+import queue
 import signal
 import socket
-import threading
+import time
 from contextlib import closing
 from dataclasses import replace
 
@@ -30,6 +31,7 @@ from gesturecast.realtime.timing.clock import MonotonicClock
 
 READY_TIMEOUT_S = 300.0  # a worker loads the model and builds a probe session before it listens
 STOP_TIMEOUT_S = 20.0
+PARENT_CHECK_S = 0.5  # a worker whose parent is gone (killed) stops within this long
 MAX_WORKERS = 64
 
 
@@ -49,26 +51,30 @@ def reserve_port(host: str, port: int) -> socket.socket:
     return holder
 
 
-def run_worker(args: argparse.Namespace, port: int, reports: multiprocessing.Queue, log_level: int) -> None:
-    """One worker process: a ``serve`` server on the shared port until asked to stop; reports "ready" (or the error
-    that stopped it), then its closed streams' totals. It logs as the command does, each line naming the worker."""
+def run_worker(args: argparse.Namespace, port: int, reports: multiprocessing.Queue, stop: multiprocessing.Event,
+               log_level: int) -> None:
+    """One worker process: a ``serve`` server on the shared port until the parent sets ``stop`` (or is gone);
+    reports "ready" (or the error that stopped it), then its closed streams. Ctrl-C, SIGTERM and SIGHUP are the
+    parent's to handle: a terminal or systemd sends them to every process of the service, and a second signal in
+    the middle of a close must not cut it short."""
+    for signum in (signal.SIGINT, *stop_signals.STOP_SIGNALS):
+        signal.signal(signum, signal.SIG_IGN)
     logging.basicConfig(level=log_level, format=f"%(levelname)s {multiprocessing.current_process().name} "
                                                 "%(name)s: %(message)s")
-    with stop_signals.handled():
-        try:
-            config = replace(serve_config(args, server_token(args)), port=port, reuse_port=True)
-            server = start_server(settings_from_args(args), config, MonotonicClock())
-        except UserError as error:
-            reports.put(("error", str(error)))
-            return
-        reports.put(("ready", os.getpid()))
-        try:
-            threading.Event().wait()
-        except KeyboardInterrupt:  # a terminal's Ctrl-C reaches the workers and the parent, which then asks again
-            signal.signal(signal.SIGINT, signal.SIG_IGN)
-        finally:
-            server.close()
-        reports.put(("served", list(server.finished)))
+    parent = os.getppid()
+    try:
+        config = replace(serve_config(args, server_token(args)), port=port, reuse_port=True)
+        server = start_server(settings_from_args(args), config, MonotonicClock())
+    except UserError as error:
+        reports.put(("error", str(error)))
+        return
+    reports.put(("ready", os.getpid()))
+    try:
+        while not stop.wait(PARENT_CHECK_S) and os.getppid() == parent:
+            pass
+    finally:
+        server.close()
+    reports.put(("served", list(server.finished)))
 
 
 class Workers:
@@ -79,11 +85,14 @@ class Workers:
             raise UserError(f"--workers must be within 1..{MAX_WORKERS}, got {count}")
         context = multiprocessing.get_context("spawn")
         self.reports = context.Queue()
+        self.stop_event = context.Event()
         self._holder = reserve_port(args.host, args.port)
         self.port = self._holder.getsockname()[1]
         level = logging.getLogger().getEffectiveLevel()
-        self.processes = [context.Process(target=run_worker, args=(args, self.port, self.reports, level),
+        self.processes = [context.Process(target=run_worker, args=(args, self.port, self.reports, self.stop_event,
+                                                                   level),
                                           name=f"worker-{i}") for i in range(count)]
+        self.listening = 0  # workers that reported "ready": each reports its streams when it stops
 
     def start(self) -> Workers:
         """Start every worker and wait until each listens; a failure stops the others and raises its error."""
@@ -95,21 +104,24 @@ class Workers:
                 if kind == "error":
                     self.stop()
                     raise UserError(detail)
+                self.listening += 1
         return self
 
     def stop(self) -> list[dict]:
-        """Ask each worker to close its streams (SIGINT, as Ctrl-C); returns the closed streams' stats of all."""
+        """Ask each worker to close its streams; returns the closed streams' stats of all."""
+        self.stop_event.set()
+        deadline = time.monotonic() + STOP_TIMEOUT_S
+        served, reports = [], 0
+        while reports < self.listening:  # read before joining: a worker exits once its report is in the pipe
+            try:
+                kind, detail = self.reports.get(timeout=max(deadline - time.monotonic(), 0.0))
+            except queue.Empty:
+                break
+            if kind == "served":
+                served, reports = served + detail, reports + 1
         for process in self.processes:
-            if process.is_alive():
-                os.kill(process.pid, signal.SIGINT)
-        served = []
-        for process in self.processes:
-            process.join(STOP_TIMEOUT_S)
+            process.join(max(deadline - time.monotonic(), 0.0))
             if process.is_alive():
                 process.terminate()
                 process.join()
-        while not self.reports.empty():
-            kind, detail = self.reports.get()
-            if kind == "served":
-                served += detail
         return served

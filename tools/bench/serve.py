@@ -42,7 +42,7 @@ from gesturecast.realtime.serve.server import GestureServer
 from gesturecast.realtime.serve.workers import Workers
 from gesturecast.realtime.timing.clock import MonotonicClock
 from gesturecast.realtime.timing.latency import MS_PER_S
-from gesturecast.tools.bench.memory import rss_mb
+from gesturecast.tools.bench.memory import PROC_STATUS, rss_mb
 from gesturecast.tools.bench.serve_client import ClientResult, stream_audio
 
 DEFAULT_AUDIO = Path(__file__).resolve().parents[3] / "shared" / "data" / "zeggs" / "067_Speech_2_x_1_0.wav"
@@ -148,16 +148,21 @@ def timed_clients_apart(url: str, slices: list[np.ndarray]) -> tuple[list[Client
 
 
 class PeakRss:
-    """The largest RSS (MiB) of this process while the ``with`` block runs, sampled every 0.2 s on a thread."""
+    """The largest RSS (MiB, summed over ``processes``' /proc status files; default this process) while the
+    ``with`` block runs, sampled every 0.2 s on a thread."""
 
-    def __init__(self) -> None:
-        self.mb = rss_mb()
+    def __init__(self, processes: list[Path] | None = None) -> None:
+        self.processes = processes or [PROC_STATUS]
+        self.mb = self.now()
         self._done = threading.Event()
         self._thread = threading.Thread(target=self._sample, daemon=True)
 
+    def now(self) -> float:
+        return sum(rss_mb(status) for status in self.processes)
+
     def _sample(self) -> None:
         while not self._done.wait(0.2):
-            self.mb = max(self.mb, rss_mb())
+            self.mb = max(self.mb, self.now())
 
     def __enter__(self) -> PeakRss:
         self._thread.start()
@@ -166,7 +171,7 @@ class PeakRss:
     def __exit__(self, *exc_info: object) -> None:
         self._done.set()
         self._thread.join()
-        self.mb = max(self.mb, rss_mb())
+        self.mb = max(self.mb, self.now())
 
 
 def local_server(args: argparse.Namespace, max_streams: int) -> GestureServer:
@@ -191,15 +196,15 @@ def measure_workers(args: argparse.Namespace, streams: int, speech: np.ndarray, 
     try:
         idle_mb = sum(rss_mb(path) for path in status)
         cpu_start = sum(process_cpu_seconds(pid) for pid in pids)
-        results, _, client_cpu, wall = timed_clients_apart(f"ws://127.0.0.1:{workers.port}/stream/",
-                                                           stream_slices(speech, streams, seconds))
+        with PeakRss(status) as peak:
+            results, _, client_cpu, wall = timed_clients_apart(f"ws://127.0.0.1:{workers.port}/stream/",
+                                                               stream_slices(speech, streams, seconds))
         cpu = sum(process_cpu_seconds(pid) for pid in pids) - cpu_start
-        busy_mb = sum(rss_mb(path) for path in status)
     finally:
         workers.stop()
     summary = run_summary(results, streams, seconds, cpu, wall, None, None)
     return summary | {"workers": args.workers, "client_rtf": client_cpu / (streams * seconds),
-                      "server_mb": {"idle": idle_mb, "after": busy_mb, "per_stream": (busy_mb - idle_mb) / streams}}
+                      "server_mb": {"idle": idle_mb, "peak": peak.mb, "per_stream": (peak.mb - idle_mb) / streams}}
 
 
 def measure_streams(args: argparse.Namespace, streams: int, speech: np.ndarray, seconds: float) -> dict:

@@ -48,3 +48,14 @@ def test_bench_serve_runs_its_clients_in_another_process_and_counts_their_cpu_ap
     assert run["frames"] == STREAMS * SECONDS * FPS and run["errors"] == [] and run["missing_stats"] == 0
     assert run["rtf"] > 0 and run["client_rtf"] > 0  # the server's CPU and the clients' (another process), apart
     assert run["server_mb"]["peak"] >= run["server_mb"]["idle"] > 0
+
+
+def test_bench_serve_measures_worker_processes(tiny_model, shared_data, capsys):
+    speech = shared_data / "zeggs" / "067_Speech_2_x_1_0.wav"
+    code = main(["bench", "serve", "--workers", "2", "--model", str(tiny_model[1]), "--steps", "2", "--streams",
+                 str(STREAMS), "--seconds", str(SECONDS), "--audio", str(speech), "--json"])
+    assert code == 0
+    run = json.loads(capsys.readouterr().out)["runs"][0]
+    assert run["workers"] == 2 and run["frames"] == STREAMS * SECONDS * FPS and run["errors"] == []
+    assert run["rtf"] > 0 and run["client_rtf"] > 0  # the workers' CPU from /proc, the clients' apart
+    assert run["server_mb"]["peak"] >= run["server_mb"]["idle"] > 0
