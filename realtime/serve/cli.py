@@ -76,7 +76,7 @@ def run_serve(args: argparse.Namespace) -> int:
 
 def run_workers(args: argparse.Namespace) -> int:
     """``serve --workers N``: N server processes on one port until Ctrl-C (realtime/serve/workers.py)."""
-    workers = Workers(args, args.workers).start()
+    workers = Workers(settings_from_args(args), serve_config(args, server_token(args)), args.workers).start()
     url = f"ws://{args.host}:{workers.port}/stream/"
     sys.stdout.write(f"{args.workers} server processes; streams: {url}<id> (at most {args.max_streams} each); "
                      "Ctrl-C stops\n")

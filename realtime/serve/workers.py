@@ -12,7 +12,6 @@ Linux only (``SO_REUSEPORT`` balances connections there).
 
 from __future__ import annotations
 
-import argparse
 import logging
 import multiprocessing
 import os
@@ -25,9 +24,10 @@ from dataclasses import replace
 
 from gesturecast import stop_signals
 from gesturecast.errors import UserError
-from gesturecast.realtime.cli_flags import serve_config, server_token, settings_from_args
 from gesturecast.realtime.serve.launch import start_server
+from gesturecast.realtime.serve.server import ServeConfig
 from gesturecast.realtime.timing.clock import MonotonicClock
+from gesturecast.settings import Settings
 
 READY_TIMEOUT_S = 300.0  # a worker loads the model and builds a probe session before it listens
 STOP_TIMEOUT_S = 20.0
@@ -51,8 +51,8 @@ def reserve_port(host: str, port: int) -> socket.socket:
     return holder
 
 
-def run_worker(args: argparse.Namespace, port: int, reports: multiprocessing.Queue, stop: multiprocessing.Event,
-               log_level: int) -> None:
+def run_worker(settings: Settings, config: ServeConfig, reports: multiprocessing.Queue,
+               stop: multiprocessing.Event, log_level: int) -> None:
     """One worker process: a ``serve`` server on the shared port until the parent sets ``stop`` (or is gone);
     reports "ready" (or the error that stopped it), then its closed streams. Ctrl-C, SIGTERM and SIGHUP are the
     parent's to handle: a terminal or systemd sends them to every process of the service, and a second signal in
@@ -63,8 +63,7 @@ def run_worker(args: argparse.Namespace, port: int, reports: multiprocessing.Que
                                                 "%(name)s: %(message)s")
     parent = os.getppid()
     try:
-        config = replace(serve_config(args, server_token(args)), port=port, reuse_port=True)
-        server = start_server(settings_from_args(args), config, MonotonicClock())
+        server = start_server(settings, config, MonotonicClock())
     except UserError as error:
         reports.put(("error", str(error)))
         return
@@ -80,16 +79,17 @@ def run_worker(args: argparse.Namespace, port: int, reports: multiprocessing.Que
 class Workers:
     """The worker processes of one ``serve --workers N`` run (start, wait until they listen, stop)."""
 
-    def __init__(self, args: argparse.Namespace, count: int) -> None:
+    def __init__(self, settings: Settings, config: ServeConfig, count: int) -> None:
         if not 1 <= count <= MAX_WORKERS:
             raise UserError(f"--workers must be within 1..{MAX_WORKERS}, got {count}")
         context = multiprocessing.get_context("spawn")
         self.reports = context.Queue()
         self.stop_event = context.Event()
-        self._holder = reserve_port(args.host, args.port)
+        self._holder = reserve_port(config.host, config.port)
         self.port = self._holder.getsockname()[1]
+        shared = replace(config, port=self.port, reuse_port=True)
         level = logging.getLogger().getEffectiveLevel()
-        self.processes = [context.Process(target=run_worker, args=(args, self.port, self.reports, self.stop_event,
+        self.processes = [context.Process(target=run_worker, args=(settings, shared, self.reports, self.stop_event,
                                                                    level),
                                           name=f"worker-{i}") for i in range(count)]
         self.listening = 0  # workers that reported "ready": each reports its streams when it stops

@@ -189,8 +189,8 @@ def process_cpu_seconds(pid: int) -> float:
 def measure_workers(args: argparse.Namespace, streams: int, speech: np.ndarray, seconds: float) -> dict:
     """``serve --workers N`` on a free loopback port and the clients in another process: the workers' CPU and
     summed RSS (the bench's own process only waits)."""
-    server_args = argparse.Namespace(**{**vars(args), "host": "127.0.0.1", "port": 0, "max_streams": streams})
-    workers = Workers(server_args, args.workers).start()
+    config = replace(serve_config(args, token=None), host="127.0.0.1", port=0, max_streams=streams)
+    workers = Workers(settings_from_args(args), config, args.workers).start()
     pids = [process.pid for process in workers.processes]
     status = [Path(f"/proc/{pid}/status") for pid in pids]
     try:
