@@ -23,10 +23,14 @@ from __future__ import annotations
 
 from dataclasses import dataclass, replace
 
-import numpy as np
-
 from gesturecast.bridges.coords import coordinate_frame
-from gesturecast.bridges.osc_wire import MAX_DATAGRAM_SIZE, MessageLayout, encode_float_rows, pack_bundles
+from gesturecast.bridges.osc_wire import (
+    MAX_DATAGRAM_SIZE,
+    MessageLayout,
+    encode_float_rows,
+    encode_weight_groups,
+    pack_bundles,
+)
 from gesturecast.bridges.transport import RateLimiter, UdpSender, UdpTarget
 from gesturecast.frames import PoseFrame
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS, Skeleton
@@ -72,9 +76,7 @@ class OscEncoder:
             self._root.encode_floats(self.frame.position(frame.root_position)),
         ]
         messages += encode_float_rows(self._bones, self.frame.rotation(frame.rotations))
-        for layouts, weights in ((self._visemes, frame.visemes), (self._face, frame.face)):
-            if layouts and weights is not None:
-                messages += encode_float_rows(layouts, np.asarray(weights)[:, None])  # (n, 1)
+        messages += encode_weight_groups(((self._visemes, frame.visemes), (self._face, frame.face)))
         return pack_bundles(messages, self.max_bundle_size) if self.bundled else messages
 
 

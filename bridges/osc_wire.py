@@ -67,6 +67,16 @@ def encode_float_rows(layouts: Sequence[MessageLayout], rows: np.ndarray) -> lis
     return [layout.prefix + row.tobytes() for layout, row in zip(layouts, big_endian, strict=True)]
 
 
+def encode_weight_groups(groups: Sequence[tuple[Sequence[MessageLayout], np.ndarray | None]]) -> list[bytes]:
+    """One float message per name of each (layouts, weights (n,)) group; a group without layouts or weights (lip sync
+    or the face off, a frame that carries none) sends nothing."""
+    messages = []
+    for layouts, weights in groups:
+        if layouts and weights is not None:
+            messages += encode_float_rows(layouts, np.asarray(weights)[:, None])  # (n, 1)
+    return messages
+
+
 def bundle(messages: Sequence[bytes]) -> bytes:
     """An OSC bundle (time tag "immediately") holding ``messages`` in order."""
     parts = [BUNDLE_TAG, IMMEDIATE_TIMETAG]

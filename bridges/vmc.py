@@ -28,7 +28,13 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from gesturecast.bridges.coords import UNITY
-from gesturecast.bridges.osc_wire import MAX_DATAGRAM_SIZE, MessageLayout, encode_float_rows, pack_bundles
+from gesturecast.bridges.osc_wire import (
+    MAX_DATAGRAM_SIZE,
+    MessageLayout,
+    encode_float_rows,
+    encode_weight_groups,
+    pack_bundles,
+)
 from gesturecast.bridges.transport import RateLimiter, UdpSender, UdpTarget
 from gesturecast.bridges.vmc_roles import DEFAULT_PORTS, MARIONETTE
 from gesturecast.frames import PoseFrame
@@ -90,10 +96,7 @@ class VmcEncoder:
     def _blend_messages(self, frame: PoseFrame) -> list[bytes]:
         """One Val per viseme and face name with the frame's weight, then one Apply; none without names or
         weights."""
-        messages = []
-        for layouts, weights in ((self._visemes, frame.visemes), (self._face, frame.face)):
-            if layouts and weights is not None:
-                messages += encode_float_rows(layouts, np.asarray(weights)[:, None])  # (n, 1)
+        messages = encode_weight_groups(((self._visemes, frame.visemes), (self._face, frame.face)))
         return [*messages, self._apply.encode()] if messages else []
 
 

@@ -163,7 +163,7 @@ class VrmaWriter:
     def _expressions(self) -> dict[str, np.ndarray]:
         """{preset name: (T,) weights} of the weight kinds some frame carried."""
         tracks = {}
-        for names in (names for names in self._weights if names in self._carried):  # visemes, then the face
+        for names in [names for names in self._weights if names in self._carried]:  # visemes, then the face
             weights = np.stack(self._weights[names])  # (T, n)
             tracks.update({name: weights[:, k] for k, name in enumerate(names)})
         return tracks

@@ -6,6 +6,7 @@ import argparse
 import logging
 import sys
 import threading
+from collections.abc import Callable
 
 from gesturecast import stop_signals
 from gesturecast.arguments import port_number
@@ -61,30 +62,33 @@ def run_serve(args: argparse.Namespace) -> int:
         return run_on_ray(args)
     if args.workers != 1:  # Workers refuses a count out of range
         return run_workers(args)
-    clock = MonotonicClock()
-    server = build_server(args, clock)
-    sys.stdout.write(f"{server.sessions.budget.describe()}\nstreams: {server.url}<id> (at most {args.max_streams}); "
-                     "Ctrl-C stops\n")
-    sys.stdout.flush()
-    try:
-        wait_for_ctrl_c()
-    finally:
+    server = build_server(args, MonotonicClock())
+
+    def stop() -> list[dict]:
         server.close()
-    sys.stdout.write(served_summary(list(server.finished)) + "\n")
-    return INTERRUPTED_EXIT
+        return list(server.finished)
+
+    return serve_until_stopped(f"{server.sessions.budget.describe()}\nstreams: {server.url}<id> "
+                               f"(at most {args.max_streams})", stop)
 
 
 def run_workers(args: argparse.Namespace) -> int:
     """``serve --workers N``: N server processes on one port until Ctrl-C (realtime/serve/workers.py)."""
     workers = Workers(settings_from_args(args), serve_config(args, server_token(args)), args.workers).start()
     url = f"ws://{args.host}:{workers.port}/stream/"
-    sys.stdout.write(f"{args.workers} server processes; streams: {url}<id> (at most {args.max_streams} each); "
-                     "Ctrl-C stops\n")
+    return serve_until_stopped(f"{args.workers} server processes; streams: {url}<id> (at most {args.max_streams} "
+                               "each)", workers.stop)
+
+
+def serve_until_stopped(banner: str, stop: Callable[[], list[dict]]) -> int:
+    """Print where streams go, serve until Ctrl-C, SIGTERM or SIGHUP, then ``stop`` (→ the closed streams' stats)
+    and print one summary line over them."""
+    sys.stdout.write(f"{banner}; Ctrl-C stops\n")
     sys.stdout.flush()
     try:
         wait_for_ctrl_c()
     finally:
-        served = workers.stop()
+        served = stop()
     sys.stdout.write(served_summary(served) + "\n")
     return INTERRUPTED_EXIT
 
