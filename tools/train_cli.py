@@ -50,6 +50,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--style-loss-weight", type=float, default=None, metavar="W",
                         help="GestureDiffuCLIP's style loss on the denoiser (Eq. 16; the paper uses 0.07; default: "
                              "the preset's, off)")
+    parser.add_argument("--style-swap", type=float, default=None, metavar="P",
+                        help="share of speech sequences trained with a drawn style and the style loss, so styles "
+                             "hold while speech is heard (docs/style-study.md; default: the preset's, off)")
     parser.add_argument("--vq-from", type=Path, default=None,
                         help="reuse the VQ-VAE of this finished work folder instead of training one")
     parser.add_argument("--vq-steps", type=int, default=None)
@@ -68,7 +71,7 @@ def run_train(args: argparse.Namespace) -> int:
                         front_end=args.front_end, speaker_norm=args.speaker_norm,
                         speech_embedding=args.speech_embedding,
                         lookahead_truncation=args.lookahead_truncation, partial_takes=args.partial_takes,
-                        style_loss_weight=args.style_loss_weight,
+                        style_loss_weight=args.style_loss_weight, style_swap_prob=args.style_swap,
                         vq_steps=args.vq_steps,
                         denoiser_steps=args.denoiser_steps, prompt_steps=args.prompt_steps)
     work_dir = args.work_dir or DEFAULT_WORK_ROOT / preset.name

@@ -110,18 +110,22 @@ def train_denoiser(
     augmenter: AudioAugmenter | None = None,
     critic: StyleCritic | None = None,
     style_loss_weight: float = 0.0,
+    style_pool: np.ndarray | None = None,
+    style_swap_prob: float = 0.0,
 ) -> tuple[CausalDenoiser, dict]:
     """Train from scratch, deterministically under ``seed``; returns (model in eval mode, metrics).
 
     ``augmenter`` (optional) changes every paired audio window (voice / channel augmentation); ``critic`` and
-    ``style_loss_weight`` add GestureDiffuCLIP's style loss (:mod:`denoiser_objective`)."""
+    ``style_loss_weight`` add GestureDiffuCLIP's style loss, ``style_pool`` (P, S) and ``style_swap_prob`` its style
+    swaps on speech (:mod:`denoiser_objective`)."""
     torch.manual_seed(seed)
     generator = torch.Generator().manual_seed(seed)
     model = CausalDenoiser(config).train()
     sampler = LatentBatchSampler(clips, config, num_latents, paired_fraction, np.random.default_rng(seed),
                                  augmenter)
     schedule = get_schedule()
-    objective = DenoiserTrainConfig(style_loss_weight=style_loss_weight)
+    objective = DenoiserTrainConfig(style_loss_weight=style_loss_weight, style_swap_prob=style_swap_prob)
+    pool = None if style_pool is None else torch.as_tensor(style_pool, dtype=torch.float32)  # (P, S)
     optimizer = torch.optim.AdamW(model.parameters(), lr=learning_rate, weight_decay=0.0)
     scheduler = torch.optim.lr_scheduler.LambdaLR(optimizer, lambda s: learning_rate_factor(s, steps))
     history, recent = [], []
@@ -129,7 +133,7 @@ def train_denoiser(
     for step in tqdm(range(steps), desc="denoiser", disable=not progress):
         latents, audio, mask, style, latent_mask = sampler.sample(batch_size)
         loss = training_loss(model, latents, audio, mask, style, schedule, generator, objective,
-                             latent_mask=latent_mask, critic=critic)
+                             latent_mask=latent_mask, critic=critic, style_pool=pool)
         optimizer.zero_grad(set_to_none=True)
         loss.backward()
         torch.nn.utils.clip_grad_norm_(model.parameters(), GRAD_CLIP_NORM)

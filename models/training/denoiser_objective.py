@@ -18,6 +18,11 @@
   the prediction on the noisy frames (the given clean history elsewhere), E the frozen :class:`StyleCritic` and
   s the style's embedding. The paper completes the denoising from a random step before encoding; with an x0
   prediction the network's one-call x̂0 is that completion's estimate, which is what is used here.
+- Optionally, style swaps on speech (``style_swap_prob``, with a critic and a ``style_pool``): the paired takes
+  carry only the styles of their speakers, so the network never sees a style with the audio on and learns to
+  drop it whenever speech is heard. A share of the paired, whole-body sequences gets a style drawn from the pool
+  instead; their reconstruction counts ``SWAP_CONTENT_WEIGHT`` (the speech's timing and content) and their style
+  loss ``SWAP_STYLE_WEIGHT`` (the drawn style), the same Eq. 16 term against the drawn style's embedding.
 """
 
 from __future__ import annotations
@@ -38,6 +43,11 @@ class DenoiserTrainConfig:
     clean_history_prob: float = 0.5
     huber_delta: float = 1.0
     style_loss_weight: float = 0.0  # w_style of Eq. 16; 0: no style loss
+    style_swap_prob: float = 0.0  # share of paired whole-body sequences trained with a drawn style; 0: none
+
+
+SWAP_CONTENT_WEIGHT = 0.5  # reconstruction weight of a style-swapped sequence (1 for the others)
+SWAP_STYLE_WEIGHT = 0.3  # style-loss weight of a style-swapped sequence (w_style for the others)
 
 
 def sample_noise_levels(batch: int, num_latents: int, num_timesteps: int, clean_history_prob: float, generator):
@@ -75,12 +85,14 @@ def training_loss(
     config: DenoiserTrainConfig = DenoiserTrainConfig(),  # noqa: B008 (frozen dataclass)
     latent_mask: torch.Tensor | None = None,
     critic: StyleCritic | None = None,
+    style_pool: torch.Tensor | None = None,
 ) -> torch.Tensor:
     """Huber loss of the x0 prediction on noisy frames (plus the weighted style loss with a ``critic``).
 
     latents (B, N, C) clean VQ-VAE latents; audio (B, N*d + δa, F) features aligned with motion frame 0;
     audio_mask (B,) or (B, N): 1 where real audio accompanies the motion (0 for motion-only data);
-    style (B, S) style embeddings; latent_mask (B, C): 1 on the channels that are training targets (default all).
+    style (B, S) style embeddings; latent_mask (B, C): 1 on the channels that are training targets (default all);
+    style_pool (P, S): the styles a swapped sequence draws from (module docstring).
     """
     batch, num_latents, _ = latents.shape
     t = sample_noise_levels(batch, num_latents, schedule.num_timesteps, config.clean_history_prob, generator)
@@ -88,16 +100,31 @@ def training_loss(
     audio_present = audio_mask.float().reshape(batch, -1).expand(batch, num_latents)  # (B, N)
     style_present = (torch.rand(batch, generator=generator) >= config.style_drop_prob).float()  # (B,)
     lookahead = sample_lookaheads(model, batch, generator)  # (B,)
+    channels = torch.ones_like(latents[:, 0]) if latent_mask is None else latent_mask  # (B, C)
+    scored = style_present * (channels.min(dim=1).values == 1.0).float()  # (B,) styled, whole body
+    swapped = swap_mask(scored * audio_present[:, 0], config, critic, style_pool, generator)  # (B,)
+    if swapped.any():
+        drawn = style_pool[torch.randint(0, len(style_pool), (batch,), generator=generator)]  # (B, S)
+        style = torch.where(swapped[:, None] > 0, drawn, style)
     x0 = model(x_t, t, audio, audio_present, style, style_present, lookahead)  # (B, N, C)
     per_element = F.huber_loss(x0, latents, reduction="none", delta=config.huber_delta)  # (B, N, C)
-    channels = torch.ones_like(latents[:, 0]) if latent_mask is None else latent_mask  # (B, C)
+    content = 1.0 - swapped * (1.0 - SWAP_CONTENT_WEIGHT)  # (B,)
     weight = (t != CLEAN_TIMESTEP).float()[..., None] * channels[:, None, :]  # (B, N, C)
-    loss = (per_element * weight).sum() / weight.sum().clamp(min=1.0)
-    if critic is None or config.style_loss_weight == 0.0:
+    loss = (per_element * weight * content[:, None, None]).sum() / weight.sum().clamp(min=1.0)
+    if critic is None or (config.style_loss_weight == 0.0 and not swapped.any()):
         return loss
-    scored = style_present * (channels.min(dim=1).values == 1.0).float()  # (B,) styled, whole body
-    return loss + config.style_loss_weight * style_loss(critic, torch.where((t == CLEAN_TIMESTEP)[..., None],
-                                                                           latents, x0), style, scored)
+    denoised = torch.where((t == CLEAN_TIMESTEP)[..., None], latents, x0)  # (B, N, C)
+    own = config.style_loss_weight * style_loss(critic, denoised, style, scored * (1.0 - swapped))
+    return loss + own + SWAP_STYLE_WEIGHT * style_loss(critic, denoised, style, swapped)
+
+
+def swap_mask(eligible: torch.Tensor, config: DenoiserTrainConfig, critic: StyleCritic | None,
+              style_pool: torch.Tensor | None, generator: torch.Generator) -> torch.Tensor:
+    """(B,) 1 for the ``eligible`` (B,) sequences drawn for a style swap (none without a critic and a pool)."""
+    if critic is None or style_pool is None or config.style_swap_prob == 0.0:
+        return torch.zeros_like(eligible)
+    drawn = (torch.rand(eligible.shape, generator=generator) < config.style_swap_prob).float()  # (B,)
+    return eligible * drawn
 
 
 def style_loss(critic: StyleCritic, denoised: torch.Tensor, style: torch.Tensor, scored: torch.Tensor

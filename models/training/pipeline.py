@@ -252,10 +252,11 @@ def denoiser_stage(inputs: TrainInputs, preset: TrainPreset, checkpoint: dict, p
     if preset.audio_augmentation:
         audio_stats = FeatureStats.from_dict(stages["data"]["audio_stats"])
         augmenter = FeatureAugmenter(AudioAugmentConfig(), audio_stats, inputs.feature_config)
-    critic = style_critic(model, stages, latent_stats) if preset.style_loss_weight else None
+    styled = preset.style_loss_weight or preset.style_swap_prob
+    critic = style_critic(model, stages, latent_stats) if styled else None
     denoiser, metrics = train_denoiser(clips, config, den.steps, den.batch_size, den.sequence_latents,
                                        den.learning_rate, den.paired_fraction, preset.seed, progress, augmenter,
-                                       critic, preset.style_loss_weight)
+                                       critic, preset.style_loss_weight, styles.embeddings, preset.style_swap_prob)
     return {"config": config.to_dict(), "state": denoiser.state_dict(), "latent_stats": latent_stats.to_dict(),
             "metrics": metrics}
 

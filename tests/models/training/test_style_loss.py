@@ -87,3 +87,44 @@ def test_train_with_the_style_loss(tiny_model, tmp_path, capsys):
     assert trained["preset"]["style_loss_weight"] == 0.07
     plain = tiny_model[0]["stages"]["denoiser"]["state"]
     assert any(not torch.equal(value, plain[name]) for name, value in trained["stages"]["denoiser"]["state"].items())
+
+
+def swap_losses(tiny_model, audio_mask: torch.Tensor) -> dict[float, float]:
+    """The training loss with no swap and with every eligible sequence swapped to a one-style pool."""
+    critic, denoiser = critic_and_denoiser(tiny_model[0])
+    config = denoiser.config
+    latents = torch.randn(BATCH, LATENTS, config.latent_dim, generator=torch.Generator().manual_seed(1))
+    audio = torch.randn(BATCH, audio_frames_needed(LATENTS, config), config.audio_dim,
+                        generator=torch.Generator().manual_seed(2))
+    style = torch.nn.functional.normalize(torch.randn(BATCH, critic.encoder.config.embed_dim), dim=-1)
+    pool = -style[:1]  # a style far from every sequence's own
+    losses = {}
+    for swap in (0.0, 1.0):
+        objective = DenoiserTrainConfig(style_drop_prob=0.0, style_swap_prob=swap)
+        losses[swap] = float(training_loss(denoiser.eval(), latents, audio, audio_mask, style, get_schedule(),
+                                           torch.Generator().manual_seed(3), objective, critic=critic,
+                                           style_pool=pool))
+    return losses
+
+
+def test_style_swaps_touch_only_sequences_with_speech(tiny_model):
+    losses = swap_losses(tiny_model, torch.zeros(BATCH))
+    assert losses[1.0] == losses[0.0]  # motion-only sequences keep their own style and full reconstruction
+
+
+def test_a_swapped_speech_sequence_is_scored_against_the_drawn_style(tiny_model):
+    losses = swap_losses(tiny_model, torch.ones(BATCH))
+    # half the reconstruction plus 0.3 · (1 − cos) against a style opposite to the sequence's own (about 1 or more)
+    assert losses[1.0] > 0.5 * losses[0.0] + 0.3 * 0.5
+    assert losses[1.0] != losses[0.0]
+
+
+def test_train_with_style_swaps(tiny_model, tmp_path, capsys):
+    work = tmp_path / "work"
+    work.mkdir()
+    shutil.copy(tiny_model[1].parent / "work" / CHECKPOINT_FILE, tmp_path / CHECKPOINT_FILE)
+    args = ["train", "--preset", "tiny", "--data", str(tiny_model[1].parent / "dataset"), "--work-dir", str(work),
+            "--no-progress", "--vq-from", str(tmp_path), "--style-swap", "0.5"]
+    assert main(args) == 0
+    capsys.readouterr()
+    assert load_checkpoint(work / CHECKPOINT_FILE)["preset"]["style_swap_prob"] == 0.5
