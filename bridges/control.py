@@ -12,7 +12,11 @@ import math
 from dataclasses import dataclass
 
 from gesturecast.models.motion.root_anchor import ROOT_MODES
-from gesturecast.settings import GAMMA_RANGE, GUIDANCE_RANGE  # the same ranges as the flags and Settings
+from gesturecast.settings import (  # the same ranges as the flags and Settings
+    GAMMA_RANGE,
+    GUIDANCE_RANGE,
+    STYLE_STRENGTH_RANGE,
+)
 
 MAX_STYLE_CHARS = 200
 MAX_PROMPT_CHARS = 500
@@ -155,6 +159,7 @@ CONTROL_FIELDS: dict[str, TextField | NumberField | ChoiceField | PartStylesFiel
     "style2": StyleField(MAX_STYLE_CHARS),
     "part_styles": PartStylesField(StyleField(MAX_STYLE_CHARS)),
     "prompt": TextField(MAX_PROMPT_CHARS),
+    "style_strength": NumberField(*STYLE_STRENGTH_RANGE),  # 0 neutral .. 1 the default .. 2
     "guidance": NumberField(*GUIDANCE_RANGE),
     "audio_guidance": NumberField(*GUIDANCE_RANGE),  # s_a: how strongly the motion follows the speech
     "gamma": NumberField(*GAMMA_RANGE),

@@ -58,8 +58,10 @@ def add_generation_arguments(parser: argparse.ArgumentParser) -> None:
     group.add_argument("--style2", help="second style for γ interpolation/extrapolation")
     group.add_argument("--gamma", default=defaults.gamma, **_limited("gamma"),
                        help="x̂0 = γ·D(style) + (1 − γ)·D(style2)")
+    group.add_argument("--style-strength", default=defaults.style_strength, **_limited("style_strength"),
+                       help="how strongly the style shows: 0 neutral, 1 the model's default, up to 2")
     group.add_argument("--guidance", **_limited("guidance"),
-                       help="classifier-free guidance scale s (default: the model's)")
+                       help="classifier-free guidance scale s before --style-strength (default: the model's)")
     group.add_argument("--audio-guidance", default=defaults.audio_guidance, **_limited("audio_guidance"),
                        help="audio guidance s_a: > 1 makes the motion follow the speech more, 1 turns it off "
                             "(one batch row less)")

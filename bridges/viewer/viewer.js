@@ -11,7 +11,7 @@ const LATENCY_SMOOTHING = 0.1;
 const FPS_WINDOW_S = 1.0;
 const DRAG_RADIANS_PER_PIXEL = 0.01;
 const MAX_PITCH = 1.4;
-const SLIDERS = ["guidance", "audio_guidance"];  // numeric control fields (ranges from the hello's control_schema)
+const SLIDERS = ["style_strength", "guidance", "audio_guidance"];  // numeric control fields (ranges from the hello's control_schema)
 
 const state = {
   hello: null, frame: null, pose: null, frames: 0, latencyMs: null, arrivals: [], avatar: null,

@@ -56,7 +56,7 @@ from gesturecast.realtime.generation.style_mixture import (
     smooth_seams,
 )
 from gesturecast.realtime.generation.style_prompts import StyleResolver
-from gesturecast.settings import SINGLE_STYLE
+from gesturecast.settings import DEFAULT_STYLE_STRENGTH, SINGLE_STYLE
 
 logger = logging.getLogger(__name__)
 
@@ -66,7 +66,8 @@ NEUTRAL_STYLE = StylePrompt("label", "neutral")
 @dataclass(frozen=True)
 class GeneratorSettings:
     sampler: SamplerConfig = field(default_factory=lambda: SamplerConfig("ddim", 4))
-    guidance: float | None = None  # s; None = the bundle's default guidance scale
+    guidance: float | None = None  # s before the style strength; None = the bundle's default guidance scale
+    style_strength: float = DEFAULT_STYLE_STRENGTH  # k: the sampler's guidance is k·s (0: the null style's motion)
     style: StylePrompt = NEUTRAL_STYLE
     second_style: StylePrompt | None = None  # c2 of x̂0 = γ·D(c1) + (1 − γ)·D(c2)
     gamma: float = SINGLE_STYLE
@@ -122,8 +123,14 @@ class Generator:
         self.reset(self.settings.seed)
 
     @property
-    def guidance(self) -> float:
+    def base_guidance(self) -> float:
+        """s as asked for (the bundle's default unless set), before the style strength."""
         return self.bundle.default_guidance if self.settings.guidance is None else float(self.settings.guidance)
+
+    @property
+    def guidance(self) -> float:
+        """The sampler's classifier-free guidance scale: style strength k times s."""
+        return self.settings.style_strength * self.base_guidance
 
     @property
     def style_embedding(self) -> np.ndarray:
@@ -238,7 +245,13 @@ class Generator:
         self._apply_layout()
 
     def set_guidance(self, scale: float) -> None:
+        """s before the style strength."""
         self.settings = replace(self.settings, guidance=scale)
+        self._apply_layout()
+
+    def set_style_strength(self, strength: float) -> None:
+        """k of the sampler's guidance k·s: 0 is the null style's motion, 1 the default, 2 twice the style's pull."""
+        self.settings = replace(self.settings, style_strength=strength)
         self._apply_layout()
 
     def set_audio_guidance(self, scale: float) -> None:

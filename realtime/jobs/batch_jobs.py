@@ -43,6 +43,7 @@ CSV_COLUMNS: dict[str, tuple[str, Callable[[str], object]]] = {
     "style2": ("style2", str),
     "part_style": ("part_styles", str.split),  # space-separated PART=STYLE pairs, as --part-style takes them
     "gamma": ("gamma", NUMBER_LIMITS["gamma"].flag_type()),
+    "style_strength": ("style_strength", NUMBER_LIMITS["style_strength"].flag_type()),
     "guidance": ("guidance", NUMBER_LIMITS["guidance"].flag_type()),
     "audio_guidance": ("audio_guidance", NUMBER_LIMITS["audio_guidance"].flag_type()),
     "seed": ("seed", NUMBER_LIMITS["seed"].flag_type()),

@@ -56,17 +56,18 @@ class SessionControls:
         self.fade_s = fade_s
         self._inbox: deque[dict] = deque(maxlen=MAX_PENDING_CONTROLS)
         self._lock = threading.Lock()
-        self._guidance = Ramp(generator.guidance, fade_s)
+        self._guidance = Ramp(generator.base_guidance, fade_s)
+        self._style_strength = Ramp(generator.settings.style_strength, fade_s)
         self._audio_guidance = Ramp(generator.settings.audio_guidance, fade_s)
         self._gamma = Ramp(generator.settings.gamma, fade_s)
         self._blending_from: StylePrompt | None = None  # old style while a style change blends in
         self._mixture_ramp: Ramp | None = None  # W (R, C) flattened, while a part-style change blends in
 
     def submit(self, control: dict) -> None:
-        """Queue a schema-checked control message (keys: style, prompt, style2, part_styles, guidance,
-        audio_guidance, gamma, root); thread-safe. Its styles and body parts are resolved first, so one the model
-        cannot use raises UserError here (the caller answers the client) instead of failing the stream when
-        applied."""
+        """Queue a schema-checked control message (keys: style, prompt, style2, part_styles, style_strength,
+        guidance, audio_guidance, gamma, root); thread-safe. Its styles and body parts are resolved first, so one
+        the model cannot use raises UserError here (the caller answers the client) instead of failing the stream
+        when applied."""
         if "gesture" in control:
             self._check_gesture(control["gesture"])
         if "words" in control:
@@ -92,8 +93,11 @@ class SessionControls:
         self._update_style_blend(t)
         self._update_mixture_blend(t)
         guidance = float(self._guidance.value(t))
-        if guidance != self.generator.guidance:
+        if guidance != self.generator.base_guidance:
             self.generator.set_guidance(guidance)
+        strength = float(self._style_strength.value(t))
+        if strength != self.generator.settings.style_strength:
+            self.generator.set_style_strength(strength)
         audio_guidance = float(self._audio_guidance.value(t))
         if audio_guidance != self.generator.settings.audio_guidance:
             self.generator.set_audio_guidance(audio_guidance)
@@ -126,6 +130,8 @@ class SessionControls:
             self.root.set_mode(RootMode(control["root"]))  # re-anchored where the avatar stands: no jump
         if "guidance" in control:
             self._guidance.set_target(float(control["guidance"]), t)
+        if "style_strength" in control:
+            self._style_strength.set_target(float(control["style_strength"]), t)
         if "audio_guidance" in control:
             self._audio_guidance.set_target(float(control["audio_guidance"]), t)
         if "gamma" in control:

@@ -60,6 +60,7 @@ def generator_settings(settings: Settings, bundle: ModelBundle, budget: LatencyB
     return GeneratorSettings(
         sampler=SamplerConfig(settings.sampler, steps),
         guidance=settings.guidance,
+        style_strength=settings.style_strength,
         style=settings.style_prompt(),
         second_style=settings.second_style(),
         gamma=settings.gamma,

@@ -2,12 +2,12 @@
 
 Client → server:
 
-- ``{"type": "start", "style"?, "prompt"?, "style2"?, "part_styles"?, "gamma"?, "guidance"?, "audio_guidance"?, "seed"?,
-  "latency"?, "audio_format"?, "token"?}`` — optional before the first audio (defaults: the server's style and
-  latency setting, ``f32le``); ``latency`` is ``low``, ``balanced`` or ``quality`` (docs/latency.md); carries the
-  token when the server requires one.
+- ``{"type": "start", "style"?, "prompt"?, "style2"?, "part_styles"?, "gamma"?, "style_strength"?, "guidance"?,
+  "audio_guidance"?, "seed"?, "latency"?, "audio_format"?, "token"?}`` — optional before the first audio (defaults:
+  the server's style and latency setting, ``f32le``); ``latency`` is ``low``, ``balanced`` or ``quality``
+  (docs/latency.md); carries the token when the server requires one.
 - binary messages: raw PCM, 16 kHz mono, ``f32le`` (float32 in [-1, 1]) or ``s16le`` (int16).
-- ``{"type": "control", ...}`` — live style / guidance / audio guidance / γ changes
+- ``{"type": "control", ...}`` — live style / style strength / guidance / audio guidance / γ changes
   (:mod:`gesturecast.bridges.control`).
 - ``{"type": "end"}`` — no more audio: the rest of the poses, then a ``stats`` message, then close.
 
@@ -51,6 +51,7 @@ class StreamOptions:
     second_style: StylePrompt | None = None
     part_styles: PartStyles | None = None
     gamma: float | None = None
+    style_strength: float | None = None
     guidance: float | None = None
     audio_guidance: float | None = None
     root: str | None = None
@@ -121,6 +122,7 @@ def parse_start(message: dict) -> StreamOptions:
         second_style=client_style(control["style2"]) if "style2" in control else None,
         part_styles=client_part_styles(control["part_styles"]) if "part_styles" in control else None,
         gamma=control.get("gamma"),
+        style_strength=control.get("style_strength"),
         guidance=control.get("guidance"),
         audio_guidance=control.get("audio_guidance"),
         root=control.get("root"),

@@ -52,6 +52,7 @@ class StreamSessions:
             "second_style": options.second_style,
             "part_styles": options.part_styles,
             "gamma": options.gamma,
+            "style_strength": options.style_strength,
             "guidance": options.guidance,
             "audio_guidance": options.audio_guidance,
             "seed": options.seed,

@@ -52,8 +52,9 @@ def test_invalid_controls(message, reason):
 
 def test_schema_lists_every_field():
     schema = control_schema()
-    assert set(schema) == {"style", "style2", "part_styles", "prompt", "guidance", "audio_guidance", "gamma", "root",
-                           "gesture", "words"}
+    assert set(schema) == {"style", "style2", "part_styles", "prompt", "style_strength", "guidance", "audio_guidance",
+                           "gamma", "root", "gesture", "words"}
+    assert schema["style_strength"] == {"type": "number", "min": 0.0, "max": 2.0}
     assert schema["part_styles"]["type"] == "parts" and schema["part_styles"]["max_parts"] == 8
     assert schema["root"] == {"type": "choice", "choices": ["bounded", "free", "locked"]}
     assert schema["guidance"] == {"type": "number", "min": 0.0, "max": 10.0}

@@ -74,6 +74,18 @@ def test_guidance_one_equals_the_conditional_row_of_the_batched_call(bundle, aud
     assert np.abs(guided - latents(make(bundle, style=HAPPY, guidance=1.0, seed=1), audio)).max() > 1e-4
 
 
+def test_style_strength_scales_the_guidance_and_zero_gives_the_null_style_for_every_style(bundle, audio):
+    doubled = make(bundle, style=HAPPY, guidance=1.5, style_strength=2.0, seed=1)
+    assert doubled.guidance == 3.0 and doubled.base_guidance == 1.5
+    np.testing.assert_array_equal(latents(doubled, audio), latents(make(bundle, style=HAPPY, guidance=3.0, seed=1),
+                                                                   audio))
+    # k = 0: x̂0 = D(∅) whatever the style (no audio guidance, which would look at the style's own row)
+    neutral = {style: latents(make(bundle, style=style, style_strength=0.0, audio_guidance=1.0, seed=1), audio)
+               for style in (HAPPY, OLD)}
+    np.testing.assert_allclose(neutral[HAPPY], neutral[OLD], atol=1e-5)
+    assert np.abs(latents(make(bundle, style=HAPPY, audio_guidance=1.0, seed=1), audio) - neutral[HAPPY]).max() > 1e-4
+
+
 def test_gamma_one_equals_style_one(bundle, audio):
     style_one = make(bundle, style=HAPPY, guidance=1.5, seed=2)
     mixed = make(bundle, style=HAPPY, second_style=OLD, gamma=1.0, guidance=1.5, seed=2)

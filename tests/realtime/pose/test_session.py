@@ -203,6 +203,18 @@ def test_audio_guidance_ramps_in_and_out_live_without_a_pop(bundle, speech):
     assert max_step_degrees(frames).max() < 1.5 * max_step_degrees(unchanged).max() + 1.0
 
 
+def test_style_strength_ramps_live_and_leaves_the_guidance_setting_alone(bundle, speech):
+    session = make_session(bundle)
+    base = session.generator.base_guidance
+    for index, chunk in enumerate(FastFileSource(speech, chunk_samples=1600)):
+        if index == 10:
+            session.controls.submit({"style_strength": 0.0})
+        session.push(chunk)
+    session.finish()
+    assert session.generator.settings.style_strength == 0.0 and session.generator.guidance == 0.0
+    assert session.generator.base_guidance == base
+
+
 def test_silence_gives_calm_idle_motion(bundle, tmp_path):
     path = tmp_path / "silence.wav"
     soundfile.write(path, np.zeros(3 * SAMPLE_RATE, np.float32), SAMPLE_RATE)
