@@ -5,14 +5,14 @@ numpy + onnxruntime only (no torch). Per step (GestureDiffuCLIP §3.2, run autor
 1. draw x_T ~ N(0, I) for the new latent from the generator's own seeded RNG, and compute the
    rows' condition (audio-window token + style modulations) once — it is the same at every step;
 2. run the sampler (K-step DDIM, or the 1000-step DDPM path) — each step is ONE batched denoiser
-   call whose rows are [style 1 and one row per other body-part prompt, style 2 (only with γ), null
-   style (only with guidance s ≠ 1), style 1 without the audio (only with audio guidance s_a ≠ 1)],
-   all conditioned on the clean past latents through the KV cache and on that condition; the rows
-   are combined by :mod:`gesturecast.realtime.generation.style_mixture`: part fusion E = Σ_o E_o · M_o
-   (GestureDiffuCLIP §6.3), x̂0 = γ·x̂0 + (1 − γ)·D(c2) (DiffuseStyleGesture), classifier-free
-   guidance (Ho & Salimans 2022 eq. 6), audio guidance, and with part prompts the smoothness term;
-3. commit the clean latent to the history (folded into the next denoiser call) and decode it with
-   the streaming VQ decoder into d motion-feature frames (denormalised, canonical layout).
+   call whose rows are [style 1 and one row per other body-part prompt, style 2 (only with γ), the null
+   style (only with guidance s ≠ 1), the prompts without the audio (only with audio guidance s_a ≠ 1)],
+   every prompt its own trajectory (its own x_t and clean history in its rows' KV caches); the rows are
+   combined per trajectory by :mod:`gesturecast.realtime.generation.style_mixture`: x̂0 = γ·x̂0 + (1 − γ)·D(c2)
+   (DiffuseStyleGesture), classifier-free guidance (Ho & Salimans 2022 eq. 6) and audio guidance;
+3. commit each trajectory's clean latent to its rows' history (folded into the next denoiser call), fuse the
+   trajectories by body part (GestureDiffuCLIP §6.3, z = Σ_o z_o · M_o) and decode the result with the
+   streaming VQ decoder into d motion-feature frames (denormalised, canonical layout).
 
 The generator keeps no audio handling and no timing: the caller passes normalised audio windows
 (:meth:`ModelBundle.audio_stats`) laid out as :attr:`Generator.audio_config` says (the model's (A, F)
@@ -48,12 +48,11 @@ from gesturecast.models.runtime.denoiser import FrameInputs, roll_cache
 from gesturecast.models.runtime.ort_session import DEFAULT_THREADS
 from gesturecast.realtime.generation.style_mixture import (
     NO_GUIDANCE,
-    SEAM_SMOOTHING,
     RowLayout,
-    combine_rows,
+    fuse_trajectories,
+    guide_trajectories,
     part_mixture,
     row_layout,
-    smooth_seams,
 )
 from gesturecast.realtime.generation.style_prompts import StyleResolver
 from gesturecast.settings import DEFAULT_STYLE_STRENGTH, SINGLE_STYLE
@@ -67,7 +66,6 @@ NEUTRAL_STYLE = StylePrompt("label", "neutral")
 class GeneratorSettings:
     sampler: SamplerConfig = field(default_factory=lambda: SamplerConfig("ddim", 4))
     guidance: float | None = None  # s before the style strength; None = the bundle's default guidance scale
-    style_strength: float = DEFAULT_STYLE_STRENGTH  # k: the sampler's guidance is k·s (0: the null style's motion)
     style: StylePrompt = NEUTRAL_STYLE
     second_style: StylePrompt | None = None  # c2 of x̂0 = γ·D(c1) + (1 − γ)·D(c2)
     gamma: float = SINGLE_STYLE
@@ -76,16 +74,23 @@ class GeneratorSettings:
     audio_guidance: float = NO_GUIDANCE  # s_a: > 1 strengthens the speech's pull on the motion (extra row)
     lookahead: int | None = None  # δ: audio look-ahead frames heard (None = the model's δa; docs/latency.md)
     part_styles: PartStyles = ()  # (body part, prompt) pairs; parts not named follow ``style``
-    seam_smoothing: float = SEAM_SMOOTHING  # λ of the smoothness term (with more than one part prompt)
+    style_strength: float = DEFAULT_STYLE_STRENGTH  # k: the sampler's guidance is k·s (0: the null style's motion)
 
 
 @dataclass(frozen=True)
 class HistoryFrame:
-    """A committed clean latent (normalised) and the conditions it was committed with."""
+    """A committed clean latent (normalised, the fusion of the parts), the conditions it was committed with, and
+    each prompt's own clean latent (its trajectory; empty for seed-gesture frames)."""
 
     latent: np.ndarray  # (C,)
     window: np.ndarray  # (A, F)
     audio_present: float
+    by_prompt: dict[StylePrompt, np.ndarray] = field(default_factory=dict)  # prompt → (C,)
+
+    def latent_of(self, prompt: StylePrompt) -> np.ndarray:
+        """(C,) the history a trajectory of ``prompt`` sees: its own latent, else the fused one (a new prompt
+        starts from the body as it is)."""
+        return self.by_prompt.get(prompt, self.latent)
 
 
 def check_lookahead(config: DenoiserConfig, lookahead: int) -> None:
@@ -194,6 +199,8 @@ class Generator:
         if not self.history:
             return
         length = len(self.history)
+        trajectories = [self._mixture_prompts[index] for index in self.layout.row_trajectory]  # (B,)
+        latents = np.stack([[h.latent_of(prompt) for h in self.history] for prompt in trajectories])  # (B, M, C)
         condition = self.denoiser.condition(
             np.broadcast_to(np.stack([h.window for h in self.history]), (batch, length, *self.history[0].window.shape)),
             self.layout.hears_audio[:, None] * np.array([h.audio_present for h in self.history], np.float32),  # (B, M)
@@ -202,7 +209,7 @@ class Generator:
             self.lookahead,
         )  # (B, M, Dc)
         frames = FrameInputs(
-            np.broadcast_to(np.stack([h.latent for h in self.history]), (batch, length, self.latent_dim)).copy(),
+            latents.astype(np.float32),
             np.full((batch, length), CLEAN_TIMESTEP, np.int64),
             condition,
         )
@@ -280,21 +287,20 @@ class Generator:
         present = layout.hears_audio * float(audio_present)  # (B,)
         condition = self.denoiser.frame_condition(windows, layout.styles, present, layout.style_present,
                                                   self.lookahead)  # (B, Dc)
-        x = self.rng.standard_normal(self.latent_dim)  # (C,) x_T
+        trajectory = layout.row_trajectory  # (B,)
+        x = np.repeat(self.rng.standard_normal(self.latent_dim)[None], layout.mixture_rows, axis=0)  # (R, C) x_T
         for t, t_prev in self._plan:
-            rows = np.broadcast_to(x, (layout.batch, self.latent_dim))  # (B, C)
-            x0_rows = self.denoiser.step(rows, t, condition)
-            x0 = combine_rows(x0_rows, layout, self.settings.gamma, self.guidance, self.settings.audio_guidance,
-                              self._weights)  # (C,)
-            if layout.mixture_rows > 1:
-                x0 = smooth_seams(x0, [h.latent for h in list(self.history)[-2:]], self.settings.seam_smoothing)
+            x0_rows = self.denoiser.step(x[trajectory], t, condition)  # (B, C)
+            x0 = guide_trajectories(x0_rows, layout, self.settings.gamma, self.guidance,
+                                    self.settings.audio_guidance)  # (R, C)
             if imposed is not None:
                 target, weights = imposed
-                x0 = x0 + weights * (target - x0)  # (C,)
+                x0 = x0 + weights * (target - x0)  # (R, C)
             x = sampler_step(self.schedule, self.settings.sampler, x0, t, t_prev, x, self._noise(t_prev))
-        self.denoiser.commit(np.broadcast_to(x, (layout.batch, self.latent_dim)), condition)
-        latent = x.astype(np.float32)  # (C,)
-        self.history.append(HistoryFrame(latent, audio_window, float(audio_present)))
+        self.denoiser.commit(x[trajectory], condition)
+        latent = fuse_trajectories(x, self._weights).astype(np.float32)  # (C,)
+        own = dict(zip(self._mixture_prompts, x.astype(np.float32), strict=True)) if layout.mixture_rows > 1 else {}
+        self.history.append(HistoryFrame(latent, audio_window, float(audio_present), own))
         return latent
 
     def decode(self, latent: np.ndarray) -> np.ndarray:

@@ -1,25 +1,25 @@
 """Which rows one batched denoiser call holds and how their x0 predictions become one (numpy only).
 
-Rows, in order: the R style rows of the *style mixture* (row 0 is the base style c1), then c2 (only
-with γ ≠ 1), the null style (only with guidance s ≠ 1) and c1 without the audio (only with audio
-guidance s_a ≠ 1). Every row sees the same x_t and the same history through its own KV cache.
+Every prompt of the *style mixture* (R prompts, row 0 the base style c1) is its own sampling trajectory: its
+own x_t and its own history of clean latents (in its row's KV cache), i.e. the whole-body generation of that
+prompt alone. Rows, in order: the R style rows, then c2 (only with γ ≠ 1; it mixes into the base trajectory),
+one null-style row per trajectory (only with guidance s ≠ 1) and one row of each prompt without the audio (only
+with audio guidance s_a ≠ 1). With one style that is [c1, (c2), (∅), (c1, ∅a)] as in the single-style sampler.
 
-The style mixture is GestureDiffuCLIP §6.3's body-part style control on x0 predictions: a weight
-matrix W (R, C) gives each latent channel's share of each style row, Σ_r W[r, c] = 1. With per-part
-prompts W[r] is the 0/1 mask M_o of the channels of the parts whose prompt is row r, so the fused
-prediction is E = Σ_o E_o · M_o; a change of part styles ramps W (a soft mask) instead of jumping.
-With one style W is all ones on row 0 and everything below reduces to the single-style rules:
+Per trajectory r (GestureDiffuCLIP §6.3's body-part style control, with the parts' trajectories kept apart):
 
-    x̂0 = Σ_r W_r ⊙ D(c_r)                               (part fusion; D(c1) with one style)
-    x̂0 ← γ·x̂0 + (1 − γ)·D(c2)                           (DiffuseStyleGesture style interpolation)
-    x̂0 ← D(∅) + s·(x̂0 − D(∅))                           (classifier-free guidance, Ho & Salimans 2022 eq. 6)
-    x̂0 ← x̂0 + (s_a − 1)·(D(c1) − D(c1, ∅a))             (audio guidance)
-    x̂0 ← x̂0 − λ·(x̂0 − 2 z_{n−1} + z_{n−2})              (smoothness term, only with R > 1)
+    x̂0_r = D(c_r)                                       (style r)
+    x̂0_0 ← γ·x̂0_0 + (1 − γ)·D(c2)                       (DiffuseStyleGesture style interpolation, base only)
+    x̂0_r ← D_r(∅) + s·(x̂0_r − D_r(∅))                   (classifier-free guidance, Ho & Salimans 2022 eq. 6)
+    x̂0_r ← x̂0_r + (s_a − 1)·(D(c_r) − D(c_r, ∅a))       (audio guidance)
 
-Since γ mixing and guidance are linear, applying them after the fusion equals applying them per part
-and fusing. The smoothness term is one gradient step of λ on ½‖x̂0 − 2z_{n−1} + z_{n−2}‖², the
-second difference of the latent sequence at the new frame: parts that follow different prompts are
-pulled toward the common trajectory of the clean history so their border does not jerk.
+and the motion is their fusion, z = Σ_r W_r ⊙ z_r, with a weight matrix W (R, C) giving each latent channel's
+share of each trajectory, Σ_r W[r, c] = 1: with per-part prompts W[r] is the 0/1 mask M_o of the channels of
+the parts whose prompt is r (E = Σ_o E_o · M_o on whole trajectories), and a change of part styles ramps W (a
+soft mask) instead of jumping. A part therefore moves as the same speech, seed and prompt move it on a whole
+body; the parts share the audio and the noise, so their timing stays one. Fusing the predictions of one shared
+trajectory instead (the first version) fed every prompt's row a history made mostly of the other prompts'
+parts, which pulled a part back toward the base style (docs/part-styles.md).
 """
 
 from __future__ import annotations
@@ -34,13 +34,12 @@ from gesturecast.models.generator.style_prompt import StylePrompt
 from gesturecast.settings import SINGLE_STYLE  # γ = 1 is style 1 alone: no second-style row needed
 
 NO_GUIDANCE = 1.0  # s = 1 is the conditional prediction alone: no null-style row needed
-SEAM_SMOOTHING = 0.2  # λ of the smoothness term (docs/part-styles.md: seam vs λ)
 
 
 @dataclass(frozen=True)
 class RowLayout:
     """The rows of one batched denoiser call: style embeddings (B, S), style_present (B,), hears_audio (B,)
-    (0 on the audio-null row), the mixture's style row count R and its channel weights W (R, C)."""
+    (0 on the audio-null rows) and the mixture's prompt (= trajectory) count R."""
 
     styles: np.ndarray
     style_present: np.ndarray
@@ -59,8 +58,24 @@ class RowLayout:
         return self.mixture_rows
 
     @property
-    def null_row(self) -> int:
-        return self.batch - 1 - int(self.has_audio_null)
+    def null_rows(self) -> slice:
+        """The R null-style rows (one per trajectory)."""
+        start = self.mixture_rows + int(self.has_second)
+        return slice(start, start + self.mixture_rows)
+
+    @property
+    def audio_null_rows(self) -> slice:
+        """The R rows of the prompts without the audio."""
+        start = self.mixture_rows + int(self.has_second) + self.mixture_rows * int(self.has_null)
+        return slice(start, start + self.mixture_rows)
+
+    @property
+    def row_trajectory(self) -> np.ndarray:
+        """(B,) the trajectory whose x_t and history each row sees."""
+        trajectories = np.arange(self.mixture_rows)
+        second = [0] if self.has_second else []
+        repeats = int(self.has_null) + int(self.has_audio_null)
+        return np.concatenate([trajectories, second, *([trajectories] * repeats)]).astype(np.int64)
 
     def same_rows(self, other: RowLayout) -> bool:
         return (self.mixture_rows, self.has_second, self.has_null, self.has_audio_null) == (
@@ -74,11 +89,13 @@ def row_layout(mixture: np.ndarray, second: np.ndarray | None, gamma: float, gui
     has_second = second is not None and gamma != SINGLE_STYLE
     has_null = guidance != NO_GUIDANCE
     has_audio_null = audio_guidance != NO_GUIDANCE
-    rows = list(mixture) + ([second] if has_second else []) + ([np.zeros_like(mixture[0])] if has_null else [])
-    present = [1.0] * len(mixture) + ([1.0] if has_second else []) + ([0.0] if has_null else [])
+    count = len(mixture)
+    nulls = [np.zeros_like(mixture[0])] * count if has_null else []
+    rows = list(mixture) + ([second] if has_second else []) + nulls
+    present = [1.0] * (count + int(has_second)) + [0.0] * len(nulls)
     hears = [1.0] * len(rows)
     if has_audio_null:
-        rows, present, hears = rows + [mixture[0]], present + [1.0], hears + [0.0]
+        rows, present, hears = rows + list(mixture), present + [1.0] * count, hears + [0.0] * count
     return RowLayout(np.stack(rows).astype(np.float32), np.asarray(present, np.float32),
                      np.asarray(hears, np.float32), len(mixture), has_second, has_null, has_audio_null)
 
@@ -88,28 +105,23 @@ def single_style_weights(latent_dim: int) -> np.ndarray:
     return np.ones((1, latent_dim), np.float32)
 
 
-def combine_rows(x0_rows: np.ndarray, layout: RowLayout, gamma: float, guidance: float,
-                 audio_guidance: float = NO_GUIDANCE, weights: np.ndarray | None = None) -> np.ndarray:
-    """(B, C) per-row x0 predictions → the guided (C,) prediction (module docstring, without the smoothness
-    term); ``weights`` W (R, C), default row 0 alone."""
+def guide_trajectories(x0_rows: np.ndarray, layout: RowLayout, gamma: float, guidance: float,
+                       audio_guidance: float = NO_GUIDANCE) -> np.ndarray:
+    """(B, C) per-row x0 predictions → the guided prediction of every trajectory (R, C) (module docstring)."""
     x0 = x0_rows.astype(np.float64)
-    rows = layout.mixture_rows
-    fused = x0[0] if weights is None else np.einsum("rc,rc->c", weights, x0[:rows])  # (C,)
-    guided = style_interpolation(fused, x0[layout.second_row], gamma) if layout.has_second else fused
+    guided = x0[: layout.mixture_rows].copy()  # (R, C)
+    if layout.has_second:
+        guided[0] = style_interpolation(guided[0], x0[layout.second_row], gamma)
     if layout.has_null:
-        guided = classifier_free_guidance(x0[layout.null_row], guided, guidance)
+        guided = classifier_free_guidance(x0[layout.null_rows], guided, guidance)
     if layout.has_audio_null:
-        guided = guided + (audio_guidance - NO_GUIDANCE) * (x0[0] - x0[-1])
+        guided = guided + (audio_guidance - NO_GUIDANCE) * (x0[: layout.mixture_rows] - x0[layout.audio_null_rows])
     return guided
 
 
-def smooth_seams(x0: np.ndarray, history: list[np.ndarray], strength: float = SEAM_SMOOTHING) -> np.ndarray:
-    """x̂0 − λ·(x̂0 − 2 z_{n−1} + z_{n−2}): one gradient step on the latent second difference; (C,) → (C,).
-    Needs two committed latents; with fewer it returns x̂0 unchanged."""
-    if len(history) < 2:
-        return x0
-    second_difference = x0 - 2.0 * history[-1] + history[-2]  # (C,)
-    return x0 - strength * second_difference
+def fuse_trajectories(trajectories: np.ndarray, weights: np.ndarray) -> np.ndarray:
+    """z = Σ_r W_r ⊙ z_r: trajectories (R, C), W (R, C) → (C,)."""
+    return np.einsum("rc,rc->c", weights, trajectories)
 
 
 def part_mixture(base: StylePrompt, part_styles: dict[str, StylePrompt], part_channels: dict[str, slice],

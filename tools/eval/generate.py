@@ -24,7 +24,6 @@ from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.realtime.audio.sources import FastFileSource, PacedFileSource
 from gesturecast.realtime.engine_cli import frames_to_motion
 from gesturecast.realtime.generation.generator import Generator, GeneratorSettings
-from gesturecast.realtime.generation.style_mixture import SEAM_SMOOTHING
 from gesturecast.realtime.pose.session import GestureSession
 from gesturecast.realtime.run.engine import LiveEngine, run_offline
 from gesturecast.realtime.timing.clock import FakeClock
@@ -52,13 +51,12 @@ class Generated:
 
 def _session(bundle: ModelBundle, sampler: SamplerConfig, style: str | StylePrompt, seed: int, clock: FakeClock,
              audio_guidance: float = DEFAULT_AUDIO_GUIDANCE, lookahead: int | None = None,
-             guidance: float | None = None, part_styles: PartStyles = (),
-             seam_smoothing: float = SEAM_SMOOTHING) -> GestureSession:
+             guidance: float | None = None, part_styles: PartStyles = ()) -> GestureSession:
     """A session on a fake clock; ``style`` is a label or any prompt, ``part_styles`` per-part prompts over it."""
     prompt = style if isinstance(style, StylePrompt) else StylePrompt("label", style)
     settings = GeneratorSettings(sampler=sampler, style=prompt, seed=seed, threads=1,
                                  audio_guidance=audio_guidance, lookahead=lookahead, guidance=guidance,
-                                 part_styles=part_styles, seam_smoothing=seam_smoothing)
+                                 part_styles=part_styles)
     generator = Generator(bundle, settings)
     budget = LatencyBudget(bundle.frames_per_latent, generator.lookahead, LATENCY_MARGIN_MS,
                            smoothing_frames=DEFAULT_SMOOTHING_FRAMES)
@@ -81,14 +79,13 @@ def _with_wav(audio: np.ndarray, run):
 def generate_offline(
     bundle: ModelBundle, sampler: SamplerConfig, clip: EvalClip, style: str | StylePrompt, seed: int = 0,
     audio_guidance: float = DEFAULT_AUDIO_GUIDANCE, lookahead: int | None = None, guidance: float | None = None,
-    part_styles: PartStyles = (), seam_smoothing: float = SEAM_SMOOTHING,
+    part_styles: PartStyles = (),
 ) -> Generated:
     """Motion for the clip's audio in ``style`` through ``run_offline`` (the `generate` path), at look-ahead
     ``lookahead`` (default: the model's δa) and style guidance ``guidance`` (default: the model's); body parts
-    named in ``part_styles`` follow their own prompt, their seams smoothed with λ = ``seam_smoothing``."""
+    named in ``part_styles`` follow their own prompt."""
     start = time.perf_counter()
-    session = _session(bundle, sampler, style, seed, FakeClock(), audio_guidance, lookahead, guidance, part_styles,
-                       seam_smoothing)
+    session = _session(bundle, sampler, style, seed, FakeClock(), audio_guidance, lookahead, guidance, part_styles)
     setup_s = time.perf_counter() - start
     frames, _ = _with_wav(clip.audio, lambda path: run_offline(session, FastFileSource(path)))
     return _generated(frames, start, setup_s)

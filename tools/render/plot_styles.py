@@ -3,9 +3,9 @@
 ``OUT.png``: the confusion matrix at the guidance scale with the best mean style accuracy (rows: requested
 style, columns: predicted label, row-normalised, annotated), mean style accuracy vs s with chance, and what
 s does to the neutral style (beat consistency, FGD, jerk, acceleration, speed relative to the first s).
-``OUT_parts.png``: per-part styles — each part's distance share d_own / (d_own + d_other) (below 0.5:
-closer to its own prompt) and the seam roughness at the border joints for single-style runs and per-part
-runs with λ = 0 and the product's λ.
+``OUT_parts.png``: per-part styles — each part's progress from the other prompt's single-style run toward its
+own prompt's (1: as its own prompt moves a whole body) and the seam roughness at the border joints of the
+single-style and per-part runs.
 """
 
 from __future__ import annotations
@@ -117,21 +117,20 @@ def plot_parts(report: dict, out_path: Path) -> Path:
     plt = _pyplot()
     study = report["part_styles"]
     pairs = study["pairs"]
-    fig, (share_axis, seam_axis) = plt.subplots(1, 2, figsize=(13, 4.5), layout="constrained")
+    fig, (progress_axis, seam_axis) = plt.subplots(1, 2, figsize=(13, 4.5), layout="constrained")
     parts = list(pairs[0]["signatures"])
     width = 0.8 / len(parts)
     for k, part in enumerate(parts):
-        shares = [p["signatures"][part]["share"] or 0.0 for p in pairs]
-        share_axis.bar(np.arange(len(pairs)) + (k - (len(parts) - 1) / 2) * width, shares, width, label=part)
-    share_axis.axhline(0.5, color="0.3", linestyle="--", linewidth=0.8)
-    share_axis.set_xticks(range(len(pairs)), [p["pair"] for p in pairs], fontsize=8)
-    share_axis.set_ylabel("d_own / (d_own + d_other)  (< 0.5: like its own prompt)")
-    share_axis.set_ylim(0.0, 1.0)
-    share_axis.legend(title="part", fontsize=8)
-    share_axis.set_title(f"part signatures at s = {study['guidance']:g}")
-    kinds = [("single-style runs", lambda p: p["seams"]["single_style_border_mean"])]
-    kinds += [(f"per-part, λ = {value}", lambda p, v=value: p["seams"]["per_part"][v]["border"])
-              for value in pairs[0]["seams"]["per_part"]]
+        progress = [p["signatures"][part]["progress"] or 0.0 for p in pairs]
+        progress_axis.bar(np.arange(len(pairs)) + (k - (len(parts) - 1) / 2) * width, progress, width, label=part)
+    progress_axis.axhline(0.5, color="0.3", linestyle="--", linewidth=0.8)
+    progress_axis.axhline(1.0, color="0.3", linestyle=":", linewidth=0.8)
+    progress_axis.set_xticks(range(len(pairs)), [p["pair"] for p in pairs], fontsize=8)
+    progress_axis.set_ylabel("progress toward its own prompt (1: as on a whole body)")
+    progress_axis.legend(title="part", fontsize=8)
+    progress_axis.set_title(f"part signatures at s = {study['guidance']:g}")
+    kinds = [("single-style runs", lambda p: p["seams"]["single_style_border_mean"]),
+             ("per-part run", lambda p: p["seams"]["per_part"]["border"])]
     width = 0.8 / len(kinds)
     for k, (name, value) in enumerate(kinds):
         seam_axis.bar(np.arange(len(pairs)) + (k - (len(kinds) - 1) / 2) * width, [value(p) for p in pairs], width,

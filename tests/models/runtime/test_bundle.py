@@ -13,7 +13,7 @@ from gesturecast.models.generator.diffusion import CLEAN_TIMESTEP, get_schedule,
 from gesturecast.models.generator.style_prompt import StylePrompt
 from gesturecast.models.networks.denoiser import KVCache
 from gesturecast.models.runtime.bundle import MANIFEST_FILE, ONNX_FILES, ModelBundle
-from gesturecast.realtime.generation.generator import Generator, GeneratorSettings, combine_rows
+from gesturecast.realtime.generation.generator import Generator, GeneratorSettings, guide_trajectories
 
 GUIDANCE = 2.0
 SEED = 11
@@ -44,7 +44,7 @@ def torch_generator_steps(checkpoint, bundle, generator: Generator, windows: np.
                 rows = torch.as_tensor(x, dtype=torch.float32)[None].expand(layout.batch, -1)  # (B, C)
                 timesteps = torch.full((layout.batch,), t, dtype=torch.int64)
                 x0_rows, _ = denoiser.step(rows, timesteps, audio, styles, cache, style_present=style_present)
-                x0 = combine_rows(x0_rows.numpy(), layout, 1.0, GUIDANCE)
+                x0 = guide_trajectories(x0_rows.numpy(), layout, 1.0, GUIDANCE)[0]  # one style: one trajectory
                 x = sampler_step(schedule, generator.settings.sampler, x0, t, t_prev, x)
             clean = torch.as_tensor(x, dtype=torch.float32)[None].expand(layout.batch, -1)  # (B, C)
             commit_t = torch.full((layout.batch,), CLEAN_TIMESTEP, dtype=torch.int64)

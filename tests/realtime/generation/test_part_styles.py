@@ -4,17 +4,16 @@ import numpy as np
 import pytest
 
 from gesturecast.errors import UserError
-from gesturecast.models.generator.diffusion import SamplerConfig
 from gesturecast.models.generator.style_prompt import StylePrompt, parse_part_styles
 from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.realtime.generation.generator import Generator, GeneratorSettings
 from gesturecast.realtime.generation.style_mixture import (
     align_mixtures,
-    combine_rows,
     drop_unused_rows,
+    fuse_trajectories,
+    guide_trajectories,
     part_mixture,
     row_layout,
-    smooth_seams,
 )
 from gesturecast.realtime.pose.session_controls import MAX_MIXTURE_ROWS, SessionControls
 
@@ -65,17 +64,24 @@ def test_mixture_weights_are_the_parts_channel_masks():
         part_mixture(NEUTRAL, {"tail": HAPPY}, CHANNELS, 5)
 
 
-def test_fusion_takes_each_part_from_its_own_prompt_and_commutes_with_guidance():
+def test_every_prompt_is_guided_on_its_own_trajectory_and_the_parts_are_fused_by_their_masks():
     rng = np.random.default_rng(0)
     styles = rng.standard_normal((2, 4)).astype(np.float32)
     prompts, weights = part_mixture(NEUTRAL, {"arms": HAPPY}, CHANNELS, 5)
-    layout = row_layout(styles, None, 1.0, guidance=2.0)
-    assert layout.batch == 3 and layout.mixture_rows == 2  # neutral, happy, null
-    x0_rows = rng.standard_normal((3, 5))
-    fused = combine_rows(x0_rows, layout, 1.0, 2.0, weights=weights)
-    for row, channels in ((1, CHANNELS["arms"]), (0, slice(2, 5))):  # each part is its prompt's guided prediction
-        guided = x0_rows[2] + 2.0 * (x0_rows[row] - x0_rows[2])
-        np.testing.assert_allclose(fused[channels], guided[channels])
+    layout = row_layout(styles, None, 1.0, guidance=2.0, audio_guidance=1.5)
+    # neutral, happy, a null row per trajectory, each prompt without the audio
+    assert layout.batch == 6 and layout.mixture_rows == 2
+    np.testing.assert_array_equal(layout.row_trajectory, [0, 1, 0, 1, 0, 1])
+    np.testing.assert_array_equal(layout.style_present, [1, 1, 0, 0, 1, 1])
+    np.testing.assert_array_equal(layout.hears_audio, [1, 1, 1, 1, 0, 0])
+    x0_rows = rng.standard_normal((6, 5))
+    guided = guide_trajectories(x0_rows, layout, 1.0, 2.0, 1.5)  # (R, C)
+    for row in (0, 1):
+        expected = x0_rows[2 + row] + 2.0 * (x0_rows[row] - x0_rows[2 + row]) + 0.5 * (x0_rows[row] - x0_rows[4 + row])
+        np.testing.assert_allclose(guided[row], expected)
+    fused = fuse_trajectories(guided, weights)
+    np.testing.assert_allclose(fused[CHANNELS["arms"]], guided[1, CHANNELS["arms"]])
+    np.testing.assert_allclose(fused[2:], guided[0, 2:])
 
 
 def test_mixtures_align_for_a_ramp_and_unused_prompts_drop():
@@ -91,36 +97,28 @@ def test_mixtures_align_for_a_ramp_and_unused_prompts_drop():
     assert prompts == [NEUTRAL, OLD] and weights.shape == (2, 5)
 
 
-def test_smoothness_term_is_a_step_toward_the_linear_continuation_of_the_history():
-    history = [np.zeros(3), np.ones(3)]
-    x0 = np.full(3, 5.0)  # the continuation would be 2
-    np.testing.assert_allclose(smooth_seams(x0, history, 0.25), 5.0 - 0.25 * 3.0)
-    np.testing.assert_array_equal(smooth_seams(x0, history[:1], 0.25), x0)  # needs two committed latents
-
-
 def test_part_styles_add_one_row_per_other_prompt_and_keep_single_style_output(bundle, audio):
     single = make(bundle, style=HAPPY)
     same_prompt_everywhere = make(bundle, style=HAPPY, part_styles=(("arms", HAPPY), ("legs", HAPPY)))
     assert same_prompt_everywhere.layout.batch == single.layout.batch == 2  # style + null
     np.testing.assert_array_equal(latents(single, audio), latents(same_prompt_everywhere, audio))
     two = make(bundle, style=OLD, part_styles=(("arms", HAPPY),))
-    assert two.layout.batch == 3
+    assert two.layout.batch == 4  # two styles, a null row for each
     result = latents(two, audio)
     assert np.isfinite(result).all()
     assert np.abs(result - latents(make(bundle, style=OLD), audio)).max() > 1e-3
 
 
-def test_each_part_follows_its_prompt_on_the_first_latent(bundle, audio):
-    """With one sampling step and no history yet (no smoothness term), a part's channels equal those of a run
-    with its prompt alone: E = Σ_o E_o · M_o."""
+def test_each_part_moves_as_its_prompt_moves_a_whole_body_latent_after_latent(bundle, audio):
+    """Every prompt is its own trajectory (its own x_t and history): a part's channels equal those of a run with
+    its prompt alone, on every latent, not only the first."""
     channels = bundle.part_channels
-    one_step = SamplerConfig("ddim", 1)
-    mixed = make(bundle, style=OLD, part_styles=(("arms", HAPPY),), seed=2, sampler=one_step).denoise(audio[0], True)
-    happy = make(bundle, style=HAPPY, seed=2, sampler=one_step).denoise(audio[0], True)
-    old = make(bundle, style=OLD, seed=2, sampler=one_step).denoise(audio[0], True)
-    np.testing.assert_allclose(mixed[channels["arms"]], happy[channels["arms"]], atol=1e-5)
+    mixed = latents(make(bundle, style=OLD, part_styles=(("arms", HAPPY),), seed=2, audio_guidance=1.5), audio)
+    happy = latents(make(bundle, style=HAPPY, seed=2, audio_guidance=1.5), audio)
+    old = latents(make(bundle, style=OLD, seed=2, audio_guidance=1.5), audio)
+    np.testing.assert_allclose(mixed[:, channels["arms"]], happy[:, channels["arms"]], atol=1e-5)
     for part in ("torso", "legs"):
-        np.testing.assert_allclose(mixed[channels[part]], old[channels[part]], atol=1e-5)
+        np.testing.assert_allclose(mixed[:, channels[part]], old[:, channels[part]], atol=1e-5)
 
 
 def test_a_live_part_style_change_blends_in_and_then_drops_the_old_prompt(bundle, audio):

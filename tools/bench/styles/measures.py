@@ -72,11 +72,15 @@ def part_signature(rotations: np.ndarray, positions: np.ndarray, part: str, fps:
 
 def signature_distances(result: np.ndarray, own: np.ndarray, other: np.ndarray) -> dict:
     """Euclidean distances of a part's signature to the single-style runs of its own and of the other prompt;
-    ``share`` = d_own / (d_own + d_other): 0 = like its own prompt, 0.5 = halfway, 1 = like the other."""
+    ``share`` = d_own / (d_own + d_other): 0 = like its own prompt, 0.5 = halfway, 1 = like the other;
+    ``progress``: how far the part went from the other prompt's run toward its own prompt's run, the projection
+    (r − o)·(w − o) / |w − o|² (0 = like the other prompt, 1 = like its own)."""
     d_own, d_other = float(np.linalg.norm(result - own)), float(np.linalg.norm(result - other))
-    total = d_own + d_other
+    total, apart = d_own + d_other, own - other
+    span = float(np.dot(apart, apart))
     return {"to_own": d_own, "to_other": d_other, "share": d_own / total if total > 0 else None,
-            "prompts_apart": float(np.linalg.norm(own - other)), "closer_to_own": d_own < d_other}
+            "progress": float(np.dot(result - other, apart)) / span if span > 0 else None,
+            "prompts_apart": float(np.sqrt(span)), "closer_to_own": d_own < d_other}
 
 
 def border_joints() -> tuple[str, ...]:

@@ -1,7 +1,7 @@
 """The generations a style study needs, each made once: one speech clip, many style requests.
 
-A :class:`StyleRequest` is one way of asking for a style (a prompt, a guidance scale s, per-part prompts,
-the seam smoothing λ, a seed); :class:`StudyRuns` generates it through the product's offline session
+A :class:`StyleRequest` is one way of asking for a style (a prompt, a guidance scale s, per-part prompts, a
+seed); :class:`StudyRuns` generates it through the product's offline session
 (:func:`gesturecast.tools.eval.generate.generate_offline`, DDIM K steps) and remembers the result,
 so the single-style runs of the accuracy sweep are reused by the motion-prompt and per-part comparisons.
 :meth:`StudyRuns.real_time_factor` generates afresh instead, for timing requests back to back.
@@ -16,7 +16,6 @@ from gesturecast.models.generator.diffusion import SamplerConfig
 from gesturecast.models.generator.style_prompt import PartStyles, StylePrompt
 from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.realtime.generation.generator import Generator, GeneratorSettings
-from gesturecast.realtime.generation.style_mixture import SEAM_SMOOTHING
 from gesturecast.settings import DEFAULT_AUDIO_GUIDANCE
 from gesturecast.tools.eval.clips import EvalClip
 from gesturecast.tools.eval.generate import Generated, generate_offline
@@ -27,7 +26,6 @@ class StyleRequest:
     style: StylePrompt
     guidance: float
     part_styles: PartStyles = ()
-    seam_smoothing: float = SEAM_SMOOTHING
     seed: int = 0
 
 
@@ -50,15 +48,14 @@ class StudyRuns:
         if key not in self.results:
             self.results[key] = generate_offline(
                 self.bundle, self.sampler, clip, request.style, request.seed, self.audio_guidance,
-                guidance=request.guidance, part_styles=request.part_styles, seam_smoothing=request.seam_smoothing)
+                guidance=request.guidance, part_styles=request.part_styles)
         return self.results[key]
 
     def real_time_factor(self, request: StyleRequest) -> float:
         """Wall seconds per generated second of a fresh generation of ``request``, session setup excluded."""
         started = time.perf_counter()
         generated = generate_offline(self.bundle, self.sampler, self.clip, request.style, request.seed,
-                                     self.audio_guidance, guidance=request.guidance, part_styles=request.part_styles,
-                                     seam_smoothing=request.seam_smoothing)
+                                     self.audio_guidance, guidance=request.guidance, part_styles=request.part_styles)
         return (time.perf_counter() - started - generated.setup_s) / self.clip.seconds
 
     def denoiser_rows(self, request: StyleRequest) -> int:
