@@ -75,6 +75,10 @@ def test_confusion_rows_count_every_window(quick_study):
         assert accuracy == counts[report["styles"].index(style), confusion["predicted"].index(style)] / windows
     assert entry["style_accuracy"]["chance"] == 1.0 / len(confusion["predicted"])
     assert entry["neutral_metrics"]["jerk"] > 0.0
+    following = entry["following"]
+    assert set(following["per_style"]) == {"neutral", *report["styles"]}
+    for style, ratio in following["ratio_to_neutral"].items():
+        assert ratio == following["per_style"][style] / following["per_style"]["neutral"]
 
 
 def test_motion_prompts_are_120_fps_cmu_clips_of_the_chosen_takes(quick_study):

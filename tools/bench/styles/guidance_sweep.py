@@ -3,15 +3,19 @@
 Every requested style is generated on the study's speech clip with every seed; the frozen style classifier
 labels every window (docs/evaluation.md). The confusion matrix counts, per requested style (row), the
 windows predicted as each classifier label (column), all seeds pooled; a style's accuracy is its diagonal
-share. The neutral style's :func:`motion_metrics` on the held-out clips (every seed) show what a stronger
-guidance costs (beat consistency, FGD, jerk, acceleration, liveliness).
+share. ``following`` is how well every style's motion follows the held-out speech, against the neutral style's;
+the neutral style's :func:`motion_metrics` on the held-out clips (every seed) show what a stronger guidance costs
+(beat consistency, FGD, jerk, acceleration, liveliness).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from gesturecast.models.audio.files import SAMPLE_RATE
+from gesturecast.models.evaluation.speech_following import speech_following
 from gesturecast.models.evaluation.style_classifier import StyleClassifier
+from gesturecast.models.motion.motion import MOTION_FPS
 from gesturecast.tools.bench.styles.runs import StudyRuns, label
 from gesturecast.tools.eval.clips import EvalClip
 from gesturecast.tools.eval.metrics import EvalNetworks, motion_metrics
@@ -53,7 +57,23 @@ def neutral_metrics(runs: StudyRuns, networks: EvalNetworks, held_out: list[Eval
             "clips": [clip.name for clip in held_out]}
 
 
+def styled_following(runs: StudyRuns, styles: tuple[str, ...], held_out: list[EvalClip], guidance: float,
+                     seeds: tuple[int, ...]) -> dict:
+    """Does styled motion still follow the speech? Mean best energy–speed correlation (docs/voices.md, the
+    ``bench voices`` measure) of every style over the held-out clips and seeds, and its ratio to the neutral
+    style's."""
+    def mean_following(style: str) -> float:
+        return float(np.mean([speech_following(runs.generate(label(style, guidance, seed), clip).positions,
+                                               clip.audio, SAMPLE_RATE, MOTION_FPS).best_correlation
+                              for clip in held_out for seed in seeds]))
+
+    per_style = {style: mean_following(style) for style in dict.fromkeys((NEUTRAL, *styles))}
+    ratios = {style: value / per_style[NEUTRAL] for style, value in per_style.items() if style != NEUTRAL}
+    return {"per_style": per_style, "ratio_to_neutral": ratios, "mean_ratio": float(np.mean(list(ratios.values())))}
+
+
 def guidance_entry(runs: StudyRuns, networks: EvalNetworks, styles: tuple[str, ...], held_out: list[EvalClip],
                    guidance: float, seeds: tuple[int, ...]) -> dict:
     return {**style_confusion(runs, networks.classifier, styles, guidance, seeds),
+            "following": styled_following(runs, styles, held_out, guidance, seeds),
             "neutral_metrics": neutral_metrics(runs, networks, held_out, guidance, seeds)}
