@@ -47,6 +47,7 @@ class Generated:
     compute_s: float  # wall time spent generating, session setup included
     rotations: np.ndarray  # (T, J, 4) local XYZW rotations of the body joints
     setup_s: float = 0.0  # the part of compute_s spent building the session (ONNX graphs, style embeddings)
+    face: np.ndarray | None = None  # (T, 8) blink and expression weights (FACE_NAMES order), None with the face off
 
 
 def _session(bundle: ModelBundle, sampler: SamplerConfig, style: str | StylePrompt, seed: int, clock: FakeClock,
@@ -64,9 +65,11 @@ def _session(bundle: ModelBundle, sampler: SamplerConfig, style: str | StyleProm
 
 
 def _generated(frames: list[PoseFrame], start: float, setup_s: float) -> Generated:
-    motion = frames_to_motion(sorted(frames, key=lambda f: f.seq))  # 52 joints: body + fingers
+    ordered = sorted(frames, key=lambda f: f.seq)
+    motion = frames_to_motion(ordered)  # 52 joints: body + fingers
     positions = motion.positions()[:, :NUM_JOINTS]  # (T, 22, 3): the metrics and evaluation networks see the body
-    return Generated(positions, time.perf_counter() - start, motion.rotations[:, :NUM_JOINTS], setup_s)
+    face = np.stack([f.face for f in ordered]) if ordered and ordered[0].face is not None else None  # (T, 8)
+    return Generated(positions, time.perf_counter() - start, motion.rotations[:, :NUM_JOINTS], setup_s, face)
 
 
 def _with_wav(audio: np.ndarray, run):

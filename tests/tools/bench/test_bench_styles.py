@@ -53,7 +53,7 @@ def quick_study(tiny_model, styles_cache, tmp_path_factory) -> tuple[dict, Path]
     out = tmp_path_factory.mktemp("study")
     code = main(["bench", "styles", "--quick", "--model", str(bundle), "--cache", str(styles_cache),
                  "--json", str(out / "styles.json"), "--plot", str(out / "styles.png"),
-                 "--prompt-dir", str(out / "prompts")])
+                 "--prompt-dir", str(out / "prompts"), "--sheet", str(out / "sheet.png")])
     assert code == 0
     return json.loads((out / "styles.json").read_text()), out
 
@@ -112,6 +112,19 @@ def test_part_styles_report_every_part_seam_and_cost(quick_study):
     assert set(study["prompted_part_progress"]) == {p["pair"] for p in study["pairs"]}
     assert study["rtf"]["single_style"] > 0.0 and study["rtf"]["per_part"] > 0.0
     assert (out / "styles.png").stat().st_size > 0 and (out / "styles_parts.png").stat().st_size > 0
+
+
+def test_the_sheet_has_a_row_per_style_of_body_frames_and_a_face_panel(quick_study):
+    from PIL import Image
+
+    from gesturecast.tools.bench.styles.sheet import SHEET_STYLES
+    from gesturecast.tools.render.stick_figure import FigureConfig
+
+    report, out = quick_study
+    assert report["sheet"] == str(out / "sheet.png")
+    width, height = FigureConfig().image_size
+    with Image.open(out / "sheet.png") as sheet:
+        assert sheet.height >= len(SHEET_STYLES) * height and sheet.width >= 5 * width  # 4 frames + the face
 
 
 def test_border_joints_are_where_parts_meet():

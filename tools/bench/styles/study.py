@@ -35,6 +35,7 @@ from gesturecast.tools.bench.styles.guidance_sweep import guidance_entry
 from gesturecast.tools.bench.styles.motion_prompts import prompt_comparison, write_prompt_clip
 from gesturecast.tools.bench.styles.part_styles import DEFAULT_PAIRS, TIMING_REPEATS, PartPair, part_study
 from gesturecast.tools.bench.styles.runs import StudyRuns
+from gesturecast.tools.bench.styles.sheet import SHEET_STYLES, style_sheet
 from gesturecast.tools.data_cli import DEFAULT_CACHE
 from gesturecast.tools.eval.clips import EvalClip, held_out_clips, reference_positions
 from gesturecast.tools.eval.metrics import EvalNetworks
@@ -72,6 +73,8 @@ def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--quick", action="store_true", help="2 styles, s = 1.5 only, 2.5 s (for tests)")
     parser.add_argument("--json", type=Path, help="also write the result here")
     parser.add_argument("--plot", type=Path, help="PNG: confusion matrix and accuracy vs s (and OUT_parts.png)")
+    parser.add_argument("--sheet", type=Path, help="PNG: the speech in neutral, happy, old and angry at the default "
+                        "settings, body and face")
     parser.set_defaults(func=run_bench)
 
 
@@ -110,7 +113,7 @@ def classifier_summary(classifier: StyleClassifier) -> dict:
             "held_out_balanced_accuracy": held_out.get("balanced_accuracy")}
 
 
-def study_report(model: Path, cache: Path, config: StudyConfig, prompt_dir: Path) -> dict:
+def study_report(model: Path, cache: Path, config: StudyConfig, prompt_dir: Path, sheet: Path | None = None) -> dict:
     started = time.perf_counter()
     bundle = load_bundle(model)
     networks = EvalNetworks(FGDEncoder.load(), StyleClassifier.load(), reference_positions(cache))
@@ -134,6 +137,7 @@ def study_report(model: Path, cache: Path, config: StudyConfig, prompt_dir: Path
                            "by_guidance": motion_prompts},
         "part_styles": part_study(runs, networks, config.pairs, bundle.default_guidance, seeds[0],
                                   config.timing_repeats),
+        "sheet": None if sheet is None else str(style_sheet(runs, SHEET_STYLES, seeds[0], sheet)),
         "generations": len(runs.results),
         "seconds": round(time.perf_counter() - started, 1),
     }
@@ -143,10 +147,10 @@ def run_bench(args: argparse.Namespace) -> int:
     config = study_config(args)
     if args.prompt_dir is not None:
         args.prompt_dir.mkdir(parents=True, exist_ok=True)
-        report = study_report(args.model, args.cache, config, args.prompt_dir)
+        report = study_report(args.model, args.cache, config, args.prompt_dir, args.sheet)
     else:
         with tempfile.TemporaryDirectory(prefix="gesturecast-style-prompts-") as folder:
-            report = study_report(args.model, args.cache, config, Path(folder))
+            report = study_report(args.model, args.cache, config, Path(folder), args.sheet)
     if args.plot is not None:
         from gesturecast.tools.render.plot_styles import plot_style_study
 
