@@ -58,6 +58,7 @@ SLOPE_UNIT_STREAMS = 100  # the slope is reported per this many streams
 CHURN_WARMUP_STREAMS = 100  # left out of the slope (first-use allocations: caches, arenas, code paths)
 MAX_CHURN_CONCURRENCY = 64
 CHURN_CLOSE_WAIT_S = 10.0  # at most this long for the server to close the last streams before counting them
+MAX_NICENESS = 19  # the nicest a process can be
 CHURN_SETTLE_S = 2.0  # then this long for its rate-limited heap trim (realtime/serve/heap.py) before an idle sample
 
 
@@ -71,6 +72,9 @@ def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--concurrency", type=int, default=1, metavar="C",
                         help=f"with --churn: C streams at a time (1..{MAX_CHURN_CONCURRENCY})")
     parser.add_argument("--json", action="store_true", help="print one JSON object on one line")
+    parser.add_argument("--client-niceness", type=int, default=0, metavar="N",
+                        help="run the clients' process N steps nicer (0..19), standing in for clients on other "
+                             "machines: the server gets the cores first (default 0)")
     parser.add_argument("--url", help="measure a server that is already running (e.g. serve --ray: "
                                       "ws://127.0.0.1:8766/stream/); rtf then counts only the clients' CPU")
     add_serve_arguments(parser)
@@ -79,6 +83,8 @@ def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
 
 def run_bench_serve(args: argparse.Namespace) -> int:
     seconds = min(args.seconds, MAX_SECONDS)
+    if not 0 <= args.client_niceness <= MAX_NICENESS:
+        raise UserError(f"--client-niceness must be within 0..{MAX_NICENESS}, got {args.client_niceness}")
     speech = load_audio(args.audio)
     if args.churn is not None:
         if args.churn < CHURN_REPORT_EVERY:
@@ -98,6 +104,7 @@ def run_bench_serve(args: argparse.Namespace) -> int:
         "cpu_cores": cores,
         "streams_per_core": best / cores,
         "settings": {"steps": args.steps, "guidance": runs[0]["guidance"], "threads": args.threads,
+                     "client_niceness": args.client_niceness,
                      "model": str(args.model), "seconds": seconds, "chunk_samples": CHUNK_SAMPLES},
         "machine": {"platform": platform.platform(), "python": platform.python_version()},
     }
@@ -137,10 +144,14 @@ def timed_clients(url: str, slices: list[np.ndarray]) -> tuple[list[ClientResult
     return results, time.process_time() - cpu_start, time.monotonic() - wall_start
 
 
-def timed_clients_apart(url: str, slices: list[np.ndarray]) -> tuple[list[ClientResult], float, float, float]:
-    """The clients run in a child process (their event loop and parsing never take this process's turns): their
-    results, this process's CPU seconds meanwhile (the server's), the clients' CPU seconds and the wall seconds."""
-    with concurrent.futures.ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("spawn")) as pool:
+def timed_clients_apart(url: str, slices: list[np.ndarray], niceness: int = 0
+                        ) -> tuple[list[ClientResult], float, float, float]:
+    """The clients run in a child process (their event loop and parsing never take this process's turns), ``niceness``
+    steps nicer than this one: their results, this process's CPU seconds meanwhile (the server's), the clients' CPU
+    seconds and the wall seconds."""
+    context = multiprocessing.get_context("spawn")
+    with concurrent.futures.ProcessPoolExecutor(1, mp_context=context, initializer=os.nice,
+                                                initargs=(niceness,)) as pool:
         pool.submit(int).result()  # the child is up and has imported this module: its start-up is not timed
         cpu_start, wall_start = time.process_time(), time.monotonic()
         results, client_cpu, _ = pool.submit(timed_clients, url, slices).result()
@@ -198,7 +209,8 @@ def measure_workers(args: argparse.Namespace, streams: int, speech: np.ndarray, 
         cpu_start = sum(process_cpu_seconds(pid) for pid in pids)
         with PeakRss(status) as peak:
             results, _, client_cpu, wall = timed_clients_apart(f"ws://127.0.0.1:{workers.port}/stream/",
-                                                               stream_slices(speech, streams, seconds))
+                                                               stream_slices(speech, streams, seconds),
+                                                               args.client_niceness)
         cpu = sum(process_cpu_seconds(pid) for pid in pids) - cpu_start
     finally:
         workers.stop()
@@ -216,7 +228,8 @@ def measure_streams(args: argparse.Namespace, streams: int, speech: np.ndarray, 
     idle_mb = rss_mb()
     try:
         with PeakRss() as peak:
-            results, cpu, client_cpu, wall = timed_clients_apart(server.url, stream_slices(speech, streams, seconds))
+            results, cpu, client_cpu, wall = timed_clients_apart(server.url, stream_slices(speech, streams, seconds),
+                                                                 args.client_niceness)
         busy_mb = peak.mb
         batching = server.sessions.batcher.stats.to_dict()
         guidance = server.sessions.defaults.guidance

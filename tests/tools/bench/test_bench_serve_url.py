@@ -53,9 +53,16 @@ def test_bench_serve_runs_its_clients_in_another_process_and_counts_their_cpu_ap
 def test_bench_serve_measures_worker_processes(tiny_model, shared_data, capsys):
     speech = shared_data / "zeggs" / "067_Speech_2_x_1_0.wav"
     code = main(["bench", "serve", "--workers", "2", "--model", str(tiny_model[1]), "--steps", "2", "--streams",
-                 str(STREAMS), "--seconds", str(SECONDS), "--audio", str(speech), "--json"])
+                 str(STREAMS), "--seconds", str(SECONDS), "--audio", str(speech), "--client-niceness", "10", "--json"])
     assert code == 0
-    run = json.loads(capsys.readouterr().out)["runs"][0]
+    result = json.loads(capsys.readouterr().out)
+    assert result["settings"]["client_niceness"] == 10
+    run = result["runs"][0]
     assert run["workers"] == 2 and run["frames"] == STREAMS * SECONDS * FPS and run["errors"] == []
     assert run["rtf"] > 0 and run["client_rtf"] > 0  # the workers' CPU from /proc, the clients' apart
     assert run["server_mb"]["peak"] >= run["server_mb"]["idle"] > 0
+
+
+def test_bench_serve_refuses_a_niceness_out_of_range(tiny_model, capsys):
+    assert main(["bench", "serve", "--model", str(tiny_model[1]), "--client-niceness", "20"]) != 0
+    assert "--client-niceness must be within 0..19" in capsys.readouterr().err
