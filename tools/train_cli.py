@@ -53,6 +53,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--style-swap", type=float, default=None, metavar="P",
                         help="share of speech sequences trained with a drawn style and the style loss, so styles "
                              "hold while speech is heard (docs/style-study.md; default: the preset's, off)")
+    parser.add_argument("--style-swap-weight", type=float, default=None, metavar="W",
+                        help="the style loss's weight on those sequences (default: the preset's, 0.3)")
     parser.add_argument("--vq-from", type=Path, default=None,
                         help="reuse the VQ-VAE of this finished work folder instead of training one")
     parser.add_argument("--vq-steps", type=int, default=None)
@@ -72,6 +74,7 @@ def run_train(args: argparse.Namespace) -> int:
                         speech_embedding=args.speech_embedding,
                         lookahead_truncation=args.lookahead_truncation, partial_takes=args.partial_takes,
                         style_loss_weight=args.style_loss_weight, style_swap_prob=args.style_swap,
+                        style_swap_weight=args.style_swap_weight,
                         vq_steps=args.vq_steps,
                         denoiser_steps=args.denoiser_steps, prompt_steps=args.prompt_steps)
     work_dir = args.work_dir or DEFAULT_WORK_ROOT / preset.name

@@ -109,22 +109,20 @@ def train_denoiser(
     progress: bool = True,
     augmenter: AudioAugmenter | None = None,
     critic: StyleCritic | None = None,
-    style_loss_weight: float = 0.0,
+    objective: DenoiserTrainConfig = DenoiserTrainConfig(),  # noqa: B008 (frozen dataclass)
     style_pool: np.ndarray | None = None,
-    style_swap_prob: float = 0.0,
 ) -> tuple[CausalDenoiser, dict]:
     """Train from scratch, deterministically under ``seed``; returns (model in eval mode, metrics).
 
-    ``augmenter`` (optional) changes every paired audio window (voice / channel augmentation); ``critic`` and
-    ``style_loss_weight`` add GestureDiffuCLIP's style loss, ``style_pool`` (P, S) and ``style_swap_prob`` its style
-    swaps on speech (:mod:`denoiser_objective`)."""
+    ``augmenter`` (optional) changes every paired audio window (voice / channel augmentation); with a ``critic``,
+    ``objective`` may add GestureDiffuCLIP's style loss and style swaps on speech drawn from ``style_pool`` (P, S)
+    (:mod:`denoiser_objective`)."""
     torch.manual_seed(seed)
     generator = torch.Generator().manual_seed(seed)
     model = CausalDenoiser(config).train()
     sampler = LatentBatchSampler(clips, config, num_latents, paired_fraction, np.random.default_rng(seed),
                                  augmenter)
     schedule = get_schedule()
-    objective = DenoiserTrainConfig(style_loss_weight=style_loss_weight, style_swap_prob=style_swap_prob)
     pool = None if style_pool is None else torch.as_tensor(style_pool, dtype=torch.float32)  # (P, S)
     optimizer = torch.optim.AdamW(model.parameters(), lr=learning_rate, weight_decay=0.0)
     scheduler = torch.optim.lr_scheduler.LambdaLR(optimizer, lambda s: learning_rate_factor(s, steps))

@@ -22,7 +22,7 @@
   carry only the styles of their speakers, so the network never sees a style with the audio on and learns to
   drop it whenever speech is heard. A share of the paired, whole-body sequences gets a style drawn from the pool
   instead; their reconstruction counts ``SWAP_CONTENT_WEIGHT`` (the speech's timing and content) and their style
-  loss ``SWAP_STYLE_WEIGHT`` (the drawn style), the same Eq. 16 term against the drawn style's embedding.
+  loss ``style_swap_weight`` (the drawn style), the same Eq. 16 term against the drawn style's embedding.
 """
 
 from __future__ import annotations
@@ -44,10 +44,10 @@ class DenoiserTrainConfig:
     huber_delta: float = 1.0
     style_loss_weight: float = 0.0  # w_style of Eq. 16; 0: no style loss
     style_swap_prob: float = 0.0  # share of paired whole-body sequences trained with a drawn style; 0: none
+    style_swap_weight: float = 0.3  # style-loss weight of a style-swapped sequence (w_style for the others)
 
 
 SWAP_CONTENT_WEIGHT = 0.5  # reconstruction weight of a style-swapped sequence (1 for the others)
-SWAP_STYLE_WEIGHT = 0.3  # style-loss weight of a style-swapped sequence (w_style for the others)
 
 
 def sample_noise_levels(batch: int, num_latents: int, num_timesteps: int, clean_history_prob: float, generator):
@@ -115,7 +115,7 @@ def training_loss(
         return loss
     denoised = torch.where((t == CLEAN_TIMESTEP)[..., None], latents, x0)  # (B, N, C)
     own = config.style_loss_weight * style_loss(critic, denoised, style, scored * (1.0 - swapped))
-    return loss + own + SWAP_STYLE_WEIGHT * style_loss(critic, denoised, style, swapped)
+    return loss + own + config.style_swap_weight * style_loss(critic, denoised, style, swapped)
 
 
 def swap_mask(eligible: torch.Tensor, config: DenoiserTrainConfig, critic: StyleCritic | None,

@@ -57,6 +57,7 @@ from gesturecast.models.runtime.bundle import Normalizer, StyleTable
 from gesturecast.models.training.arrays import TrainingClip, dataset_summary, load_training_clips
 from gesturecast.models.training.audio_augment import AudioAugmentConfig, FeatureAugmenter
 from gesturecast.models.training.denoiser import LatentClip, train_denoiser
+from gesturecast.models.training.denoiser_objective import DenoiserTrainConfig
 from gesturecast.models.training.presets import TrainPreset
 from gesturecast.models.training.reconstruction import joint_errors
 from gesturecast.models.training.vqvae import VQTrainConfig, reconstruct, train_vqvae
@@ -252,11 +253,13 @@ def denoiser_stage(inputs: TrainInputs, preset: TrainPreset, checkpoint: dict, p
     if preset.audio_augmentation:
         audio_stats = FeatureStats.from_dict(stages["data"]["audio_stats"])
         augmenter = FeatureAugmenter(AudioAugmentConfig(), audio_stats, inputs.feature_config)
-    styled = preset.style_loss_weight or preset.style_swap_prob
+    objective = DenoiserTrainConfig(style_loss_weight=preset.style_loss_weight, style_swap_prob=preset.style_swap_prob,
+                                    style_swap_weight=preset.style_swap_weight)
+    styled = objective.style_loss_weight or objective.style_swap_prob
     critic = style_critic(model, stages, latent_stats) if styled else None
     denoiser, metrics = train_denoiser(clips, config, den.steps, den.batch_size, den.sequence_latents,
                                        den.learning_rate, den.paired_fraction, preset.seed, progress, augmenter,
-                                       critic, preset.style_loss_weight, styles.embeddings, preset.style_swap_prob)
+                                       critic, objective, styles.embeddings)
     return {"config": config.to_dict(), "state": denoiser.state_dict(), "latent_stats": latent_stats.to_dict(),
             "metrics": metrics}
 

@@ -70,6 +70,7 @@ class TrainPreset:
     partial_takes: bool = False  # also train on takes holding only some body parts (SHOW's arms), the rest masked
     style_loss_weight: float = 0.0  # GestureDiffuCLIP's style loss (Eq. 16, 0.07 in the paper); 0: off
     style_swap_prob: float = 0.0  # share of paired sequences trained with a drawn style (denoiser_objective.py)
+    style_swap_weight: float = 0.3  # the style loss's weight on those sequences
 
     def to_dict(self) -> dict:
         return asdict(self)
