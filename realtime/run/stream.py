@@ -120,8 +120,8 @@ class Stream:
         return self._generate(self._converter.convert(data, sample_rate, channels))
 
     def control(self, control: dict | None = None, **changes) -> None:
-        """Change style, prompt, style2, part_styles, gamma, guidance, audio_guidance or root, blended in from the
-        next latent; a style the model does not know is a one-line UserError here (thread-safe)."""
+        """Change style, prompt, style2, part_styles, gamma, style_strength, guidance, audio_guidance or root, blended
+        in from the next latent; a style the model does not know is a one-line UserError here (thread-safe)."""
         self.session.controls.submit({**(control or {}), **changes})
 
     def words(self, words: list[dict]) -> int:

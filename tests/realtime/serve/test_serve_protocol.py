@@ -35,10 +35,12 @@ def test_start_options_and_their_validation():
     assert (options.seed, options.audio_format, options.guidance, options.root) == (7, "s16le", None, None)
     assert parse_start({"type": "start", "root": "free"}).root == "free"
     assert parse_start({"type": "start", "latency": "low"}).latency == "low"
+    assert parse_start({"type": "start", "style_strength": 0.5}).style_strength == 0.5
     assert parse_start({"type": "start"}).latency is None
     for bad, reason in [({"seed": -1}, "seed"), ({"seed": True}, "seed"), ({"audio_format": "mp3"}, "audio_format"),
                         ({"volume": 1}, "unknown start field"), ({"style": "motion:x.bvh"}, "motion prompts"),
-                        ({"root": "walk"}, "root must be one of"), ({"latency": "fast"}, "latency must be one of")]:
+                        ({"root": "walk"}, "root must be one of"), ({"latency": "fast"}, "latency must be one of"),
+                        ({"style_strength": 2.5}, "style_strength")]:
         with pytest.raises(ControlError, match=reason):
             parse_start({"type": "start", **bad})
 
