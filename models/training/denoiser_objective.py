@@ -114,8 +114,9 @@ def training_loss(
     if critic is None or (config.style_loss_weight == 0.0 and not swapped.any()):
         return loss
     denoised = torch.where((t == CLEAN_TIMESTEP)[..., None], latents, x0)  # (B, N, C)
-    own = config.style_loss_weight * style_loss(critic, denoised, style, scored * (1.0 - swapped))
-    return loss + own + config.style_swap_weight * style_loss(critic, denoised, style, swapped)
+    distance = style_distance(critic, denoised, style)  # (B,) one critic pass for both terms
+    own = config.style_loss_weight * masked_mean(distance, scored * (1.0 - swapped))
+    return loss + own + config.style_swap_weight * masked_mean(distance, swapped)
 
 
 def swap_mask(eligible: torch.Tensor, config: DenoiserTrainConfig, critic: StyleCritic | None,
@@ -127,8 +128,17 @@ def swap_mask(eligible: torch.Tensor, config: DenoiserTrainConfig, critic: Style
     return eligible * drawn
 
 
+def style_distance(critic: StyleCritic, denoised: torch.Tensor, style: torch.Tensor) -> torch.Tensor:
+    """1 − cos(E(denoised), s) per sequence (Eq. 16): denoised (B, N, C), s (B, S) → (B,)."""
+    return 1.0 - F.cosine_similarity(critic(denoised), style, dim=-1)
+
+
+def masked_mean(values: torch.Tensor, mask: torch.Tensor) -> torch.Tensor:
+    """Mean of ``values`` (B,) over the sequences where ``mask`` (B,) is 1 (0 when none is)."""
+    return (values * mask).sum() / mask.sum().clamp(min=1.0)
+
+
 def style_loss(critic: StyleCritic, denoised: torch.Tensor, style: torch.Tensor, scored: torch.Tensor
                ) -> torch.Tensor:
     """Mean 1 − cos(E(denoised), s) over the ``scored`` (B,) sequences (Eq. 16): denoised (B, N, C), s (B, S)."""
-    cosine = F.cosine_similarity(critic(denoised), style, dim=-1)  # (B,)
-    return ((1.0 - cosine) * scored).sum() / scored.sum().clamp(min=1.0)
+    return masked_mean(style_distance(critic, denoised, style), scored)

@@ -25,6 +25,7 @@ parts, which pulled a part back toward the base style (docs/part-styles.md).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -69,7 +70,7 @@ class RowLayout:
         start = self.mixture_rows + int(self.has_second) + self.mixture_rows * int(self.has_null)
         return slice(start, start + self.mixture_rows)
 
-    @property
+    @cached_property
     def row_trajectory(self) -> np.ndarray:
         """(B,) the trajectory whose x_t and history each row sees."""
         trajectories = np.arange(self.mixture_rows)

@@ -55,7 +55,8 @@ def face_panel(row: StyleRow, marks: Sequence[int], fps: float, start_s: float, 
     buffer = io.BytesIO()
     fig.savefig(buffer, format="png", dpi=DPI)
     plt.close(fig)
-    return Image.open(io.BytesIO(buffer.getvalue())).convert("RGB").resize(size)
+    buffer.seek(0)
+    return Image.open(buffer).convert("RGB").resize(size)
 
 
 def render_style_sheet(rows: list[StyleRow], out_path: Path, fps: float, start_s: float = 0.0,
