@@ -55,6 +55,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                              "hold while speech is heard (docs/style-study.md; default: the preset's, off)")
     parser.add_argument("--style-swap-weight", type=float, default=None, metavar="W",
                         help="the style loss's weight on those sequences (default: the preset's, 0.3)")
+    parser.add_argument("--style-swap-parts", nargs="+", default=None, metavar="PART",
+                        help="the body parts a swap restyles, e.g. torso legs: the others keep the take's motion "
+                             "and follow the speech (default: the preset's, all)")
+    parser.add_argument("--denoiser-layers", type=int, default=None, metavar="N",
+                        help="transformer layers of the denoiser (default: the preset's; fewer run cheaper)")
     parser.add_argument("--vq-from", type=Path, default=None,
                         help="reuse the VQ-VAE of this finished work folder instead of training one")
     parser.add_argument("--vq-steps", type=int, default=None)
@@ -75,7 +80,8 @@ def run_train(args: argparse.Namespace) -> int:
                         lookahead_truncation=args.lookahead_truncation, partial_takes=args.partial_takes,
                         style_loss_weight=args.style_loss_weight, style_swap_prob=args.style_swap,
                         style_swap_weight=args.style_swap_weight,
-                        vq_steps=args.vq_steps,
+                        style_swap_parts=None if args.style_swap_parts is None else tuple(args.style_swap_parts),
+                        denoiser_layers=args.denoiser_layers, vq_steps=args.vq_steps,
                         denoiser_steps=args.denoiser_steps, prompt_steps=args.prompt_steps)
     work_dir = args.work_dir or DEFAULT_WORK_ROOT / preset.name
     started = time.perf_counter()

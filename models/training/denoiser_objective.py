@@ -23,6 +23,9 @@
   drop it whenever speech is heard. A share of the paired, whole-body sequences gets a style drawn from the pool
   instead; their reconstruction counts ``SWAP_CONTENT_WEIGHT`` (the speech's timing and content) and their style
   loss ``style_swap_weight`` (the drawn style), the same Eq. 16 term against the drawn style's embedding.
+  ``swap_channels`` may restrict a swap to some body parts' latent channels (the posture: torso and legs): the
+  other channels keep their whole reconstruction and the style loss's gradient does not reach them, so the arms
+  go on following the speech while the posture takes the drawn style.
 """
 
 from __future__ import annotations
@@ -45,6 +48,7 @@ class DenoiserTrainConfig:
     style_loss_weight: float = 0.0  # w_style of Eq. 16; 0: no style loss
     style_swap_prob: float = 0.0  # share of paired whole-body sequences trained with a drawn style; 0: none
     style_swap_weight: float = 0.3  # style-loss weight of a style-swapped sequence (w_style for the others)
+    swap_channels: tuple[float, ...] = ()  # (C,) 1 on the latent channels a swap restyles; (): all of them
 
 
 SWAP_CONTENT_WEIGHT = 0.5  # reconstruction weight of a style-swapped sequence (1 for the others)
@@ -108,12 +112,15 @@ def training_loss(
         style = torch.where(swapped[:, None] > 0, drawn, style)
     x0 = model(x_t, t, audio, audio_present, style, style_present, lookahead)  # (B, N, C)
     per_element = F.huber_loss(x0, latents, reduction="none", delta=config.huber_delta)  # (B, N, C)
-    content = 1.0 - swapped * (1.0 - SWAP_CONTENT_WEIGHT)  # (B,)
+    restyled = swapped[:, None] * restyled_channels(config, latents)[None, :]  # (B, C)
+    content = 1.0 - restyled * (1.0 - SWAP_CONTENT_WEIGHT)  # (B, C)
     weight = (t != CLEAN_TIMESTEP).float()[..., None] * channels[:, None, :]  # (B, N, C)
-    loss = (per_element * weight * content[:, None, None]).sum() / weight.sum().clamp(min=1.0)
+    loss = (per_element * weight * content[:, None, :]).sum() / weight.sum().clamp(min=1.0)
     if critic is None or (config.style_loss_weight == 0.0 and not swapped.any()):
         return loss
     denoised = torch.where((t == CLEAN_TIMESTEP)[..., None], latents, x0)  # (B, N, C)
+    kept = (swapped[:, None] - restyled)[:, None, :] > 0  # (B, 1, C) a swap's channels the style loss leaves alone
+    denoised = torch.where(kept, denoised.detach(), denoised)  # (B, N, C)
     distance = style_distance(critic, denoised, style)  # (B,) one critic pass for both terms
     own = config.style_loss_weight * masked_mean(distance, scored * (1.0 - swapped))
     return loss + own + config.style_swap_weight * masked_mean(distance, swapped)
@@ -126,6 +133,13 @@ def swap_mask(eligible: torch.Tensor, config: DenoiserTrainConfig, critic: Style
         return torch.zeros_like(eligible)
     drawn = (torch.rand(eligible.shape, generator=generator) < config.style_swap_prob).float()  # (B,)
     return eligible * drawn
+
+
+def restyled_channels(config: DenoiserTrainConfig, latents: torch.Tensor) -> torch.Tensor:
+    """(C,) 1 on the channels a style swap restyles: ``config.swap_channels``, or all of ``latents`` (B, N, C)."""
+    if not config.swap_channels:
+        return torch.ones(latents.shape[-1])
+    return torch.as_tensor(config.swap_channels, dtype=torch.float32)
 
 
 def style_distance(critic: StyleCritic, denoised: torch.Tensor, style: torch.Tensor) -> torch.Tensor:

@@ -254,7 +254,8 @@ def denoiser_stage(inputs: TrainInputs, preset: TrainPreset, checkpoint: dict, p
         audio_stats = FeatureStats.from_dict(stages["data"]["audio_stats"])
         augmenter = FeatureAugmenter(AudioAugmentConfig(), audio_stats, inputs.feature_config)
     objective = DenoiserTrainConfig(style_loss_weight=preset.style_loss_weight, style_swap_prob=preset.style_swap_prob,
-                                    style_swap_weight=preset.style_swap_weight)
+                                    style_swap_weight=preset.style_swap_weight,
+                                    swap_channels=swap_channels(model, preset.style_swap_parts))
     styled = objective.style_loss_weight or objective.style_swap_prob
     critic = style_critic(model, stages, latent_stats) if styled else None
     denoiser, metrics = train_denoiser(clips, config, den.steps, den.batch_size, den.sequence_latents,
@@ -262,6 +263,11 @@ def denoiser_stage(inputs: TrainInputs, preset: TrainPreset, checkpoint: dict, p
                                        critic, objective, styles.embeddings)
     return {"config": config.to_dict(), "state": denoiser.state_dict(), "latent_stats": latent_stats.to_dict(),
             "metrics": metrics}
+
+
+def swap_channels(model: PartVQVAE, parts: tuple[str, ...]) -> tuple[float, ...]:
+    """(C,) 1 on the latent channels of the parts a style swap restyles; () for all of them."""
+    return tuple(float(value) for value in channel_mask(model, parts)) if parts else ()
 
 
 def style_critic(model: PartVQVAE, stages: dict, latent_stats: Normalizer) -> StyleCritic:

@@ -11,6 +11,7 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass, field, replace
 
 from gesturecast.errors import UserError
+from gesturecast.models.motion.body_parts import PART_NAMES
 
 
 @dataclass(frozen=True)
@@ -71,6 +72,7 @@ class TrainPreset:
     style_loss_weight: float = 0.0  # GestureDiffuCLIP's style loss (Eq. 16, 0.07 in the paper); 0: off
     style_swap_prob: float = 0.0  # share of paired sequences trained with a drawn style (denoiser_objective.py)
     style_swap_weight: float = 0.3  # the style loss's weight on those sequences
+    style_swap_parts: tuple[str, ...] = ()  # the body parts a swap restyles (the others stay the take's); (): all
 
     def to_dict(self) -> dict:
         return asdict(self)
@@ -85,6 +87,7 @@ class TrainPreset:
                 "denoiser": DenoiserPreset(**values["denoiser"]),
                 "prompt": PromptPreset(**values["prompt"]),
                 "paired_speeds": tuple(values["paired_speeds"]),
+                "style_swap_parts": tuple(values.get("style_swap_parts", ())),
             }
         )
 
@@ -115,19 +118,26 @@ PRESETS = {preset.name: preset for preset in (TINY, DEFAULT)}
 
 
 def get_preset(name: str, **overrides) -> TrainPreset:
-    """A named preset with top-level overrides (seed, audio_lookahead, threads) and step counts
-    (``vq_steps``, ``denoiser_steps``, ``prompt_steps``) replaced when given (not None)."""
+    """A named preset with top-level overrides (seed, audio_lookahead, threads), step counts
+    (``vq_steps``, ``denoiser_steps``, ``prompt_steps``) and ``denoiser_layers`` replaced when given (not None)."""
     if name not in PRESETS:
         raise UserError(f"unknown preset {name!r}; known presets: {', '.join(PRESETS)}")
     preset = PRESETS[name]
+    unknown_parts = set(overrides.get("style_swap_parts") or ()) - set(PART_NAMES)
+    if unknown_parts:
+        raise UserError(f"unknown body part {sorted(unknown_parts)[0]!r} for style swaps; "
+                        f"known: {', '.join(PART_NAMES)}")
     if overrides.get("front_end") not in (None, "mel", "prosody"):
         raise UserError(f"unknown front end {overrides['front_end']!r}; known: mel, prosody")
     steps = {key: overrides.pop(key) for key in ("vq_steps", "denoiser_steps", "prompt_steps") if key in overrides}
+    layers = overrides.pop("denoiser_layers", None)
     preset = replace(preset, **{key: value for key, value in overrides.items() if value is not None})
     if steps.get("vq_steps") is not None:
         preset = replace(preset, vq=replace(preset.vq, steps=steps["vq_steps"]))
     if steps.get("denoiser_steps") is not None:
         preset = replace(preset, denoiser=replace(preset.denoiser, steps=steps["denoiser_steps"]))
+    if layers is not None:
+        preset = replace(preset, denoiser=replace(preset.denoiser, num_layers=layers))
     if steps.get("prompt_steps") is not None:
         preset = replace(preset, prompt=replace(preset.prompt, steps=steps["prompt_steps"]))
     return preset

@@ -14,7 +14,7 @@ from gesturecast.models.networks.denoiser import CausalDenoiser
 from gesturecast.models.networks.part_vqvae import load_motion_vq
 from gesturecast.models.runtime.bundle import Normalizer, StyleTable
 from gesturecast.models.training.denoiser_objective import DenoiserTrainConfig, style_loss, training_loss
-from gesturecast.models.training.pipeline import CHECKPOINT_FILE, load_checkpoint, style_critic
+from gesturecast.models.training.pipeline import CHECKPOINT_FILE, channel_mask, load_checkpoint, style_critic
 
 BATCH, LATENTS, STEPS = 4, 6, 40
 
@@ -119,12 +119,61 @@ def test_a_swapped_speech_sequence_is_scored_against_the_drawn_style(tiny_model)
     assert losses[1.0] != losses[0.0]
 
 
-def test_train_with_style_swaps(tiny_model, tmp_path, capsys):
+def output_gradient(tiny_model, swap_channels: tuple[float, ...], weight: float) -> torch.Tensor:
+    """d loss / d x̂0 (B, N, C) of the training loss with every speech sequence swapped, style loss ``weight``."""
+    critic, denoiser = critic_and_denoiser(tiny_model[0])
+    config = denoiser.config
+    outputs = []
+
+    def keep_output(_module, _inputs, output):
+        output.retain_grad()
+        outputs.append(output)
+
+    denoiser.register_forward_hook(keep_output)
+    latents = torch.randn(BATCH, LATENTS, config.latent_dim, generator=torch.Generator().manual_seed(1))
+    audio = torch.randn(BATCH, audio_frames_needed(LATENTS, config), config.audio_dim,
+                        generator=torch.Generator().manual_seed(2))
+    embedding = torch.randn(BATCH, critic.encoder.config.embed_dim, generator=torch.Generator().manual_seed(4))
+    style = torch.nn.functional.normalize(embedding, dim=-1)  # (B, S)
+    objective = DenoiserTrainConfig(style_drop_prob=0.0, style_swap_prob=1.0, style_swap_weight=weight,
+                                    swap_channels=swap_channels)
+    training_loss(denoiser.eval(), latents, audio, torch.ones(BATCH), style, get_schedule(),
+                  torch.Generator().manual_seed(3), objective, critic=critic, style_pool=-style[:1]).backward()
+    return outputs[0].grad
+
+
+def test_a_posture_swap_leaves_the_arms_to_the_speech(tiny_model):
+    posture = channel_mask(load_motion_vq(tiny_model[0]["stages"]["vqvae"]["model"]), ("torso", "legs"))  # (C,)
+    swapped = output_gradient(tiny_model, tuple(posture), 1.0)  # (B, N, C)
+    plain = output_gradient(tiny_model, tuple(posture), 0.0)  # the same swap, reconstruction only
+    arms, rest = posture == 0, posture == 1
+    # the arms' channels see only their whole reconstruction; torso and legs also the drawn style's loss
+    assert torch.equal(swapped[..., arms], plain[..., arms])
+    assert not torch.allclose(swapped[..., rest], plain[..., rest])
+    # every channel listed is a whole-body swap, the same as listing none
+    everything = output_gradient(tiny_model, tuple(np.ones_like(posture)), 1.0)
+    assert torch.equal(everything, output_gradient(tiny_model, (), 1.0))
+    assert not torch.equal(everything[..., arms], plain[..., arms])
+
+
+def test_train_with_style_swaps_on_the_posture_and_a_shallower_denoiser(tiny_model, tmp_path, capsys):
     work = tmp_path / "work"
     work.mkdir()
     shutil.copy(tiny_model[1].parent / "work" / CHECKPOINT_FILE, tmp_path / CHECKPOINT_FILE)
     args = ["train", "--preset", "tiny", "--data", str(tiny_model[1].parent / "dataset"), "--work-dir", str(work),
-            "--no-progress", "--vq-from", str(tmp_path), "--style-swap", "0.5"]
+            "--no-progress", "--vq-from", str(tmp_path), "--style-swap", "0.5", "--style-swap-parts", "torso", "legs",
+            "--denoiser-layers", "2"]
     assert main(args) == 0
     capsys.readouterr()
-    assert load_checkpoint(work / CHECKPOINT_FILE)["preset"]["style_swap_prob"] == 0.5
+    trained = load_checkpoint(work / CHECKPOINT_FILE)
+    assert trained["preset"]["style_swap_prob"] == 0.5
+    assert list(trained["preset"]["style_swap_parts"]) == ["torso", "legs"]
+    assert trained["stages"]["denoiser"]["config"]["num_layers"] == 2
+
+
+def test_an_unknown_swap_part_is_a_one_line_error(tiny_model, tmp_path, capsys):
+    args = ["train", "--preset", "tiny", "--data", str(tiny_model[1].parent / "dataset"), "--work-dir",
+            str(tmp_path), "--no-progress", "--style-swap", "0.5", "--style-swap-parts", "tail"]
+    assert main(args) != 0
+    assert "unknown body part 'tail' for style swaps; known: arms, torso, legs" in capsys.readouterr().err
+
