@@ -26,6 +26,7 @@ import math
 import weakref
 from collections import deque
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -34,6 +35,7 @@ from gesturecast.models.audio.dsp import frame_boundary
 from gesturecast.models.audio.lipsync import LipSyncConfig
 from gesturecast.models.audio.streaming import StreamingFeatureExtractor, speaking_flags
 from gesturecast.models.generator.denoiser_config import audio_window_bounds, audio_window_end
+from gesturecast.models.generator.style_prompt import StylePrompt
 from gesturecast.models.motion.motion_features import features_to_rotations
 from gesturecast.models.motion.root_anchor import RootAnchor, RootMode, RootTravel
 from gesturecast.models.motion.skeleton import CANONICAL
@@ -62,6 +64,16 @@ STAGE_DECODER = "decoder"
 STAGE_POSES = "poses"  # gesture blend, smoothing, root, rotations, cross-fades, hands: decoded features → PoseFrames
 SPEECH = 1.0  # cross-fade weight of the generated stream while speaking (idle = 0)
 IDLE = 0.0
+
+
+class PoseStyle(NamedTuple):
+    """The style in effect when a latent was generated, as its pose frames show it: the description they name and
+    the face's expression mix (x̂0 = γ·D(style) + (1 − γ)·D(second_style))."""
+
+    description: str
+    style: StylePrompt
+    second_style: StylePrompt | None
+    gamma: float
 
 
 @dataclass(frozen=True)
@@ -201,16 +213,38 @@ class GestureSession:
         pad_time = time + (self.samples_in - start) / self.sample_rate
         frames = self.push(AudioChunk(np.zeros(padding, np.float32), self.samples_in, pad_time))
         with self.stats.time(STAGE_POSES):
-            return frames + self._pose_frames(self.smoother.flush(self.bundle.motion_feature_dim))
+            return frames + self._pose_frames(self.smoother.flush(self.bundle.motion_feature_dim), self._pose_style())
 
     # ---- generation ----
     def _generate_ready(self) -> list[PoseFrame]:
+        """Every latent the features allow; their poses built in one batch per run of latents with the same style
+        (a live chunk brings one latent at most; ``generate``'s one-second chunks bring several)."""
         frames: list[PoseFrame] = []
+        batch: list[np.ndarray] = []  # smoothed rows (m, D) of the latents since the last build
+        batch_style = None
         while self.features.end >= audio_window_end(self.next_latent, self.denoiser_config):
-            frames.extend(self._generate_latent(self.next_latent))
+            smoothed = self._generate_latent(self.next_latent)  # (m, D)
+            style = self._pose_style()
+            if batch and style != batch_style:
+                frames.extend(self._built_poses(batch, batch_style))
+                batch = []
+            batch.append(smoothed)
+            batch_style = style
             self.next_latent += 1
             self.features.forget_before(audio_window_bounds(self.next_latent, self.denoiser_config)[0])
-        return frames
+        return frames + self._built_poses(batch, batch_style)
+
+    def _pose_style(self) -> PoseStyle:
+        """What the pose frames of the latent just generated take from the style in effect."""
+        settings = self.generator.settings
+        return PoseStyle(self.controls.describe(), settings.style, settings.second_style, settings.gamma)
+
+    def _built_poses(self, batch: list[np.ndarray], style: PoseStyle) -> list[PoseFrame]:
+        """The pose frames of the smoothed rows of a run of latents (list of (m, D)) in ``style``, in order."""
+        if not batch:
+            return []
+        with self.stats.time(STAGE_POSES):
+            return self._pose_frames(np.concatenate(batch), style)
 
     def cue(self, cue: Cue) -> Placement | None:
         """Carry out a lexicon gesture with its stroke at ``cue.time`` (stream s), or as soon as the latents not yet
@@ -233,7 +267,8 @@ class GestureSession:
     def _place(self, cues: list[Cue]) -> list[Placement]:
         return [placement for cue in cues if cue.gesture in self.cues.clips and (placement := self.cue(cue))]
 
-    def _generate_latent(self, index: int) -> list[PoseFrame]:
+    def _generate_latent(self, index: int) -> np.ndarray:
+        """Latent ``index`` denoised and decoded; returns the smoothed motion rows (m, D) it pushed out."""
         d = self.denoiser_config.frames_per_latent
         self.controls.advance(index * d / self.fps)
         window = self.features.window(index, self.denoiser_config)  # (A', F)
@@ -250,9 +285,9 @@ class GestureSession:
             gesturing = self._gesturing(index) or bool(gesture)  # a cued gesture shows in silence too
             self.cues.forget_before(index)
             self._unsmoothed.extend((index * d + j, gesturing, gesture) for j in range(d))
-            return self._pose_frames(self.smoother.push(motion))
+            return self.smoother.push(motion)
 
-    def _pose_frames(self, smoothed: np.ndarray) -> list[PoseFrame]:
+    def _pose_frames(self, smoothed: np.ndarray, style: PoseStyle) -> list[PoseFrame]:
         """Pose frames of the rows (m, D) that left the smoother, the oldest frames inside it, in order; built
         per batch (one call per stage for the m rows, the stateful stages stepping frame by frame inside)."""
         rows = [self._unsmoothed.popleft() for _ in range(len(smoothed))]  # (frame, gesturing, gesture)
@@ -265,19 +300,18 @@ class GestureSession:
         times = frames / self.fps  # (n,) stream seconds
         bodies, roots = self._finite_poses(frames, smoothed[:wanted], [g for _, g, _ in rows[:wanted]])
         rotations = self.hands.extend(bodies, times)  # (n, J + 30, 4) on CANONICAL_WITH_HANDS
-        faces = self._faces(times, speaking[:wanted])  # (n, 8) or None
-        return [self._pose_frame(int(frame), rotations[k], roots[k], rows[k][2], speaking[k], visemes[k],
-                                 None if faces is None else faces[k]) for k, frame in enumerate(frames)]
+        faces = self._faces(times, speaking[:wanted], style)  # (n, 8) or None
+        return [self._pose_frame(int(frame), rotations[k], roots[k], style.description, rows[k][2], speaking[k],
+                                 visemes[k], None if faces is None else faces[k]) for k, frame in enumerate(frames)]
 
-    def _faces(self, times: np.ndarray, speaking: list[bool]) -> np.ndarray | None:
+    def _faces(self, times: np.ndarray, speaking: list[bool], style: PoseStyle) -> np.ndarray | None:
         """(n, 8) face weights of the frames (the expression of the style in effect), None with the face off."""
         if self.face is None:
             return None
-        settings = self.generator.settings
-        expression = self.face.expressions.of(settings.style)  # (5,)
-        if settings.second_style is not None:  # x̂0 = γ·D(c1) + (1 − γ)·D(c2): the faces mix the same way
-            second = self.face.expressions.of(settings.second_style)
-            expression = np.clip(settings.gamma * expression + (1.0 - settings.gamma) * second, 0.0, 1.0)
+        expression = self.face.expressions.of(style.style)  # (5,)
+        if style.second_style is not None:  # x̂0 = γ·D(c1) + (1 − γ)·D(c2): the faces mix the same way
+            second = self.face.expressions.of(style.second_style)
+            expression = np.clip(style.gamma * expression + (1.0 - style.gamma) * second, 0.0, 1.0)
         self.face.set_style(expression, float(times[0]))
         return self.face.frames(times, speaking)
 
@@ -294,10 +328,11 @@ class GestureSession:
     def _wanted(self, frame: int) -> bool:
         return self._frame_limit is None or frame < self._frame_limit
 
-    def _pose_frame(self, frame: int, rotations: np.ndarray, root: np.ndarray, gesture: str, speaking: bool,
-                    visemes: np.ndarray | None, face: np.ndarray | None) -> PoseFrame:
-        """The PoseFrame of one pose (rotations (J + 30, 4), root (3,)), flagged ``speaking`` by the voice activity of
-        its own audio instant, naming the lexicon ``gesture`` playing ("" for none), with its face weights."""
+    def _pose_frame(self, frame: int, rotations: np.ndarray, root: np.ndarray, style: str, gesture: str,
+                    speaking: bool, visemes: np.ndarray | None, face: np.ndarray | None) -> PoseFrame:
+        """The PoseFrame of one pose (rotations (J + 30, 4), root (3,)) in the ``style`` described, flagged
+        ``speaking`` by the voice activity of its own audio instant, naming the lexicon ``gesture`` playing ("" for
+        none), with its face weights."""
         capture = self._capture_time(frame)
         self.frames_out += 1
         return PoseFrame(
@@ -306,7 +341,7 @@ class GestureSession:
             presentation_time=capture + self.budget.total_s,
             root_position=root,
             rotations=rotations,
-            style=self.controls.describe(),
+            style=style,
             speaking=speaking,
             visemes=visemes,
             gesture=gesture,

@@ -185,6 +185,28 @@ def test_style_change_blends_in_without_a_pop(bundle, speech):
     assert steps[change - 5 : change + 20].max() < 3.0 * np.percentile(steps[:change], 95) + 1.0
 
 
+def frames_with_a_style_change(bundle, speech, chunk_samples: int) -> list:
+    """The frames of a neutral session told "happy" after 2 s of audio, pushed in chunks of ``chunk_samples``."""
+    session = make_session(bundle, style=StylePrompt("label", "neutral"))
+    frames = []
+    for chunk in FastFileSource(speech, chunk_samples=chunk_samples):
+        if chunk.start_sample == 2 * SAMPLE_RATE:
+            session.controls.submit({"style": "happy"})
+        frames.extend(session.push(chunk))
+    return frames + session.finish()
+
+
+def test_a_push_of_many_latents_builds_every_frame_as_one_latent_at_a_time_does(bundle, speech):
+    """A one-second push (generate's) builds its latents' poses in batches, split where the style changes: the poses,
+    the style each frame names and the face weights equal a live stream's 31 ms pushes, through a style change."""
+    live = frames_with_a_style_change(bundle, speech, 500)
+    batched = frames_with_a_style_change(bundle, speech, 16000)
+    np.testing.assert_array_equal(poses(batched), poses(live))
+    np.testing.assert_array_equal(np.stack([f.face for f in batched]), np.stack([f.face for f in live]))
+    assert [f.style for f in batched] == [f.style for f in live]
+    assert {f.style for f in live} >= {"neutral", "happy"}
+
+
 def test_audio_guidance_ramps_in_and_out_live_without_a_pop(bundle, speech):
     session = make_session(bundle, audio_guidance=1.0)
     frames, rows = [], []
