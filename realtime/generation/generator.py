@@ -125,6 +125,7 @@ class Generator:
         self._set_mixture_values(*self.part_mixture(self.settings.style, self.settings.part_styles))
         self._plan = sampling_plan(self.schedule.num_timesteps, self.settings.sampler)
         self.layout = self._make_layout()
+        self._prepared: tuple = (None, True, deque())  # (layout, audio present, (window, condition) pairs)
         self.reset(self.settings.seed)
 
     @property
@@ -283,10 +284,9 @@ class Generator:
         (:mod:`gesturecast.realtime.generation.gesture_cues`)."""
         layout = self.layout
         audio_window = pad_visible_window(np.asarray(audio_window, np.float32), self.config)  # (A, F)
-        windows = np.broadcast_to(audio_window, (layout.batch, *audio_window.shape))  # (B, A, F)
-        present = layout.hears_audio * float(audio_present)  # (B,)
-        condition = self.denoiser.frame_condition(windows, layout.styles, present, layout.style_present,
-                                                  self.lookahead)  # (B, Dc)
+        condition = self._prepared_condition(audio_window, audio_present)
+        if condition is None:
+            condition = self._conditions(audio_window[None], audio_present)[0]  # (B, Dc)
         trajectory = layout.row_trajectory  # (B,)
         x = np.repeat(self.rng.standard_normal(self.latent_dim)[None], layout.mixture_rows, axis=0)  # (R, C) x_T
         for t, t_prev in self._plan:
@@ -302,6 +302,31 @@ class Generator:
         own = dict(zip(self._mixture_prompts, x.astype(np.float32), strict=True)) if layout.mixture_rows > 1 else {}
         self.history.append(HistoryFrame(latent, audio_window, float(audio_present), own))
         return latent
+
+    def prepare(self, audio_windows: list[np.ndarray], audio_present: bool) -> None:
+        """Compute the conditions of the next latents' (A', F) windows in one condition-graph call (the same numbers
+        as one call per latent); :meth:`denoise` uses them while the style layout and the windows match."""
+        padded = np.stack([pad_visible_window(np.asarray(window, np.float32), self.config)
+                           for window in audio_windows])  # (n, A, F)
+        conditions = self._conditions(padded, audio_present)  # (n, B, Dc)
+        self._prepared = (self.layout, audio_present, deque(zip(padded, conditions, strict=True)))
+
+    def _conditions(self, windows: np.ndarray, audio_present: bool) -> np.ndarray:
+        """(n, B, Dc) conditions of n padded windows (n, A, F) for every row of the layout."""
+        layout, count = self.layout, len(windows)
+        present = np.repeat((layout.hears_audio * float(audio_present))[:, None], count, axis=1)  # (B, n)
+        styles = np.repeat(layout.styles[:, None], count, axis=1)  # (B, n, S)
+        style_present = np.repeat(layout.style_present[:, None], count, axis=1)  # (B, n)
+        windows = np.broadcast_to(windows, (layout.batch, *windows.shape))  # (B, n, A, F)
+        return self.denoiser.condition(windows, present, styles, style_present, self.lookahead).transpose(1, 0, 2)
+
+    def _prepared_condition(self, window: np.ndarray, audio_present: bool) -> np.ndarray | None:
+        """The prepared (B, Dc) condition of this padded window (A, F), None when none matches."""
+        layout, present, prepared = self._prepared
+        if not prepared or layout is not self.layout or present != audio_present:
+            return None
+        next_window, condition = prepared.popleft()
+        return condition if np.array_equal(next_window, window) else None
 
     def decode(self, latent: np.ndarray) -> np.ndarray:
         """A committed (C,) normalised latent → (d, D) denormalised motion features (streaming VQ decoder)."""

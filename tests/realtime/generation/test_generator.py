@@ -168,3 +168,20 @@ def test_audio_guidance_scales_the_effect_of_the_speech_exactly_on_a_first_one_s
     plain = first_latent(1.0, audio[0]) - first_latent(1.0, audio[1])
     assert np.abs(plain).max() > 1e-3
     np.testing.assert_allclose(first_latent(3.0, audio[0]) - first_latent(3.0, audio[1]), 3.0 * plain, atol=1e-4)
+
+
+def test_prepared_conditions_give_the_same_latents_from_one_condition_call(bundle, audio):
+    plain = latents(make(bundle, seed=3), audio)
+    prepared = make(bundle, seed=3)
+    calls = []
+    graph = prepared.denoiser.condition_session
+    prepared.denoiser.condition_session = type("Counted", (), {
+        "run": lambda self, names, feeds: calls.append(feeds) or graph.run(names, feeds)})()
+    prepared.prepare(list(audio), True)
+    np.testing.assert_array_equal(latents(prepared, audio), plain)
+    assert len(calls) == 1  # every latent's condition came from the one prepared call
+    prepared.prepare(list(audio[:2]), True)
+    prepared.set_style(OLD)  # a new style layout: the prepared conditions no longer apply
+    prepared.denoise(audio[0], True)
+    assert len(calls) == 3  # the prepare call and one of the latent's own
+    assert not np.array_equal(calls[-1]["style"], calls[-2]["style"])
