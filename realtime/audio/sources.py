@@ -43,6 +43,8 @@ from gesturecast.realtime.audio.watchdog import DEFAULT_STALL_TIMEOUT_S, StallWa
 from gesturecast.realtime.timing.clock import Clock, MonotonicClock
 
 DEFAULT_CHUNK = 512  # 16 kHz samples per yielded chunk (32 ms)
+UNPACED_CHUNK = 16_000  # a source read as fast as possible yields one second per chunk: the session then makes
+# several latents per feature burst and pose batch (the poses are the same at any chunk size)
 
 
 @dataclass(frozen=True)
@@ -113,7 +115,7 @@ def rechunk(blocks: Iterator[np.ndarray], size: int) -> Iterator[tuple[int, np.n
 class UnpacedSource(AudioSource):
     """16 kHz blocks as fast as possible, re-cut into chunks whose capture times are their stream times."""
 
-    def __init__(self, blocks: Iterable[np.ndarray], chunk_samples: int = DEFAULT_CHUNK) -> None:
+    def __init__(self, blocks: Iterable[np.ndarray], chunk_samples: int = UNPACED_CHUNK) -> None:
         super().__init__()
         self.blocks = blocks  # (m,) 16 kHz float32 blocks
         self.chunk_samples = chunk_samples
@@ -128,7 +130,7 @@ class UnpacedSource(AudioSource):
 class FastFileSource(UnpacedSource):
     """A file as fast as possible; memory bounded by the reader's block size."""
 
-    def __init__(self, path: str | Path, chunk_samples: int = DEFAULT_CHUNK) -> None:
+    def __init__(self, path: str | Path, chunk_samples: int = UNPACED_CHUNK) -> None:
         super().__init__(AudioFileReader(path), chunk_samples)
 
 
@@ -136,7 +138,7 @@ class ArraySource(UnpacedSource):
     """Samples already in memory ((n,) or (n, C), float or int16, any rate), as fast as possible: converted to
     16 kHz mono at once, then chunked and timed exactly as :class:`FastFileSource` does a file."""
 
-    def __init__(self, samples: np.ndarray, sample_rate: int, chunk_samples: int = DEFAULT_CHUNK) -> None:
+    def __init__(self, samples: np.ndarray, sample_rate: int, chunk_samples: int = UNPACED_CHUNK) -> None:
         converter = AudioConverter()
         converted = np.concatenate([converter.convert_samples(samples, sample_rate), converter.flush()])  # (n,)
         if not converted.shape[0]:

@@ -35,8 +35,6 @@ BVH_SUFFIX = ".bvh"
 VRMA_SUFFIX = ".vrma"
 JSON_SUFFIX = ".json"
 MOTION_SUFFIXES = (BVH_SUFFIX, VRMA_SUFFIX)
-OFFLINE_CHUNK_SAMPLES = 16_000  # one second of 16 kHz audio per push: several latents per feature burst and pose
-# batch (the features and the session are chunk-size invariant: the files are byte-identical to 32 ms chunks')
 
 logger = logging.getLogger(__name__)
 
@@ -82,7 +80,7 @@ def generate_to_files(session: GestureSession, audio: Path, motion_paths: list[P
 
     Raises :class:`UserError` for a bad audio file or one shorter than a motion frame (no output is left).
     """
-    source = FastFileSource(audio, OFFLINE_CHUNK_SAMPLES)
+    source = FastFileSource(audio)
     with ExitStack() as files:
         writers = [files.enter_context(motion_writer(path, vrma_bones)) for path in motion_paths]
         if json_path is not None:
