@@ -3,7 +3,8 @@
 - ``tiny``: a few seconds on a few short clips; the tests train it end to end.
 - ``default``: the bundled model; sized to train on a 2-core CPU in well under an hour: one VQ-VAE per body
   part, the log-mel front end without voice copies (with body-part latents it was both the liveliest and the
-  most voice-robust of the three front ends compared, docs/voices.md), look-ahead truncation on.
+  most voice-robust of the three front ends compared, docs/voices.md), look-ahead truncation on, a two-layer
+  denoiser (as good as four layers within the recipe's seed spread at 0.7× the step cost, docs/latency.md).
 """
 
 from __future__ import annotations
@@ -107,7 +108,7 @@ DEFAULT = TrainPreset(
     name="default",
     vq=VQPreset(hidden_dims=(128, 64, 64), latent_dims=(16, 8, 8), codebook_size=512, res_blocks_per_stage=2,
                 downsample=4, steps=2000, batch_size=32, window=64),
-    denoiser=DenoiserPreset(width=128, num_layers=4, num_heads=4, window=16, audio_window=16, steps=6000,
+    denoiser=DenoiserPreset(width=128, num_layers=2, num_heads=4, window=16, audio_window=16, steps=6000,
                             batch_size=32, sequence_latents=16, learning_rate=3e-4, paired_fraction=0.5),
     prompt=PromptPreset(width=128, steps=400, batch_size=32, clip_frames=90),
     lookahead_truncation=True,
