@@ -118,6 +118,14 @@ DEFAULT = TrainPreset(
 PRESETS = {preset.name: preset for preset in (TINY, DEFAULT)}
 
 
+NESTED_OVERRIDES = {  # get_preset's keyword → (stage preset, its field)
+    "vq_steps": ("vq", "steps"),
+    "denoiser_steps": ("denoiser", "steps"),
+    "denoiser_layers": ("denoiser", "num_layers"),
+    "prompt_steps": ("prompt", "steps"),
+}
+
+
 def get_preset(name: str, **overrides) -> TrainPreset:
     """A named preset with top-level overrides (seed, audio_lookahead, threads), step counts
     (``vq_steps``, ``denoiser_steps``, ``prompt_steps``) and ``denoiser_layers`` replaced when given (not None)."""
@@ -130,15 +138,10 @@ def get_preset(name: str, **overrides) -> TrainPreset:
                         f"known: {', '.join(PART_NAMES)}")
     if overrides.get("front_end") not in (None, "mel", "prosody"):
         raise UserError(f"unknown front end {overrides['front_end']!r}; known: mel, prosody")
-    steps = {key: overrides.pop(key) for key in ("vq_steps", "denoiser_steps", "prompt_steps") if key in overrides}
-    layers = overrides.pop("denoiser_layers", None)
+    nested = {key: overrides.pop(key) for key in NESTED_OVERRIDES if key in overrides}
     preset = replace(preset, **{key: value for key, value in overrides.items() if value is not None})
-    if steps.get("vq_steps") is not None:
-        preset = replace(preset, vq=replace(preset.vq, steps=steps["vq_steps"]))
-    if steps.get("denoiser_steps") is not None:
-        preset = replace(preset, denoiser=replace(preset.denoiser, steps=steps["denoiser_steps"]))
-    if layers is not None:
-        preset = replace(preset, denoiser=replace(preset.denoiser, num_layers=layers))
-    if steps.get("prompt_steps") is not None:
-        preset = replace(preset, prompt=replace(preset.prompt, steps=steps["prompt_steps"]))
+    for key, value in nested.items():
+        if value is not None:
+            stage, name = NESTED_OVERRIDES[key]
+            preset = replace(preset, **{stage: replace(getattr(preset, stage), **{name: value})})
     return preset

@@ -222,27 +222,23 @@ class GestureSession:
         frames: list[PoseFrame] = []
         batch: list[np.ndarray] = []  # smoothed rows (m, D) of the latents since the last build
         batch_style = None
-        self._prepare_conditions()
-        while self.features.end >= audio_window_end(self.next_latent, self.denoiser_config):
-            smoothed = self._generate_latent(self.next_latent)  # (m, D)
+        ready = range(self.next_latent, self._latents_ready())
+        if len(ready) > 1:  # a one-second push: their conditions in one call
+            self.generator.prepare([self.features.window(index, self.denoiser_config) for index in ready], True)
+        for index in ready:
+            smoothed = self._generate_latent(index)  # (m, D)
             style = self._pose_style()
             if batch and style != batch_style:
                 frames.extend(self._built_poses(batch, batch_style))
                 batch = []
             batch.append(smoothed)
             batch_style = style
-            self.next_latent += 1
+            self.next_latent = index + 1
             self.features.forget_before(audio_window_bounds(self.next_latent, self.denoiser_config)[0])
         return frames + self._built_poses(batch, batch_style)
 
-    def _prepare_conditions(self) -> None:
-        """With several latents ready (a one-second push), their conditions in one call."""
-        ready = range(self.next_latent, self._latents_ready())
-        if len(ready) > 1:
-            self.generator.prepare([self.features.window(index, self.denoiser_config) for index in ready], True)
-
     def _latents_ready(self) -> int:
-        """One past the last latent whose audio window the features complete."""
+        """One past the last latent whose audio window the features complete (``audio_window_end`` ≤ their end)."""
         return (self.features.end - self.denoiser_config.audio_lookahead) // self.denoiser_config.frames_per_latent
 
     def _pose_style(self) -> PoseStyle:
