@@ -1,21 +1,35 @@
 """A websockets server on its own event-loop thread, shared by the viewer bridge and ``gesturecast serve``.
 
 The caller's thread starts and closes it; handlers and everything scheduled with :attr:`loop` run on
-the loop thread. A busy port or a refused address is a one-line :class:`UserError`.
+the loop thread. A busy port or a refused address is a one-line :class:`UserError`. Started on a given listening
+``sock`` instead of ``host:port``, it can also :meth:`~ThreadedListener.adopt` TCP connections that another process
+accepted (``serve --workers``: the parent deals each connection to the worker with the fewest).
 """
 
 from __future__ import annotations
 
 import asyncio
 import errno
+import socket
 import threading
 from collections.abc import Awaitable, Callable
 
 from websockets.asyncio.server import Server, ServerConnection, serve
+from websockets.server import ServerProtocol
 
 from gesturecast.errors import UserError
 
 START_TIMEOUT_S = 10.0
+DEFAULT_MAX_SIZE = 2**20  # websockets' own limit on an incoming message, when the caller names none
+
+
+def private_listener() -> socket.socket:
+    """A listening socket nobody else can reach by name (a Unix socket with a kernel-chosen abstract address), for
+    a server whose connections all come through :meth:`ThreadedListener.adopt`."""
+    listener = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+    listener.bind("")  # Linux autobind: a unique abstract name
+    listener.listen()
+    return listener
 
 
 class ThreadedListener:
@@ -29,11 +43,15 @@ class ThreadedListener:
         self.loop = asyncio.new_event_loop()
         self._thread = threading.Thread(target=self.loop.run_forever, name=thread_name, daemon=True)
         self._server: Server | None = None
+        self._max_size: int | None = None  # the largest message a client may send (adopted connections too)
 
-    def start(self, handler: Callable[[ServerConnection], Awaitable[None]], **serve_options) -> None:
+    def start(self, handler: Callable[[ServerConnection], Awaitable[None]], sock: socket.socket | None = None,
+              **serve_options) -> None:
+        """Serve ``handler`` on ``host:port``, or on the listening ``sock`` when one is given."""
         self._thread.start()
         try:
-            asyncio.run_coroutine_threadsafe(self._open(handler, serve_options), self.loop).result(START_TIMEOUT_S)
+            opening = self._open(handler, sock, serve_options)
+            asyncio.run_coroutine_threadsafe(opening, self.loop).result(START_TIMEOUT_S)
         except OSError as error:
             self._stop_loop()
             if error.errno == errno.EADDRINUSE:
@@ -46,11 +64,28 @@ class ThreadedListener:
             asyncio.run_coroutine_threadsafe(self._close_server(), self.loop).result(self.stop_timeout_s)
         self._stop_loop()
 
-    async def _open(self, handler, serve_options: dict) -> None:
+    def adopt(self, connection: socket.socket) -> asyncio.Future:
+        """Serve one TCP connection accepted elsewhere as if this server had accepted it (the same handler, access
+        check and message limit); returns a future done when the connection has closed."""
+        return asyncio.run_coroutine_threadsafe(self._adopt(connection), self.loop)
+
+    async def _open(self, handler, sock: socket.socket | None, serve_options: dict) -> None:
         # no permessage-deflate: pose frames are float32 rotations that deflate barely shrinks, and compressing
         # every frame for every client took about 8 % of a busy server's CPU (docs/serve.md)
-        self._server = await serve(handler, self.host, self.port, **{"compression": None, **serve_options})
+        options = {"compression": None, **serve_options}
+        self._max_size = options.get("max_size", DEFAULT_MAX_SIZE)
+        if sock is not None:
+            self._server = await serve(handler, sock=sock, **options)
+            return
+        self._server = await serve(handler, self.host, self.port, **options)
         self.port = self._server.sockets[0].getsockname()[1]
+
+    async def _adopt(self, accepted: socket.socket) -> None:
+        # what serve() builds for a connection it accepts itself: without compression, with the same size limit
+        protocol = ServerProtocol(max_size=self._max_size, logger=self._server.logger)
+        connection = ServerConnection(protocol, self._server)
+        await self.loop.connect_accepted_socket(lambda: connection, accepted)
+        await connection.wait_closed()
 
     async def _close_server(self) -> None:
         self._server.close()

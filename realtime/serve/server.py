@@ -15,6 +15,7 @@ import concurrent.futures
 import itertools
 import json
 import logging
+import socket
 import threading
 from collections import deque
 from contextlib import suppress
@@ -29,7 +30,7 @@ from gesturecast.bridges.control import WORDS_MESSAGE, ControlError, control_sch
 from gesturecast.bridges.coords import coordinate_frame
 from gesturecast.bridges.transport import ErrorThrottle
 from gesturecast.bridges.ws_access import AccessPolicy, send_refusal
-from gesturecast.bridges.ws_listener import ThreadedListener
+from gesturecast.bridges.ws_listener import ThreadedListener, private_listener
 from gesturecast.errors import UserError
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
 from gesturecast.realtime.serve.heap import HeapTrimmer
@@ -75,8 +76,7 @@ class ServeConfig:
     allow_origins: tuple[str, ...] = ()  # browser origins allowed to connect (ws_access)
     start_timeout_s: float = START_TIMEOUT_S  # from the hello to a start (or the first audio)
     max_unstarted: int = MAX_UNSTARTED  # connections not started yet (they hold no --max-streams slot)
-    reuse_port: bool = False  # share the port with other server processes (serve --workers: the kernel deals
-    # the connections out among them)
+    dealt: bool = False  # no port of its own: serve --workers' parent accepts and deals connections (:meth:`adopt`)
 
 
 class LoopSender:
@@ -245,8 +245,8 @@ class GestureServer:
 
     # ---- lifecycle (caller's thread) ----
     def start(self) -> GestureServer:
-        self._listener.start(self._handle, process_request=self.access.process_request,
-                             max_size=MAX_AUDIO_MESSAGE_BYTES, reuse_port=self.config.reuse_port)
+        self._listener.start(self._handle, private_listener() if self.config.dealt else None,
+                             process_request=self.access.process_request, max_size=MAX_AUDIO_MESSAGE_BYTES)
         logger.info("serving streams on %s (at most %d)", self.url, self.config.max_streams)
         return self
 
@@ -258,6 +258,10 @@ class GestureServer:
     @property
     def url(self) -> str:
         return f"ws://{self.config.host}:{self.port}/stream/"
+
+    def adopt(self, connection: socket.socket) -> concurrent.futures.Future:
+        """Serve a connection the ``serve --workers`` parent accepted; the future is done when it has closed."""
+        return self._listener.adopt(connection)
 
     def active_streams(self) -> int:
         """Open connections, started or not."""

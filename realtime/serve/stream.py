@@ -40,9 +40,8 @@ STOP_TIMEOUT_S = 5.0
 @dataclass(frozen=True)
 class StreamConfig:
     """max_queued_messages: audio messages waiting for the session (beyond: dropped, counted).
-    poll_interval_s: how often an idle worker looks for the end of the stream or a stop, and how often
-    an idle frame releaser looks for new frames (a new frame is due about L later, so this costs no lateness;
-    many streams polling at the live engine's 5 ms would burn CPU)."""
+    poll_interval_s: how often the worker, after the end of the stream, looks whether its last frames are out
+    (while streaming it and the frame releaser sleep until there is work: twenty streams polling burned CPU)."""
 
     max_queued_messages: int = 64
     poll_interval_s: float = 0.02
@@ -91,10 +90,10 @@ class ServeStream:
         self.delivery_counters = delivery_counters  # the connection's outbox drops and slow-client skips
         self.dropped_samples = 0
         self.error: str | None = None
-        self._inbox: queue.Queue[tuple[np.ndarray, float]] = queue.Queue(maxsize=self.config.max_queued_messages)
+        # audio messages in arrival order, then None once the stream ends or stops (bounded by feed)
+        self._inbox: queue.SimpleQueue[tuple[np.ndarray, float] | None] = queue.SimpleQueue()
         self._samples = 0
         self._next_capture = -np.inf
-        self._ending = threading.Event()
         self._stopped = threading.Event()
         release = SchedulerConfig(self.config.output_fps, poll_interval_s=self.config.poll_interval_s)
         self.scheduler = FrameScheduler(clock, FrameSender(clock, coords, send), release, stats=session.stats)
@@ -108,21 +107,22 @@ class ServeStream:
 
     # ---- handler side (event-loop thread) ----
     def feed(self, samples: np.ndarray, arrival: float) -> bool:
-        """Queue one decoded audio message; False (and counted) if the inbox is full."""
-        try:
-            self._inbox.put_nowait((samples, arrival))
-        except queue.Full:
+        """Queue one decoded audio message; False (and counted) if the inbox is full (only this thread puts
+        audio, so the size it sees cannot grow behind its back)."""
+        if self._inbox.qsize() >= self.config.max_queued_messages:
             self.dropped_samples += len(samples)
             return False
+        self._inbox.put((samples, arrival))
         return True
 
     def end(self) -> None:
         """No more audio: finish the look-ahead, release the last frames, send stats, then ``on_finished``."""
-        self._ending.set()
+        self._inbox.put(None)  # after the audio already queued
 
     def stop(self) -> None:
         """Stop now (client gone): threads end, queued audio and frames are discarded."""
         self._stopped.set()
+        self._inbox.put(None)  # wakes the worker
         self._worker.join(STOP_TIMEOUT_S)
         self._releaser.stop()
 
@@ -137,15 +137,10 @@ class ServeStream:
             self._finished()
 
     def _consume(self) -> None:
-        while not self._stopped.is_set():
-            try:
-                samples, arrival = self._inbox.get(timeout=self.config.poll_interval_s)
-            except queue.Empty:
-                if self._ending.is_set():
-                    self._finish()
-                    return
-                continue
-            self._releaser.submit(self.session.push(self._chunk(samples, arrival)))
+        while (message := self._inbox.get()) is not None and not self._stopped.is_set():
+            self._releaser.submit(self.session.push(self._chunk(*message)))
+        if not self._stopped.is_set():
+            self._finish()
 
     def _chunk(self, samples: np.ndarray, arrival: float) -> AudioChunk:
         duration = len(samples) / SAMPLE_RATE

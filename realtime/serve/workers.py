@@ -3,11 +3,11 @@
 One server process runs every stream's Python work (features, pose building, the sampler loop, the protocol)
 under one interpreter lock: it gets about one core for it whatever the machine has (docs/serve.md). With
 ``--workers N`` the command starts N processes, each a whole ``serve`` server (its own model, batched denoiser
-and ``--max-streams`` slots) listening on the same port with ``SO_REUSEPORT``; the kernel deals each new
-connection to one of them. The parent process loads no model: it reserves the port, starts the workers, waits
-for each to listen (a worker that fails names its error and stops the others), prints where streams go, and on
-Ctrl-C, SIGTERM or SIGHUP asks every worker to close its streams as ``serve`` does, then prints one line over all.
-Linux only (``SO_REUSEPORT`` balances connections there).
+and ``--max-streams`` slots) without a port of its own. The parent process loads no model: it listens on the port,
+starts the workers, waits for each to be ready (a worker that fails names its error and stops the others), then
+deals each connection to the worker holding the fewest (:mod:`.dealer`), prints where streams go, and on Ctrl-C,
+SIGTERM or SIGHUP stops dealing and asks every worker to close its streams as ``serve`` does, then prints one line
+over all. Linux only (sockets are passed between processes with ``SCM_RIGHTS``).
 """
 
 from __future__ import annotations
@@ -19,11 +19,12 @@ import queue
 import signal
 import socket
 import time
-from contextlib import closing
 from dataclasses import replace
+from multiprocessing.sharedctypes import SynchronizedArray
 
 from gesturecast import stop_signals
 from gesturecast.errors import UserError
+from gesturecast.realtime.serve.dealer import ConnectionDealer, receive_connections
 from gesturecast.realtime.serve.launch import start_server
 from gesturecast.realtime.serve.server import ServeConfig
 from gesturecast.realtime.timing.clock import MonotonicClock
@@ -35,26 +36,22 @@ PARENT_CHECK_S = 0.5  # a worker whose parent is gone (killed) stops within this
 MAX_WORKERS = 64
 
 
-def reserve_port(host: str, port: int) -> socket.socket:
-    """A bound, not listening socket on ``host:port`` (0: a free port) with SO_REUSEPORT set: the workers' sockets
-    join it; it holds the port until they listen (the kernel gives connections only to listening sockets)."""
-    if not hasattr(socket, "SO_REUSEPORT"):
-        raise UserError("serve --workers needs SO_REUSEPORT (Linux); run one server per port instead")
-    family = socket.AF_INET6 if ":" in host else socket.AF_INET
-    holder = socket.socket(family, socket.SOCK_STREAM)
-    holder.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEPORT, 1)
+def listen_port(host: str, port: int) -> socket.socket:
+    """The listening socket on ``host:port`` (0: a free port) whose connections the parent deals out."""
+    if not hasattr(socket, "send_fds"):
+        raise UserError("serve --workers needs Unix socket passing (Linux); run one server per port instead")
     try:
-        holder.bind((host, port))
+        return socket.create_server((host, port), family=socket.AF_INET6 if ":" in host else socket.AF_INET)
     except OSError as error:
-        holder.close()
         raise UserError(f"cannot listen on {host}:{port}: {error.strerror}; pick another with --port") from None
-    return holder
 
 
 def run_worker(settings: Settings, config: ServeConfig, reports: multiprocessing.Queue,
-               stop: multiprocessing.Event, log_level: int) -> None:
-    """One worker process: a ``serve`` server on the shared port until the parent sets ``stop`` (or is gone);
-    reports "ready" (or the error that stopped it), then its closed streams. Ctrl-C, SIGTERM and SIGHUP are the
+               stop: multiprocessing.Event, log_level: int, channel: socket.socket, counts: SynchronizedArray,
+               index: int) -> None:
+    """One worker process: a ``serve`` server fed the connections the parent passes on ``channel`` until the parent
+    sets ``stop`` (or is gone); reports "ready" (or the error that stopped it), then its closed streams. Ctrl-C,
+    SIGTERM and SIGHUP are the
     parent's to handle: a terminal or systemd sends them to every process of the service, and a second signal in
     the middle of a close must not cut it short."""
     for signum in (signal.SIGINT, *stop_signals.STOP_SIGNALS):
@@ -67,6 +64,7 @@ def run_worker(settings: Settings, config: ServeConfig, reports: multiprocessing
     except UserError as error:
         reports.put(("error", str(error)))
         return
+    receive_connections(channel, server, counts, index)
     reports.put(("ready", os.getpid()))
     try:
         while not stop.wait(PARENT_CHECK_S) and os.getppid() == parent:
@@ -85,30 +83,40 @@ class Workers:
         context = multiprocessing.get_context("spawn")
         self.reports = context.Queue()
         self.stop_event = context.Event()
-        self._holder = reserve_port(config.host, config.port)
-        self.port = self._holder.getsockname()[1]
-        shared = replace(config, port=self.port, reuse_port=True)
+        listener = listen_port(config.host, config.port)
+        self.port = listener.getsockname()[1]
+        shared = replace(config, port=self.port, dealt=True)
         level = logging.getLogger().getEffectiveLevel()
+        counts = context.Array("i", count)  # open connections per worker
+        pairs = [socket.socketpair(socket.AF_UNIX, socket.SOCK_STREAM) for _ in range(count)]
         self.processes = [context.Process(target=run_worker, args=(settings, shared, self.reports, self.stop_event,
-                                                                   level),
+                                                                   level, pairs[i][1], counts, i),
                                           name=f"worker-{i}") for i in range(count)]
+        self.dealer = ConnectionDealer(listener, [ours for ours, _ in pairs], counts)
+        self._their_ends = [theirs for _, theirs in pairs]
         self.listening = 0  # workers that reported "ready": each reports its streams when it stops
 
     def start(self) -> Workers:
-        """Start every worker and wait until each listens; a failure stops the others and raises its error."""
-        with closing(self._holder):
-            for process in self.processes:
-                process.start()
-            for _ in self.processes:
-                kind, detail = self.reports.get(timeout=READY_TIMEOUT_S)
-                if kind == "error":
-                    self.stop()
-                    raise UserError(detail)
-                self.listening += 1
+        """Start every worker, wait until each is ready, then deal connections; a failure stops the others and
+        raises its error."""
+        for process in self.processes:
+            process.start()
+        for theirs in self._their_ends:  # each worker holds its own copy now
+            theirs.close()
+        for _ in self.processes:
+            kind, detail = self.reports.get(timeout=READY_TIMEOUT_S)
+            if kind == "error":
+                self.stop()
+                raise UserError(detail)
+            self.listening += 1
+        self.dealer.start()
         return self
 
     def stop(self) -> list[dict]:
-        """Ask each worker to close its streams; returns the closed streams' stats of all."""
+        """Stop dealing, ask each worker to close its streams; returns the closed streams' stats of all."""
+        self.dealer.close()
+        for channel in self.dealer.channels:
+            channel.close()
         self.stop_event.set()
         deadline = time.monotonic() + STOP_TIMEOUT_S
         served, reports = [], 0

@@ -23,6 +23,10 @@ class Clock(Protocol):
         """Return once ``now() >= t`` (immediately if ``t`` is already past)."""
         ...
 
+    def wait_until(self, t: float, event: threading.Event) -> bool:
+        """Return once ``now() >= t`` or ``event`` is set; True if it is set."""
+        ...
+
 
 class MonotonicClock:
     """The real clock: ``time.monotonic`` and real sleeping."""
@@ -34,6 +38,10 @@ class MonotonicClock:
         remaining = t - time.monotonic()
         if remaining > 0.0:
             time.sleep(remaining)
+
+    def wait_until(self, t: float, event: threading.Event) -> bool:
+        remaining = t - time.monotonic()
+        return event.wait(remaining) if remaining > 0.0 else event.is_set()
 
 
 class FakeClock:
@@ -60,3 +68,9 @@ class FakeClock:
     def sleep_until(self, t: float) -> None:
         with self._lock:
             self._now = max(self._now, float(t))
+
+    def wait_until(self, t: float, event: threading.Event) -> bool:
+        if event.is_set():
+            return True
+        self.sleep_until(t)
+        return event.is_set()

@@ -48,7 +48,8 @@ Sink = Callable[[PoseFrame], None]
 class SchedulerConfig:
     """output_fps: 30 (as generated) or 60 (a slerped midpoint between consecutive frames).
     max_pending: bound on queued frames (drop-oldest with a counter beyond it).
-    poll_interval_s: longest a :class:`SchedulerWorker` sleeps before looking for new frames.
+    poll_interval_s: how often :func:`~gesturecast.realtime.run.engine.drain` and a served stream's worker look for
+    the end of the queue (the :class:`SchedulerWorker` itself sleeps until the next due frame or a new one).
     late_release_frames: release lateness, in output frames, beyond which a release counts as late.
     paced: release at presentation times (True) or as soon as queued (False: a file read as fast as possible).
     """
@@ -131,6 +132,7 @@ class FrameScheduler:
         self._pending: deque[PoseFrame] = deque()
         self._previous: PoseFrame | None = None
         self._lock = threading.Lock()
+        self.queued = threading.Event()  # set by every submit: an idle releaser wakes on it
 
     @property
     def upsampling(self) -> bool:
@@ -143,6 +145,7 @@ class FrameScheduler:
             for out in self._output_frames(frame):
                 self._enqueue(out, now)
             self._previous = frame
+        self.queued.set()
 
     def _output_frames(self, frame: PoseFrame) -> list[PoseFrame]:
         if not self.upsampling:
@@ -232,7 +235,9 @@ class FrameScheduler:
 class SchedulerWorker:
     """A daemon thread that keeps a :class:`FrameScheduler` releasing frames on time.
 
-    It sleeps until the next due frame, or at most ``poll_interval_s`` so newly submitted frames are seen.
+    It sleeps until the next due frame (a frame submitted meanwhile is due no earlier: frames come in presentation
+    order) or, with none queued, until one is submitted: about one wake-up per released frame, where polling every
+    few milliseconds woke each of twenty served streams' releasers hundreds of times a second.
     If the sink raises, the thread logs it, keeps it in ``error`` for the engine to re-raise, and ends.
     """
 
@@ -248,6 +253,7 @@ class SchedulerWorker:
     def stop(self, timeout_s: float = 1.0) -> None:
         """Stop the thread (frames still queued stay queued; call ``scheduler.flush()`` to send them)."""
         self._stop.set()
+        self.scheduler.queued.set()  # wakes an idle wait
         self._thread.join(timeout_s)
 
     @property
@@ -269,9 +275,11 @@ class SchedulerWorker:
             self.error = error
 
     def _release_until_stopped(self) -> None:
-        clock = self.scheduler.clock
-        poll = self.scheduler.config.poll_interval_s
+        scheduler = self.scheduler
         while not self._stop.is_set():
-            wake = clock.now() + poll
-            due = self.scheduler.next_due()
-            self.scheduler.run_until(wake if due is None else min(due, wake))
+            due = scheduler.next_due()
+            if due is None:
+                scheduler.queued.wait()
+                scheduler.queued.clear()  # a frame submitted since is queued already: next_due sees it
+            elif not scheduler.clock.wait_until(due, self._stop):
+                scheduler.pump()

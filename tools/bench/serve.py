@@ -215,7 +215,8 @@ def measure_workers(args: argparse.Namespace, streams: int, speech: np.ndarray, 
     finally:
         workers.stop()
     summary = run_summary(results, streams, seconds, cpu, wall, None, None)
-    return summary | {"workers": args.workers, "client_rtf": client_cpu / (streams * seconds),
+    return summary | {"workers": args.workers, "streams_per_worker": workers.dealer.dealt,
+                      "client_rtf": client_cpu / (streams * seconds),
                       "server_mb": {"idle": idle_mb, "peak": peak.mb, "per_stream": (peak.mb - idle_mb) / streams}}
 
 

@@ -167,6 +167,25 @@ def test_worker_thread_releases_on_time_on_a_fake_clock():
     assert sink.times == pytest.approx([seq / FPS + LATENCY_S for seq in range(count)], abs=1e-12)
 
 
+def test_an_idle_worker_sleeps_until_a_frame_is_submitted_and_stops_at_once():
+    """With nothing queued the releaser waits for a submit, not a poll timer; the fake clock shows it: time does
+    not move while it is idle, and a frame submitted later is released exactly at its time."""
+    clock, sink, scheduler = setup()
+    sent = threading.Event()
+    scheduler.sink = lambda frame: (sink(frame), sent.set())
+    worker = SchedulerWorker(scheduler)
+    worker.start()
+    try:
+        assert not sent.wait(timeout=0.2)
+        assert clock.now() == 0.0  # no polling sleeps while idle
+        scheduler.submit(make_frame(3))
+        assert sent.wait(timeout=10.0)
+    finally:
+        worker.stop(timeout_s=10.0)
+    assert not worker.running  # the idle wait ended on stop
+    assert sink.times == pytest.approx([3 / FPS + LATENCY_S], abs=1e-12)
+
+
 def test_out_of_order_submission_is_refused():
     _, _, scheduler = setup()
     scheduler.submit(make_frame(3))

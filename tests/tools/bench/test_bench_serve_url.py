@@ -59,6 +59,7 @@ def test_bench_serve_measures_worker_processes(tiny_model, shared_data, capsys):
     assert result["settings"]["client_niceness"] == 10
     run = result["runs"][0]
     assert run["workers"] == 2 and run["frames"] == STREAMS * SECONDS * FPS and run["errors"] == []
+    assert run["streams_per_worker"] == [1, 1]  # dealt to the worker with fewest, not hashed by the kernel
     assert run["rtf"] > 0 and run["client_rtf"] > 0  # the workers' CPU from /proc, the clients' apart
     assert run["server_mb"]["peak"] >= run["server_mb"]["idle"] > 0
 
