@@ -47,8 +47,9 @@ def add_serve_arguments(parser: argparse.ArgumentParser) -> None:
     group.add_argument("--coordinate-frame", choices=tuple(FRAMES), default="internal", help="frame of sent poses")
     group.add_argument("--fps", type=int, choices=OUTPUT_RATES, default=30, help="output rate (60 = slerp upsampling)")
     group.add_argument("--workers", type=int, default=1, metavar="N",
-                       help="server processes sharing the port, each with its own model and --max-streams slots "
-                            "(one process uses about one core for the streams' Python work; Linux)")
+                       help="server processes behind the port, each with its own model and --max-streams slots; "
+                            "each connection goes to the one holding fewest (one process uses about one core for the "
+                            "streams' Python work: 4 for many streams on 2 cores; Linux)")
 
 
 def build_server(args: argparse.Namespace, clock: Clock) -> GestureServer:
