@@ -21,6 +21,7 @@ Right-handed Y-up (``internal``): identity.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -38,7 +39,7 @@ class CoordinateFrame:
     scale: float
     description: str
 
-    @property
+    @cached_property
     def handedness_sign(self) -> float:
         return float(np.sign(np.linalg.det(self.basis)))
 

@@ -53,7 +53,7 @@ def batch_size(feeds: Feeds) -> int:
 
 def group_key(feeds: Feeds) -> tuple:
     """Requests can share a call when every input matches except along its batch axis."""
-    return tuple(tuple(np.delete(feeds[name].shape, BATCH_AXIS[name]).tolist()) for name in BATCH_AXIS)
+    return tuple(feeds[name].shape[:axis] + feeds[name].shape[axis + 1:] for name, axis in BATCH_AXIS.items())
 
 
 def stack_feeds(requests: Sequence[Feeds]) -> Feeds:
@@ -65,7 +65,10 @@ def stack_feeds(requests: Sequence[Feeds]) -> Feeds:
 
 
 def split_outputs(outputs: Outputs, sizes: Sequence[int]) -> list[Outputs]:
-    """The outputs of a stacked call → each request's own outputs (rows in request order)."""
+    """The outputs of a stacked call → each request's own outputs (rows in request order; a lone request's: as
+    they are)."""
+    if len(sizes) == 1:
+        return [list(outputs)]
     bounds = np.cumsum(sizes)[:-1]
     parts = [np.split(array, bounds, axis=axis) for array, axis in zip(outputs, OUTPUT_BATCH_AXIS, strict=True)]
     return [list(per_request) for per_request in zip(*parts, strict=True)]
