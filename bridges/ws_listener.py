@@ -9,6 +9,7 @@ accepted (``serve --workers``: the parent deals each connection to the worker wi
 from __future__ import annotations
 
 import asyncio
+import concurrent.futures
 import errno
 import socket
 import threading
@@ -64,7 +65,7 @@ class ThreadedListener:
             asyncio.run_coroutine_threadsafe(self._close_server(), self.loop).result(self.stop_timeout_s)
         self._stop_loop()
 
-    def adopt(self, connection: socket.socket) -> asyncio.Future:
+    def adopt(self, connection: socket.socket) -> concurrent.futures.Future:
         """Serve one TCP connection accepted elsewhere as if this server had accepted it (the same handler, access
         check and message limit); returns a future done when the connection has closed."""
         return asyncio.run_coroutine_threadsafe(self._adopt(connection), self.loop)

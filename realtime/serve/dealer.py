@@ -73,14 +73,14 @@ class ConnectionDealer:
 
     def _pass(self, connection: socket.socket) -> None:
         index = fewest(self.counts)
-        count(self.counts, index, +1)
+        count(self.counts, index, +1)  # counted before it is passed: the worker may answer before this thread runs on
+        self.dealt[index] += 1
         try:
             socket.send_fds(self.channels[index], [DEAL], [connection.fileno()])
         except OSError as error:  # the worker is gone; the client sees its connection closed
             count(self.counts, index, -1)
+            self.dealt[index] -= 1
             logger.warning("could not pass a connection to worker %d: %s", index, error)
-            return
-        self.dealt[index] += 1
 
 
 def receive_connections(channel: socket.socket, server: GestureServer, counts: SynchronizedArray,

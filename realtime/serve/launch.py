@@ -33,9 +33,9 @@ def start_server(settings: Settings, config: ServeConfig, clock: Clock) -> Gestu
 
 
 def tune_for_streams() -> None:
-    """The serving process's interpreter tuned for many stream threads (docs/serve.md, "Twenty streams"): a thread
-    that waits for the interpreter lock gets it within SWITCH_INTERVAL_S rather than Python's 5 ms, and what exists
-    now (the model, the sessions' shared parts) moves out of the garbage collector's view, so its full collections
-    in the middle of streams stay short."""
+    """The serving process's interpreter tuned for many stream threads (docs/serve.md, "each connection to the
+    worker holding the fewest"): a thread that waits for the interpreter lock gets it within SWITCH_INTERVAL_S rather
+    than Python's 5 ms, and what exists now (the model, the sessions' shared parts) moves out of the garbage
+    collector's view, so its full collections in the middle of streams stay short."""
     sys.setswitchinterval(SWITCH_INTERVAL_S)
     gc.freeze()
