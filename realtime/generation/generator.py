@@ -78,6 +78,16 @@ class GeneratorSettings:
 
 
 @dataclass(frozen=True)
+class PreparedConditions:
+    """Conditions computed ahead by :meth:`Generator.prepare`, valid for the layout and audio flag they were made
+    with, each paired with its padded (A, F) window and used in order."""
+
+    layout: object = None  # the generator's layout at prepare time
+    audio_present: bool = True
+    pending: deque = field(default_factory=deque)  # (window (A, F), condition (B, Dc)) pairs
+
+
+@dataclass(frozen=True)
 class HistoryFrame:
     """A committed clean latent (normalised, the fusion of the parts), the conditions it was committed with, and
     each prompt's own clean latent (its trajectory; empty for seed-gesture frames)."""
@@ -125,7 +135,7 @@ class Generator:
         self._set_mixture_values(*self.part_mixture(self.settings.style, self.settings.part_styles))
         self._plan = sampling_plan(self.schedule.num_timesteps, self.settings.sampler)
         self.layout = self._make_layout()
-        self._prepared: tuple = (None, True, deque())  # (layout, audio present, (window, condition) pairs)
+        self._prepared = PreparedConditions()
         self.reset(self.settings.seed)
 
     @property
@@ -309,7 +319,7 @@ class Generator:
         padded = np.stack([pad_visible_window(np.asarray(window, np.float32), self.config)
                            for window in audio_windows])  # (n, A, F)
         conditions = self._conditions(padded, audio_present)  # (n, B, Dc)
-        self._prepared = (self.layout, audio_present, deque(zip(padded, conditions, strict=True)))
+        self._prepared = PreparedConditions(self.layout, audio_present, deque(zip(padded, conditions, strict=True)))
 
     def _conditions(self, windows: np.ndarray, audio_present: bool) -> np.ndarray:
         """(n, B, Dc) conditions of n padded windows (n, A, F) for every row of the layout."""
@@ -322,10 +332,10 @@ class Generator:
 
     def _prepared_condition(self, window: np.ndarray, audio_present: bool) -> np.ndarray | None:
         """The prepared (B, Dc) condition of this padded window (A, F), None when none matches."""
-        layout, present, prepared = self._prepared
-        if not prepared or layout is not self.layout or present != audio_present:
+        prepared = self._prepared
+        if not prepared.pending or prepared.layout is not self.layout or prepared.audio_present != audio_present:
             return None
-        next_window, condition = prepared.popleft()
+        next_window, condition = prepared.pending.popleft()
         return condition if np.array_equal(next_window, window) else None
 
     def decode(self, latent: np.ndarray) -> np.ndarray:

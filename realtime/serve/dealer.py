@@ -53,11 +53,14 @@ class ConnectionDealer:
         return self
 
     def close(self) -> None:
-        """Stop accepting (clients that connect after this are refused by the closed port)."""
+        """Stop accepting (clients that connect after this are refused by the closed port) and close the channels
+        (each worker's receiver then ends)."""
         self._stop.set()
         if self._thread.ident is not None:  # started
             self._thread.join(STOP_TIMEOUT_S)
         self.listener.close()
+        for channel in self.channels:
+            channel.close()
 
     def _deal(self) -> None:
         while not self._stop.is_set():
@@ -84,7 +87,7 @@ class ConnectionDealer:
 
 
 def receive_connections(channel: socket.socket, server: GestureServer, counts: SynchronizedArray,
-                        index: int) -> threading.Thread:
+                        index: int) -> None:
     """Worker side: a thread that serves every connection the parent passes on ``channel`` and counts it down in
     ``counts[index]`` when it closes; it ends when the parent closes the channel."""
 
@@ -101,6 +104,4 @@ def receive_connections(channel: socket.socket, server: GestureServer, counts: S
                 return
             server.adopt(socket.socket(fileno=fds[0])).add_done_callback(closed)
 
-    thread = threading.Thread(target=receive, name="connection-receiver", daemon=True)
-    thread.start()
-    return thread
+    threading.Thread(target=receive, name="connection-receiver", daemon=True).start()

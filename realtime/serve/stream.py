@@ -95,7 +95,7 @@ class ServeStream:
         self._samples = 0
         self._next_capture = -np.inf
         self._stopped = threading.Event()
-        release = SchedulerConfig(self.config.output_fps, poll_interval_s=self.config.poll_interval_s)
+        release = SchedulerConfig(self.config.output_fps)
         self.scheduler = FrameScheduler(clock, FrameSender(clock, coords, send), release, stats=session.stats)
         self._releaser = SchedulerWorker(self.scheduler)
         self._worker = threading.Thread(target=self._run, name=f"stream-{stream_id}", daemon=True)

@@ -115,8 +115,6 @@ class Workers:
     def stop(self) -> list[dict]:
         """Stop dealing, ask each worker to close its streams; returns the closed streams' stats of all."""
         self.dealer.close()
-        for channel in self.dealer.channels:
-            channel.close()
         self.stop_event.set()
         deadline = time.monotonic() + STOP_TIMEOUT_S
         served, reports = [], 0

@@ -48,8 +48,8 @@ Sink = Callable[[PoseFrame], None]
 class SchedulerConfig:
     """output_fps: 30 (as generated) or 60 (a slerped midpoint between consecutive frames).
     max_pending: bound on queued frames (drop-oldest with a counter beyond it).
-    poll_interval_s: how often :func:`~gesturecast.realtime.run.engine.drain` and a served stream's worker look for
-    the end of the queue (the :class:`SchedulerWorker` itself sleeps until the next due frame or a new one).
+    poll_interval_s: how often :func:`~gesturecast.realtime.run.engine.drain` looks for the end of the queue (the
+    :class:`SchedulerWorker` itself sleeps until the next due frame or a new one).
     late_release_frames: release lateness, in output frames, beyond which a release counts as late.
     paced: release at presentation times (True) or as soon as queued (False: a file read as fast as possible).
     """
