@@ -4,7 +4,8 @@ One address is understood: ``/gesturecast/gesture`` with the gesture's name as a
 shared token as a second string when the port listens beyond loopback (the same rule as the WebSocket controls:
 :func:`gesturecast.bridges.ws_access.check_exposure`). Bundles are unpacked. Anything else (another address, other
 arguments, a malformed datagram, a wrong token) is dropped and counted; the first of each kind is logged once. The
-message becomes the control ``{"gesture": NAME}`` handed to ``on_control`` (the session's controls: checked there,
+message becomes the typed control ``Gesture(NAME)`` (checked by :func:`gesturecast.controls.parse_controls`, as every
+door's controls are) handed to ``on_control`` (the session's controls: the name checked against the lexicon there,
 carried out at the next latent), so an unknown name is logged and the stream goes on.
 
 The decoder is the project's own: OSC 1.0 strings (NUL-terminated, padded to 4 bytes), ``i`` / ``f`` / ``s``
@@ -23,6 +24,7 @@ from dataclasses import dataclass
 
 from gesturecast.bridges.osc_wire import BUNDLE_HEADER_SIZE, BUNDLE_TAG, ELEMENT_SIZE_PREFIX, OSC_ALIGNMENT
 from gesturecast.bridges.ws_access import check_exposure, tokens_match
+from gesturecast.controls import Control, parse_controls
 from gesturecast.errors import UserError
 
 logger = logging.getLogger(__name__)
@@ -100,7 +102,7 @@ class OscInConfig:
 class OscControlListener:
     """A UDP port whose ``/gesturecast/gesture`` messages become gesture controls (see the module docstring)."""
 
-    def __init__(self, config: OscInConfig, on_control: Callable[[dict], None]) -> None:
+    def __init__(self, config: OscInConfig, on_control: Callable[[tuple[Control, ...]], None]) -> None:
         check_exposure(config.host, config.token)
         self.config = config
         self.on_control = on_control
@@ -162,7 +164,7 @@ class OscControlListener:
         if self.config.token is not None and not tokens_match(arguments[1], self.config.token):
             return self._drop("wrong_token", f"{GESTURE_ADDRESS} with a wrong token")
         try:
-            self.on_control({"gesture": arguments[0]})
+            self.on_control(parse_controls({"gesture": arguments[0]}))
         except (UserError, ValueError) as error:
             return self._drop("refused", f"gesture {arguments[0]!r:.40} refused: {error}")
         self.counts["gestures"] += 1

@@ -6,7 +6,7 @@ binary frame per PoseFrame, or JSON frames after sending ``{"type": "subscribe",
 ``broadcast()``; a client whose socket write buffer is above ``slow_client_buffer_bytes`` is
 skipped for that frame (counted), so nothing is buffered without bound.
 
-Clients may send control messages (:mod:`control`); valid ones go to ``on_control(dict)``,
+Clients may send control messages (:mod:`control`); valid ones go to ``on_control`` as typed controls,
 invalid ones get ``{"type": "error"}`` back and one log line. Listens on 127.0.0.1 unless told
 otherwise; beyond loopback a token is required for control messages. Who may connect (browser
 origins, wrong-token limit) is :mod:`ws_access`.
@@ -30,18 +30,13 @@ from websockets.exceptions import ConnectionClosed
 from websockets.http11 import Request, Response
 
 from gesturecast.bridges import ws_protocol
-from gesturecast.bridges.control import (
-    WORDS_MESSAGE,
-    ControlError,
-    control_schema,
-    decode_client_message,
-    validate_control,
-)
+from gesturecast.bridges.control import WORDS_MESSAGE, decode_client_message, message_controls
 from gesturecast.bridges.coords import coordinate_frame
 from gesturecast.bridges.transport import ErrorThrottle
 from gesturecast.bridges.viewer_http import AvatarServer, ViewerConnection, is_websocket_upgrade, static_response
 from gesturecast.bridges.ws_access import AccessPolicy, send_refusal
 from gesturecast.bridges.ws_listener import ThreadedListener
+from gesturecast.controls import Control, ControlError, control_schema, wire
 from gesturecast.errors import UserError
 from gesturecast.frames import VISEME_NAMES, PoseFrame
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS, Skeleton
@@ -83,7 +78,7 @@ class ClientState:
     skipped_frames: int = 0
 
 
-def _ignore_control(control: dict) -> None:
+def _ignore_control(control: tuple[Control, ...]) -> None:
     logger.info("control message received but no engine is attached: %s", control)
 
 
@@ -95,7 +90,7 @@ class WebSocketBridge:
     def __init__(
         self,
         config: WebSocketConfig = WebSocketConfig(),
-        on_control: Callable[[dict], None] = _ignore_control,
+        on_control: Callable[[tuple[Control, ...]], None] = _ignore_control,
         skeleton: Skeleton = CANONICAL_WITH_HANDS,
     ) -> None:
         self.access = AccessPolicy(config.host, config.token, config.allow_origins, config.clock)
@@ -232,12 +227,12 @@ class WebSocketBridge:
 
     async def _control(self, message: dict) -> str:
         """Validate, hand to the engine (which resolves the styles, off the event loop), then ack."""
-        control = validate_control(message)
+        controls = message_controls(message)
         try:
-            await asyncio.to_thread(self.on_control, control)
+            await asyncio.to_thread(self.on_control, controls)
         except (ValueError, UserError) as error:
             raise ControlError(f"the engine refused it: {error}") from None
-        return json.dumps({"type": "ack", "applied": control})
+        return json.dumps({"type": "ack", "applied": wire(controls)})
 
     def _drain(self) -> None:
         with self._lock:

@@ -31,8 +31,8 @@ from websockets.datastructures import Headers
 from websockets.frames import CloseCode
 from websockets.http11 import Request, Response
 
-from gesturecast.bridges.control import ControlError
 from gesturecast.bridges.ws_protocol import error_message
+from gesturecast.controls import ControlError
 from gesturecast.errors import UserError
 from gesturecast.input_files import read_bounded
 

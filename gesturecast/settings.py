@@ -18,10 +18,11 @@ from importlib import resources
 from pathlib import Path
 
 from gesturecast.arguments import NumberLimit
+from gesturecast.controls import STYLE_SETTINGS, Choice, Number, StyleChange
 from gesturecast.errors import UserError
 from gesturecast.frames import FACE_NAMES, VISEME_NAMES
 from gesturecast.models.generator.style_prompt import PartStyles, StylePrompt, parse_part_styles
-from gesturecast.models.motion.root_anchor import ROOT_MODES, RootMode
+from gesturecast.models.motion.root_anchor import RootMode
 
 
 @dataclass(frozen=True)
@@ -50,16 +51,14 @@ LIPSYNC_CHOICES = (*VISEME_NAMES, LIPSYNC_OFF)
 FACE_OFF, FACE_BLINK, FACE_FULL = "off", "blink", "full"
 FACE_MODES = (FACE_OFF, FACE_BLINK, FACE_FULL)  # what the face does besides the mouth
 OUTPUT_RATES = (30, 60)  # 60: slerp upsampling of the 30 fps motion
-GUIDANCE_RANGE = (0.0, 10.0)  # classifier-free guidance s and audio guidance s_a (also for live controls)
-STYLE_STRENGTH_RANGE = (0.0, 2.0)  # 0: neutral (no style pull), 1: the model's default, 2: twice the pull
 DEFAULT_STYLE_STRENGTH = 1.0
-GAMMA_RANGE = (-2.0, 3.0)  # γ: interpolation in 0..1, extrapolation outside (also for live controls)
 SINGLE_STYLE = 1.0  # γ = 1: the first style only
 DEFAULT_AUDIO_GUIDANCE = 1.5  # docs/generator.md "Audio guidance": rests in pauses, follows the speech more
 DEFAULT_SMOOTHING_FRAMES = 1  # centred 3-frame window: jerk ≈ real motion's (docs/generator.md "Smoothing")
 DEFAULT_STEPS = 4
 
-# field -> its limits; the command-line flag ``--field-name`` uses the same limits (gesturecast.arguments)
+# field -> its limits; the command-line flag ``--field-name`` uses the same limits (gesturecast.arguments); the style
+# settings' ranges and choices are those of the live controls (gesturecast.controls.StyleChange)
 NUMBER_LIMITS: dict[str, NumberLimit] = {
     "steps": NumberLimit(1, 1000, integer=True),  # DDIM steps K per latent (DDPM uses the model's T)
     "seed": NumberLimit(0, 2**32 - 1, integer=True),
@@ -67,18 +66,15 @@ NUMBER_LIMITS: dict[str, NumberLimit] = {
     "smoothing": NumberLimit(0, 15, integer=True),  # k frames (half a second at most: each adds to L)
     "margin_ms": NumberLimit(0.0, 2000.0),
     "threads": NumberLimit(1, 64, integer=True),
-    "guidance": NumberLimit(*GUIDANCE_RANGE),
-    "audio_guidance": NumberLimit(*GUIDANCE_RANGE),
-    "style_strength": NumberLimit(*STYLE_STRENGTH_RANGE),
-    "gamma": NumberLimit(*GAMMA_RANGE),
+    **{name: NumberLimit(rule.low, rule.high) for name, rule in STYLE_SETTINGS.items() if isinstance(rule, Number)},
 }
 CHOICES: dict[str, tuple] = {
     "sampler": SAMPLERS,
     "latency": tuple(LATENCY_SETTINGS),
     "lipsync": LIPSYNC_CHOICES,
     "face": FACE_MODES,
-    "root": ROOT_MODES,
     "fps": OUTPUT_RATES,
+    **{name: rule.choices for name, rule in STYLE_SETTINGS.items() if isinstance(rule, Choice)},
 }
 
 
@@ -176,6 +172,14 @@ class Settings:
     def replace(self, **changes) -> Settings:
         """A copy with ``changes`` (unknown names and bad values are one-line errors)."""
         return with_overrides(self, changes)
+
+    def with_style(self, change: StyleChange) -> Settings:
+        """A copy with a client's style change (its fields are fields of these settings); a style or prompt it
+        names replaces the first style, also one given here as a prompt or motion prompt."""
+        changes = change.changed()
+        if "style" in changes or "prompt" in changes:
+            changes = {"prompt": None, "motion_prompt": None, **changes}
+        return self.replace(**changes)
 
 
 def face_names(face: str, lipsync: str) -> tuple[str, ...]:

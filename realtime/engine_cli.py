@@ -11,7 +11,6 @@ from pathlib import Path
 import numpy as np
 
 from gesturecast import stop_signals
-from gesturecast.bridges.control import validate_control
 from gesturecast.bridges.fanout import BridgeFanout
 from gesturecast.bridges.osc_in import GESTURE_ADDRESS, OscControlListener, OscInConfig
 from gesturecast.bridges.output_settings import parse_host_port
@@ -125,8 +124,7 @@ def osc_listener(args: argparse.Namespace, session: GestureSession) -> OscContro
         return None
     host, port = parse_host_port(args.osc_in if ":" in args.osc_in else f":{args.osc_in}", "--osc-in")
     token = server_token(args) if not is_loopback(host) else None
-    return OscControlListener(OscInConfig(host, port, token),
-                              lambda control: session.controls.submit(validate_control(control)))
+    return OscControlListener(OscInConfig(host, port, token), session.controls.submit)
 
 
 def start_stream_inputs(session: GestureSession, words: list[Word], gestures_in: OscControlListener | None) -> None:

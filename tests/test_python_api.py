@@ -17,6 +17,8 @@ import pytest
 import soundfile
 
 import gesturecast
+from gesturecast.bridges.control import message_controls
+from gesturecast.controls import ControlError
 from gesturecast.errors import UserError
 from gesturecast.models.audio.files import PACKAGED_SAMPLE, SAMPLE_RATE, load_audio
 from gesturecast.models.motion.bvh import read_bvh
@@ -107,6 +109,42 @@ def test_a_stream_takes_controls_and_refuses_what_the_model_lacks(speech):
     assert frames[-1].style == "old"
     with pytest.raises(UserError, match="closed"):
         stream.push(speech, SAMPLE_RATE)
+
+
+BAD_CONTROLS = [{"gamma": 50}, {"guidance": float("nan")}, {"audio_guidance": float("inf")}, {"guidance": 1e6},
+                {"gamma": 1e30}, {"guidance": "x"}, {"root": "flying"}, {"gesture": None}, {"volume": 3}]
+
+
+def test_a_stream_refuses_a_bad_control_at_the_call_in_the_websockets_words(speech):
+    """Every refused field fails at ``control()`` itself, with the reason a WebSocket client is sent, and the stream
+    goes on with finite poses (nan guidance used to freeze the avatar; a bad root used to fail a later push)."""
+    with gesturecast.Stream(paced=False, warm=False) as stream:
+        for fields in BAD_CONTROLS:
+            with pytest.raises(ControlError) as wire_error:
+                message_controls({"type": "control", **fields})
+            with pytest.raises(UserError) as call_error:
+                stream.control(**fields)
+            assert str(call_error.value) == str(wire_error.value), fields
+        frames = stream.push(speech, SAMPLE_RATE)
+    assert frames and all(np.isfinite(frame.rotations).all() for frame in frames)
+    with pytest.raises(UserError, match=r"^gamma must be within \[-2, 3\], got 50$"):
+        gesturecast.Stream(paced=False, warm=False).control(gamma=50)
+
+
+def test_a_closed_stream_refuses_controls_gestures_and_words(speech):
+    stream = gesturecast.Stream(paced=False, warm=False)
+    stream.close()
+    for call in (lambda: stream.control(style="old"), lambda: stream.gesture("wave"),
+                 lambda: stream.spoken("hello"), lambda: stream.words([{"word": "hello", "start": 1.0}])):
+        with pytest.raises(UserError, match="this stream is closed"):
+            call()
+
+
+@pytest.mark.parametrize("start", [float("nan"), float("inf"), -1.0, "soon"])
+def test_spoken_words_need_a_finite_stream_time(start):
+    with gesturecast.Stream(paced=False, warm=False) as stream, pytest.raises(
+            UserError, match="^start must be"):
+        stream.spoken("hello", start)
 
 
 def test_a_stream_records_bvh_through_its_outputs(speech, tmp_path):

@@ -14,9 +14,9 @@ import math
 import re
 from collections import deque
 from collections.abc import Iterable, Mapping
-from dataclasses import dataclass
 from pathlib import Path
 
+from gesturecast.controls import Word  # the words of transcripts and of ``words`` controls are one type
 from gesturecast.errors import UserError
 from gesturecast.realtime.generation.gesture_cues import Cue
 
@@ -34,13 +34,6 @@ DEFAULT_TRIGGERS: dict[str, tuple[str, ...]] = {  # gesture -> English trigger p
     "guide": ("here", "there", "look at", "this"),
     "call": ("come on", "come here"),
 }
-
-
-@dataclass(frozen=True)
-class Word:
-    text: str
-    start: float  # seconds from the start of the audio
-    end: float
 
 
 def words_from_list(items: object, source: str) -> list[Word]:

@@ -17,13 +17,13 @@ from collections import deque
 from dataclasses import replace
 from typing import Protocol
 
+from gesturecast.controls import Control, Gesture, StyleChange, Word, Words
 from gesturecast.errors import UserError
 from gesturecast.models.generator.style_prompt import PartStyles, StylePrompt, parse_part_styles
 from gesturecast.models.motion.root_anchor import RootAnchor, RootMode
 from gesturecast.realtime.generation.generator import Generator
 from gesturecast.realtime.generation.gesture_cues import Cue, CuePlan
 from gesturecast.realtime.generation.style_mixture import align_mixtures, bound_blend_rows, drop_unused_rows
-from gesturecast.realtime.generation.word_cues import Word, words_from_list
 from gesturecast.realtime.pose.transitions import DEFAULT_RAMP_S, Ramp
 from gesturecast.settings import SINGLE_STYLE
 
@@ -54,7 +54,7 @@ class SessionControls:
         self.root = root
         self.gestures = gestures
         self.fade_s = fade_s
-        self._inbox: deque[dict] = deque(maxlen=MAX_PENDING_CONTROLS)
+        self._inbox: deque[tuple[Control, ...]] = deque(maxlen=MAX_PENDING_CONTROLS)
         self._lock = threading.Lock()
         self._guidance = Ramp(generator.base_guidance, fade_s)
         self._style_strength = Ramp(generator.settings.style_strength, fade_s)
@@ -63,33 +63,39 @@ class SessionControls:
         self._blending_from: StylePrompt | None = None  # old style while a style change blends in
         self._mixture_ramp: Ramp | None = None  # W (R, C) flattened, while a part-style change blends in
 
-    def submit(self, control: dict) -> None:
-        """Queue a schema-checked control message (keys: style, prompt, style2, part_styles, style_strength,
-        guidance, audio_guidance, gamma, root); thread-safe. Its styles and body parts are resolved first, so one
-        the model cannot use raises UserError here (the caller answers the client) instead of failing the stream
-        when applied."""
-        if "gesture" in control:
-            self._check_gesture(control["gesture"])
-        if "words" in control:
-            self._check_gesture(None)
-            words_from_list(control["words"], "words")
-        for prompt in _prompts_of(control):
-            self.generator.styles.embed(prompt)
-        if "part_styles" in control:
-            parts = parse_part_styles(control["part_styles"])
-            self.generator.part_mixture(self.generator.settings.style, parts)  # unknown body parts
-            for _, prompt in parts:  # unknown styles (e.g. a misspelt label) inside part_styles
-                self.generator.styles.embed(prompt)
+    def submit(self, controls: tuple[Control, ...]) -> None:
+        """Queue one message's typed controls (built by :func:`gesturecast.controls.parse_controls`, so their values
+        are already checked), applied together at the next latent; thread-safe. What only the model can tell is
+        checked here first (a gesture not in the lexicon, a style label or body part the model does not know), so
+        one it cannot use raises UserError here (the caller answers the client) instead of failing the stream when
+        applied."""
+        for control in controls:
+            self._check(control)
         with self._lock:
-            self._inbox.append(dict(control))
+            self._inbox.append(tuple(controls))
+
+    def _check(self, control: Control) -> None:
+        if isinstance(control, Gesture):
+            self._check_gesture(control.name)
+        elif isinstance(control, Words):
+            self._check_gesture(None)
+        else:
+            for prompt in _prompts_of(control):
+                self.generator.styles.embed(prompt)
+            if control.part_styles is not None:
+                parts = parse_part_styles(control.part_styles)
+                self.generator.part_mixture(self.generator.settings.style, parts)  # unknown body parts
+                for _, prompt in parts:  # unknown styles (e.g. a misspelt label) inside part_styles
+                    self.generator.styles.embed(prompt)
 
     def advance(self, t: float) -> None:
         """Apply queued controls and move the ramps to stream time ``t`` (called once per latent)."""
         with self._lock:
             pending = list(self._inbox)
             self._inbox.clear()
-        for control in pending:
-            self._apply(control, t)
+        for controls in pending:
+            for control in controls:
+                self._apply(control, t)
         self._update_style_blend(t)
         self._update_mixture_blend(t)
         guidance = float(self._guidance.value(t))
@@ -121,29 +127,29 @@ class SessionControls:
         if name is not None:
             self.gestures.cues.check(name)
 
-    def _apply(self, control: dict, t: float) -> None:
-        if "gesture" in control:  # as soon as possible: from this latent on, its stroke as early as the clip allows
-            self.gestures.cue(Cue(control["gesture"], t, "control"))
-        if "words" in control:  # on the words' own stream times (late by the wait when already generated)
-            self.gestures.cue_words(words_from_list(control["words"], "words"))
-        if "root" in control:
-            self.root.set_mode(RootMode(control["root"]))  # re-anchored where the avatar stands: no jump
-        if "guidance" in control:
-            self._guidance.set_target(float(control["guidance"]), t)
-        if "style_strength" in control:
-            self._style_strength.set_target(float(control["style_strength"]), t)
-        if "audio_guidance" in control:
-            self._audio_guidance.set_target(float(control["audio_guidance"]), t)
-        if "gamma" in control:
-            self._gamma.set_target(float(control["gamma"]), t)
-        new_style = _style_from_control(control)
-        if "part_styles" in control or (self.generator.settings.part_styles and new_style is not None):
-            parts = parse_part_styles(control["part_styles"]) if "part_styles" in control else None
+    def _apply(self, control: Control, t: float) -> None:
+        if isinstance(control, Gesture):  # as soon as possible: from this latent on, its stroke as early as it can be
+            self.gestures.cue(Cue(control.name, t, "control"))
+        elif isinstance(control, Words):  # on the words' own stream times (late by the wait when already generated)
+            self.gestures.cue_words(list(control.words))
+        else:
+            self._apply_style(control, t)
+
+    def _apply_style(self, change: StyleChange, t: float) -> None:
+        if change.root is not None:
+            self.root.set_mode(RootMode(change.root))  # re-anchored where the avatar stands: no jump
+        for value, ramp in ((change.guidance, self._guidance), (change.style_strength, self._style_strength),
+                            (change.audio_guidance, self._audio_guidance), (change.gamma, self._gamma)):
+            if value is not None:
+                ramp.set_target(float(value), t)
+        new_style = _style_from_control(change)
+        if change.part_styles is not None or (self.generator.settings.part_styles and new_style is not None):
+            parts = None if change.part_styles is None else parse_part_styles(change.part_styles)
             self._start_mixture_blend(new_style or self.generator.settings.style, parts, t)
-        elif "style2" in control:
+        elif change.style2 is not None:
             self._blending_from = None
             style = new_style or self.generator.settings.style
-            self.generator.set_style(style, StylePrompt.parse(control["style2"]), float(self._gamma.value(t)))
+            self.generator.set_style(style, StylePrompt.parse(change.style2), float(self._gamma.value(t)))
         elif new_style is not None and new_style != self.generator.settings.style:
             self._start_style_blend(new_style, t)
 
@@ -193,18 +199,18 @@ class SessionControls:
             self.generator.set_gamma(float(self._blend.value(t)))
 
 
-def _style_from_control(control: dict) -> StylePrompt | None:
-    if "prompt" in control:
-        return StylePrompt("text", control["prompt"])
-    if "style" in control:
-        return StylePrompt.parse(control["style"])
+def _style_from_control(change: StyleChange) -> StylePrompt | None:
+    if change.prompt is not None:
+        return StylePrompt("text", change.prompt)
+    if change.style is not None:
+        return StylePrompt.parse(change.style)
     return None
 
 
-def _prompts_of(control: dict) -> list[StylePrompt]:
-    """Every style prompt a control message names (first style, then second)."""
-    first = _style_from_control(control)
-    second = StylePrompt.parse(control["style2"]) if "style2" in control else None
+def _prompts_of(change: StyleChange) -> list[StylePrompt]:
+    """Every style prompt a style change names (first style, then second)."""
+    first = _style_from_control(change)
+    second = None if change.style2 is None else StylePrompt.parse(change.style2)
     return [prompt for prompt in (first, second) if prompt is not None]
 
 

@@ -1,12 +1,14 @@
-"""A session and its outputs from :class:`Settings` and :class:`Outputs` (shared by every door: the library,
-live, generate, batch, serve, the Pipecat processor, the benchmarks).
+"""Sessions and their outputs from :class:`Settings` and :class:`Outputs`: :class:`SessionFactory` is the one way a
+session is made, by every door (the library's ``generate`` and ``Stream``, live, generate, batch, serve, the Pipecat
+processor, the benchmarks).
 
-The latency setting is resolved once, by :func:`resolve_latency`, into one :class:`LatencyBudget` (look-ahead
-δ, compute margin, smoothing k, hence L); the generator hears that δ and the session presents at that L.
+A latency setting is resolved once per factory, by :func:`resolve_latency`, into one :class:`LatencyBudget`
+(look-ahead δ, compute margin, smoothing k, hence L); the generator hears that δ and the session presents at that L.
 """
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 from gesturecast.bridges.avatar_file import resolve_avatar
@@ -86,15 +88,50 @@ def gesture_setup(settings: Settings, bundle: ModelBundle) -> dict:
             "gesture_triggers": tuple((entry.name, entry.triggers) for entry in lexicon)}
 
 
-def build_session(settings: Settings, clock: Clock, bundle: ModelBundle | None = None) -> GestureSession:
-    """A session with these settings, on ``bundle`` (loaded once by batch workers) or on ``settings.model``."""
-    bundle = load_bundle(settings.model) if bundle is None else bundle
-    budget = resolve_latency(settings, bundle)
-    generator = Generator(bundle, generator_settings(settings, bundle, budget))
+def session_config(settings: Settings, bundle: ModelBundle) -> SessionConfig:
+    """What a session of these settings needs besides its generator: root mode, seed motion, lip sync, face and the
+    gesture lexicon in this model's latent space."""
     seed = None if settings.seed_motion is None else load_seed_motion(settings.seed_motion, bundle)
-    config = SessionConfig(root_mode=RootMode(settings.root), seed_motion=seed, lipsync=settings.lipsync,
-                           face=settings.face, **gesture_setup(settings, bundle))
-    return GestureSession(bundle, generator, budget, clock, config)
+    return SessionConfig(root_mode=RootMode(settings.root), seed_motion=seed, lipsync=settings.lipsync,
+                         face=settings.face, **gesture_setup(settings, bundle))
+
+
+class SessionFactory:
+    """Sessions of one model from :class:`Settings`. What the sessions share is made once: the bundle (loaded
+    from ``settings.model`` unless given, e.g. a batch worker's or the server's shared-denoiser bundle), the seed
+    motion and gesture lexicon of ``settings``, and the latency budget of each latency setting asked for."""
+
+    def __init__(self, settings: Settings, bundle: ModelBundle | None = None) -> None:
+        self.settings = settings
+        self.bundle = load_bundle(settings.model) if bundle is None else bundle
+        self.config = session_config(settings, self.bundle)
+        self._budgets: dict[tuple, LatencyBudget] = {}
+
+    def budget(self, settings: Settings | None = None) -> LatencyBudget:
+        """L of ``settings`` (default the factory's) on this model, resolved once per latency setting."""
+        settings = self.settings if settings is None else settings
+        key = (settings.latency, settings.lookahead, settings.margin_ms, settings.smoothing)
+        if key not in self._budgets:
+            self._budgets[key] = resolve_latency(settings, self.bundle)
+        return self._budgets[key]
+
+    def generator(self, settings: Settings | None = None) -> Generator:
+        """A fresh generator of ``settings`` (default the factory's): UserError for a style, body part or look-ahead
+        the model does not serve."""
+        settings = self.settings if settings is None else settings
+        return Generator(self.bundle, generator_settings(settings, self.bundle, self.budget(settings)))
+
+    def session(self, clock: Clock, settings: Settings | None = None) -> GestureSession:
+        """A fresh session. ``settings`` (default the factory's) may change what one stream chooses (the style
+        settings, seed, latency, root); the seed motion and the gesture lexicon stay the factory's."""
+        settings = self.settings if settings is None else settings
+        config = replace(self.config, root_mode=RootMode(settings.root))
+        return GestureSession(self.bundle, self.generator(settings), self.budget(settings), clock, config)
+
+
+def build_session(settings: Settings, clock: Clock, bundle: ModelBundle | None = None) -> GestureSession:
+    """One session with these settings (a :class:`SessionFactory` used once)."""
+    return SessionFactory(settings, bundle).session(clock)
 
 
 def vmc_config(outputs: Outputs, settings: Settings) -> VmcConfig:

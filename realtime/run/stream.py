@@ -23,12 +23,12 @@ from collections.abc import Callable
 import numpy as np
 
 from gesturecast.bridges.output_settings import Outputs
+from gesturecast.controls import STREAM_TIME, Control, ControlError, Word, parse_controls
 from gesturecast.errors import UserError
 from gesturecast.frames import PoseFrame
 from gesturecast.models.audio.files import SAMPLE_RATE
 from gesturecast.realtime.audio.pcm import AudioConverter
 from gesturecast.realtime.audio.sources import AudioChunk, SourceStats
-from gesturecast.realtime.generation.word_cues import Word, words_from_list
 from gesturecast.realtime.run.engine import EngineReport, FrameRelease, make_report, warm_up
 from gesturecast.realtime.run.engine_setup import build_outputs, build_session
 from gesturecast.realtime.timing.clock import Clock, MonotonicClock
@@ -121,15 +121,20 @@ class Stream:
 
     def control(self, control: dict | None = None, **changes) -> None:
         """Change style, prompt, style2, part_styles, gamma, style_strength, guidance, audio_guidance or root, blended
-        in from the next latent; a style the model does not know is a one-line UserError here (thread-safe)."""
-        self.session.controls.submit({**(control or {}), **changes})
+        in from the next latent, or cue a ``gesture`` or ``words`` (thread-safe). The fields are checked here, by the
+        same check as a WebSocket control message, and refused in the same one-line words (UserError); so is a style
+        or gesture the model does not know."""
+        self._check_open()
+        self.session.controls.submit(_controls({**(control or {}), **changes}))
 
     def words(self, words: list[dict]) -> int:
         """Words with stream-time stamps (``[{"word", "start", "end"}]``, seconds since the first pushed sample), e.g.
         a TTS service's word timings sent before the audio plays: trigger words cue their gestures with the stroke on
-        the word (late by the wait when the word's latents are already generated). Returns the cues placed."""
+        the word (late by the wait when the word's latents are already generated). Checked as a ``words`` message
+        is; returns the cues placed."""
         self._check_open()
-        return len(self.session.cue_words(words_from_list(words, "words")))
+        (checked,) = _controls({"words": words})
+        return len(self.session.cue_words(list(checked.words)))
 
     def spoken(self, text: str, start: float | None = None) -> int:
         """Words as a TTS service reports them while speaking (one word, or a sentence without word times):
@@ -137,7 +142,7 @@ class Stream:
         :data:`SPOKEN_WORD_S` each; a trigger phrase cues its gesture when its last word arrives. Returns the cues
         placed."""
         self._check_open()
-        start = self.heard_time() if start is None else start
+        start = self.heard_time() if start is None else _stream_time(start)
         words = [Word(token, start + i * SPOKEN_WORD_S, start + (i + 1) * SPOKEN_WORD_S)
                  for i, token in enumerate(text.split())]
         return sum(len(self.session.cue_spoken(word)) for word in words)
@@ -215,3 +220,19 @@ class Stream:
         else:
             self.stop()
 
+
+
+def _controls(fields: dict) -> tuple[Control, ...]:
+    """The typed controls of ``fields``; UserError with the WebSocket's one-line reason when a field is refused."""
+    try:
+        return parse_controls(fields)
+    except ControlError as error:
+        raise UserError(str(error)) from None
+
+
+def _stream_time(seconds: object) -> float:
+    """A word's stream time given by the caller (finite seconds ≥ 0), else the one-line UserError."""
+    try:
+        return STREAM_TIME.check("start", seconds)
+    except ControlError as error:
+        raise UserError(str(error)) from None

@@ -6,7 +6,7 @@ import gc
 import sys
 
 from gesturecast.errors import UserError
-from gesturecast.realtime.run.engine_setup import build_session
+from gesturecast.realtime.run.engine_setup import load_bundle
 from gesturecast.realtime.serve.server import GestureServer, ServeConfig
 from gesturecast.realtime.serve.setup import StreamSessions
 from gesturecast.realtime.timing.clock import Clock
@@ -16,14 +16,14 @@ SWITCH_INTERVAL_S = 0.001  # 20 streams, two cores: late frames 48-132 at 1 ms a
 
 
 def start_server(settings: Settings, config: ServeConfig, clock: Clock) -> GestureServer:
-    """The server, listening; the settings are checked first by building one session (the model, its look-ahead
-    and the default style), so a bad one fails in one line before any port is opened."""
+    """The server, listening; the default settings are checked on the model first (its look-ahead, the default
+    style and body parts, by making the default generator on the shared denoiser), so a bad one fails in one line
+    before any port is opened."""
     if config.max_streams < 1:
         raise UserError(f"--max-streams must be at least 1, got {config.max_streams}")
-    probe = build_session(settings, clock)
-    sessions = StreamSessions(probe.bundle, probe.generator.settings, probe.budget, clock, config.max_streams,
-                              probe.config)
+    sessions = StreamSessions(settings, load_bundle(settings.model), clock, config.max_streams)
     try:
+        sessions.factory.generator()
         server = GestureServer(sessions, clock, config).start()
     except UserError:
         sessions.close()

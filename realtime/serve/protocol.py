@@ -7,8 +7,8 @@ Client → server:
   the server's style and latency setting, ``f32le``); ``latency`` is ``low``, ``balanced`` or ``quality``
   (docs/latency.md); carries the token when the server requires one.
 - binary messages: raw PCM, 16 kHz mono, ``f32le`` (float32 in [-1, 1]) or ``s16le`` (int16).
-- ``{"type": "control", ...}`` — live style / style strength / guidance / audio guidance / γ changes
-  (:mod:`gesturecast.bridges.control`).
+- ``{"type": "control", ...}`` and ``{"type": "words", ...}`` — live style / style strength / guidance / audio
+  guidance / γ / root changes, gestures and words (:mod:`gesturecast.controls`, checked as every door's are).
 - ``{"type": "end"}`` — no more audio: the rest of the poses, then a ``stats`` message, then close.
 
 Server → client: the JSON hello (the viewer's hello plus ``stream``, ``latency_budget_ms``, ``audio``),
@@ -26,10 +26,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from gesturecast.bridges.control import CONTROL_FIELDS, ControlError, validate_control
-from gesturecast.errors import UserError
+from gesturecast.controls import STYLE_SETTINGS, Control, ControlError, StyleChange, parse_style_change, wire
 from gesturecast.models.audio.files import SAMPLE_RATE
-from gesturecast.models.generator.style_prompt import PartStyles, StylePrompt, parse_part_styles
 from gesturecast.realtime.audio.pcm import PCM16_FULL_SCALE
 from gesturecast.settings import LATENCY_SETTINGS
 
@@ -37,7 +35,7 @@ AUDIO_FORMATS = {"f32le": np.dtype("<f4"), "s16le": np.dtype("<i2")}
 DEFAULT_AUDIO_FORMAT = "f32le"
 MAX_AUDIO_MESSAGE_BYTES = 64 * 1024  # 1 s of float32 audio fits
 MAX_SEED = 2**31 - 1
-START_FIELDS = frozenset({"type", "token", "seed", "latency", "audio_format", *CONTROL_FIELDS})
+START_FIELDS = frozenset({"type", "token", "seed", "latency", "audio_format", *STYLE_SETTINGS})
 STREAM_ID_CHARS = frozenset("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-_.")
 MAX_STREAM_ID_CHARS = 64
 STREAM_PATH_PREFIX = "/stream/"
@@ -45,44 +43,13 @@ STREAM_PATH_PREFIX = "/stream/"
 
 @dataclass(frozen=True)
 class StreamOptions:
-    """What a ``start`` message chose (None = the server's default)."""
+    """What a ``start`` message chose: a style change over the server's defaults, and (None = the server's) the
+    seed and latency setting."""
 
-    style: StylePrompt | None = None
-    second_style: StylePrompt | None = None
-    part_styles: PartStyles | None = None
-    gamma: float | None = None
-    style_strength: float | None = None
-    guidance: float | None = None
-    audio_guidance: float | None = None
-    root: str | None = None
+    style: StyleChange = StyleChange()
     seed: int | None = None
     latency: str | None = None  # a LATENCY_SETTINGS name
     audio_format: str = DEFAULT_AUDIO_FORMAT
-
-
-def client_style(spec: str) -> StylePrompt:
-    """A style from a client (``motion:`` styles are already refused by the control schema)."""
-    try:
-        return StylePrompt.parse(spec)
-    except UserError as error:
-        raise ControlError(str(error)) from None
-
-
-def client_part_styles(specs: dict[str, str]) -> PartStyles:
-    """Part styles from a client (their styles already checked by the control schema)."""
-    try:
-        return parse_part_styles(specs)
-    except UserError as error:
-        raise ControlError(str(error)) from None
-
-
-def check_control(message: dict) -> dict:
-    """A validated control message for the session (``motion:`` styles refused by the schema)."""
-    control = validate_control(message)
-    for name in ("style", "style2"):
-        if name in control:
-            client_style(control[name])
-    return control
 
 
 def start_choice(message: dict, name: str, choices: Iterable[str]) -> str | None:
@@ -107,29 +74,13 @@ def parse_start(message: dict) -> StreamOptions:
     unknown = sorted(set(message) - START_FIELDS)
     if unknown:
         raise ControlError(f"unknown start field(s): {', '.join(unknown)}; known: {', '.join(sorted(START_FIELDS))}")
-    styles = {k: v for k, v in message.items() if k in CONTROL_FIELDS}
-    control = check_control(styles) if styles else {}
+    style = parse_style_change(message)
     audio_format = start_choice(message, "audio_format", AUDIO_FORMATS) or DEFAULT_AUDIO_FORMAT
     seed = message.get("seed")
     if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed <= MAX_SEED):
         raise ControlError(f"seed must be an integer in [0, {MAX_SEED}]")
     latency = start_choice(message, "latency", LATENCY_SETTINGS)
-    style = StylePrompt("text", control["prompt"]) if "prompt" in control else None
-    if style is None and "style" in control:
-        style = client_style(control["style"])
-    return StreamOptions(
-        style=style,
-        second_style=client_style(control["style2"]) if "style2" in control else None,
-        part_styles=client_part_styles(control["part_styles"]) if "part_styles" in control else None,
-        gamma=control.get("gamma"),
-        style_strength=control.get("style_strength"),
-        guidance=control.get("guidance"),
-        audio_guidance=control.get("audio_guidance"),
-        root=control.get("root"),
-        seed=seed,
-        latency=latency,
-        audio_format=audio_format,
-    )
+    return StreamOptions(style=style, seed=seed, latency=latency, audio_format=audio_format)
 
 
 def decode_audio(data: bytes, audio_format: str) -> np.ndarray:
@@ -176,8 +127,8 @@ def started(stream_id: str, style: str, audio_format: str, latency_budget_ms: fl
                        "latency_budget_ms": latency_budget_ms})
 
 
-def ack(control: dict) -> str:
-    return json.dumps({"type": "ack", "applied": control})
+def ack(controls: tuple[Control, ...]) -> str:
+    return json.dumps({"type": "ack", "applied": wire(controls)})
 
 
 def stats_message(stats: dict) -> str:

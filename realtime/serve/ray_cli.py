@@ -17,9 +17,8 @@ from gesturecast.arguments import finite_float, int_at_least
 from gesturecast.bridges.ws_access import check_exposure
 from gesturecast.errors import UserError
 from gesturecast.realtime.cli_flags import serve_config, server_token, settings_from_args
-from gesturecast.realtime.run.engine_setup import build_session
+from gesturecast.realtime.run.engine_setup import SessionFactory
 from gesturecast.realtime.serve.server import ServeConfig
-from gesturecast.realtime.timing.clock import MonotonicClock
 from gesturecast.settings import Settings
 
 logger = logging.getLogger(__name__)
@@ -81,8 +80,9 @@ def replica_settings(args: argparse.Namespace) -> tuple[Settings, ServeConfig, s
     token = server_token(args)
     check_exposure(args.host, token)  # the proxy is what listens beyond this machine
     settings = settings_from_args(args)
-    probe = build_session(settings, MonotonicClock())  # the model, look-ahead and default style, before Ray starts
-    return settings, serve_config(args, token), probe.budget.describe()
+    factory = SessionFactory(settings)
+    factory.generator()  # the model, its look-ahead and the default style checked before Ray starts
+    return settings, serve_config(args, token), factory.budget().describe()
 
 
 def application(args: argparse.Namespace) -> tuple[object, str]:

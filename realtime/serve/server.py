@@ -26,11 +26,12 @@ from websockets.exceptions import ConnectionClosed
 from websockets.frames import CloseCode
 
 from gesturecast.bridges import ws_protocol
-from gesturecast.bridges.control import WORDS_MESSAGE, ControlError, control_schema, decode_client_message
+from gesturecast.bridges.control import WORDS_MESSAGE, decode_client_message, message_controls
 from gesturecast.bridges.coords import coordinate_frame
 from gesturecast.bridges.transport import ErrorThrottle
 from gesturecast.bridges.ws_access import AccessPolicy, send_refusal
 from gesturecast.bridges.ws_listener import ThreadedListener, private_listener
+from gesturecast.controls import ControlError, control_schema
 from gesturecast.errors import UserError
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
 from gesturecast.realtime.serve.heap import HeapTrimmer
@@ -38,7 +39,6 @@ from gesturecast.realtime.serve.protocol import (
     DEFAULT_AUDIO_FORMAT,
     MAX_AUDIO_MESSAGE_BYTES,
     ack,
-    check_control,
     decode_audio,
     hello,
     parse_start,
@@ -172,12 +172,12 @@ class StreamConnection:
 
     async def _control(self, message: dict) -> str:
         """Acknowledged only once the session has resolved its styles (off the event loop)."""
-        control = check_control(message)
+        controls = message_controls(message)
         try:
-            await asyncio.to_thread(self.stream.session.controls.submit, control)
+            await asyncio.to_thread(self.stream.session.controls.submit, controls)
         except UserError as error:
             raise ControlError(str(error)) from None
-        return ack(control)
+        return ack(controls)
 
     async def _start(self, message: dict) -> str:
         if self.stream is not None:
@@ -308,7 +308,7 @@ class GestureServer:
     def _hello(self, stream_id: str) -> str:
         styles = tuple(self.sessions.bundle.styles.labels)
         viewer = ws_protocol.hello_message(CANONICAL_WITH_HANDS, self.coords, self.config.stream.output_fps,
-                                           self.sessions.defaults.style.value, styles, control_schema(),
+                                           self.sessions.defaults.style_prompt().value, styles, control_schema(),
                                            self.access.token_required,
                                            body_parts=tuple(self.sessions.bundle.part_channels),
                                            gestures=self.sessions.gesture_names)

@@ -15,6 +15,7 @@ from gesturecast.bridges.osc_in import (
     parse_datagram,
 )
 from gesturecast.bridges.osc_wire import bundle, osc_string
+from gesturecast.controls import Gesture
 from gesturecast.errors import UserError
 
 
@@ -44,7 +45,7 @@ def test_a_gesture_message_becomes_a_control_and_the_rest_is_counted():
                  message(GESTURE_ADDRESS, "wave", "extra"), bundle([message(GESTURE_ADDRESS, "bow")]))
     finally:
         listener.close()
-    assert controls == [{"gesture": "wave"}, {"gesture": "bow"}]
+    assert controls == [(Gesture("wave"),), (Gesture("bow"),)]
     assert listener.counts == {"received": 5, "gestures": 2, "other_address": 1, "malformed": 1, "bad_arguments": 1}
 
 
@@ -59,7 +60,7 @@ def test_over_udp_from_another_program():
             time.sleep(0.01)
     finally:
         listener.close()
-    assert controls == [{"gesture": "raise-both"}]
+    assert controls == [(Gesture("raise-both"),)]
 
 
 def test_beyond_loopback_the_token_is_needed_and_checked():
@@ -73,7 +74,7 @@ def test_beyond_loopback_the_token_is_needed_and_checked():
                  message(GESTURE_ADDRESS, "wave", token))
     finally:
         listener.close()
-    assert controls == [{"gesture": "wave"}] and listener.counts["wrong_token"] == 1
+    assert controls == [(Gesture("wave"),)] and listener.counts["wrong_token"] == 1
 
 
 def test_a_refused_gesture_is_counted_and_a_port_in_use_is_one_line():

@@ -15,6 +15,7 @@ from websockets.sync.client import connect
 from gesturecast.bridges.coords import UNREAL
 from gesturecast.bridges.websocket_server import WebSocketBridge, WebSocketConfig
 from gesturecast.bridges.ws_protocol import BINARY_HEADER
+from gesturecast.controls import StyleChange
 from gesturecast.errors import UserError
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
 
@@ -116,7 +117,7 @@ def test_control_reaches_engine_and_garbage_is_answered(bridge, controls, caplog
     assert [r["type"] for r in replies] == ["error"] * len(garbage)
     assert "within [0, 10]" in replies[3]["message"]
     assert ack == {"type": "ack", "applied": {"style": "angry", "guidance": 2.5}}
-    assert controls == [{"style": "angry", "guidance": 2.5}]
+    assert controls == [(StyleChange(style="angry", guidance=2.5),)]
     rejected = [r for r in caplog.records if "control message rejected" in r.getMessage()]
     assert len(rejected) == 1  # one clear line, not one per garbage message
 
@@ -146,7 +147,7 @@ def test_token_is_required_when_configured_or_exposed(controls):
     finally:
         bridge.close()
     assert missing["type"] == "error" and "needs a token" in missing["message"]
-    assert accepted["type"] == "ack" and controls == [{"style": "sad"}]
+    assert accepted["type"] == "ack" and controls == [(StyleChange(style="sad"),)]
     assert wrong == {"type": "error", "message": "wrong token; closing the connection"}
     assert closed.value.rcvd.code == 1008
 
@@ -195,7 +196,7 @@ def test_hostile_json_is_answered_and_the_connection_stays(bridge, controls):
         ack = json.loads(client.recv(TIMEOUT_S))
     assert [r["type"] for r in replies] == ["error", "error"]
     assert "nested too deeply" in replies[0]["message"] and "too many digits" in replies[1]["message"]
-    assert ack["type"] == "ack" and controls == [{"guidance": 2.0}]
+    assert ack["type"] == "ack" and controls == [(StyleChange(guidance=2.0),)]
 
 
 def test_client_vanishing_mid_stream_leaves_stream_running(bridge):

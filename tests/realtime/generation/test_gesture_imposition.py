@@ -7,6 +7,7 @@ import dataclasses
 import numpy as np
 import pytest
 
+from gesturecast.controls import parse_controls
 from gesturecast.models.audio.files import PACKAGED_SAMPLE, SAMPLE_RATE, load_audio
 from gesturecast.realtime.audio.sources import AudioChunk
 from gesturecast.realtime.generation.gesture_cues import RAMP_LATENTS, Cue, GestureClip
@@ -77,9 +78,9 @@ def test_a_gesture_control_is_checked_on_submit_and_placed_at_the_next_latent(cl
 
     session = session_with(clip)
     with pytest.raises(UserError, match="unknown gesture 'wave'"):
-        session.controls.submit({"gesture": "wave"})
+        session.controls.submit(parse_controls({"gesture": "wave"}))
     session.push(AudioChunk(speech[:SAMPLE_RATE], 0, 0.0))
     waiting = session.next_latent
-    session.controls.submit({"gesture": "raise"})
+    session.controls.submit(parse_controls({"gesture": "raise"}))
     frames = session.push(AudioChunk(speech[SAMPLE_RATE:], SAMPLE_RATE, 1.0)) + session.finish()
     assert min(f.seq for f in frames if f.gesture) == waiting * 4

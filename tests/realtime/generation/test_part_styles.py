@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 
+from gesturecast.controls import parse_controls
 from gesturecast.errors import UserError
 from gesturecast.models.generator.style_prompt import StylePrompt, parse_part_styles
 from gesturecast.models.runtime.bundle import ModelBundle
@@ -124,7 +125,7 @@ def test_each_part_moves_as_its_prompt_moves_a_whole_body_latent_after_latent(bu
 def test_a_live_part_style_change_blends_in_and_then_drops_the_old_prompt(bundle, audio):
     generator = make(bundle, style=NEUTRAL)
     controls = SessionControls(generator, root=None, fade_s=0.5)
-    controls.submit({"part_styles": {"arms": "happy"}})
+    controls.submit(parse_controls({"part_styles": {"arms": "happy"}}))
     weights_over_time = []
     for step, t in enumerate(np.linspace(0.0, 0.75, 7)):
         controls.advance(float(t))
@@ -135,12 +136,12 @@ def test_a_live_part_style_change_blends_in_and_then_drops_the_old_prompt(bundle
     assert all(b >= a for a, b in zip(weights_over_time, weights_over_time[1:], strict=False))  # no jump back
     assert 0.0 < weights_over_time[3] < 1.0  # halfway through the fade both prompts share the arms
     assert generator.mixture[0] == [NEUTRAL, HAPPY]
-    controls.submit({"part_styles": {}})
+    controls.submit(parse_controls({"part_styles": {}}))
     controls.advance(1.0)
     controls.advance(2.0)
     assert generator.mixture[0] == [NEUTRAL] and generator.settings.part_styles == ()
     with pytest.raises(UserError, match="unknown body part"):
-        controls.submit({"part_styles": {"tail": "happy"}})
+        controls.submit(parse_controls({"part_styles": {"tail": "happy"}}))
 
 
 def test_an_unknown_style_inside_part_styles_is_refused_when_submitted(bundle):
@@ -149,7 +150,7 @@ def test_an_unknown_style_inside_part_styles_is_refused_when_submitted(bundle):
     generator = make(bundle, style=NEUTRAL)
     controls = SessionControls(generator, root=None, fade_s=0.5)
     with pytest.raises(UserError, match="hapy"):
-        controls.submit({"part_styles": {"arms": "hapy"}})
+        controls.submit(parse_controls({"part_styles": {"arms": "hapy"}}))
     controls.advance(0.0)  # nothing was queued: the stream goes on with its mixture
     assert generator.mixture[0] == [NEUTRAL]
 
@@ -161,7 +162,8 @@ def test_part_style_controls_faster_than_the_fade_keep_the_rows_bounded(bundle, 
     controls = SessionControls(generator, root=None, fade_s=1.0)
     rows = []
     for step in range(30):
-        controls.submit({"part_styles": {"arms": f"text:waving number {step}", "legs": f"text:stepping {step}"}})
+        parts = {"arms": f"text:waving number {step}", "legs": f"text:stepping {step}"}
+        controls.submit(parse_controls({"part_styles": parts}))
         for t in (0.1 * step, 0.1 * step + 0.05):  # two latents per control: each new prompt gets some weight
             controls.advance(t)
             generator.denoise(audio[step % STEPS], True)

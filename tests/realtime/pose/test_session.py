@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 import soundfile
 
+from gesturecast.controls import parse_controls
 from gesturecast.models.audio.dsp import frame_boundary, frames_complete
 from gesturecast.models.audio.files import PACKAGED_SAMPLE, SAMPLE_RATE, load_audio
 from gesturecast.models.audio.streaming import extract_features, extract_visemes, speaking_flags
@@ -174,7 +175,7 @@ def test_style_change_blends_in_without_a_pop(bundle, speech):
     frames = []
     for index, chunk in enumerate(FastFileSource(speech, chunk_samples=1600)):
         if index == 20:  # 2 s in
-            session.controls.submit({"style": "old", "guidance": 2.5})
+            session.controls.submit(parse_controls({"style": "old", "guidance": 2.5}))
         frames.extend(session.push(chunk))
     frames.extend(session.finish())
     assert frames[-1].style == "old"
@@ -191,7 +192,7 @@ def frames_with_a_style_change(bundle, speech, chunk_samples: int) -> list:
     frames = []
     for chunk in FastFileSource(speech, chunk_samples=chunk_samples):
         if chunk.start_sample == 2 * SAMPLE_RATE:
-            session.controls.submit({"style": "happy"})
+            session.controls.submit(parse_controls({"style": "happy"}))
         frames.extend(session.push(chunk))
     return frames + session.finish()
 
@@ -212,9 +213,9 @@ def test_audio_guidance_ramps_in_and_out_live_without_a_pop(bundle, speech):
     frames, rows = [], []
     for index, chunk in enumerate(FastFileSource(speech, chunk_samples=1600)):
         if index == 10:  # 1 s in: follow the speech more
-            session.controls.submit({"audio_guidance": 2.0})
+            session.controls.submit(parse_controls({"audio_guidance": 2.0}))
         if index == 25:  # 2.5 s in: back off
-            session.controls.submit({"audio_guidance": 1.0})
+            session.controls.submit(parse_controls({"audio_guidance": 1.0}))
         frames.extend(session.push(chunk))
         rows.append(session.generator.layout.batch)
     frames.extend(session.finish())
@@ -230,7 +231,7 @@ def test_style_strength_ramps_live_and_leaves_the_guidance_setting_alone(bundle,
     base = session.generator.base_guidance
     for index, chunk in enumerate(FastFileSource(speech, chunk_samples=1600)):
         if index == 10:
-            session.controls.submit({"style_strength": 0.0})
+            session.controls.submit(parse_controls({"style_strength": 0.0}))
         session.push(chunk)
     session.finish()
     assert session.generator.settings.style_strength == 0.0 and session.generator.guidance == 0.0
@@ -338,7 +339,7 @@ def test_root_modes_and_a_live_root_change_without_a_jump(bundle, speech):
     frames = []
     for index, chunk in enumerate(source):
         if index == 2:
-            session.controls.submit({"root": "locked"})
+            session.controls.submit(parse_controls({"root": "locked"}))
         frames.extend(session.push(chunk))
     frames.extend(session.finish())
     path = planar(frames)

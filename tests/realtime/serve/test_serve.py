@@ -22,12 +22,12 @@ from gesturecast.realtime.serve.server import GestureServer, ServeConfig
 from gesturecast.realtime.serve.setup import StreamSessions
 from gesturecast.realtime.timing.clock import FakeClock, MonotonicClock
 from gesturecast.realtime.timing.latency import LatencyBudget
-from gesturecast.settings import LATENCY_SETTINGS
+from gesturecast.settings import LATENCY_SETTINGS, Settings
 from gesturecast.tools.bench.serve_client import stream_audio
 
 SECONDS = 2.0
 CHUNK = 8000  # 0.5 s per message: few messages, sent as fast as possible
-DEFAULTS = GeneratorSettings(SamplerConfig("ddim", 2), guidance=1.5, seed=0)
+DEFAULTS = Settings(steps=2, guidance=1.5, seed=0, audio_guidance=1.0, smoothing=0, gestures=None)  # L: δa, 100 ms
 TIMEOUT_S = 60.0  # a broken server fails the test instead of hanging it
 
 
@@ -53,7 +53,7 @@ def budget(bundle) -> LatencyBudget:
 @contextmanager
 def running_server(bundle, **config):
     clock = MonotonicClock()
-    sessions = StreamSessions(bundle, DEFAULTS, budget(bundle), clock, max_streams=4)
+    sessions = StreamSessions(DEFAULTS, bundle, clock, max_streams=4)
     server = GestureServer(sessions, clock, ServeConfig(port=0, max_streams=4, **config)).start()
     try:
         yield server

@@ -18,17 +18,15 @@ from websockets.exceptions import ConnectionClosed, InvalidStatus
 from gesturecast.bridges.ws_access import MAX_TOKEN_FAILURES, TOKEN_ENV_VAR, TOKEN_FAILURE_WINDOW_S
 from gesturecast.errors import UserError
 from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
-from gesturecast.models.generator.diffusion import SamplerConfig
 from gesturecast.models.runtime.bundle import ModelBundle
-from gesturecast.realtime.generation.generator import GeneratorSettings
 from gesturecast.realtime.serve.server import GestureServer, ServeConfig
 from gesturecast.realtime.serve.setup import StreamSessions
 from gesturecast.realtime.timing.clock import FakeClock, MonotonicClock
-from gesturecast.realtime.timing.latency import LatencyBudget
+from gesturecast.settings import Settings
 
 TOKEN = "correct-horse-battery-staple"
 UNICODE_TOKEN = "pässwörd-日本語-токен-✓"
-DEFAULTS = GeneratorSettings(SamplerConfig("ddim", 2), guidance=1.5, seed=0)
+DEFAULTS = Settings(steps=2, guidance=1.5, seed=0, audio_guidance=1.0, smoothing=0, gestures=None)  # L: δa, 100 ms
 TIMEOUT_S = 60.0  # a broken server fails the test instead of hanging it
 SECONDS = 1.0
 CHUNK = 8000
@@ -53,8 +51,7 @@ def speech(shared_data):
 @contextmanager
 def serving(bundle, clock=None, max_streams: int = 4, **config):
     clock = clock or MonotonicClock()
-    budget = LatencyBudget(bundle.frames_per_latent, bundle.audio_lookahead, 100.0)
-    sessions = StreamSessions(bundle, DEFAULTS, budget, clock, max_streams=max_streams)
+    sessions = StreamSessions(DEFAULTS, bundle, clock, max_streams=max_streams)
     server = GestureServer(sessions, clock, ServeConfig(**{"port": 0, "max_streams": max_streams, **config})).start()
     try:
         yield server

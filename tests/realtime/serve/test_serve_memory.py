@@ -10,18 +10,16 @@ from contextlib import contextmanager
 import pytest
 
 from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
-from gesturecast.models.generator.diffusion import SamplerConfig
 from gesturecast.models.runtime.bundle import ModelBundle
-from gesturecast.realtime.generation.generator import GeneratorSettings
 from gesturecast.realtime.serve import heap
 from gesturecast.realtime.serve.heap import HeapTrimmer, glibc_malloc_trim
 from gesturecast.realtime.serve.server import GestureServer, ServeConfig
 from gesturecast.realtime.serve.setup import StreamSessions
 from gesturecast.realtime.timing.clock import MonotonicClock
-from gesturecast.realtime.timing.latency import LatencyBudget
+from gesturecast.settings import Settings
 from gesturecast.tools.bench.serve_client import stream_audio
 
-DEFAULTS = GeneratorSettings(SamplerConfig("ddim", 2), guidance=1.5, seed=0)
+DEFAULTS = Settings(steps=2, guidance=1.5, seed=0, audio_guidance=1.0, smoothing=0, gestures=None)  # L: δa, 100 ms
 TIMEOUT_S = 60.0
 CHUNK = 4000
 
@@ -35,8 +33,7 @@ def bundle(tiny_model):
 def recording_server(bundle):
     """A server whose sessions are recorded as weak references as they are made."""
     clock = MonotonicClock()
-    budget = LatencyBudget(bundle.frames_per_latent, bundle.audio_lookahead, 100.0)
-    sessions = StreamSessions(bundle, DEFAULTS, budget, clock, max_streams=4)
+    sessions = StreamSessions(DEFAULTS, bundle, clock, max_streams=4)
     made = []
     make = sessions.session
 

@@ -3,8 +3,7 @@
 import numpy as np
 import pytest
 
-from gesturecast.bridges.control import ControlError
-from gesturecast.models.generator.style_prompt import StylePrompt
+from gesturecast.controls import ControlError, StyleChange
 from gesturecast.realtime.serve.protocol import decode_audio, parse_start, stream_id_from_path
 
 
@@ -30,17 +29,17 @@ def test_bad_audio_is_refused_with_a_reason(data, audio_format, reason):
 def test_start_options_and_their_validation():
     options = parse_start({"type": "start", "prompt": "calm and slow", "style2": "old", "gamma": 0.5, "seed": 7,
                            "audio_format": "s16le", "token": "x"})
-    assert options.style == StylePrompt("text", "calm and slow")
-    assert options.second_style == StylePrompt("label", "old") and options.gamma == 0.5
-    assert (options.seed, options.audio_format, options.guidance, options.root) == (7, "s16le", None, None)
-    assert parse_start({"type": "start", "root": "free"}).root == "free"
+    assert options.style == StyleChange(prompt="calm and slow", style2="old", gamma=0.5)
+    assert (options.seed, options.audio_format) == (7, "s16le")
+    assert parse_start({"type": "start", "root": "free"}).style.root == "free"
     assert parse_start({"type": "start", "latency": "low"}).latency == "low"
-    assert parse_start({"type": "start", "style_strength": 0.5}).style_strength == 0.5
+    assert parse_start({"type": "start", "style_strength": 0.5}).style.style_strength == 0.5
+    assert parse_start({"type": "start"}) == parse_start({"type": "start", "token": "x"})
     assert parse_start({"type": "start"}).latency is None
     for bad, reason in [({"seed": -1}, "seed"), ({"seed": True}, "seed"), ({"audio_format": "mp3"}, "audio_format"),
                         ({"volume": 1}, "unknown start field"), ({"style": "motion:x.bvh"}, "motion prompts"),
                         ({"root": "walk"}, "root must be one of"), ({"latency": "fast"}, "latency must be one of"),
-                        ({"style_strength": 2.5}, "style_strength")]:
+                        ({"style_strength": 2.5}, "style_strength"), ({"gesture": "wave"}, "unknown start field")]:
         with pytest.raises(ControlError, match=reason):
             parse_start({"type": "start", **bad})
 

@@ -4,13 +4,11 @@ another process."""
 import json
 
 from gesturecast.cli import main
-from gesturecast.models.generator.diffusion import SamplerConfig
 from gesturecast.models.runtime.bundle import ModelBundle
-from gesturecast.realtime.generation.generator import GeneratorSettings
 from gesturecast.realtime.serve.server import GestureServer, ServeConfig
 from gesturecast.realtime.serve.setup import StreamSessions
 from gesturecast.realtime.timing.clock import MonotonicClock
-from gesturecast.realtime.timing.latency import LatencyBudget
+from gesturecast.settings import Settings
 
 STREAMS = 2
 SECONDS = 2.0
@@ -21,9 +19,8 @@ MARGIN_MS = 100.0
 def test_bench_serve_measures_a_running_server(tiny_model, shared_data, capsys, wait_until):
     bundle = ModelBundle.load(tiny_model[1])
     clock = MonotonicClock()
-    sessions = StreamSessions(bundle, GeneratorSettings(SamplerConfig("ddim", 2), guidance=1.5, seed=0),
-                              LatencyBudget(bundle.frames_per_latent, bundle.audio_lookahead, MARGIN_MS), clock,
-                              max_streams=STREAMS)
+    sessions = StreamSessions(Settings(steps=2, guidance=1.5, seed=0, audio_guidance=1.0, smoothing=0, gestures=None,
+                                       margin_ms=MARGIN_MS), bundle, clock, max_streams=STREAMS)
     server = GestureServer(sessions, clock, ServeConfig(port=0, max_streams=STREAMS)).start()
     try:
         code = main(["bench", "serve", "--url", server.url, "--streams", str(STREAMS), "--seconds", str(SECONDS),

@@ -1,6 +1,28 @@
+"""The typed controls: one check for every door, the one-line refusals, the schema generated from the declaration."""
+
+import dataclasses
+
 import pytest
 
-from gesturecast.bridges.control import ControlError, control_schema, validate_control
+from gesturecast.bridges.control import message_controls
+from gesturecast.controls import (
+    STYLE_SETTINGS,
+    ControlError,
+    Gesture,
+    StyleChange,
+    Word,
+    Words,
+    control_schema,
+    parse_controls,
+    wire,
+)
+from gesturecast.models.motion.root_anchor import RootMode
+from gesturecast.settings import CHOICES, NUMBER_LIMITS, Settings
+
+
+def validate_control(message: dict) -> dict:
+    """A control message as a WebSocket client sends it, checked, in its wire form."""
+    return wire(message_controls(message))
 
 
 @pytest.mark.parametrize(
@@ -75,3 +97,45 @@ def test_words_are_checked_before_they_reach_the_engine(words, reason):
 def test_a_word_without_an_end_ends_where_it_starts():
     assert validate_control({"type": "control", "words": [{"word": "hello", "start": 2}]}) == {
         "words": [{"word": "hello", "start": 2.0, "end": 2.0}]}
+
+
+def test_a_message_becomes_typed_controls_in_the_order_they_are_applied():
+    controls = message_controls({"type": "control", "style": "happy", "words": [{"word": "hi", "start": 1}],
+                                 "gesture": "wave", "part_styles": {"arms": "old"}, "token": "t"})
+    assert controls == (Gesture("wave"), Words((Word("hi", 1.0, 1.0),)),
+                        StyleChange(style="happy", part_styles=(("arms", "old"),)))
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        controls[0].name = "bow"
+
+
+def test_the_python_door_refuses_what_the_wire_refuses_in_the_same_words():
+    for fields in ({"gamma": 50}, {"guidance": float("nan")}, {"audio_guidance": float("inf")}, {"volume": 1},
+                   {"root": "flying"}, {"gesture": None}, {"guidance": "x"}):
+        with pytest.raises(ControlError) as wire_error:
+            message_controls({"type": "control", **fields})
+        with pytest.raises(ControlError) as python_error:
+            parse_controls(fields)
+        assert str(python_error.value) == str(wire_error.value)
+    with pytest.raises(ControlError, match=r"^gamma must be within \[-2, 3\], got 50$"):
+        parse_controls({"gamma": 50})
+
+
+def test_settings_and_the_schema_derive_from_the_one_declaration():
+    """Every style setting is a Settings field with the same range or choices, and the schema lists exactly the
+    declared fields: changing a range in StyleChange changes the flag, Settings, serve and the hello together."""
+    settings_fields = {field.name for field in dataclasses.fields(Settings)}
+    assert set(STYLE_SETTINGS) <= settings_fields
+    for name, rule in STYLE_SETTINGS.items():
+        if hasattr(rule, "low"):
+            assert (NUMBER_LIMITS[name].minimum, NUMBER_LIMITS[name].maximum) == (rule.low, rule.high)
+        if hasattr(rule, "choices"):
+            assert tuple(CHOICES[name]) == rule.choices
+    assert list(control_schema()) == [*STYLE_SETTINGS, "gesture", "words"]
+    assert STYLE_SETTINGS["root"].choices == tuple(mode.value for mode in RootMode)
+
+
+def test_a_style_change_applies_to_settings_by_name():
+    changed = Settings(prompt="calm").with_style(StyleChange(style="happy", gamma=0.5, part_styles=(("arms", "old"),)))
+    assert (changed.style, changed.prompt, changed.gamma) == ("happy", None, 0.5)
+    assert [part for part, _ in changed.part_styles] == ["arms"]
+    assert Settings(prompt="calm").with_style(StyleChange(guidance=2.0)).prompt == "calm"
