@@ -10,7 +10,6 @@ from __future__ import annotations
 import argparse
 import dataclasses
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 from gesturecast.arguments import port_number
 from gesturecast.bridges.avatar_file import AVATAR_ENV_VAR
@@ -30,9 +29,6 @@ from gesturecast.settings import (
     SAMPLERS,
     Settings,
 )
-
-if TYPE_CHECKING:
-    from gesturecast.realtime.serve.server import ServeConfig
 
 GESTURES_OFF = "off"
 SETTING_NAMES = tuple(field.name for field in dataclasses.fields(Settings))
@@ -159,13 +155,3 @@ def outputs_from_args(args: argparse.Namespace, **changes) -> Outputs:
 def server_token(args: argparse.Namespace) -> str | None:
     """The token from --token, --token-file or the environment (ws_access.token_from_sources)."""
     return token_from_sources(args.token, args.token_file)
-
-
-def serve_config(args: argparse.Namespace, token: str | None) -> ServeConfig:
-    """The server's listening and stream options from the flags."""
-    from gesturecast.realtime.serve.server import ServeConfig  # here: `live` and `generate` never load the server
-    from gesturecast.realtime.serve.stream import StreamConfig
-
-    return ServeConfig(host=args.host, port=args.port, token=token, max_streams=args.max_streams,
-                       coordinate_frame=args.coordinate_frame, stream=StreamConfig(output_fps=float(args.fps)),
-                       allow_origins=tuple(args.allow_origin))

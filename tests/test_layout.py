@@ -16,33 +16,27 @@ REPO_ROOT = Path(__file__).resolve().parents[1]
 SOURCE_ROOTS = {"gesturecast": "gesturecast", "models": "gesturecast.models", "realtime": "gesturecast.realtime",
                 "bridges": "gesturecast.bridges", "tools": "gesturecast.tools"}
 
-# package -> floor: a module imports only its own package and packages on lower floors. ``gesturecast`` holds the
-# shared plumbing (errors, the pose-frame contract, file and flag helpers); realtime's subpackages share its row.
-FLOORS = {
-    "gesturecast": 0,
-    "gesturecast.models.motion": 1,
-    "gesturecast.models.generator": 1,
-    "gesturecast.models.audio": 1,
-    "gesturecast.models.networks": 2,
-    "gesturecast.settings": 2,
-    "gesturecast.models.dataset": 3,
-    "gesturecast.models.runtime": 4,
-    "gesturecast.bridges": 4,
-    "gesturecast.tools.render": 4,
-    "gesturecast.realtime": 5,
-    "gesturecast.models.training": 5,
-    "gesturecast.api": 6,
-    "gesturecast.models.export": 6,
-    "gesturecast.models.evaluation": 6,
-    "gesturecast.tools": 7,
-    "gesturecast.tools.eval": 8,
-    "gesturecast.tools.bench": 9,
-    "gesturecast.cli": 10,
-}
-TORCH_PACKAGES = {"gesturecast.models.networks", "gesturecast.models.training", "gesturecast.models.export",
-                  "gesturecast.models.evaluation", "gesturecast.tools.bench"}
+# The floors, bottom to top: a module imports only its own unit and units below it, that is folders on lower rows
+# and, in its own folder, the sub-packages listed before its own. Each folder lists its sub-packages in pipeline
+# order; "" stands for the folder's own top-level modules. The ground floor holds the base types and plumbing
+# (errors, controls, frames, files, flag helpers); the roof is the command line.
+FLOORS: tuple[tuple[str, tuple[str, ...]], ...] = (
+    ("gesturecast", ("",)),
+    ("gesturecast.models", ("motion", "audio", "generator", "networks", "dataset", "runtime", "training", "export",
+                            "evaluation")),
+    ("gesturecast.bridges", ("",)),
+    ("gesturecast.settings", ("",)),
+    ("gesturecast.realtime", ("timing", "audio", "generation", "pose", "run", "agents", "cli_flags", "jobs", "serve",
+                              "engine_cli")),
+    ("gesturecast.api", ("",)),
+    ("gesturecast.tools", ("render", "", "eval", "bench")),
+    ("gesturecast.cli", ("",)),
+)
+BASE_TYPES = ("gesturecast.errors", "gesturecast.controls", "gesturecast.frames")  # import nothing of the project
+TORCH_PACKAGES = ("gesturecast.models.networks", "gesturecast.models.training", "gesturecast.models.export",
+                  "gesturecast.models.evaluation", "gesturecast.tools.bench")
 LIVE_RUNTIME = ("gesturecast.realtime", "gesturecast.bridges", "gesturecast.models.runtime", "gesturecast.models.audio",
-                "gesturecast.frames")
+                "gesturecast.frames", "gesturecast.controls")
 NEVER_LIVE = ("gesturecast.models.networks", "gesturecast.models.training", "gesturecast.models.export",
               "gesturecast.models.evaluation", "gesturecast.models.dataset", "gesturecast.tools")
 # folders whose modules import nothing of gesturecast.realtime: the model side and the outputs stand without it
@@ -51,12 +45,25 @@ MAX_MODULES_PER_FOLDER = 20
 LIBRARY_ROOTS = ("gesturecast", "models", "realtime", "bridges")  # what ``gesturecast.*`` users import
 
 
-def package_of(module: str) -> str:
-    """The longest package of FLOORS that holds ``module``."""
-    owners = [name for name in FLOORS if module == name or module.startswith(name + ".")]
-    if not owners:
-        raise AssertionError(f"{module} lies in no package of the layout table")
-    return max(owners, key=len)
+def within(module: str, package: str) -> bool:
+    return module == package or module.startswith(package + ".")
+
+
+def floor_of(module: str) -> tuple[int, int]:
+    """(row, place in the row's pipeline) of ``module``'s unit in FLOORS."""
+    rows = [index for index, (folder, _) in enumerate(FLOORS) if within(module, folder)]
+    if not rows:
+        raise AssertionError(f"{module} lies in no folder of the layout table")
+    row = max(rows, key=lambda index: len(FLOORS[index][0]))
+    folder, units = FLOORS[row]
+    rest = module[len(folder) + 1:].split(".")[0] if module != folder else ""
+    return row, units.index(rest if rest in units else "")
+
+
+def floor_name(module: str) -> str:
+    row, place = floor_of(module)
+    folder, units = FLOORS[row]
+    return ".".join(part for part in (folder.removeprefix("gesturecast.") if row else folder, units[place]) if part)
 
 
 def module_name(path: Path, roots: dict[str, str]) -> str:
@@ -93,18 +100,49 @@ def import_graph(repo: Path, roots: dict[str, str]) -> dict[str, set[str]]:
 
 
 def floor_violations(graph: dict[str, set[str]]) -> list[str]:
+    """Imports of torch outside the torch packages, and of a unit that is not below the importer's (lazy ones too)."""
     problems = []
     for module, imported in graph.items():
-        here = package_of(module)
+        here = floor_of(module)
         for target in imported:
-            if target == "torch" and here not in TORCH_PACKAGES:
-                problems.append(f"{module} imports torch ({here} is torch-free)")
-            if not target.startswith("gesturecast"):
+            if target == "torch" and not module.startswith(TORCH_PACKAGES):
+                problems.append(f"{module} imports torch ({floor_name(module)} is torch-free)")
+            if not target.startswith("gesturecast") or floor_of(target) == here:
                 continue
-            there = package_of(target)
-            if there != here and FLOORS[there] >= FLOORS[here]:
-                problems.append(f"{module} (floor {FLOORS[here]}) imports {target} (floor {FLOORS[there]})")
+            if floor_of(target) > here:
+                problems.append(f"{module} ({floor_name(module)}) imports {target} ({floor_name(target)}, above it)")
     return problems
+
+
+def import_cycles(graph: dict[str, set[str]]) -> list[list[str]]:
+    """The project's import circles: each a list of modules that import one another round (Tarjan's strongly
+    connected components of more than one module, or a module importing itself)."""
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    cycles = []
+
+    def visit(module: str) -> None:
+        index[module] = low[module] = len(index)
+        stack.append(module)
+        for target in sorted(graph.get(module, ())):
+            if target not in graph:
+                continue
+            if target not in index:
+                visit(target)
+                low[module] = min(low[module], low[target])
+            elif target in stack:
+                low[module] = min(low[module], index[target])
+        if low[module] == index[module]:
+            component = stack[stack.index(module):]
+            del stack[stack.index(module):]
+            if len(component) > 1 or module in graph[module]:
+                cycles.append(sorted(component))
+
+    for module in sorted(graph):
+        if module not in index:
+            visit(module)
+    return cycles
 
 
 def realtime_imports(repo: Path, folders: tuple[str, ...]) -> list[str]:
@@ -140,6 +178,15 @@ def test_every_package_lies_on_a_floor_and_imports_only_lower_floors(graph):
     assert floor_violations(graph) == []
 
 
+def test_no_modules_import_one_another_round(graph):
+    assert import_cycles(graph) == []
+
+
+def test_the_base_types_import_nothing_of_the_project(graph):
+    assert {module: sorted(t for t in graph.get(module, ()) if t.startswith("gesturecast"))
+            for module in BASE_TYPES} == {module: [] for module in BASE_TYPES}
+
+
 def test_the_live_runtime_reaches_no_torch_and_nothing_of_training(graph):
     assert live_runtime_violations(graph) == []
 
@@ -169,7 +216,7 @@ def test_the_checks_catch_torch_in_the_runtime_even_through_a_helper(tmp_path):
         "models/generator/helper.py": "def f():\n    import torch\n",
         "realtime/pose/session.py": "from gesturecast.models.runtime.bundle import x\n",
     })
-    assert "gesturecast.models.generator.helper imports torch (gesturecast.models.generator is torch-free)" in (
+    assert "gesturecast.models.generator.helper imports torch (models.generator is torch-free)" in (
         floor_violations(graph))
     assert "gesturecast.realtime.pose.session reaches torch (through gesturecast.models.generator.helper)" in (
         live_runtime_violations(graph))
@@ -182,11 +229,27 @@ def test_the_checks_catch_an_upward_import_and_training_in_the_runtime(tmp_path)
         "models/training/pipeline.py": "import torch\n",
     })
     assert floor_violations(graph) == [
-        "gesturecast.models.motion.skeleton (floor 1) imports gesturecast.realtime.pose.session (floor 5)",
-        "gesturecast.realtime.pose.session (floor 5) imports gesturecast.models.training.pipeline (floor 5)",
+        "gesturecast.models.motion.skeleton (models.motion) imports gesturecast.realtime.pose.session (realtime.pose, "
+        "above it)",
     ]
     assert "gesturecast.realtime.pose.session reaches gesturecast.models.training.pipeline (through " \
            "gesturecast.realtime.pose.session)" in live_runtime_violations(graph)
+
+
+def test_the_checks_catch_a_lazy_import_going_back_up_and_an_import_circle(tmp_path):
+    graph = _tree(tmp_path, {
+        "realtime/cli_flags.py": "def config():\n    from gesturecast.realtime.serve.server import ServeConfig\n",
+        "realtime/serve/server.py": "ServeConfig = None\n",
+        "realtime/serve/cli.py": "from gesturecast.realtime.serve.ray_cli import add_ray_arguments\n",
+        "realtime/serve/ray_cli.py": "def app():\n    from gesturecast.realtime.serve.ray_replica import replica\n",
+        "realtime/serve/ray_replica.py": "from gesturecast.realtime.serve.cli import add_serve_arguments\n",
+    })
+    assert floor_violations(graph) == [
+        "gesturecast.realtime.cli_flags (realtime.cli_flags) imports gesturecast.realtime.serve.server "
+        "(realtime.serve, above it)",
+    ]
+    assert import_cycles(graph) == [["gesturecast.realtime.serve.cli", "gesturecast.realtime.serve.ray_cli",
+                                     "gesturecast.realtime.serve.ray_replica"]]
 
 
 def test_the_check_catches_a_lazy_realtime_import_in_the_bridges(tmp_path):

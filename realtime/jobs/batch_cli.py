@@ -30,8 +30,7 @@ from gesturecast.realtime.jobs.batch import (
     run_with_processes,
 )
 from gesturecast.realtime.jobs.batch_jobs import BatchJob, find_jobs
-from gesturecast.realtime.run.engine_setup import build_session
-from gesturecast.realtime.timing.clock import MonotonicClock
+from gesturecast.realtime.run.engine_setup import SessionFactory
 from gesturecast.settings import Settings
 
 logger = logging.getLogger(__name__)
@@ -62,7 +61,7 @@ def run_batch(args: argparse.Namespace) -> int:
     if any(summary_path in job.outputs() for job in jobs):
         raise UserError(f"an input would write {summary_path}, the batch summary; rename it")
     run = _ray_runner() if args.ray else run_with_processes
-    build_session(base, MonotonicClock())  # the model and the command's style, checked once before any worker
+    SessionFactory(base).generator()  # the model, its look-ahead and the command's style, checked before any worker
     todo = [job for job in jobs if not job.finished()]
     ready, missing = _split_missing(todo)
     workers = max(1, min(args.workers, len(ready)))

@@ -9,22 +9,14 @@ import threading
 from collections.abc import Callable
 
 from gesturecast import stop_signals
-from gesturecast.arguments import port_number
-from gesturecast.bridges.coords import FRAMES
 from gesturecast.errors import INTERRUPTED_EXIT
-from gesturecast.realtime.cli_flags import (
-    add_access_arguments,
-    add_generation_arguments,
-    serve_config,
-    server_token,
-    settings_from_args,
-)
+from gesturecast.realtime.cli_flags import server_token, settings_from_args
+from gesturecast.realtime.serve.cli_args import add_serve_arguments, serve_config
 from gesturecast.realtime.serve.launch import start_server
 from gesturecast.realtime.serve.ray_cli import add_ray_arguments, ray_serving
-from gesturecast.realtime.serve.server import SERVE_DEFAULT_PORT, GestureServer, ServeConfig
+from gesturecast.realtime.serve.server import GestureServer
 from gesturecast.realtime.serve.workers import Workers
 from gesturecast.realtime.timing.clock import Clock, MonotonicClock
-from gesturecast.settings import OUTPUT_RATES
 
 logger = logging.getLogger(__name__)
 
@@ -34,22 +26,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     add_serve_arguments(parser)
     add_ray_arguments(parser)
     parser.set_defaults(func=run_serve)
-
-
-def add_serve_arguments(parser: argparse.ArgumentParser) -> None:
-    add_generation_arguments(parser)
-    group = parser.add_argument_group("server")
-    group.add_argument("--host", default="127.0.0.1", help="listen address (beyond loopback needs --token)")
-    group.add_argument("--port", type=port_number(allow_any=True), default=SERVE_DEFAULT_PORT,
-                       help="WebSocket port (0 = any free port)")
-    add_access_arguments(group)
-    group.add_argument("--max-streams", type=int, default=ServeConfig.max_streams, help="concurrent streams allowed")
-    group.add_argument("--coordinate-frame", choices=tuple(FRAMES), default="internal", help="frame of sent poses")
-    group.add_argument("--fps", type=int, choices=OUTPUT_RATES, default=30, help="output rate (60 = slerp upsampling)")
-    group.add_argument("--workers", type=int, default=1, metavar="N",
-                       help="server processes behind the port, each with its own model and --max-streams slots; "
-                            "each connection goes to the one holding fewest (one process uses about one core for the "
-                            "streams' Python work: 4 for many streams on 2 cores; Linux)")
 
 
 def build_server(args: argparse.Namespace, clock: Clock) -> GestureServer:

@@ -16,8 +16,9 @@ from contextlib import contextmanager
 from gesturecast.arguments import finite_float, int_at_least
 from gesturecast.bridges.ws_access import check_exposure
 from gesturecast.errors import UserError
-from gesturecast.realtime.cli_flags import serve_config, server_token, settings_from_args
+from gesturecast.realtime.cli_flags import server_token, settings_from_args
 from gesturecast.realtime.run.engine_setup import SessionFactory
+from gesturecast.realtime.serve.cli_args import add_serve_arguments, serve_config
 from gesturecast.realtime.serve.server import ServeConfig
 from gesturecast.settings import Settings
 
@@ -95,6 +96,15 @@ def application(args: argparse.Namespace) -> tuple[object, str]:
     options = deployment_options(args)
     settings, config, budget = replica_settings(args)
     return replica_application(settings, config, options), budget
+
+
+def app_builder(config: dict) -> object:
+    """For a ``serve run`` / ``serve deploy`` config: ``args: {flags: [...]}`` holds ``gesturecast serve --ray``
+    flags (docs/scale.md); the config's own ``deployments:`` settings override the replica counts."""
+    parser = argparse.ArgumentParser(prog="gesturecast serve --ray (serve config)")
+    add_serve_arguments(parser)
+    add_ray_arguments(parser)
+    return application(parser.parse_args([*config.get("flags", []), "--ray"]))[0]
 
 
 def start_ray(args: argparse.Namespace) -> bool:

@@ -8,7 +8,6 @@ start, audio, control, end, stats) and sees today's refusals (1013 when the repl
 Placement: :mod:`ray_router`. Needs ``gesturecast[scale]`` (Ray, FastAPI); docs/scale.md.
 """
 
-import argparse
 import asyncio
 import logging
 from dataclasses import replace
@@ -21,9 +20,7 @@ from websockets.asyncio.client import ClientConnection, connect
 from websockets.exceptions import ConnectionClosed, InvalidStatus
 from websockets.frames import CloseCode
 
-from gesturecast.realtime.serve.cli import add_serve_arguments
 from gesturecast.realtime.serve.launch import start_server
-from gesturecast.realtime.serve.ray_cli import add_ray_arguments, application
 from gesturecast.realtime.serve.server import ServeConfig
 from gesturecast.realtime.timing.clock import MonotonicClock
 from gesturecast.settings import Settings
@@ -116,12 +113,3 @@ class GestureReplica:
 def replica_application(settings: Settings, config: ServeConfig, options: dict) -> Application:
     """The Ray Serve application: ``options`` are the deployment's (replicas, autoscaling, drain, router)."""
     return GestureReplica.options(**options).bind(settings, config)
-
-
-def app_builder(config: dict) -> Application:
-    """For a ``serve run`` / ``serve deploy`` config: ``args: {flags: [...]}`` holds ``gesturecast serve --ray``
-    flags (docs/scale.md); the config's own ``deployments:`` settings override the replica counts."""
-    parser = argparse.ArgumentParser(prog="gesturecast serve --ray (serve config)")
-    add_serve_arguments(parser)
-    add_ray_arguments(parser)
-    return application(parser.parse_args([*config.get("flags", []), "--ray"]))[0]

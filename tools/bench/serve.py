@@ -35,8 +35,8 @@ import numpy as np
 
 from gesturecast.errors import UserError
 from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
-from gesturecast.realtime.cli_flags import serve_config, settings_from_args
-from gesturecast.realtime.serve.cli import add_serve_arguments
+from gesturecast.realtime.cli_flags import settings_from_args
+from gesturecast.realtime.serve.cli_args import add_serve_arguments, serve_config
 from gesturecast.realtime.serve.launch import start_server
 from gesturecast.realtime.serve.server import GestureServer
 from gesturecast.realtime.serve.workers import Workers

@@ -24,7 +24,8 @@ from websockets.frames import CloseCode
 
 from gesturecast.errors import UserError
 from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
-from gesturecast.realtime.serve.cli import add_serve_arguments, build_server
+from gesturecast.realtime.serve.cli import build_server
+from gesturecast.realtime.serve.cli_args import add_serve_arguments
 from gesturecast.realtime.serve.ray_cli import (
     APP_NAME,
     AUTOSCALE_TARGET_FRACTION,
@@ -275,7 +276,7 @@ def test_without_ray_the_command_names_the_extra():
 
 
 def test_a_serve_config_builds_the_same_application(tiny_model):
-    from gesturecast.realtime.serve.ray_replica import app_builder
+    from gesturecast.realtime.serve.ray_cli import app_builder
 
     flags = ["--model", str(tiny_model[1]), "--max-streams", "3", "--replicas", "2"]
     assert isinstance(app_builder({"flags": flags}), serve.Application)
