@@ -57,7 +57,11 @@ def floor_of(module: str) -> tuple[int, int]:
     row = max(rows, key=lambda index: len(FLOORS[index][0]))
     folder, units = FLOORS[row]
     rest = module[len(folder) + 1:].split(".")[0] if module != folder else ""
-    return row, units.index(rest if rest in units else "")
+    unit = rest if rest in units else ""
+    if unit not in units:
+        raise AssertionError(f"{module}: {folder}.{rest} is not in the layout table; add it to {folder}'s units in "
+                             "pipeline order")
+    return row, units.index(unit)
 
 
 def floor_name(module: str) -> str:

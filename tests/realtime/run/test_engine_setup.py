@@ -14,7 +14,7 @@ from gesturecast.realtime.cli_flags import (
     outputs_from_args,
     settings_from_args,
 )
-from gesturecast.realtime.run.engine_setup import build_session, vmc_config
+from gesturecast.realtime.run.engine_setup import SessionFactory, build_session, vmc_config
 from gesturecast.realtime.timing.clock import MonotonicClock
 from gesturecast.settings import LATENCY_SETTINGS, Settings
 
@@ -62,3 +62,21 @@ def test_one_latency_value_reaches_the_generator_and_the_session(setting):
 def test_lookahead_and_margin_override_the_setting():
     budget = build_session(Settings(latency="low", lookahead=3, margin_ms=50.0), MonotonicClock()).budget
     assert (budget.lookahead_frames, budget.compute_margin_ms) == (3, 50.0)
+
+
+def test_one_factory_makes_every_stream_sharing_the_model_lexicon_and_each_budget():
+    """A server's streams come from one factory: one bundle, the lexicon encoded once, and a latency setting
+    resolved once however many streams ask for it; each stream still gets its own generator."""
+    factory = SessionFactory(Settings())
+    clock = MonotonicClock()
+    low = Settings().replace(latency="low")
+    first, second, third = factory.session(clock, low), factory.session(clock, low), factory.session(clock)
+    assert first.budget is second.budget and third.budget is factory.budget() and first.budget is not third.budget
+    assert first.bundle is second.bundle is third.bundle is factory.bundle
+    assert first.config.gesture_clips is third.config.gesture_clips == factory.config.gesture_clips != ()
+    assert first.generator is not second.generator and first.generator.lookahead == low_lookahead(factory)
+    assert factory.session(clock, Settings(root="free")).config.root_mode.value == "free"
+
+
+def low_lookahead(factory: SessionFactory) -> int:
+    return LATENCY_SETTINGS["low"].lookahead_for(factory.bundle.audio_lookahead)
