@@ -24,7 +24,7 @@ from gesturecast.models.audio.stats import FeatureStats
 from gesturecast.models.audio.streaming import FeatureConfig
 from gesturecast.models.generator.denoiser_config import DenoiserConfig, sequence_audio
 from gesturecast.models.generator.diffusion import get_schedule
-from gesturecast.models.networks.denoiser import CausalDenoiser
+from gesturecast.models.networks.denoiser_network import CausalDenoiser
 from gesturecast.models.networks.part_vqvae import load_motion_vq
 from gesturecast.models.runtime.bundle import Normalizer, StyleTable
 from gesturecast.models.training.arrays import load_training_clips

@@ -16,14 +16,14 @@ import torch
 from torch import nn
 
 from gesturecast.errors import UserError
-from gesturecast.models.export.denoiser import export_denoiser
+from gesturecast.models.export.denoiser_onnx import export_denoiser
 from gesturecast.models.export.motion_prompt import export_motion_prompt
 from gesturecast.models.export.onnx_half import round_weights_to_half, store_weights_in_half
 from gesturecast.models.export.vq import export_vq_decoder_step
 from gesturecast.models.generator.denoiser_config import DenoiserConfig
 from gesturecast.models.generator.diffusion import DEFAULT_NUM_TIMESTEPS, DEFAULT_SCHEDULE
 from gesturecast.models.motion.body_parts import body_parts
-from gesturecast.models.networks.denoiser import CausalDenoiser
+from gesturecast.models.networks.denoiser_network import CausalDenoiser
 from gesturecast.models.networks.motion_prompt import MotionPromptConfig, MotionPromptEncoder
 from gesturecast.models.networks.part_vqvae import PartVQVAE, PartVQVAEConfig, load_motion_vq
 from gesturecast.models.runtime.bundle import LICENSE_NOTE, ONNX_FILES, write_manifest

@@ -33,7 +33,7 @@ from gesturecast.models.audio.stats import FeatureStats
 from gesturecast.models.audio.streaming import FeatureConfig
 from gesturecast.models.generator.denoiser_config import DenoiserConfig
 from gesturecast.models.generator.styles import canonical_style
-from gesturecast.models.runtime.denoiser import DenoiserRuntime, condition_path
+from gesturecast.models.runtime.denoiser_runtime import DenoiserRuntime, condition_path
 from gesturecast.models.runtime.motion_prompt import MotionPromptRuntime
 from gesturecast.models.runtime.ort_session import DEFAULT_THREADS, make_session
 

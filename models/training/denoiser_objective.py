@@ -36,7 +36,7 @@ import torch
 import torch.nn.functional as F
 
 from gesturecast.models.generator.diffusion import CLEAN_TIMESTEP, DiffusionSchedule, q_sample
-from gesturecast.models.networks.denoiser import CausalDenoiser
+from gesturecast.models.networks.denoiser_network import CausalDenoiser
 from gesturecast.models.networks.style_critic import StyleCritic
 
 

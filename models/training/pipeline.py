@@ -56,8 +56,8 @@ from gesturecast.models.networks.vqvae import VQVAEConfig
 from gesturecast.models.runtime.bundle import Normalizer, StyleTable
 from gesturecast.models.training.arrays import TrainingClip, dataset_summary, load_training_clips
 from gesturecast.models.training.audio_augment import AudioAugmentConfig, FeatureAugmenter
-from gesturecast.models.training.denoiser import LatentClip, train_denoiser
 from gesturecast.models.training.denoiser_objective import DenoiserTrainConfig
+from gesturecast.models.training.denoiser_trainer import LatentClip, train_denoiser
 from gesturecast.models.training.presets import TrainPreset
 from gesturecast.models.training.reconstruction import joint_errors
 from gesturecast.models.training.vqvae import VQTrainConfig, reconstruct, train_vqvae

@@ -44,7 +44,7 @@ from gesturecast.models.generator.diffusion import (
 )
 from gesturecast.models.generator.style_prompt import PartStyles, StylePrompt
 from gesturecast.models.runtime.bundle import ModelBundle
-from gesturecast.models.runtime.denoiser import FrameInputs, roll_cache
+from gesturecast.models.runtime.denoiser_runtime import FrameInputs, roll_cache
 from gesturecast.models.runtime.ort_session import DEFAULT_THREADS
 from gesturecast.realtime.generation.style_mixture import (
     NO_GUIDANCE,

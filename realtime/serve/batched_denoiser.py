@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from gesturecast.models.runtime.bundle import ModelBundle
-from gesturecast.models.runtime.denoiser import FRAME_INPUT_NAMES, OUTPUT_NAMES, DenoiserRuntime
+from gesturecast.models.runtime.denoiser_runtime import FRAME_INPUT_NAMES, OUTPUT_NAMES, DenoiserRuntime
 from gesturecast.models.runtime.ort_session import DEFAULT_THREADS
 from gesturecast.realtime.timing.latency import charge_cpu
 

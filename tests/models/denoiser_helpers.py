@@ -5,7 +5,7 @@ from dataclasses import replace
 import torch
 
 from gesturecast.models.generator.denoiser_config import DenoiserConfig
-from gesturecast.models.networks.denoiser import CausalDenoiser
+from gesturecast.models.networks.denoiser_network import CausalDenoiser
 
 TINY = DenoiserConfig(
     latent_dim=6, audio_dim=5, style_dim=8, width=16, num_layers=2, num_heads=2, window=3, audio_window=8

@@ -23,7 +23,7 @@ import numpy as np
 from gesturecast.models.generator.denoiser_config import DenoiserConfig
 from gesturecast.models.generator.diffusion import SamplerConfig, classifier_free_guidance, get_schedule, sampler_step
 from gesturecast.models.generator.diffusion import sampling_plan as make_plan
-from gesturecast.models.runtime.denoiser import DenoiserRuntime, condition_path
+from gesturecast.models.runtime.denoiser_runtime import DenoiserRuntime, condition_path
 
 BENCH_DIR = Path(".cache/bench")
 DDIM_STEPS = (1, 2, 4, 8)
@@ -52,8 +52,8 @@ def export_default(config: DenoiserConfig, out_dir: Path = BENCH_DIR) -> tuple[P
     """Random-weight default model → ONNX; returns (path, parameter count). Needs torch (training extra)."""
     import torch
 
-    from gesturecast.models.export.denoiser import export_denoiser
-    from gesturecast.models.networks.denoiser import CausalDenoiser
+    from gesturecast.models.export.denoiser_onnx import export_denoiser
+    from gesturecast.models.networks.denoiser_network import CausalDenoiser
 
     torch.manual_seed(0)
     model = CausalDenoiser(config)

@@ -5,7 +5,7 @@ from denoiser_helpers import TINY, TRUNCATING, random_model
 
 from gesturecast.models.generator.denoiser_config import audio_frames_needed, audio_window_from_features
 from gesturecast.models.generator.diffusion import CLEAN_TIMESTEP
-from gesturecast.models.networks.denoiser import CausalDenoiser, KVCache, audio_windows
+from gesturecast.models.networks.denoiser_network import CausalDenoiser, KVCache, audio_windows
 
 
 def random_inputs(batch, num_latents, config=TINY, seed=1):

@@ -11,7 +11,7 @@ from gesturecast.errors import UserError
 from gesturecast.models.export.bundle import bundle_models
 from gesturecast.models.generator.diffusion import CLEAN_TIMESTEP, get_schedule, sampler_step, sampling_plan
 from gesturecast.models.generator.style_prompt import StylePrompt
-from gesturecast.models.networks.denoiser import KVCache
+from gesturecast.models.networks.denoiser_network import KVCache
 from gesturecast.models.runtime.bundle import MANIFEST_FILE, ONNX_FILES, ModelBundle
 from gesturecast.realtime.generation.generator import Generator, GeneratorSettings, guide_trajectories
 

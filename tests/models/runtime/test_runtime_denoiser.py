@@ -7,13 +7,18 @@ import torch
 from denoiser_helpers import TINY, TRUNCATING, random_model
 
 from gesturecast.errors import UserError
-from gesturecast.models.export.denoiser import example_condition_inputs, example_step_inputs, export_denoiser
+from gesturecast.models.export.denoiser_onnx import example_condition_inputs, example_step_inputs, export_denoiser
 from gesturecast.models.export.motion_prompt import export_motion_prompt
 from gesturecast.models.generator.denoiser_config import audio_frames_needed
 from gesturecast.models.generator.diffusion import CLEAN_TIMESTEP
-from gesturecast.models.networks.denoiser import audio_windows
+from gesturecast.models.networks.denoiser_network import audio_windows
 from gesturecast.models.networks.motion_prompt import MotionPromptConfig, MotionPromptEncoder
-from gesturecast.models.runtime.denoiser import LOOKAHEAD_INPUT_NAME, DenoiserRuntime, FrameInputs, condition_path
+from gesturecast.models.runtime.denoiser_runtime import (
+    LOOKAHEAD_INPUT_NAME,
+    DenoiserRuntime,
+    FrameInputs,
+    condition_path,
+)
 
 
 @pytest.fixture(scope="module")
@@ -76,7 +81,7 @@ def test_streaming_runtime_equals_torch_full_sequence(exported):
 
 
 def test_runtime_does_not_import_torch():
-    code = "import sys, gesturecast.models.runtime.denoiser; sys.exit('torch' in sys.modules)"
+    code = "import sys, gesturecast.models.runtime.denoiser_runtime; sys.exit('torch' in sys.modules)"
     assert subprocess.run([sys.executable, "-c", code], check=False).returncode == 0
 
 

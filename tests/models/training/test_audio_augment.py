@@ -70,7 +70,7 @@ def test_noise_adds_power():
 def test_batch_sampler_augments_only_paired_audio():
     from denoiser_helpers import TINY
 
-    from gesturecast.models.training.denoiser import LatentBatchSampler, LatentClip
+    from gesturecast.models.training.denoiser_trainer import LatentBatchSampler, LatentClip
 
     frames = 12 * TINY.frames_per_latent + TINY.audio_lookahead
     paired = LatentClip(np.zeros((12, TINY.latent_dim), np.float32), np.zeros((frames, TINY.audio_dim), np.float32),

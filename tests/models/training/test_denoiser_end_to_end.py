@@ -11,7 +11,7 @@ from gesturecast.models.generator.diffusion import (
     sampler_step,
     sampling_plan,
 )
-from gesturecast.models.networks.denoiser import CausalDenoiser, KVCache, audio_windows
+from gesturecast.models.networks.denoiser_network import CausalDenoiser, KVCache, audio_windows
 from gesturecast.models.training.denoiser_objective import training_loss
 
 CONFIG = DenoiserConfig(

@@ -3,7 +3,7 @@ from denoiser_helpers import TINY, TRUNCATING
 
 from gesturecast.models.generator.denoiser_config import audio_frames_needed
 from gesturecast.models.generator.diffusion import CLEAN_TIMESTEP, get_schedule
-from gesturecast.models.networks.denoiser import CausalDenoiser
+from gesturecast.models.networks.denoiser_network import CausalDenoiser
 from gesturecast.models.training.denoiser_objective import (
     DenoiserTrainConfig,
     noise_frames,

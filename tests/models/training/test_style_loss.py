@@ -10,7 +10,7 @@ import torch
 from gesturecast.cli import main
 from gesturecast.models.generator.denoiser_config import DenoiserConfig, audio_frames_needed
 from gesturecast.models.generator.diffusion import get_schedule
-from gesturecast.models.networks.denoiser import CausalDenoiser
+from gesturecast.models.networks.denoiser_network import CausalDenoiser
 from gesturecast.models.networks.part_vqvae import load_motion_vq
 from gesturecast.models.runtime.bundle import Normalizer, StyleTable
 from gesturecast.models.training.denoiser_objective import DenoiserTrainConfig, style_loss, training_loss

@@ -15,7 +15,7 @@ from gesturecast.models.export.bundle import export_bundle
 from gesturecast.models.networks.part_vqvae import load_motion_vq
 from gesturecast.models.runtime.bundle import ModelBundle, Normalizer, StyleTable
 from gesturecast.models.training.arrays import TrainingClip
-from gesturecast.models.training.denoiser import learning_rate_factor
+from gesturecast.models.training.denoiser_trainer import learning_rate_factor
 from gesturecast.models.training.pipeline import (
     CHECKPOINT_FILE,
     latent_clip,

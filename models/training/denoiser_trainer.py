@@ -21,7 +21,7 @@ from tqdm import tqdm
 
 from gesturecast.models.generator.denoiser_config import DenoiserConfig, audio_frames_needed, sequence_audio
 from gesturecast.models.generator.diffusion import get_schedule
-from gesturecast.models.networks.denoiser import CausalDenoiser
+from gesturecast.models.networks.denoiser_network import CausalDenoiser
 from gesturecast.models.networks.style_critic import StyleCritic
 from gesturecast.models.training.denoiser_objective import DenoiserTrainConfig, training_loss
 

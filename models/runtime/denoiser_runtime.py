@@ -1,6 +1,6 @@
 """onnxruntime wrapper of the exported denoiser (numpy + onnxruntime only: no torch at run time).
 
-Two graphs (see :mod:`gesturecast.models.export.denoiser`): the per-frame *condition* (audio token and
+Two graphs (see :mod:`gesturecast.models.export.denoiser_onnx`): the per-frame *condition* (audio token and
 style modulations, once per latent frame) and the *step* (one denoiser call given x_t, t and the
 condition). Streaming state is explicit (silero-vad habit): :class:`DenoiserState` holds the
 fixed-size KV cache of the last W clean latents and, after :meth:`DenoiserRuntime.commit`, the

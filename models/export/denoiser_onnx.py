@@ -17,7 +17,7 @@ Step graph (KV cache and history as explicit inputs/outputs; W, L, H, Dh fixed b
              cache_keys / cache_values (L, B, H, W, Dh), cache_length (B,) int64 (valid = last slots)
     outputs  x0 (B, M, C), new_keys / new_values (L, B, H, M, Dh) of the M new frames
 
-The caller rolls the cache (:func:`gesturecast.models.runtime.denoiser.roll_cache`), which lets one
+The caller rolls the cache (:func:`gesturecast.models.runtime.denoiser_runtime.roll_cache`), which lets one
 step call both commit the previous clean latent and take the first denoising step of the next one
 (M = 2). The config travels in both models' metadata (key ``gesturecast.denoiser_config``).
 """
@@ -32,8 +32,8 @@ import torch
 from torch import nn
 
 from gesturecast.models.generator.denoiser_config import DenoiserConfig
-from gesturecast.models.networks.denoiser import CausalDenoiser
-from gesturecast.models.runtime.denoiser import (
+from gesturecast.models.networks.denoiser_network import CausalDenoiser
+from gesturecast.models.runtime.denoiser_runtime import (
     CACHE_INPUT_NAMES,
     CONDITION_OUTPUT_NAME,
     CONFIG_METADATA_KEY,
