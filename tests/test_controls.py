@@ -17,6 +17,7 @@ from gesturecast.controls import (
     wire,
 )
 from gesturecast.models.motion.root_anchor import RootMode
+from gesturecast.realtime.timing.clock import MonotonicClock
 from gesturecast.settings import CHOICES, NUMBER_LIMITS, Settings
 
 
@@ -139,3 +140,21 @@ def test_a_style_change_applies_to_settings_by_name():
     assert (changed.style, changed.prompt, changed.gamma) == ("happy", None, 0.5)
     assert [part for part, _ in changed.part_styles] == ["arms"]
     assert Settings(prompt="calm").with_style(StyleChange(guidance=2.0)).prompt == "calm"
+
+
+def test_every_style_setting_reaches_the_generator_through_settings():
+    """StyleChange → Settings → the generator's settings (and the session's root): no field is lost on the way."""
+    from gesturecast.models.generator.style_prompt import StylePrompt
+    from gesturecast.realtime.run.engine_setup import SessionFactory, generator_settings
+
+    change = StyleChange(style="happy", style2="old", part_styles=(("arms", "sad"),), style_strength=0.5,
+                         guidance=2.0, audio_guidance=1.5, gamma=0.25, root="locked")
+    settings = Settings().with_style(change)
+    factory = SessionFactory(settings.replace(gestures=None))
+    made = generator_settings(settings, factory.bundle, factory.budget())
+    assert (made.style, made.second_style) == (StylePrompt("label", "happy"), StylePrompt("label", "old"))
+    assert made.part_styles == (("arms", StylePrompt("label", "sad")),)
+    assert (made.style_strength, made.guidance, made.audio_guidance, made.gamma) == (0.5, 2.0, 1.5, 0.25)
+    assert factory.session(MonotonicClock()).config.root_mode.value == "locked"
+    assert set(STYLE_SETTINGS) - set(change.changed()) == {"prompt"}  # a prompt replaces the style:
+    assert Settings().with_style(StyleChange(prompt="calm")).style_prompt() == StylePrompt("text", "calm")
