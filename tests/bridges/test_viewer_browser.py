@@ -11,6 +11,7 @@ from browser_session import NO_GPU_FLAGS, SCREENSHOT_DIR, Feeder, canvas_pixels,
 from PIL import Image
 
 from gesturecast.bridges.websocket_server import WebSocketBridge, WebSocketConfig
+from gesturecast.controls import Gesture, wire
 
 SCREENSHOT_GAP_S = 0.6
 CHANGED_PIXEL_THRESHOLD = 40  # summed RGB difference that counts as a changed pixel
@@ -65,7 +66,7 @@ def test_viewer_controls_send_only_the_sliders_the_user_moved(driver):
         wait_for(lambda: len(received) >= 1)
     finally:
         bridge.close()
-    assert received[0] == {"audio_guidance": 2.5, "style": "happy"}  # guidance untouched: not sent
+    assert wire(received[0]) == {"audio_guidance": 2.5, "style": "happy"}  # guidance untouched: not sent
 
 
 def test_viewer_preselects_the_style_and_sends_free_text_as_a_prompt(driver):
@@ -82,7 +83,7 @@ def test_viewer_preselects_the_style_and_sends_free_text_as_a_prompt(driver):
     finally:
         bridge.close()
     assert selected == "relaxed"
-    assert received[0] == {"prompt": "happy, sweeping gestures"}
+    assert wire(received[0]) == {"prompt": "happy, sweeping gestures"}
 
 
 def test_viewer_root_selector_sends_the_chosen_root_mode(driver):
@@ -96,7 +97,7 @@ def test_viewer_root_selector_sends_the_chosen_root_mode(driver):
         wait_for(lambda: len(received) >= 1)
     finally:
         bridge.close()
-    assert received[0] == {"root": "locked"}
+    assert wire(received[0]) == {"root": "locked"}
 
 
 def test_viewer_part_selectors_send_part_styles(driver):
@@ -118,8 +119,8 @@ def test_viewer_part_selectors_send_part_styles(driver):
     finally:
         bridge.close()
     assert not hidden
-    assert received[0] == {"part_styles": {"arms": "happy", "legs": "old"}}
-    assert received[1] == {"part_styles": {}}  # every part back on the whole-body style
+    assert wire(received[0]) == {"part_styles": {"arms": "happy", "legs": "old"}}
+    assert wire(received[1]) == {"part_styles": {}}  # every part back on the whole-body style
 
 
 def test_viewer_gesture_buttons_send_a_gesture_control(driver):
@@ -133,7 +134,7 @@ def test_viewer_gesture_buttons_send_a_gesture_control(driver):
         wait_for(lambda: len(received) >= 1)
     finally:
         bridge.close()
-    assert received == [{"gesture": "bow"}]
+    assert received == [(Gesture("bow"),)]
 
 
 def test_viewer_without_body_parts_shows_no_part_selectors(driver):
