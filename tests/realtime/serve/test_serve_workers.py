@@ -5,13 +5,16 @@ import json
 import os
 import re
 import signal
+import socket
 from contextlib import ExitStack
 from pathlib import Path
 
 from websockets.sync.client import connect
 
+from gesturecast.realtime.serve.launch import start_server
 from gesturecast.realtime.serve.server import ServeConfig
 from gesturecast.realtime.serve.workers import Workers
+from gesturecast.realtime.timing.clock import MonotonicClock
 from gesturecast.settings import Settings
 
 START_BOUND_S = 120.0  # two workers load the model on a loaded 2-core machine
@@ -79,3 +82,20 @@ def test_a_killed_parent_takes_every_worker_with_it(tiny_model, cli_process):
     server.process.kill()
     server.process.wait()
     assert server.still_running(children, STOP_BOUND_S) == []
+
+
+def test_a_workers_private_socket_cannot_be_reached_and_a_unix_peer_is_served(tiny_model, caplog):
+    config = ServeConfig(host="127.0.0.1", port=0, token="a-strong-token-0123456789", dealt=True)
+    with caplog.at_level("INFO"):
+        server = start_server(Settings(model=tiny_model[1], steps=2), config, MonotonicClock())
+    try:
+        (private,) = server._listener._server.sockets
+        name = private.getsockname()
+        assert name.startswith("/") and not os.path.exists(name)  # no name anyone could connect to
+        assert not any("listening on" in record.getMessage() for record in caplog.records)
+        ours, theirs = socket.socketpair(socket.AF_UNIX, socket.SOCK_STREAM)  # a peer with no IP address
+        server.adopt(theirs)
+        with connect("ws://localhost/stream/unix", sock=ours, open_timeout=30) as connection:
+            assert json.loads(connection.recv(timeout=30))["type"] == "hello"
+    finally:
+        server.close()
