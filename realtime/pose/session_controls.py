@@ -12,6 +12,7 @@ stream holds at most MAX_MIXTURE_ROWS style rows, also when part-style changes a
 
 from __future__ import annotations
 
+import logging
 import threading
 from collections import deque
 from dataclasses import replace
@@ -21,11 +22,13 @@ from gesturecast.errors import UserError
 from gesturecast.models.generator.style_prompt import PartStyles, StylePrompt, parse_part_styles
 from gesturecast.models.motion.root_anchor import RootAnchor, RootMode
 from gesturecast.realtime.generation.generator import Generator
-from gesturecast.realtime.generation.gesture_cues import Cue, CuePlan
+from gesturecast.realtime.generation.gesture_cues import Cue, CuePlan, CueRefused
 from gesturecast.realtime.generation.style_mixture import align_mixtures, bound_blend_rows, drop_unused_rows
 from gesturecast.realtime.generation.word_cues import Word, words_from_list
 from gesturecast.realtime.pose.transitions import DEFAULT_RAMP_S, Ramp
 from gesturecast.settings import SINGLE_STYLE
+
+logger = logging.getLogger(__name__)
 
 MAX_PENDING_CONTROLS = 32  # bounded inbox: the oldest unapplied control is dropped first
 # style rows of one stream while part styles blend (each is a row of every denoiser call): a mixture of the default
@@ -35,10 +38,12 @@ MAX_MIXTURE_ROWS = 8
 
 
 class GestureDoor(Protocol):
-    """Where ``gesture`` and ``words`` controls go: the session's cue plan (checked on submit), ``cue`` and
-    ``cue_words``."""
+    """Where ``gesture`` and ``words`` controls go: the session's cue plan (checked on submit, with the cue times
+    by ``check_cue_times``), ``cue`` and ``cue_words``."""
 
     cues: CuePlan
+
+    def check_cue_times(self, times: list[float]) -> None: ...
 
     def cue(self, cue: Cue) -> object: ...
 
@@ -70,9 +75,10 @@ class SessionControls:
         when applied."""
         if "gesture" in control:
             self._check_gesture(control["gesture"])
+            self.gestures.check_cue_times([])
         if "words" in control:
             self._check_gesture(None)
-            words_from_list(control["words"], "words")
+            self.gestures.check_cue_times([word.start for word in words_from_list(control["words"], "words")])
         for prompt in _prompts_of(control):
             self.generator.styles.embed(prompt)
         if "part_styles" in control:
@@ -122,10 +128,10 @@ class SessionControls:
             self.gestures.cues.check(name)
 
     def _apply(self, control: dict, t: float) -> None:
-        if "gesture" in control:  # as soon as possible: from this latent on, its stroke as early as the clip allows
-            self.gestures.cue(Cue(control["gesture"], t, "control"))
-        if "words" in control:  # on the words' own stream times (late by the wait when already generated)
-            self.gestures.cue_words(words_from_list(control["words"], "words"))
+        try:
+            self._apply_cues(control, t)
+        except CueRefused as error:  # the plan filled up since the submit: the stream goes on without them
+            logger.warning("gesture cues not kept: %s", error)
         if "root" in control:
             self.root.set_mode(RootMode(control["root"]))  # re-anchored where the avatar stands: no jump
         if "guidance" in control:
@@ -146,6 +152,12 @@ class SessionControls:
             self.generator.set_style(style, StylePrompt.parse(control["style2"]), float(self._gamma.value(t)))
         elif new_style is not None and new_style != self.generator.settings.style:
             self._start_style_blend(new_style, t)
+
+    def _apply_cues(self, control: dict, t: float) -> None:
+        if "gesture" in control:  # as soon as possible: from this latent on, its stroke as early as the clip allows
+            self.gestures.cue(Cue(control["gesture"], t, "control"))
+        if "words" in control:  # on the words' own stream times (late by the wait when already generated)
+            self.gestures.cue_words(words_from_list(control["words"], "words"))
 
     def _start_style_blend(self, new_style: StylePrompt, t: float) -> None:
         settings = self.generator.settings

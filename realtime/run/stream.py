@@ -127,9 +127,12 @@ class Stream:
     def words(self, words: list[dict]) -> int:
         """Words with stream-time stamps (``[{"word", "start", "end"}]``, seconds since the first pushed sample), e.g.
         a TTS service's word timings sent before the audio plays: trigger words cue their gestures with the stroke on
-        the word (late by the wait when the word's latents are already generated). Returns the cues placed."""
+        the word (late by the wait when the word's latents are already generated); words more than five minutes
+        ahead of the stream are refused (one line). Returns the cues placed."""
         self._check_open()
-        return len(self.session.cue_words(words_from_list(words, "words")))
+        checked = words_from_list(words, "words")
+        self.session.check_cue_times([word.start for word in checked])
+        return len(self.session.cue_words(checked))
 
     def spoken(self, text: str, start: float | None = None) -> int:
         """Words as a TTS service reports them while speaking (one word, or a sentence without word times):
