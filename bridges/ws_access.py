@@ -191,7 +191,7 @@ class AccessPolicy:
 
     def process_request(self, connection: ServerConnection, request: Request) -> Response | None:
         origin = request.headers.get("Origin")
-        if not self.origin_allowed(origin, connection.local_address[1]):
+        if not self.origin_allowed(origin, local_port(connection)):
             return refusal(HTTPStatus.FORBIDDEN, f"origin {origin} is not allowed; start the server with "
                                                   f"--allow-origin {origin} to let its pages connect")
         if self.failures.blocked(client_address(connection)):
@@ -218,6 +218,14 @@ async def send_refusal(connection: ServerConnection, error: ControlError) -> Non
         await connection.close(CloseCode.POLICY_VIOLATION, str(error))
 
 
+def local_port(connection: ServerConnection) -> int:
+    """The port the peer connected to; 0 for a connection without one (a Unix socket)."""
+    address = connection.local_address
+    return int(address[1]) if isinstance(address, tuple) and len(address) > 1 else 0
+
+
 def client_address(connection: ServerConnection) -> str:
-    """The peer's IP address (its port changes with every connection, so it is not part of the key)."""
-    return str(connection.remote_address[0])
+    """The peer's IP address (its port changes with every connection, so it is not part of the key); ``local`` for
+    a peer without one (a Unix socket)."""
+    address = connection.remote_address
+    return str(address[0]) if isinstance(address, tuple) and address else "local"

@@ -11,7 +11,9 @@ from __future__ import annotations
 import asyncio
 import concurrent.futures
 import errno
+import os
 import socket
+import tempfile
 import threading
 from collections.abc import Awaitable, Callable
 
@@ -25,11 +27,13 @@ DEFAULT_MAX_SIZE = 2**20  # websockets' own limit on an incoming message, when t
 
 
 def private_listener() -> socket.socket:
-    """A listening socket nobody else can reach by name (a Unix socket with a kernel-chosen abstract address), for
-    a server whose connections all come through :meth:`ThreadedListener.adopt`."""
+    """A listening socket nobody can connect to, for a server whose connections all come through
+    :meth:`ThreadedListener.adopt`: a Unix socket bound in a private folder, whose name is removed at once (an
+    abstract name would be open to every user of the host)."""
     listener = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
-    listener.bind("")  # Linux autobind: a unique abstract name
-    listener.listen()
+    with tempfile.TemporaryDirectory(prefix="gesturecast-") as folder:  # mode 0700
+        listener.bind(os.path.join(folder, "s"))
+        listener.listen()
     return listener
 
 
@@ -75,8 +79,9 @@ class ThreadedListener:
         # every frame for every client took about 8 % of a busy server's CPU (docs/serve.md)
         options = {"compression": None, **serve_options}
         self._max_size = options.get("max_size", DEFAULT_MAX_SIZE)
-        if sock is not None:
-            self._server = await serve(handler, sock=sock, **options)
+        if sock is not None:  # started quietly: the websockets logger would print the private socket's old name
+            self._server = await serve(handler, sock=sock, start_serving=False, **options)
+            await self._server.start_serving()
             return
         self._server = await serve(handler, self.host, self.port, **options)
         self.port = self._server.sockets[0].getsockname()[1]

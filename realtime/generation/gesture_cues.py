@@ -15,12 +15,18 @@ the blend keeps their shape while the latents keep the neighbouring motion consi
 A gesture is not repeated within :data:`DEFAULT_REFRACTORY_S`, and a body part does one gesture at a time: a cue
 that would overlap a placed clip on a shared part is dropped (and counted). The plan is deterministic in stream
 time, so streaming and offline runs with the same cues give the same poses.
+
+The placements are kept in order of their first latent, so placing a cue and imposing a latent look only at the
+clips that can overlap it (a clip is at most the lexicon's longest): their cost does not grow with the number of
+cues waiting. A plan holds at most :data:`MAX_PLACEMENTS` of them (:class:`CueRefused` beyond), and
+:meth:`CuePlan.check_ahead` refuses cue times more than :data:`MAX_AHEAD_S` ahead of the stream (live doors).
 """
 
 from __future__ import annotations
 
+import bisect
 import math
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 
 import numpy as np
@@ -29,6 +35,12 @@ from gesturecast.errors import UserError
 
 DEFAULT_REFRACTORY_S = 4.0  # the same gesture again within this many seconds is dropped
 RAMP_LATENTS = 4  # latents over which the imposition weight rises to 1 (and falls back) at each end of a clip
+MAX_PLACEMENTS = 20_000  # placed cues still to come (a transcript's hours of gestures); beyond: CueRefused
+MAX_AHEAD_S = 300.0  # words sent live (a TTS reply) are at most this far ahead of the stream
+
+
+class CueRefused(UserError):
+    """A cue the plan does not keep: too far ahead of the stream, or the plan already holds its most."""
 
 
 @dataclass(frozen=True)
@@ -115,11 +127,13 @@ class CuePlan:
     """Placed cues of one stream (see the module docstring); ``seconds_per_latent`` = d / fps."""
 
     def __init__(self, clips: Mapping[str, GestureClip], seconds_per_latent: float,
-                 refractory_s: float = DEFAULT_REFRACTORY_S) -> None:
+                 refractory_s: float = DEFAULT_REFRACTORY_S, max_placements: int = MAX_PLACEMENTS) -> None:
         self.clips = dict(clips)
         self.seconds_per_latent = seconds_per_latent
         self.refractory_s = refractory_s
-        self.placements: list[Placement] = []
+        self.max_placements = max_placements
+        self.longest = max((clip.num_latents for clip in self.clips.values()), default=1)  # latents of a clip
+        self.placements: list[Placement] = []  # in order of their first latent
         self.dropped = 0  # cues refused: refractory time or a body part already busy
         self._last_stroke: dict[str, float] = {}  # gesture -> stream time of its last placed stroke
 
@@ -129,10 +143,26 @@ class CuePlan:
             raise UserError(f"unknown gesture {gesture!r}; known: {', '.join(sorted(self.clips))}")
         return self.clips[gesture]
 
+    def check_ahead(self, times: Iterable[float], next_latent: int, limit_s: float = MAX_AHEAD_S) -> None:
+        """CueRefused for a cue time more than ``limit_s`` ahead of ``next_latent`` (the first latent not generated
+        yet), or when the plan is full: what a live door checks before it queues words or a gesture."""
+        now = next_latent * self.seconds_per_latent
+        latest = max(times, default=now)
+        if latest - now > limit_s:
+            raise CueRefused(f"a word at {latest:.6g} s is {latest - now:.6g} s ahead of the stream (at {now:.1f} s); "
+                             f"send words at most {limit_s:.0f} s ahead")
+        self._check_room()
+
+    def _check_room(self) -> None:
+        if len(self.placements) >= self.max_placements:
+            raise CueRefused(f"the stream already holds {len(self.placements)} gestures to come (at most "
+                             f"{self.max_placements}); send more once some have played")
+
     def place(self, cue: Cue, next_latent: int) -> Placement | None:
         """Place ``cue`` no earlier than ``next_latent`` (the first latent not generated yet); None when it is
-        dropped (refractory time, or a part it moves is busy)."""
+        dropped (refractory time, or a part it moves is busy); CueRefused when the plan is full."""
         clip = self.check(cue.gesture)
+        self._check_room()
         wanted = math.floor(cue.time / self.seconds_per_latent) - clip.stroke_latent
         first = max(wanted, next_latent)
         stroke_time = (first + clip.stroke_latent) * self.seconds_per_latent
@@ -140,20 +170,26 @@ class CuePlan:
         if self._refused(placement, stroke_time):
             self.dropped += 1
             return None
-        self.placements.append(placement)
+        bisect.insort(self.placements, placement, key=_first_latent)
         self._last_stroke[cue.gesture] = stroke_time
         return placement
+
+    def _starting_within(self, low: int, high: int) -> list[Placement]:
+        """The placements whose first latent is within [low, high] (binary search on the ordered list)."""
+        start = bisect.bisect_left(self.placements, low, key=_first_latent)
+        return self.placements[start : bisect.bisect_right(self.placements, high, key=_first_latent)]
 
     def _refused(self, placement: Placement, stroke_time: float) -> bool:
         previous = self._last_stroke.get(placement.cue.gesture)
         if previous is not None and abs(stroke_time - previous) < self.refractory_s:
             return True
+        nearby = self._starting_within(placement.first - self.longest + 1, placement.last)  # all that can overlap
         return any(other.first <= placement.last and placement.first <= other.last
-                   and bool((other.clip.channels & placement.clip.channels).any()) for other in self.placements)
+                   and bool((other.clip.channels & placement.clip.channels).any()) for other in nearby)
 
     def imposition(self, latent: int) -> Imposition | None:
         """What the clips covering stream latent ``latent`` impose on it (None when none does)."""
-        covering = [p for p in self.placements if p.covers(latent)]
+        covering = [p for p in self._starting_within(latent - self.longest + 1, latent) if p.covers(latent)]
         if not covering:
             return None
         first = covering[0].clip
@@ -167,5 +203,12 @@ class CuePlan:
         return imposition
 
     def forget_before(self, latent: int) -> None:
-        """Drop placements that ended before ``latent`` (their strokes still count for the refractory time)."""
-        self.placements = [p for p in self.placements if p.last >= latent]
+        """Drop placements that ended before ``latent`` (their strokes still count for the refractory time): those
+        starting a whole longest clip before it, and the ended ones among the few starting after that."""
+        del self.placements[: bisect.bisect_left(self.placements, latent - self.longest + 1, key=_first_latent)]
+        started = bisect.bisect_left(self.placements, latent, key=_first_latent)  # the few that may have ended
+        self.placements[:started] = [p for p in self.placements[:started] if p.last >= latent]
+
+
+def _first_latent(placement: Placement) -> int:
+    return placement.first

@@ -262,6 +262,11 @@ class GestureSession:
             logger.info("gesture %s (%s) lands %.0f ms late", cue.gesture, cue.source or "cue", placement.late_s * 1e3)
         return placement
 
+    def check_cue_times(self, times: list[float]) -> None:
+        """CueRefused (one line) for a cue time too far ahead of the stream, or while the plan is full: what a live
+        door (a words message, :meth:`gesturecast.Stream.words`) checks before it sends words."""
+        self.cues.check_ahead(times, self.next_latent)
+
     def cue_words(self, words: list[Word]) -> list[Placement]:
         """Cue the gestures of the trigger phrases in ``words`` (stream-time stamps); returns the placed ones."""
         return self._place(self.vocabulary.cues(words))

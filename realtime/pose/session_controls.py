@@ -12,6 +12,7 @@ stream holds at most MAX_MIXTURE_ROWS style rows, also when part-style changes a
 
 from __future__ import annotations
 
+import logging
 import threading
 from collections import deque
 from dataclasses import replace
@@ -22,10 +23,12 @@ from gesturecast.errors import UserError
 from gesturecast.models.generator.style_prompt import PartStyles, StylePrompt, parse_part_styles
 from gesturecast.models.motion.root_anchor import RootAnchor, RootMode
 from gesturecast.realtime.generation.generator import Generator
-from gesturecast.realtime.generation.gesture_cues import Cue, CuePlan
+from gesturecast.realtime.generation.gesture_cues import Cue, CuePlan, CueRefused
 from gesturecast.realtime.generation.style_mixture import align_mixtures, bound_blend_rows, drop_unused_rows
 from gesturecast.realtime.pose.transitions import DEFAULT_RAMP_S, Ramp
 from gesturecast.settings import SINGLE_STYLE
+
+logger = logging.getLogger(__name__)
 
 MAX_PENDING_CONTROLS = 32  # bounded inbox: the oldest unapplied control is dropped first
 # style rows of one stream while part styles blend (each is a row of every denoiser call): a mixture of the default
@@ -35,10 +38,12 @@ MAX_MIXTURE_ROWS = 8
 
 
 class GestureDoor(Protocol):
-    """Where ``gesture`` and ``words`` controls go: the session's cue plan (checked on submit), ``cue`` and
-    ``cue_words``."""
+    """Where ``gesture`` and ``words`` controls go: the session's cue plan (checked on submit, with the cue times
+    by ``check_cue_times``), ``cue`` and ``cue_words``."""
 
     cues: CuePlan
+
+    def check_cue_times(self, times: list[float]) -> None: ...
 
     def cue(self, cue: Cue) -> object: ...
 
@@ -77,8 +82,10 @@ class SessionControls:
     def _check(self, control: Control) -> None:
         if isinstance(control, Gesture):
             self._check_gesture(control.name)
+            self.gestures.check_cue_times([])
         elif isinstance(control, Words):
             self._check_gesture(None)
+            self.gestures.check_cue_times([word.start for word in control.words])
         else:
             for prompt in _prompts_of(control):
                 self.generator.styles.embed(prompt)
@@ -128,12 +135,16 @@ class SessionControls:
             self.gestures.cues.check(name)
 
     def _apply(self, control: Control, t: float) -> None:
-        if isinstance(control, Gesture):  # as soon as possible: from this latent on, its stroke as early as it can be
-            self.gestures.cue(Cue(control.name, t, "control"))
-        elif isinstance(control, Words):  # on the words' own stream times (late by the wait when already generated)
-            self.gestures.cue_words(list(control.words))
-        else:
+        if isinstance(control, StyleChange):
             self._apply_style(control, t)
+            return
+        try:
+            if isinstance(control, Gesture):  # as soon as possible: its stroke as early as it can be from this latent
+                self.gestures.cue(Cue(control.name, t, "control"))
+            else:  # on the words' own stream times (late by the wait when already generated)
+                self.gestures.cue_words(list(control.words))
+        except CueRefused as error:  # the plan filled up since the submit: the stream goes on without them
+            logger.warning("gesture cues not kept: %s", error)
 
     def _apply_style(self, change: StyleChange, t: float) -> None:
         if change.root is not None:

@@ -130,10 +130,11 @@ class Stream:
     def words(self, words: list[dict]) -> int:
         """Words with stream-time stamps (``[{"word", "start", "end"}]``, seconds since the first pushed sample), e.g.
         a TTS service's word timings sent before the audio plays: trigger words cue their gestures with the stroke on
-        the word (late by the wait when the word's latents are already generated). Checked as a ``words`` message
-        is; returns the cues placed."""
+        the word (late by the wait when the word's latents are already generated); words more than five minutes
+        ahead of the stream are refused (one line). Checked as a ``words`` message is; returns the cues placed."""
         self._check_open()
         (checked,) = _controls({"words": words})
+        self.session.check_cue_times([word.start for word in checked.words])
         return len(self.session.cue_words(list(checked.words)))
 
     def spoken(self, text: str, start: float | None = None) -> int:

@@ -3,17 +3,24 @@
 The kernel's ``SO_REUSEPORT`` balancing hashes each connection's addresses, so twenty streams over two workers
 split 10/10 only sometimes: 13/7 is common, and the worker with 13 runs out of its one core's worth of interpreter
 time while the other idles (docs/serve.md). Here the parent process (it loads no model) accepts on the public port
-and passes each accepted socket over a Unix socket pair (``SCM_RIGHTS``) to the worker with the fewest open
-connections; the worker serves it as if it had accepted it (:meth:`GestureServer.adopt`) and counts it down in the
-shared tally when it closes. The counts are of open connections, started or not.
+and passes each accepted socket over a Unix socket pair (``SCM_RIGHTS``) to the ready worker with the fewest open
+connections; the worker serves it as if it had accepted it (:meth:`GestureServer.adopt`).
+
+The socket pair is the only link between the two processes (no shared memory, lock or event that a killed process
+could leave held). Parent → worker: one byte per passed socket; the parent's end shut for writing means "stop"
+(its end closed by the kernel, when the parent is killed, reads the same). Worker → parent: one JSON line per
+report: ``ready`` (its pid), ``error`` (why it could not start), ``closed`` (one of its connections ended: the
+parent counts it down) and ``served`` (the closed streams' stats, when it stops).
 """
 
 from __future__ import annotations
 
+import json
 import logging
 import socket
 import threading
-from multiprocessing.sharedctypes import SynchronizedArray
+from dataclasses import dataclass, field
+from multiprocessing.process import BaseProcess
 
 from gesturecast.realtime.serve.server import GestureServer
 
@@ -24,43 +31,64 @@ ACCEPT_POLL_S = 0.25  # how often the dealer looks for its stop while no client 
 STOP_TIMEOUT_S = 5.0
 
 
-def fewest(counts: SynchronizedArray) -> int:
-    """Index of the worker with the fewest open connections (the first of equals)."""
-    with counts.get_lock():
-        values = list(counts)
-    return values.index(min(values))
+@dataclass(eq=False)
+class WorkerSlot:
+    """One worker's place in the parent: its current process, the parent's end of its socket pair and the
+    connections it holds open; a respawned worker takes the same slot (index) with a new process and pair."""
+
+    index: int
+    process: BaseProcess
+    channel: socket.socket
+    running: bool = True  # its process has not been seen to end
+    ready: bool = False  # reported ready and not known dead: the dealer may pass it connections
+    open: int = 0  # connections passed and not reported closed
+    ready_at: float | None = None  # monotonic time of its ready report
+    error: str | None = None  # what it reported when it could not start
+    failures: int = 0  # ends in a row, each before it had been ready STEADY_S (the respawn back-off doubles)
+    respawn_at: float | None = None  # monotonic time its replacement starts, while it is dead
+    pending: bytearray = field(default_factory=bytearray)  # report bytes not yet ending in a newline
+
+    def reports(self, data: bytes) -> list[tuple[str, object]]:
+        """The complete (kind, detail) reports in ``data`` (appended to what came before)."""
+        self.pending += data
+        if b"\n" not in self.pending:
+            return []
+        *lines, rest = bytes(self.pending).split(b"\n")
+        self.pending = bytearray(rest)
+        return [tuple(json.loads(line)) for line in lines if line]
 
 
-def count(counts: SynchronizedArray, index: int, change: int) -> None:
-    with counts.get_lock():
-        counts[index] += change
+def fewest(slots: list[WorkerSlot]) -> WorkerSlot | None:
+    """The ready worker with the fewest open connections (the first of equals); None when none is ready."""
+    ready = [slot for slot in slots if slot.ready]
+    return min(ready, key=lambda slot: slot.open) if ready else None
 
 
 class ConnectionDealer:
-    """Parent side: a thread that accepts on ``listener`` and passes each connection to a worker's channel."""
+    """Parent side: a thread that accepts on ``listener`` and passes each connection to a ready worker (``slots``,
+    guarded by ``lock``: the supervisor replaces a dead worker's process and channel under it)."""
 
-    def __init__(self, listener: socket.socket, channels: list[socket.socket], counts: SynchronizedArray) -> None:
+    def __init__(self, listener: socket.socket, slots: list[WorkerSlot], lock: threading.Lock) -> None:
         self.listener = listener
-        self.channels = channels
-        self.counts = counts
-        self.dealt = [0] * len(channels)  # connections passed to each worker, for the summary
+        self.slots = slots
+        self.lock = lock
+        self.dealt: list[int] = []  # connections passed to each worker slot, for the summary
+        self.unserved = 0  # connections closed because no worker was ready
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._deal, name="connection-dealer", daemon=True)
 
     def start(self) -> ConnectionDealer:
+        self.dealt = [0] * len(self.slots)
         self.listener.settimeout(ACCEPT_POLL_S)
         self._thread.start()
         return self
 
     def close(self) -> None:
-        """Stop accepting (clients that connect after this are refused by the closed port) and close the channels
-        (each worker's receiver then ends)."""
+        """Stop accepting (clients that connect after this are refused by the closed port)."""
         self._stop.set()
         if self._thread.ident is not None:  # started
             self._thread.join(STOP_TIMEOUT_S)
         self.listener.close()
-        for channel in self.channels:
-            channel.close()
 
     def _deal(self) -> None:
         while not self._stop.is_set():
@@ -75,33 +103,64 @@ class ConnectionDealer:
                 self._pass(connection)
 
     def _pass(self, connection: socket.socket) -> None:
-        index = fewest(self.counts)
-        count(self.counts, index, +1)  # counted before it is passed: the worker may answer before this thread runs on
-        self.dealt[index] += 1
-        try:
-            socket.send_fds(self.channels[index], [DEAL], [connection.fileno()])
-        except OSError as error:  # the worker is gone; the client sees its connection closed
-            count(self.counts, index, -1)
-            self.dealt[index] -= 1
-            logger.warning("could not pass a connection to worker %d: %s", index, error)
-
-
-def receive_connections(channel: socket.socket, server: GestureServer, counts: SynchronizedArray,
-                        index: int) -> None:
-    """Worker side: a thread that serves every connection the parent passes on ``channel`` and counts it down in
-    ``counts[index]`` when it closes; it ends when the parent closes the channel."""
-
-    def closed(_) -> None:
-        count(counts, index, -1)
-
-    def receive() -> None:
-        while True:
+        """Pass ``connection`` to the ready worker with the fewest; one that cannot take it (it died a moment ago)
+        is marked not ready and the next is tried. With none ready the client sees its connection closed."""
+        for _ in self.slots:
+            with self.lock:
+                slot = fewest(self.slots)
+                if slot is None:
+                    break
+                slot.open += 1  # counted before it is passed: the worker may report it closed before we go on
+                self.dealt[slot.index] += 1
+                channel = slot.channel
             try:
-                _, fds, _, _ = socket.recv_fds(channel, len(DEAL), 1)
+                socket.send_fds(channel, [DEAL], [connection.fileno()])
+                return
+            except OSError as error:  # gone: the supervisor respawns it when it sees the process end
+                with self.lock:
+                    slot.open -= 1
+                    self.dealt[slot.index] -= 1
+                    slot.ready = False
+                logger.warning("could not pass a connection to worker-%d (%s); trying another", slot.index, error)
+        self.unserved += 1
+        logger.warning("no worker is ready (restarting); closed a connection (%d so far)", self.unserved)
+
+
+class WorkerLink:
+    """Worker side of the socket pair: reports to the parent (any thread) and the connections it passes."""
+
+    def __init__(self, channel: socket.socket) -> None:
+        self.channel = channel
+        self.stopped = threading.Event()  # set when the parent says stop, or is gone
+        self._lock = threading.Lock()
+
+    def report(self, kind: str, detail: object = None) -> None:
+        """One JSON line to the parent; nothing when the parent is gone (the worker is stopping then anyway)."""
+        line = json.dumps([kind, detail]).encode() + b"\n"
+        try:
+            with self._lock:
+                self.channel.sendall(line)
+        except OSError:
+            self.stopped.set()
+
+    def receive_connections(self, server: GestureServer) -> None:
+        """A thread that serves every connection the parent passes and reports each one closed; it ends, setting
+        :attr:`stopped`, at the end of file: the parent stops the worker, or is gone."""
+
+        def closed(_) -> None:
+            self.report("closed")
+
+        def receive() -> None:
+            try:
+                while True:
+                    data, fds, _, _ = socket.recv_fds(self.channel, len(DEAL), 1)
+                    if not data:  # end of file
+                        return
+                    for fd in fds:
+                        server.adopt(socket.socket(fileno=fd)).add_done_callback(closed)
             except OSError:
                 return
-            if not fds:  # end of file: the parent is gone or stopping
-                return
-            server.adopt(socket.socket(fileno=fds[0])).add_done_callback(closed)
+            finally:
+                self.stopped.set()
 
-    threading.Thread(target=receive, name="connection-receiver", daemon=True).start()
+        threading.Thread(target=receive, name="connection-receiver", daemon=True).start()

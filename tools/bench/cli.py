@@ -26,6 +26,7 @@ BENCH_MODULES: tuple[str, ...] = (
     "gesturecast.tools.bench.speech.lipsync",
     "gesturecast.tools.bench.styles.study",
     "gesturecast.tools.bench.gestures",
+    "gesturecast.tools.bench.cues",
     "gesturecast.tools.bench.styles.face",
 )
 

@@ -1,19 +1,30 @@
-"""serve --workers: the parent deals each connection to the worker holding the fewest open ones."""
+"""serve --workers: the parent deals each connection to the ready worker holding the fewest open ones; a worker that
+dies is never dealt to and is started again; every process ends on every signal (real processes)."""
 
 import json
+import os
+import re
+import signal
+import socket
 from contextlib import ExitStack
+from pathlib import Path
 
 from websockets.sync.client import connect
 
+from gesturecast.realtime.serve.launch import start_server
 from gesturecast.realtime.serve.server import ServeConfig
 from gesturecast.realtime.serve.workers import Workers
+from gesturecast.realtime.timing.clock import MonotonicClock
 from gesturecast.settings import Settings
+
+START_BOUND_S = 120.0  # two workers load the model on a loaded 2-core machine
+STOP_BOUND_S = 10.0  # the issue's bound: SIGTERM ends every process within 10 s
 
 
 def hello(connections: ExitStack, url: str, stream: str):
     """An open connection (closed with ``connections`` at the latest) that has received the server's hello, so a
     worker holds it."""
-    connection = connections.enter_context(connect(f"{url}{stream}"))
+    connection = connections.enter_context(connect(f"{url}{stream}", open_timeout=30))
     assert json.loads(connection.recv(timeout=30))["type"] == "hello"
     return connection
 
@@ -27,9 +38,64 @@ def test_connections_go_to_the_worker_holding_fewest_also_after_some_close(tiny_
             assert workers.dealer.dealt == [2, 1]
             first.close()
             third.close()  # worker 0 now holds none, worker 1 one
-            assert wait_until(lambda: list(workers.dealer.counts) == [0, 1])
+            assert wait_until(lambda: [slot.open for slot in workers.slots] == [0, 1])
             hello(connections, url, "d")
             hello(connections, url, "e")  # both to worker 0: none, then as many as worker 1
             assert workers.dealer.dealt == [4, 1]
     finally:
         workers.stop()
+
+
+def started_workers(server, count: int) -> tuple[str, list[int]]:
+    """The stream URL and the worker pids of a ``serve --workers`` process once ``count`` workers are ready (the
+    parent has their reports: a worker that ends before that stops the run)."""
+    url = re.search(r"ws://\S+/stream/", server.wait_for_stderr("serving streams on", START_BOUND_S)).group(0)
+    server.wait_for_stderr(" ready (pid ", START_BOUND_S, count=count)
+    workers = [pid for pid in server.children() if b"spawn_main" in Path(f"/proc/{pid}/cmdline").read_bytes()]
+    return url, sorted(workers)
+
+
+def test_a_killed_worker_is_never_dealt_to_is_started_again_and_sigterm_ends_every_process(tiny_model, cli_process):
+    server = cli_process(["serve", "--workers", "2", "--port", "0", "--model", str(tiny_model[1])])
+    url, pids = started_workers(server, 2)
+    os.kill(pids[0], signal.SIGKILL)  # as the OOM killer would (a connection passed while it dies is lost with it)
+    server.wait_for_stderr(f"(pid {pids[0]}) ended (killed by SIGKILL)", START_BOUND_S)
+    with ExitStack() as connections:
+        for name in ("while-one-is-dead-a", "while-one-is-dead-b"):  # both to the live worker, none lost
+            hello(connections, url, name)
+    server.wait_for_stderr(" ready (pid ", START_BOUND_S, count=3)  # the dead worker's replacement
+    with ExitStack() as connections:
+        for name in ("after-a", "after-b", "after-c"):
+            hello(connections, url, name)
+    children = server.children()  # the workers and multiprocessing's resource tracker
+    code, seconds, stdout = server.stop(signal.SIGTERM, STOP_BOUND_S)
+    assert code == 143 and "stopped by SIGTERM" in stdout, (code, stdout, server.stderr_lines)
+    assert server.still_running(children, STOP_BOUND_S) == []
+    assert not any("could not pass a connection" in line for line in server.stderr_lines)
+
+
+def test_a_killed_parent_takes_every_worker_with_it(tiny_model, cli_process):
+    server = cli_process(["serve", "--workers", "2", "--port", "0", "--model", str(tiny_model[1])])
+    started_workers(server, 2)
+    children = server.children()
+    assert len(children) >= 2
+    server.process.kill()
+    server.process.wait()
+    assert server.still_running(children, STOP_BOUND_S) == []
+
+
+def test_a_workers_private_socket_cannot_be_reached_and_a_unix_peer_is_served(tiny_model, caplog):
+    config = ServeConfig(host="127.0.0.1", port=0, token="a-strong-token-0123456789", dealt=True)
+    with caplog.at_level("INFO"):
+        server = start_server(Settings(model=tiny_model[1], steps=2), config, MonotonicClock())
+    try:
+        (private,) = server._listener._server.sockets
+        name = private.getsockname()
+        assert name.startswith("/") and not os.path.exists(name)  # no name anyone could connect to
+        assert not any("listening on" in record.getMessage() for record in caplog.records)
+        ours, theirs = socket.socketpair(socket.AF_UNIX, socket.SOCK_STREAM)  # a peer with no IP address
+        server.adopt(theirs)
+        with connect("ws://localhost/stream/unix", sock=ours, open_timeout=30) as connection:
+            assert json.loads(connection.recv(timeout=30))["type"] == "hello"
+    finally:
+        server.close()
