@@ -1,0 +1,157 @@
+"""A style as a few numbers per upper-body joint, and the causal filter that reads and applies them.
+
+The stylizer (``gesturecast.realtime.pose.stylizer``) re-performs the generator's motion in a style after the
+generator has decided *what* to do and *when*. It works on each styled joint's local rotation as a rotation
+vector v = log(q) (identity = T-pose) and splits it, causally, into a slow centre m (an exponential moving average
+with time constant :data:`CENTRE_S`) and the gesture around it, d = v − m. A style then changes, per joint
+(the idea of EMOTE, Chi et al. 2000: effort and shape as parameters on top of a motion):
+
+- **posture** ``offset`` (3, radians): added to the centre (lean, head pitch, shoulders, arm carriage);
+- **amplitude** ``log_gain``: d is scaled by exp(log_gain) (bigger or smaller gestures about the posture);
+- **tempo and tension** ``tension`` α, with one-pole low-passes L (time constant :data:`TENSION_S`) and L'
+  (:data:`JITTER_S`): α < 0 gives d + α·(d − L(d)), slower and smoother (−1 is L itself: sluggish, late); α > 0
+  gives d + α·(L'(d) − L(d)), quicker, crisper accents from the band between them, so the frame-to-frame jitter
+  above it is not amplified. A causal filter cannot play motion faster than it arrives, so tempo is changed by
+  the filter, not by a time warp;
+- **tremor** (radians): a small deterministic 5–7 Hz oscillation (a function of stream time only).
+
+Every number is fitted from content-paired takes (the same action in the style and in ``neutral``:
+``gesturecast.tools.style.fit``). Styles mix linearly in this space (γ mixes, text weights, per-part choices),
+and a strength k scales a style from the identity (k = 0: the input motion) to twice the fitted change.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from importlib import resources
+from pathlib import Path
+
+import numpy as np
+
+from gesturecast.errors import UserError
+from gesturecast.models.motion.body_parts import ARM_JOINTS, PART_JOINTS, TORSO_JOINTS
+from gesturecast.models.motion.rotations import quat_from_axis_angle, quat_to_axis_angle
+from gesturecast.models.motion.skeleton import CANONICAL
+
+STYLED_JOINTS = TORSO_JOINTS + ARM_JOINTS  # the legs and hips stay as generated (feet stay planted)
+STYLED_INDEX = np.array([CANONICAL.index(name) for name in STYLED_JOINTS])  # (S,) canonical joint indices
+OFFSET, LOG_GAIN, TENSION, TREMOR = slice(0, 3), 3, 4, 5
+CHANNELS = 6  # offset xyz, log gain, tension, tremor per styled joint
+CENTRE_S = 1.0  # time constant of the posture centre m
+TENSION_S = 0.12  # time constant of the tension filter's low-pass L
+JITTER_S = 0.03  # ... and of L', above which a sharper style amplifies nothing
+TREMOR_HZ = np.array([5.3, 6.1, 6.9])  # one frequency per axis
+FORMAT = "gesturecast-style-params-1"
+DEFAULT_STYLE_PARAMS = Path(str(resources.files("gesturecast.models"))) / "weights" / "stylizer" / "styles.json"
+
+
+def ema_weight(time_constant_s: float, fps: float) -> float:
+    """Per-frame weight a of an exponential moving average m += a·(x − m) with this time constant."""
+    return float(1.0 - np.exp(-1.0 / (time_constant_s * fps)))
+
+
+@dataclass(frozen=True)
+class StyleParams:
+    """One style: ``values`` (S, CHANNELS) over :data:`STYLED_JOINTS` (module docstring); zeros = no change."""
+
+    values: np.ndarray
+
+    @staticmethod
+    def identity() -> StyleParams:
+        return StyleParams(np.zeros((len(STYLED_JOINTS), CHANNELS)))
+
+    def scaled(self, strength: float) -> StyleParams:
+        """The style at ``strength`` k: every change × k (gains as exp(k·log_gain))."""
+        return StyleParams(self.values * strength)
+
+    @property
+    def is_identity(self) -> bool:
+        return not self.values.any()
+
+
+def mix(params: list[StyleParams], weights: list[float]) -> StyleParams:
+    """Σ wᵢ·paramsᵢ (weights need not sum to 1: γ > 1 extrapolates)."""
+    return StyleParams(sum(w * p.values for w, p in zip(weights, params, strict=True)))
+
+
+def part_rows(part: str) -> np.ndarray:
+    """(S,) mask of the styled joints of a body part (``arms``, ``torso``, ``legs``: none styled)."""
+    joints = set(PART_JOINTS[part])
+    return np.array([name in joints for name in STYLED_JOINTS])
+
+
+class StyleBook:
+    """Fitted styles by label, read from a JSON file written by the fit (``neutral`` is the identity)."""
+
+    def __init__(self, styles: dict[str, StyleParams], meta: dict) -> None:
+        self.styles = styles
+        self.meta = meta
+
+    @property
+    def labels(self) -> tuple[str, ...]:
+        return tuple(sorted(self.styles))
+
+    def get(self, label: str) -> StyleParams | None:
+        return self.styles.get(label)
+
+    def save(self, path: Path) -> None:
+        data = {"format": FORMAT, "joints": list(STYLED_JOINTS), **self.meta,
+                "styles": {name: np.round(p.values, 5).tolist() for name, p in sorted(self.styles.items())}}
+        path.write_text(json.dumps(data, indent=1) + "\n", encoding="utf-8")
+
+    @staticmethod
+    def load(path: Path) -> StyleBook:
+        try:
+            data = json.loads(Path(path).read_text(encoding="utf-8"))
+        except (OSError, ValueError) as error:
+            raise UserError(f"{path}: not a readable style-parameter file ({error})") from None
+        if data.get("format") != FORMAT or data.get("joints") != list(STYLED_JOINTS):
+            raise UserError(f"{path}: not a {FORMAT} file for joints {', '.join(STYLED_JOINTS)}")
+        styles = {name: StyleParams(np.asarray(rows, dtype=np.float64)) for name, rows in data["styles"].items()}
+        meta = {key: value for key, value in data.items() if key not in ("format", "joints", "styles")}
+        return StyleBook(styles, meta)
+
+
+class StyleFilter:
+    """The causal state of one stream's styled joints: the centre m and the tension low-pass (module docstring).
+
+    :meth:`step` takes one frame's rotation vectors v (S, 3) and the (S, CHANNELS) parameters and returns the styled
+    rotation vectors; the state always follows the *input*, so changing the parameters never disturbs it."""
+
+    def __init__(self, fps: float) -> None:
+        self.fps = fps
+        self.centre_a = ema_weight(CENTRE_S, fps)
+        self._tension_a = ema_weight(TENSION_S, fps)
+        self._jitter_a = ema_weight(JITTER_S, fps)
+        self.reset()
+
+    def reset(self) -> None:
+        self.centre: np.ndarray | None = None  # (S, 3)
+        self._low: np.ndarray | None = None  # (S, 3) L(d)
+        self._band: np.ndarray | None = None  # (S, 3) L'(d)
+
+    def step(self, v: np.ndarray, values: np.ndarray, t: float) -> np.ndarray:
+        """Styled rotation vectors (S, 3) of frame time ``t`` from v (S, 3) and parameters (S, CHANNELS)."""
+        if self.centre is None:
+            self.centre, self._low, self._band = v.copy(), np.zeros_like(v), np.zeros_like(v)
+        self.centre += self.centre_a * (v - self.centre)
+        deviation = v - self.centre  # (S, 3)
+        self._low += self._tension_a * (deviation - self._low)
+        self._band += self._jitter_a * (deviation - self._band)
+        alpha = values[:, TENSION, None]  # (S, 1)
+        tense = deviation + alpha * (np.where(alpha > 0.0, self._band, deviation) - self._low)  # (S, 3)
+        tremor = values[:, TREMOR, None] * np.sin(2.0 * np.pi * TREMOR_HZ * t)  # (S, 3)
+        return self.centre + values[:, OFFSET] + np.exp(values[:, LOG_GAIN, None]) * tense + tremor
+
+
+def rotation_vectors(rotations: np.ndarray) -> np.ndarray:
+    """Styled joints' rotation vectors (..., S, 3) of canonical rotations (..., J, 4)."""
+    return quat_to_axis_angle(rotations[..., STYLED_INDEX, :])
+
+
+def with_rotation_vectors(rotations: np.ndarray, vectors: np.ndarray) -> np.ndarray:
+    """A copy of canonical rotations (..., J, 4) whose styled joints are exp(vectors (..., S, 3))."""
+    out = rotations.copy()
+    out[..., STYLED_INDEX, :] = quat_from_axis_angle(vectors)
+    return out
