@@ -24,6 +24,7 @@ FLOORS = {
     "gesturecast.models.generator": 1,
     "gesturecast.models.audio": 1,
     "gesturecast.models.networks": 2,
+    "gesturecast.models.style": 2,
     "gesturecast.settings": 2,
     "gesturecast.models.dataset": 3,
     "gesturecast.models.runtime": 4,

@@ -29,7 +29,7 @@ HANDS = [_J["LeftHand"], _J["RightHand"]]
 FK_MEASURE = ("wrist_speed", "wrist_height", "hand_spread", "forward_lean", "stance", "tempo", "head_pitch")
 JUDGE_FEATURES = ("wrist_speed", "wrist_speed_sd", "tempo", "wrist_height", "wrist_height_sd", "hand_spread",
                   "hand_forward", "forward_lean", "head_pitch", "head_pitch_sd", "shoulder_height", "head_speed",
-                  "elbow_height")
+                  "elbow_height", "elbow_bend", "head_height", "vertical_share", "sharpness")
 MIN_FRAMES = 8
 
 
@@ -68,7 +68,15 @@ def frame_descriptors(rotations: np.ndarray, root: np.ndarray) -> dict[str, np.n
         "shoulder_height": (shoulders[..., 1] - neck[:, None, 1]).mean(axis=1),
         "elbow_height": (elbows[..., 1] - hips[:, None, 1]).mean(axis=1),
         "stance": np.linalg.norm(feet[:, 0] - feet[:, 1], axis=-1),
+        "elbow_bend": _angle(elbows - shoulders, hands - elbows).mean(axis=1),
+        "head_height": positions[:, _J["Head"], 1] - hips[:, 1],
     }
+
+
+def _angle(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Angle (rad) between vectors (..., 3)."""
+    cos = np.sum(a * b, axis=-1) / np.maximum(np.linalg.norm(a, axis=-1) * np.linalg.norm(b, axis=-1), 1e-9)
+    return np.arccos(np.clip(cos, -1.0, 1.0))
 
 
 def _speed(points: np.ndarray, fps: float) -> np.ndarray:
@@ -81,14 +89,20 @@ def _summary(frames: dict[str, np.ndarray], fps: float) -> dict[str, float]:
     """Descriptors of a run of frames (a clip or a window) from its per-frame quantities."""
     hands = frames["hands"]  # (T, 2, 3)
     wrist_speed = _speed(hands, fps)  # (T-1,)
+    velocity = np.diff(hands, axis=0) * fps  # (T-1, 2, 3)
+    acceleration = np.linalg.norm(np.diff(velocity, axis=0), axis=-1).mean() * fps
     excursion = float(np.sqrt(np.mean(np.sum((hands - hands.mean(axis=0)) ** 2, axis=-1))))
     out = {name: float(np.mean(frames[name])) for name in ("wrist_height", "hand_spread", "hand_forward",
                                                              "forward_lean", "head_pitch", "shoulder_height",
-                                                             "elbow_height", "stance")}
+                                                             "elbow_height", "stance", "elbow_bend",
+                                                             "head_height")}
     out.update(wrist_speed=float(wrist_speed.mean()), wrist_speed_sd=float(wrist_speed.std()),
                tempo=float(wrist_speed.mean()) / max(excursion, 1e-3),
                wrist_height_sd=float(frames["wrist_height"].std()), head_pitch_sd=float(frames["head_pitch"].std()),
-               head_speed=float(_speed(frames["head"], fps).mean()))
+               head_speed=float(_speed(frames["head"], fps).mean()),
+               vertical_share=float(np.abs(velocity[..., 1]).mean()
+                                    / max(np.linalg.norm(velocity, axis=-1).mean(), 1e-6)),
+               sharpness=float(acceleration / max(wrist_speed.mean(), 1e-3)))
     return out
 
 

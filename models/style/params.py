@@ -2,17 +2,18 @@
 
 The stylizer (``gesturecast.realtime.pose.stylizer``) re-performs the generator's motion in a style after the
 generator has decided *what* to do and *when*. It works on each styled joint's local rotation as a rotation
-vector v = log(q) (identity = T-pose) and splits it, causally, into a slow centre m (an exponential moving average
-with time constant :data:`CENTRE_S`) and the gesture around it, d = v − m. A style then changes, per joint
-(the idea of EMOTE, Chi et al. 2000: effort and shape as parameters on top of a motion):
+vector v = log(q) (identity = T-pose). A style changes, per joint (the idea of EMOTE, Chi et al. 2000: effort and
+shape as parameters on top of a motion):
 
-- **posture** ``offset`` (3, radians): added to the centre (lean, head pitch, shoulders, arm carriage);
-- **amplitude** ``log_gain``: d is scaled by exp(log_gain) (bigger or smaller gestures about the posture);
-- **tempo and tension** ``tension`` α, with one-pole low-passes L (time constant :data:`TENSION_S`) and L'
-  (:data:`JITTER_S`): α < 0 gives d + α·(d − L(d)), slower and smoother (−1 is L itself: sluggish, late); α > 0
-  gives d + α·(L'(d) − L(d)), quicker, crisper accents from the band between them, so the frame-to-frame jitter
-  above it is not amplified. A causal filter cannot play motion faster than it arrives, so tempo is changed by
-  the filter, not by a time warp;
+- **amplitude** ``log_gain``: v is scaled about the rest pose r (arms relaxed at the sides) by exp(log_gain):
+  bigger, more expansive gestures or smaller ones held closer to the body, with no delay;
+- **posture** ``offset`` (3, radians): added after (lean, head pitch, shoulders, arm carriage);
+- **tempo and tension** ``tension`` α on the gesture d = v − m about a slow centre m (an exponential moving
+  average, time constant :data:`CENTRE_S`), with one-pole low-passes L (:data:`TENSION_S`) and L'
+  (:data:`JITTER_S`): α < 0 adds α·(d − L(d)), slower and smoother (−1 leaves L(d): sluggish, late); α > 0 adds
+  α·(L'(d) − L(d)), quicker, crisper accents from the band between them, so the frame-to-frame jitter above it is
+  not amplified. A causal filter cannot play motion faster than it arrives, so tempo is changed by the filter,
+  not by a time warp;
 - **tremor** (radians): a small deterministic 5–7 Hz oscillation (a function of stream time only).
 
 Every number is fitted from content-paired takes (the same action in the style and in ``neutral``:
@@ -114,13 +115,15 @@ class StyleBook:
 
 
 class StyleFilter:
-    """The causal state of one stream's styled joints: the centre m and the tension low-pass (module docstring).
+    """The causal state of one stream's styled joints: the centre m and the tension low-passes (module docstring).
 
     :meth:`step` takes one frame's rotation vectors v (S, 3) and the (S, CHANNELS) parameters and returns the styled
-    rotation vectors; the state always follows the *input*, so changing the parameters never disturbs it."""
+    rotation vectors; the state always follows the *input*, so changing the parameters never disturbs it. ``rest``
+    (S, 3) are the rest pose's rotation vectors, the centre of the amplitude change."""
 
-    def __init__(self, fps: float) -> None:
+    def __init__(self, fps: float, rest: np.ndarray) -> None:
         self.fps = fps
+        self.rest = rest  # (S, 3) rotation vectors of the rest pose
         self.centre_a = ema_weight(CENTRE_S, fps)
         self._tension_a = ema_weight(TENSION_S, fps)
         self._jitter_a = ema_weight(JITTER_S, fps)
@@ -140,9 +143,9 @@ class StyleFilter:
         self._low += self._tension_a * (deviation - self._low)
         self._band += self._jitter_a * (deviation - self._band)
         alpha = values[:, TENSION, None]  # (S, 1)
-        tense = deviation + alpha * (np.where(alpha > 0.0, self._band, deviation) - self._low)  # (S, 3)
+        tense = alpha * (np.where(alpha > 0.0, self._band, deviation) - self._low)  # (S, 3) the tension's change
         tremor = values[:, TREMOR, None] * np.sin(2.0 * np.pi * TREMOR_HZ * t)  # (S, 3)
-        return self.centre + values[:, OFFSET] + np.exp(values[:, LOG_GAIN, None]) * tense + tremor
+        return self.rest + np.exp(values[:, LOG_GAIN, None]) * (v + tense - self.rest) + values[:, OFFSET] + tremor
 
 
 def rotation_vectors(rotations: np.ndarray) -> np.ndarray:

@@ -37,6 +37,7 @@ from gesturecast.models.style.params import (
     rotation_vectors,
     with_rotation_vectors,
 )
+from gesturecast.realtime.pose.idle import IdleConfig, relaxed_pose
 from gesturecast.realtime.pose.transitions import DEFAULT_RAMP_S, Ramp
 
 SIMILARITY_TEMPERATURE = 0.1
@@ -83,7 +84,7 @@ class Stylizer:
         self.codes = codes
         self.fps = fps
         self.fade_s = fade_s
-        self.filter = StyleFilter(fps)
+        self.filter = StyleFilter(fps, rotation_vectors(relaxed_pose(IdleConfig())))
         self.reset()
 
     @staticmethod

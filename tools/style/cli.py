@@ -12,7 +12,9 @@ import argparse
 import json
 from pathlib import Path
 
-DEFAULT_TAKES = Path("/work/shared/data/bandai/dataset-1.tar.xz")
+from gesturecast.tools.data_cli import DEFAULT_SHARED
+
+DEFAULT_TAKES = DEFAULT_SHARED / "bandai" / "dataset-1.tar.xz"
 DEFAULT_OUT = Path("models/weights/stylizer")
 DEFAULT_RAW = Path(".cache/style")
 LICENSE_NOTE = ("Fitted from the Bandai Namco Research Motion Dataset (CC BY-NC 4.0): non-commercial use only "
@@ -32,6 +34,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     from gesturecast.models.style.params import StyleBook
     from gesturecast.tools.style.fit import fit_styles
+    from gesturecast.tools.style.judge_fit import fit_judge
     from gesturecast.tools.style.takes import load_paired_takes, take_folder
 
     takes = load_paired_takes(take_folder(args.takes, args.raw_cache))
@@ -39,5 +42,7 @@ def run(args: argparse.Namespace) -> int:
     args.out.mkdir(parents=True, exist_ok=True)
     StyleBook(styles, {"license": LICENSE_NOTE, "fitted_from": "Bandai Namco Research Motion Dataset, dataset-1",
                        "takes": len(takes)}).save(args.out / "styles.json")
-    print(json.dumps({"styles": report}, indent=1))
+    judge, judge_report = fit_judge(takes)
+    judge.save(args.out / "judge.json", {"license": LICENSE_NOTE, "held_out_content_accuracy": judge_report["mean"]})
+    print(json.dumps({"styles": report, "judge_held_out_content": judge_report}, indent=1))
     return 0

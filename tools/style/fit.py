@@ -1,15 +1,13 @@
 """Fit the stylizer's parameters (``gesturecast.models.style.params``) per style from content-paired takes.
 
 For every style s and every content c that has a take in s and in ``neutral``, both takes go through the
-stylizer's own causal split (:class:`StyleFilter` with no style: centre m, gesture d = v − m) and give, per content:
-
-- the posture offset of each styled joint: mean over time of v in s minus that in neutral;
-- per body part (torso, head, arms): the gesture's amplitude (RMS of d) and tempo (mean speed of v over the RMS of
-  d), as ratios s / neutral.
-
-Each is summarised over the contents by the median (the actions range from bows to runs). The tension α of a part
-is the value whose filter, run on the neutral takes, changes their tempo by the part's tempo ratio (grid search);
-the amplitude gain is the amplitude ratio over what that filter already does to the amplitude. Tremor is the
+stylizer's own causal split (:class:`StyleFilter` with no style: centre m, gesture d = v − m) and give, per content
+and body part (torso, head, arms): the gesture's amplitude (RMS of d) and tempo (mean speed of d over its RMS), as
+ratios s / neutral. Each is summarised over the contents by the median (the actions range from bows to runs). The
+tension α of a part is the value whose filter, run on the neutral takes, changes their tempo by the part's tempo
+ratio (grid search); the amplitude gain g is the amplitude ratio over what that filter already does to the
+amplitude. The posture offset of each joint is then what is left of the mean pose: the median over contents of
+mean(v_s) − r − g·(mean(v_neutral) − r), with r the rest pose the gain scales about. Tremor is the
 high-frequency (above ~3 Hz) motion the style adds over neutral, if any. Everything is clipped to
 :data:`LIMITS` so that no style bends a body further than the takes do.
 """
@@ -31,6 +29,7 @@ from gesturecast.models.style.params import (
     ema_weight,
     rotation_vectors,
 )
+from gesturecast.realtime.pose.idle import IdleConfig, relaxed_pose
 from gesturecast.tools.style.takes import NEUTRAL, Take
 
 FIT_PARTS = {"torso": ("Spine", "Chest", "UpperChest"), "head": ("Neck", "Head"),
@@ -44,12 +43,15 @@ def _rows(part: str) -> np.ndarray:
     return np.array([STYLED_JOINTS.index(name) for name in FIT_PARTS[part]])
 
 
+REST = rotation_vectors(relaxed_pose(IdleConfig()))  # (S, 3) the rest pose the stylizer scales about
+
+
 def split(take: Take, values: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """A take's rotation vectors v (T, S, 3) and its gesture d (T, S, 3) after the style filter with ``values``
-    (S, CHANNELS) at time 0 (no tremor); None: the plain split d = v − m."""
+    (S, CHANNELS) at time 0 (no tremor; no gain or offset is given here); None: the plain split d = v − m."""
     v = rotation_vectors(take.motion.rotations)  # (T, S, 3)
     values = StyleParams.identity().values if values is None else values
-    flt = StyleFilter(take.motion.fps)
+    flt = StyleFilter(take.motion.fps, REST)
     gestures = np.empty_like(v)
     for t, frame in enumerate(v):
         gestures[t] = flt.step(frame, values, 0.0) - flt.centre - values[:, OFFSET]
@@ -108,8 +110,6 @@ def fit_style(pairs: list[tuple[Take, Take]], effects: dict[str, np.ndarray]) ->
     """One style's parameters from its (neutral, styled) take pairs; also the per-part ratios measured."""
     values = StyleParams.identity().values.copy()
     splits = [(split(n), split(s), n.motion.fps) for n, s in pairs]
-    offsets = [s_v.mean(axis=0) - n_v.mean(axis=0) for (n_v, _), (s_v, _), _ in splits]  # (S, 3) each
-    values[:, OFFSET] = _clip_norm(np.median(np.array(offsets), axis=0), LIMITS["offset_rad"])
     report = {}
     for part in FIT_PARTS:
         rows = _rows(part)
@@ -123,6 +123,9 @@ def fit_style(pairs: list[tuple[Take, Take]], effects: dict[str, np.ndarray]) ->
         values[rows, TREMOR] = min(float(np.sqrt(max(extra, 0.0))), LIMITS["tremor_rad"])
         report[part] = {"amplitude_ratio": float(np.exp(log_amp)), "tempo_ratio": float(np.exp(log_tempo)),
                         "contents": len(splits)}
+    gain = np.exp(values[:, LOG_GAIN, None])  # (S, 1)
+    offsets = [s_v.mean(axis=0) - REST - gain * (n_v.mean(axis=0) - REST) for (n_v, _), (s_v, _), _ in splits]
+    values[:, OFFSET] = _clip_norm(np.median(np.array(offsets), axis=0), LIMITS["offset_rad"])  # (S, 3)
     return StyleParams(values), report
 
 
