@@ -169,6 +169,7 @@ class GestureSession:
         self.listener = WordListener(self.vocabulary)  # words reported one at a time (a TTS speaking)
         self._visemes: deque[np.ndarray] = deque()  # (5,) weights of the audio frames not yet posed, in order
         self._speaking: deque[bool] = deque()  # voice-activity flag of the audio frames not yet posed, in order
+        self._energy: deque[float] = deque()  # speech energy (dB) of the audio frames not yet posed, in order
         self.crossfade = PoseCrossfade(self.config.idle_fade_s, initial_weight_b=IDLE)
         self.next_latent = 0
         self.frames_out = 0
@@ -206,6 +207,7 @@ class GestureSession:
         speaking = speaking_flags(raw, self.bundle.feature_config)  # (n,) one per new audio frame
         self.features.append(self.bundle.audio_stats.apply(raw), speaking)
         self._speaking.extend(speaking.tolist())
+        self._energy.extend(raw[:, self.bundle.feature_config.layout["energy"]][:, 0].tolist())
         if self.lipsync_on:
             self._visemes.extend(self.extractor.take_visemes())  # one (5,) row per new audio frame
 
@@ -310,6 +312,7 @@ class GestureSession:
         per batch (one call per stage for the m rows, the stateful stages stepping frame by frame inside)."""
         rows = [self._unsmoothed.popleft() for _ in range(len(smoothed))]  # (frame, gesturing, gesture)
         speaking = [self._speaking.popleft() for _ in rows]  # each audio frame's voice activity
+        energy = [self._energy.popleft() for _ in rows]  # each audio frame's speech energy (dB)
         visemes = [self._visemes.popleft() if self.lipsync_on else None for _ in rows]  # each audio frame's
         wanted = sum(self._wanted(frame) for frame, _, _ in rows)  # a prefix: frames past the end are dropped
         if wanted == 0:
@@ -319,7 +322,7 @@ class GestureSession:
         bodies, roots = self._finite_poses(frames, smoothed[:wanted], [g for _, g, _ in rows[:wanted]])
         bodies = self._stylized(bodies, times, style)  # (n, J, 4)
         rotations = self.hands.extend(bodies, times)  # (n, J + 30, 4) on CANONICAL_WITH_HANDS
-        faces = self._faces(times, speaking[:wanted], style)  # (n, 8) or None
+        faces = self._faces(times, speaking[:wanted], energy[:wanted], style)  # (n, 8) or None
         return [self._pose_frame(int(frame), rotations[k], roots[k], style.description, rows[k][2], speaking[k],
                                  visemes[k], None if faces is None else faces[k]) for k, frame in enumerate(frames)]
 
@@ -331,16 +334,18 @@ class GestureSession:
                                                      style.strength), float(times[0]))
         return self.stylizer.apply(bodies, times)
 
-    def _faces(self, times: np.ndarray, speaking: list[bool], style: PoseStyle) -> np.ndarray | None:
-        """(n, 8) face weights of the frames (the expression of the style in effect), None with the face off."""
+    def _faces(self, times: np.ndarray, speaking: list[bool], energy: list[float], style: PoseStyle
+               ) -> np.ndarray | None:
+        """(n, 8) face weights of the frames (the expression of the style in effect, living with the speech's
+        emphasis), None with the face off."""
         if self.face is None:
             return None
         expression = self.face.expressions.of(style.style)  # (5,)
         if style.second_style is not None:  # x̂0 = γ·D(c1) + (1 − γ)·D(c2): the faces mix the same way
             second = self.face.expressions.of(style.second_style)
             expression = np.clip(style.gamma * expression + (1.0 - style.gamma) * second, 0.0, 1.0)
-        self.face.set_style(expression, float(times[0]))
-        return self.face.frames(times, speaking)
+        self.face.set_style(expression, float(times[0]), style.style.value if style.style.kind == "label" else None)
+        return self.face.frames(times, speaking, energy)
 
     def _gesturing(self, index: int) -> bool:
         """Whether latent ``index``'s frames fade to speech gestures (else to idle): speech within the hold time

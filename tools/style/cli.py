@@ -28,6 +28,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--out", type=Path, default=DEFAULT_OUT, help="output folder (default %(default)s)")
     parser.add_argument("--raw-cache", type=Path, default=DEFAULT_RAW,
                         help="where the archive is unpacked (default %(default)s)")
+    parser.add_argument("--contents", nargs="+", metavar="ACTION",
+                        help="fit the styles from these actions only (e.g. bye byebye guide bow; default: every "
+                             "action with a neutral take); the judge always uses every action")
     parser.set_defaults(func=run)
 
 
@@ -38,7 +41,8 @@ def run(args: argparse.Namespace) -> int:
     from gesturecast.tools.style.takes import load_paired_takes, take_folder
 
     takes = load_paired_takes(take_folder(args.takes, args.raw_cache))
-    styles, report = fit_styles(takes)
+    styles, report = fit_styles(takes if not args.contents else [take for take in takes
+                                                                  if take.content in args.contents])
     args.out.mkdir(parents=True, exist_ok=True)
     StyleBook(styles, {"license": LICENSE_NOTE, "fitted_from": "Bandai Namco Research Motion Dataset, dataset-1",
                        "takes": len(takes)}).save(args.out / "styles.json")
