@@ -29,6 +29,7 @@ from importlib import resources
 from pathlib import Path
 
 import numpy as np
+from scipy.signal import lfilter
 
 from gesturecast.errors import UserError
 from gesturecast.models.motion.body_parts import ARM_JOINTS, PART_JOINTS, TORSO_JOINTS
@@ -117,35 +118,40 @@ class StyleBook:
 class StyleFilter:
     """The causal state of one stream's styled joints: the centre m and the tension low-passes (module docstring).
 
-    :meth:`step` takes one frame's rotation vectors v (S, 3) and the (S, CHANNELS) parameters and returns the styled
-    rotation vectors; the state always follows the *input*, so changing the parameters never disturbs it. ``rest``
-    (S, 3) are the rest pose's rotation vectors, the centre of the amplitude change."""
+    :meth:`run` takes a run of frames' rotation vectors v (n, S, 3) and their (n, S, CHANNELS) parameters and returns
+    the styled rotation vectors. The state follows the *input* only (first-order recursions along time, run by
+    ``scipy.signal.lfilter`` with its state carried from call to call, so any split of a stream into runs gives the
+    same bits), and changing the parameters never disturbs it. ``rest`` (S, 3) are the rest pose's rotation
+    vectors, the centre of the amplitude change."""
 
     def __init__(self, fps: float, rest: np.ndarray) -> None:
         self.fps = fps
         self.rest = rest  # (S, 3) rotation vectors of the rest pose
-        self.centre_a = ema_weight(CENTRE_S, fps)
-        self._tension_a = ema_weight(TENSION_S, fps)
-        self._jitter_a = ema_weight(JITTER_S, fps)
+        self._weights = {name: ema_weight(seconds, fps) for name, seconds in
+                         (("centre", CENTRE_S), ("low", TENSION_S), ("band", JITTER_S))}
         self.reset()
 
     def reset(self) -> None:
-        self.centre: np.ndarray | None = None  # (S, 3)
-        self._low: np.ndarray | None = None  # (S, 3) L(d)
-        self._band: np.ndarray | None = None  # (S, 3) L'(d)
+        self._state: dict[str, np.ndarray] | None = None  # filter name -> (1, S, 3) lfilter state
 
-    def step(self, v: np.ndarray, values: np.ndarray, t: float) -> np.ndarray:
-        """Styled rotation vectors (S, 3) of frame time ``t`` from v (S, 3) and parameters (S, CHANNELS)."""
-        if self.centre is None:
-            self.centre, self._low, self._band = v.copy(), np.zeros_like(v), np.zeros_like(v)
-        self.centre += self.centre_a * (v - self.centre)
-        deviation = v - self.centre  # (S, 3)
-        self._low += self._tension_a * (deviation - self._low)
-        self._band += self._jitter_a * (deviation - self._band)
-        alpha = values[:, TENSION, None]  # (S, 1)
-        tense = alpha * (np.where(alpha > 0.0, self._band, deviation) - self._low)  # (S, 3) the tension's change
-        tremor = values[:, TREMOR, None] * np.sin(2.0 * np.pi * TREMOR_HZ * t)  # (S, 3)
-        return self.rest + np.exp(values[:, LOG_GAIN, None]) * (v + tense - self.rest) + values[:, OFFSET] + tremor
+    def _smooth(self, name: str, x: np.ndarray) -> np.ndarray:
+        """x (n, S, 3) through the named one-pole low-pass m_t = m_{t-1} + a·(x_t − m_{t-1}), along time."""
+        a = self._weights[name]
+        y, self._state[name] = lfilter([a], [1.0, a - 1.0], x, axis=0, zi=self._state[name])
+        return y
+
+    def run(self, v: np.ndarray, values: np.ndarray, times: np.ndarray) -> np.ndarray:
+        """Styled rotation vectors (n, S, 3) of frames v (n, S, 3) with parameters (n, S, CHANNELS) at times (n,)."""
+        if self._state is None:  # the first frame starts every filter settled: centre = v_0, gesture 0
+            self._state = {"centre": (1.0 - self._weights["centre"]) * v[:1], "low": np.zeros_like(v[:1]),
+                           "band": np.zeros_like(v[:1])}
+        deviation = v - self._smooth("centre", v)  # (n, S, 3) the gesture d about the centre
+        low, band = self._smooth("low", deviation), self._smooth("band", deviation)
+        alpha = values[..., TENSION, None]  # (n, S, 1)
+        tense = alpha * (np.where(alpha > 0.0, band, deviation) - low)  # (n, S, 3) the tension's change
+        tremor = values[..., TREMOR, None] * np.sin(2.0 * np.pi * TREMOR_HZ * times[:, None, None])  # (n, S, 3)
+        gain = np.exp(values[..., LOG_GAIN, None])  # (n, S, 1)
+        return self.rest + gain * (v + tense - self.rest) + values[..., OFFSET] + tremor
 
 
 def rotation_vectors(rotations: np.ndarray) -> np.ndarray:

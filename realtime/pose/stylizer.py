@@ -117,13 +117,9 @@ class Stylizer:
 
     def apply(self, rotations: np.ndarray, times: np.ndarray) -> np.ndarray:
         """Styled canonical rotations (n, J, 4) of frames (n, J, 4) at stream times (n,), in order."""
-        v = rotation_vectors(rotations)  # (n, S, 3)
-        styled = np.empty_like(v)
-        changed = np.zeros(len(times), dtype=bool)  # (n,) frames with a style to show
-        for k, t in enumerate(times):
-            values = self._ramp.value(float(t))  # (S, CHANNELS)
-            styled[k] = self.filter.step(v[k], values, float(t))
-            changed[k] = values.any()
+        values = np.stack([self._ramp.value(float(t)) for t in times])  # (n, S, CHANNELS)
+        styled = self.filter.run(rotation_vectors(rotations), values, times)  # (n, S, 3)
+        changed = values.reshape(len(times), -1).any(axis=1)  # (n,) frames with a style to show
         if not changed.any():
             return rotations
         out = rotations.copy()

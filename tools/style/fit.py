@@ -17,8 +17,10 @@ from __future__ import annotations
 from collections import defaultdict
 
 import numpy as np
+from scipy.signal import lfilter
 
 from gesturecast.models.style.params import (
+    CENTRE_S,
     LOG_GAIN,
     OFFSET,
     STYLED_JOINTS,
@@ -51,11 +53,15 @@ def split(take: Take, values: np.ndarray | None = None) -> tuple[np.ndarray, np.
     (S, CHANNELS) at time 0 (no tremor; no gain or offset is given here); None: the plain split d = v − m."""
     v = rotation_vectors(take.motion.rotations)  # (T, S, 3)
     values = StyleParams.identity().values if values is None else values
-    flt = StyleFilter(take.motion.fps, REST)
-    gestures = np.empty_like(v)
-    for t, frame in enumerate(v):
-        gestures[t] = flt.step(frame, values, 0.0) - flt.centre - values[:, OFFSET]
-    return v, gestures
+    values = np.broadcast_to(values, (len(v), *values.shape))  # (T, S, CHANNELS)
+    styled = StyleFilter(take.motion.fps, REST).run(v, values, np.zeros(len(v)))  # (T, S, 3)
+    return v, styled - _centres(v, take.motion.fps) - values[..., OFFSET]
+
+
+def _centres(v: np.ndarray, fps: float) -> np.ndarray:
+    """The filter's centre m (T, S, 3) of rotation vectors v (T, S, 3)."""
+    a = ema_weight(CENTRE_S, fps)
+    return lfilter([a], [1.0, a - 1.0], v, axis=0, zi=(1.0 - a) * v[:1])[0]
 
 
 def amplitude(d: np.ndarray, rows: np.ndarray) -> float:
