@@ -55,7 +55,9 @@ def accuracy_report(confusion: np.ndarray, styles: tuple[str, ...]) -> dict:
 
 
 def fit_judge(takes: list[Take], styles: tuple[str, ...] = JUDGED_STYLES) -> tuple[StyleJudge, dict]:
-    """The judge trained on every action, and its leave-one-content-out accuracy on the real takes."""
+    """The judge trained on every action, and its leave-one-content-out accuracy on the real takes (over the
+    ``styles`` that have takes)."""
+    styles = tuple(style for style in styles if any(take.style == style for take in takes))
     rows = judge_rows(takes, styles)
     report = accuracy_report(held_out_content_confusion(rows, styles), styles)
     report["contents"] = len({content for content, _, _ in rows})

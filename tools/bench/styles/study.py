@@ -60,6 +60,7 @@ class StudyConfig:
 
 
 QUICK = StudyConfig(guidance=(1.5,), seconds=2.5, max_styles=2, timing_repeats=1)
+STYLIZER_S, QUICK_STYLIZER_S = 60.0, 10.0  # held-out speech per style in the stylizer part
 
 
 def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
@@ -79,8 +80,10 @@ def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--data", type=Path, default=DEFAULT_SHARED,
                         help="shared data folder: held-out speech and real motion for the stylizer part "
                              "(default %(default)s)")
-    parser.add_argument("--stylizer-seconds", type=float, default=60.0,
-                        help="seconds of held-out speech per style in the stylizer part (default %(default)s)")
+    parser.add_argument("--stylizer-seconds", type=float,
+                        help="seconds of held-out speech per style in the stylizer part (default 60; --quick: 10)")
+    parser.add_argument("--grid", type=Path, help="PNG: the stylizer part's styles (rows) at 8, 20, 32, 44, 56 s "
+                        "(columns), front and side; OUT_generator.png: the same without the stylizer")
     parser.add_argument("--stylizer-only", action="store_true",
                         help="only the stylizer part (seeds: --seeds, default 0 1)")
     parser.add_argument("--json", type=Path, help="also write the result here")
@@ -157,7 +160,8 @@ def study_report(model: Path, cache: Path, config: StudyConfig, prompt_dir: Path
 
 def run_bench(args: argparse.Namespace) -> int:
     config = study_config(args)
-    stylizer = stylizer_report(load_bundle(args.model), args.data, args.stylizer_seconds, tuple(args.seeds or (0, 1)))
+    seconds = args.stylizer_seconds or (QUICK_STYLIZER_S if args.quick else STYLIZER_S)
+    stylizer = stylizer_report(load_bundle(args.model), args.data, seconds, tuple(args.seeds or (0, 1)), args.grid)
     if args.stylizer_only:
         return _print_report({"model": str(args.model), "stylizer": stylizer}, args)
     if args.prompt_dir is not None:

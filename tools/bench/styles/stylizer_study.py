@@ -19,6 +19,9 @@ stylizer existed). Per variant:
 - ``face``: per style, the expression weight's correlation with speech energy (dB, per frame), its standard
   deviation over time, and blinks per minute.
 
+``--grid OUT.png`` draws the styled clips of the first seed, a row per style, at :data:`GRID_TIMES` (front and side
+of each frame), and ``OUT_generator.png`` the same without the stylizer.
+
 ``cost``: the stylizer's own time on the styled frames of one stream (four frames at a time, as the session builds
 them), per second of motion, and ``cpu_increase``: that time over the rest of the stream's generation time (the
 stylizer adds no latency: it works on each frame as it is built, with no look-ahead).
@@ -54,6 +57,7 @@ HELD_OUT_SPEECH = "zeggs/037_Flirty_1_x_1_0.wav"
 REAL_MOTION = "zeggs/067_Speech_2_x_1_0.bvh"
 DEFAULT_JUDGE = DEFAULT_STYLE_PARAMS.parent / "judge.json"
 CLOSED = 0.5  # lid closure that counts as a blink
+GRID_TIMES = (8.0, 20.0, 32.0, 44.0, 56.0)  # seconds of the grid's columns (those past the clip are left out)
 Clips = dict[tuple[str, int], Generated]
 
 
@@ -165,7 +169,25 @@ def stylizer_cost(bundle: ModelBundle, generated: Generated, style: str) -> dict
             "cpu_increase": round(spent / max(generation - spent, 1e-9), 4)}
 
 
-def stylizer_report(bundle: ModelBundle, data: Path, seconds: float, seeds: tuple[int, ...]) -> dict:
+def style_grid(clips: Clips, seed: int, out_path: Path) -> Path:
+    """A row per judged style of its clip with ``seed``, drawn at GRID_TIMES (front and side)."""
+    from gesturecast.files import atomic_file
+    from gesturecast.tools.render.animation import contact_sheet
+    from gesturecast.tools.render.compare import CompareRow, draw_row
+    from gesturecast.tools.render.stick_figure import FigureConfig
+
+    frames = min(len(clips[(style, seed)].positions) for style in JUDGED_STYLES)
+    indices = [int(t * MOTION_FPS) for t in GRID_TIMES if t * MOTION_FPS < frames]
+    images = [image for style in JUDGED_STYLES for image in draw_row(
+        CompareRow(style, clips[(style, seed)].positions, CANONICAL.parents, CANONICAL.names), indices, MOTION_FPS,
+        0.0, FigureConfig())]
+    with atomic_file(out_path, binary=True) as handle:
+        contact_sheet(images, len(indices)).save(handle, format="PNG")
+    return out_path
+
+
+def stylizer_report(bundle: ModelBundle, data: Path, seconds: float, seeds: tuple[int, ...],
+                    grid: Path | None = None) -> dict:
     """The whole section (module docstring)."""
     clip = held_out_speech(data, seconds)
     judge, classifier, real = StyleJudge.load(DEFAULT_JUDGE), StyleClassifier.load(), real_jerk(data)
@@ -173,10 +195,14 @@ def stylizer_report(bundle: ModelBundle, data: Path, seconds: float, seeds: tupl
               "styles": list(JUDGED_STYLES)}
     for variant, stylize in (("generator", False), ("styled", True)):
         clips = _generate(bundle, clip, seeds, stylize)
+        if grid is not None:
+            path = grid if stylize else grid.with_name(f"{grid.stem}_generator{grid.suffix}")
+            report.setdefault("grid", []).append(str(style_grid(clips, seeds[0], path)))
         report[variant] = {"fk": fk_section(clips, seeds), "judge": judge_section(clips, seeds, judge),
                            "classifier": classifier_section(clips, seeds, classifier),
                            "following": following_section(clips, seeds, clip.audio),
-                           "jerk": jerk_section(clips, seeds, real), "face": face_section(clips, seeds, clip.audio)}
+                           "jerk": jerk_section(clips, seeds, real)}
+    report["face"] = face_section(clips, seeds, clip.audio)
     report["cost"] = stylizer_cost(bundle, clips[("angry", seeds[0])], "angry")
     return report
 
