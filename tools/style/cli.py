@@ -3,7 +3,8 @@
 Reads ``dataset-1.tar.xz`` (or its unpacked folder), unpacked once under ``--raw-cache``; writes the stylizer's
 parameters (``styles.json``) and the style judge (``judge.json``) into ``--out`` (default: the folder that ships,
 ``models/weights/stylizer``) and prints what it measured as JSON: per style and body part the amplitude and tempo
-ratios against neutral, and the judge's held-out-content accuracy. numpy only; about half a minute.
+ratios against neutral, the judge's held-out-content accuracy, and per action the closest pair of the judged styles'
+real takes on the FK measure of ``bench styles``. numpy only; about half a minute.
 """
 
 from __future__ import annotations
@@ -47,6 +48,26 @@ def run(args: argparse.Namespace) -> int:
     StyleBook(styles, {"license": LICENSE_NOTE, "fitted_from": "Bandai Namco Research Motion Dataset, dataset-1",
                        "takes": len(takes)}).save(args.out / "styles.json")
     judge, judge_report = fit_judge(takes)
+    fk = real_style_distances(takes)
     judge.save(args.out / "judge.json", {"license": LICENSE_NOTE, "held_out_content_accuracy": judge_report["mean"]})
-    print(json.dumps({"styles": report, "judge_held_out_content": judge_report}, indent=1))
+    print(json.dumps({"styles": report, "judge_held_out_content": judge_report, "fk_real_takes": fk}, indent=1))
     return 0
+
+
+def real_style_distances(takes: list) -> dict:
+    """Per action, the closest pair of the judged styles' takes on the FK measure of ``bench styles`` (the distance
+    real styles keep between them)."""
+    import itertools
+
+    from gesturecast.models.style.descriptors import clip_descriptor, style_distance
+    from gesturecast.models.style.judge import JUDGED_STYLES
+
+    out = {}
+    for content in sorted({take.content for take in takes}):
+        clips = {take.style: clip_descriptor(take.motion.rotations, take.motion.root_position, take.motion.fps)
+                 for take in takes if take.content == content and take.style in JUDGED_STYLES}
+        pairs = {f"{a}-{b}": style_distance(clips[a], clips[b]) for a, b in itertools.combinations(sorted(clips), 2)}
+        if pairs:
+            closest = min(pairs, key=pairs.get)
+            out[content] = {"closest_pair": closest, "closest": round(pairs[closest], 3), "styles": len(clips)}
+    return out
