@@ -51,7 +51,7 @@ FACE_OFF, FACE_BLINK, FACE_FULL = "off", "blink", "full"
 FACE_MODES = (FACE_OFF, FACE_BLINK, FACE_FULL)  # what the face does besides the mouth
 OUTPUT_RATES = (30, 60)  # 60: slerp upsampling of the 30 fps motion
 GUIDANCE_RANGE = (0.0, 10.0)  # classifier-free guidance s and audio guidance s_a (also for live controls)
-STYLE_STRENGTH_RANGE = (0.0, 2.0)  # 0: neutral (no style pull), 1: the model's default, 2: twice the pull
+STYLE_STRENGTH_RANGE = (0.0, 2.0)  # 0: the generator's own motion, 1: the fitted style, 2: twice its change
 DEFAULT_STYLE_STRENGTH = 1.0
 GAMMA_RANGE = (-2.0, 3.0)  # γ: interpolation in 0..1, extrapolation outside (also for live controls)
 SINGLE_STYLE = 1.0  # γ = 1: the first style only
@@ -93,9 +93,9 @@ class Settings:
     part_styles: a style per body part: ``{"arms": "happy"}`` or ``["arms=happy"]``; parts not named follow
         ``style`` (GestureDiffuCLIP §6.3).
     style2, gamma: second style of x̂0 = γ·D(style) + (1 − γ)·D(style2) (DiffuseStyleGesture); γ = 1: one style.
-    style_strength: how strongly the style shows, 0 (neutral) .. 2; 1 is the model's default (docs/style-study.md).
-    guidance: classifier-free guidance s (None: the model's), which ``style_strength`` scales; audio_guidance: s_a
-        (1: off).
+    style_strength: how strongly the style shows, 0 .. 2: the stylizer after the generator changes the motion by k
+        times the fitted style (0: the generator's own motion, 1: as fitted; docs/style-study.md).
+    guidance: classifier-free guidance s (None: the model's); audio_guidance: s_a (1: off).
     sampler, steps: "ddim" with K steps per latent, or "ddpm" over all the model's steps (offline quality).
     seed: noise seed (the same seed and audio give the same motion).
     latency: "quality", "balanced" or "low"; lookahead / margin_ms override the setting's δ and margin.

@@ -29,7 +29,6 @@ from importlib import resources
 from pathlib import Path
 
 import numpy as np
-from scipy.signal import lfilter
 
 from gesturecast.errors import UserError
 from gesturecast.models.motion.body_parts import ARM_JOINTS, PART_JOINTS, TORSO_JOINTS
@@ -136,6 +135,8 @@ class StyleFilter:
 
     def _smooth(self, name: str, x: np.ndarray) -> np.ndarray:
         """x (n, S, 3) through the named one-pole low-pass m_t = m_{t-1} + a·(x_t − m_{t-1}), along time."""
+        from scipy.signal import lfilter  # imported on first use: scipy.signal costs a command's start-up
+
         a = self._weights[name]
         y, self._state[name] = lfilter([a], [1.0, a - 1.0], x, axis=0, zi=self._state[name])
         return y
