@@ -38,6 +38,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "serve": ("gesturecast.realtime.serve.cli", "many avatars: audio in / poses out over WebSocket, batched"),
     "eval": ("gesturecast.tools.eval.cli", "objective evaluation suite (JSON + plots + table)"),
     "eval-train": ("gesturecast.tools.eval.train_cli", "train the frozen FGD encoder and style classifier"),
+    "style-fit": ("gesturecast.tools.style.cli", "fit the stylizer's styles and the style judge (Bandai takes)"),
 }
 
 

@@ -32,7 +32,7 @@ MAX_WORD_CHARS = 64
 MAX_STREAM_SECONDS = 1e6  # word times beyond this are not stream times (11 days)
 MOTION_PROMPT_PREFIX = "motion:"
 GUIDANCE_RANGE = (0.0, 10.0)  # classifier-free guidance s and audio guidance s_a
-STYLE_STRENGTH_RANGE = (0.0, 2.0)  # 0: neutral (no style pull), 1: the model's default, 2: twice the pull
+STYLE_STRENGTH_RANGE = (0.0, 2.0)  # 0: the generator's own motion, 1: the fitted style, 2: twice its change
 GAMMA_RANGE = (-2.0, 3.0)  # γ: interpolation in 0..1, extrapolation outside
 ROOT_MODES = ("bounded", "free", "locked")  # stays near where it started, the generated root motion, pinned
 

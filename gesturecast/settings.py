@@ -89,9 +89,9 @@ class Settings:
     part_styles: a style per body part: ``{"arms": "happy"}`` or ``["arms=happy"]``; parts not named follow
         ``style`` (GestureDiffuCLIP §6.3).
     style2, gamma: second style of x̂0 = γ·D(style) + (1 − γ)·D(style2) (DiffuseStyleGesture); γ = 1: one style.
-    style_strength: how strongly the style shows, 0 (neutral) .. 2; 1 is the model's default (docs/style-study.md).
-    guidance: classifier-free guidance s (None: the model's), which ``style_strength`` scales; audio_guidance: s_a
-        (1: off).
+    style_strength: how strongly the style shows, 0 .. 2: the stylizer after the generator changes the motion by k
+        times the fitted style (0: the generator's own motion, 1: as fitted; docs/style-study.md).
+    guidance: classifier-free guidance s (None: the model's); audio_guidance: s_a (1: off).
     sampler, steps: "ddim" with K steps per latent, or "ddpm" over all the model's steps (offline quality).
     seed: noise seed (the same seed and audio give the same motion).
     latency: "quality", "balanced" or "low"; lookahead / margin_ms override the setting's δ and margin.

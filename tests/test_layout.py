@@ -22,8 +22,8 @@ SOURCE_ROOTS = {"gesturecast": "gesturecast", "models": "gesturecast.models", "r
 # (errors, controls, frames, files, flag helpers); the roof is the command line.
 FLOORS: tuple[tuple[str, tuple[str, ...]], ...] = (
     ("gesturecast", ("",)),
-    ("gesturecast.models", ("motion", "audio", "generator", "networks", "dataset", "runtime", "training", "export",
-                            "evaluation")),
+    ("gesturecast.models", ("motion", "audio", "generator", "style", "networks", "dataset", "runtime", "training",
+                            "export", "evaluation")),
     ("gesturecast.bridges", ("",)),
     ("gesturecast.settings", ("",)),
     ("gesturecast.realtime", ("timing", "audio", "generation", "pose", "run", "agents", "cli_flags", "jobs", "serve",

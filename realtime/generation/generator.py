@@ -75,6 +75,9 @@ class GeneratorSettings:
     lookahead: int | None = None  # δ: audio look-ahead frames heard (None = the model's δa; docs/latency.md)
     part_styles: PartStyles = ()  # (body part, prompt) pairs; parts not named follow ``style``
     style_strength: float = DEFAULT_STYLE_STRENGTH  # k: the sampler's guidance is k·s (0: the null style's motion)
+    # the style the denoiser hears whatever style is asked, with guidance s (k then drives only the stylizer after the
+    # generator, realtime/pose/stylizer.py; docs/style-study.md "Stylizer"); None: the style asked, at k·s
+    generator_style: StylePrompt | None = None
 
 
 @dataclass(frozen=True)
@@ -131,7 +134,7 @@ class Generator:
         self.decoder = bundle.vq_decoder(self.settings.threads)
         self.styles = StyleResolver(bundle, self.settings.threads)
         self.history: deque[HistoryFrame] = deque(maxlen=self.config.window)
-        self._second = None if self.settings.second_style is None else self.styles.embed(self.settings.second_style)
+        self._second = None if self.settings.second_style is None else self._heard(self.settings.second_style)
         self._set_mixture_values(*self.part_mixture(self.settings.style, self.settings.part_styles))
         self._plan = sampling_plan(self.schedule.num_timesteps, self.settings.sampler)
         self.layout = self._make_layout()
@@ -145,8 +148,16 @@ class Generator:
 
     @property
     def guidance(self) -> float:
-        """The sampler's classifier-free guidance scale: style strength k times s."""
+        """The sampler's classifier-free guidance scale: style strength k times s (s with a fixed generator style)."""
+        if self.settings.generator_style is not None:
+            return self.base_guidance
         return self.settings.style_strength * self.base_guidance
+
+    def _heard(self, prompt: StylePrompt) -> np.ndarray:
+        """(S,) the embedding the denoiser hears for a style asked: its own, or the fixed generator style's (the style
+        asked is embedded either way, so one the model cannot use is refused here)."""
+        own = self.styles.embed(prompt)
+        return own if self.settings.generator_style is None else self.styles.embed(self.settings.generator_style)
 
     @property
     def style_embedding(self) -> np.ndarray:
@@ -177,7 +188,7 @@ class Generator:
         return part_mixture(style, dict(part_styles), self.bundle.part_channels, self.latent_dim)
 
     def _set_mixture_values(self, prompts: list[StylePrompt], weights: np.ndarray) -> None:
-        self._mixture_embeddings = np.stack([self.styles.embed(prompt) for prompt in prompts])  # (R, S)
+        self._mixture_embeddings = np.stack([self._heard(prompt) for prompt in prompts])  # (R, S)
         self._mixture_prompts = list(prompts)
         self._weights = np.asarray(weights, np.float32)  # (R, C)
 
@@ -237,7 +248,7 @@ class Generator:
     def set_style(self, style: StylePrompt, second_style: StylePrompt | None = None, gamma: float = SINGLE_STYLE):
         """Change the (base) style from the next latent on (history keeps the style it was made with); named
         part styles stay."""
-        self._second = None if second_style is None else self.styles.embed(second_style)
+        self._second = None if second_style is None else self._heard(second_style)
         self.settings = replace(self.settings, style=style, second_style=second_style, gamma=gamma)
         self._set_mixture_values(*self.part_mixture(style, self.settings.part_styles))
         self._apply_layout()

@@ -26,6 +26,7 @@ import math
 import weakref
 from collections import deque
 from dataclasses import dataclass
+from pathlib import Path
 from typing import NamedTuple
 
 import numpy as np
@@ -35,11 +36,12 @@ from gesturecast.models.audio.dsp import frame_boundary
 from gesturecast.models.audio.lipsync import LipSyncConfig
 from gesturecast.models.audio.streaming import StreamingFeatureExtractor, speaking_flags
 from gesturecast.models.generator.denoiser_config import audio_window_bounds, audio_window_end
-from gesturecast.models.generator.style_prompt import StylePrompt
+from gesturecast.models.generator.style_prompt import PartStyles, StylePrompt
 from gesturecast.models.motion.motion_features import features_to_rotations
 from gesturecast.models.motion.root_anchor import RootAnchor, RootMode, RootTravel
 from gesturecast.models.motion.skeleton import CANONICAL
 from gesturecast.models.runtime.bundle import ModelBundle
+from gesturecast.models.style.params import DEFAULT_STYLE_PARAMS
 from gesturecast.realtime.audio.sources import AudioChunk
 from gesturecast.realtime.generation.generator import Generator
 from gesturecast.realtime.generation.gesture_cues import Cue, CuePlan, GestureClip, Placement
@@ -51,6 +53,7 @@ from gesturecast.realtime.pose.idle import IdleMotion
 from gesturecast.realtime.pose.motion_smoother import MotionSmoother
 from gesturecast.realtime.pose.seed_motion import SeedMotion
 from gesturecast.realtime.pose.session_controls import SessionControls
+from gesturecast.realtime.pose.stylizer import Stylizer
 from gesturecast.realtime.pose.transitions import PoseCrossfade
 from gesturecast.realtime.timing.clock import Clock
 from gesturecast.realtime.timing.latency import LatencyBudget, LatencyStats
@@ -74,6 +77,8 @@ class PoseStyle(NamedTuple):
     style: StylePrompt
     second_style: StylePrompt | None
     gamma: float
+    part_styles: PartStyles = ()
+    strength: float = 1.0
 
 
 @dataclass(frozen=True)
@@ -86,6 +91,7 @@ class SessionConfig:
     gesture_triggers: tuple[tuple[str, tuple[str, ...]], ...] = ()  # (gesture, its trigger phrases) for words
     lipsync: str = "vrm0"  # a key of VISEME_NAMES: fill PoseFrame.visemes (docs/lipsync.md); "off": None
     face: str = FACE_FULL  # blinks and expression in PoseFrame.face ("blink": blinks only; "off": None)
+    style_params: Path | None = DEFAULT_STYLE_PARAMS  # the stylizer's styles (realtime/pose/stylizer.py); None: off
 
 
 class GestureSession:
@@ -120,6 +126,8 @@ class GestureSession:
         self.hands = HandPose(self.fps, seed=generator.settings.seed)
         self.face = None if self.config.face == FACE_OFF else FaceAnimator(
             self.config.face, generator.settings.seed, Expressions(text_embedder(generator.styles)))
+        self.stylizer = None if self.config.style_params is None else Stylizer.from_file(
+            self.config.style_params, generator.styles.embed, self.fps)
         self.vocabulary = TriggerVocabulary(dict(self.config.gesture_triggers))
         self.reset()
 
@@ -153,12 +161,15 @@ class GestureSession:
         self.hands.reset()
         if self.face is not None:
             self.face.reset()
+        if self.stylizer is not None:
+            self.stylizer.reset()
         self._unsmoothed: deque[tuple[int, bool, str]] = deque()  # (frame, gesturing, gesture) inside the smoother
         self.cues = CuePlan({clip.name: clip for clip in self.config.gesture_clips},
                             self.denoiser_config.frames_per_latent / self.fps)
         self.listener = WordListener(self.vocabulary)  # words reported one at a time (a TTS speaking)
         self._visemes: deque[np.ndarray] = deque()  # (5,) weights of the audio frames not yet posed, in order
         self._speaking: deque[bool] = deque()  # voice-activity flag of the audio frames not yet posed, in order
+        self._energy: deque[float] = deque()  # speech energy (dB) of the audio frames not yet posed, in order
         self.crossfade = PoseCrossfade(self.config.idle_fade_s, initial_weight_b=IDLE)
         self.next_latent = 0
         self.frames_out = 0
@@ -196,6 +207,7 @@ class GestureSession:
         speaking = speaking_flags(raw, self.bundle.feature_config)  # (n,) one per new audio frame
         self.features.append(self.bundle.audio_stats.apply(raw), speaking)
         self._speaking.extend(speaking.tolist())
+        self._energy.extend(raw[:, self.bundle.feature_config.layout["energy"]][:, 0].tolist())
         if self.lipsync_on:
             self._visemes.extend(self.extractor.take_visemes())  # one (5,) row per new audio frame
 
@@ -244,7 +256,8 @@ class GestureSession:
     def _pose_style(self) -> PoseStyle:
         """What the pose frames of the latent just generated take from the style in effect."""
         settings = self.generator.settings
-        return PoseStyle(self.controls.describe(), settings.style, settings.second_style, settings.gamma)
+        return PoseStyle(self.controls.describe(), settings.style, settings.second_style, settings.gamma,
+                         settings.part_styles, settings.style_strength)
 
     def _built_poses(self, batch: list[np.ndarray], style: PoseStyle) -> list[PoseFrame]:
         """The pose frames of the smoothed rows of a run of latents (list of (m, D)) in ``style``, in order."""
@@ -304,6 +317,7 @@ class GestureSession:
         per batch (one call per stage for the m rows, the stateful stages stepping frame by frame inside)."""
         rows = [self._unsmoothed.popleft() for _ in range(len(smoothed))]  # (frame, gesturing, gesture)
         speaking = [self._speaking.popleft() for _ in rows]  # each audio frame's voice activity
+        energy = [self._energy.popleft() for _ in rows]  # each audio frame's speech energy (dB)
         visemes = [self._visemes.popleft() if self.lipsync_on else None for _ in rows]  # each audio frame's
         wanted = sum(self._wanted(frame) for frame, _, _ in rows)  # a prefix: frames past the end are dropped
         if wanted == 0:
@@ -311,21 +325,32 @@ class GestureSession:
         frames = np.array([frame for frame, _, _ in rows[:wanted]])  # (n,)
         times = frames / self.fps  # (n,) stream seconds
         bodies, roots = self._finite_poses(frames, smoothed[:wanted], [g for _, g, _ in rows[:wanted]])
+        bodies = self._stylized(bodies, times, style)  # (n, J, 4)
         rotations = self.hands.extend(bodies, times)  # (n, J + 30, 4) on CANONICAL_WITH_HANDS
-        faces = self._faces(times, speaking[:wanted], style)  # (n, 8) or None
+        faces = self._faces(times, speaking[:wanted], energy[:wanted], style)  # (n, 8) or None
         return [self._pose_frame(int(frame), rotations[k], roots[k], style.description, rows[k][2], speaking[k],
                                  visemes[k], None if faces is None else faces[k]) for k, frame in enumerate(frames)]
 
-    def _faces(self, times: np.ndarray, speaking: list[bool], style: PoseStyle) -> np.ndarray | None:
-        """(n, 8) face weights of the frames (the expression of the style in effect), None with the face off."""
+    def _stylized(self, bodies: np.ndarray, times: np.ndarray, style: PoseStyle) -> np.ndarray:
+        """(n, J, 4) body rotations re-performed in the style in effect (unchanged with the stylizer off)."""
+        if self.stylizer is None:
+            return bodies
+        self.stylizer.set_style(self.stylizer.target(style.style, style.second_style, style.gamma, style.part_styles,
+                                                     style.strength), float(times[0]))
+        return self.stylizer.apply(bodies, times)
+
+    def _faces(self, times: np.ndarray, speaking: list[bool], energy: list[float], style: PoseStyle
+               ) -> np.ndarray | None:
+        """(n, 8) face weights of the frames (the expression of the style in effect, living with the speech's
+        emphasis), None with the face off."""
         if self.face is None:
             return None
         expression = self.face.expressions.of(style.style)  # (5,)
         if style.second_style is not None:  # x̂0 = γ·D(c1) + (1 − γ)·D(c2): the faces mix the same way
             second = self.face.expressions.of(style.second_style)
             expression = np.clip(style.gamma * expression + (1.0 - style.gamma) * second, 0.0, 1.0)
-        self.face.set_style(expression, float(times[0]))
-        return self.face.frames(times, speaking)
+        self.face.set_style(expression, float(times[0]), style.style.value if style.style.kind == "label" else None)
+        return self.face.frames(times, speaking, energy)
 
     def _gesturing(self, index: int) -> bool:
         """Whether latent ``index``'s frames fade to speech gestures (else to idle): speech within the hold time

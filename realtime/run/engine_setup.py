@@ -26,7 +26,7 @@ from gesturecast.models.motion.root_anchor import RootMode
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
 from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.models.runtime.gesture_lexicon import load_lexicon
-from gesturecast.realtime.generation.generator import Generator, GeneratorSettings
+from gesturecast.realtime.generation.generator import NEUTRAL_STYLE, Generator, GeneratorSettings
 from gesturecast.realtime.generation.gesture_clips import ClipMotion, encode_clips
 from gesturecast.realtime.pose.seed_motion import load_seed_motion
 from gesturecast.realtime.pose.session import GestureSession, SessionConfig
@@ -71,6 +71,7 @@ def generator_settings(settings: Settings, bundle: ModelBundle, budget: LatencyB
         audio_guidance=settings.audio_guidance,
         lookahead=budget.lookahead_frames,
         part_styles=settings.part_styles,
+        generator_style=NEUTRAL_STYLE,  # the stylizer after the generator gives the style (docs/style-study.md)
     )
 
 

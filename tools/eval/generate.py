@@ -23,8 +23,8 @@ from gesturecast.models.motion.skeleton import NUM_JOINTS
 from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.realtime.audio.sources import FastFileSource, PacedFileSource
 from gesturecast.realtime.engine_cli import frames_to_motion
-from gesturecast.realtime.generation.generator import Generator, GeneratorSettings
-from gesturecast.realtime.pose.session import GestureSession
+from gesturecast.realtime.generation.generator import NEUTRAL_STYLE, Generator, GeneratorSettings
+from gesturecast.realtime.pose.session import GestureSession, SessionConfig
 from gesturecast.realtime.run.engine import LiveEngine, run_offline
 from gesturecast.realtime.timing.clock import FakeClock
 from gesturecast.realtime.timing.latency import LatencyBudget
@@ -52,16 +52,17 @@ class Generated:
 
 def _session(bundle: ModelBundle, sampler: SamplerConfig, style: str | StylePrompt, seed: int, clock: FakeClock,
              audio_guidance: float = DEFAULT_AUDIO_GUIDANCE, lookahead: int | None = None,
-             guidance: float | None = None, part_styles: PartStyles = ()) -> GestureSession:
-    """A session on a fake clock; ``style`` is a label or any prompt, ``part_styles`` per-part prompts over it."""
+             guidance: float | None = None, part_styles: PartStyles = (), stylize: bool = True) -> GestureSession:
+    """A session on a fake clock; ``style`` is a label or any prompt, ``part_styles`` per-part prompts over it;
+    ``stylize`` False leaves the stylizer out and lets the generator hear the style instead (as before the stylizer)."""
     prompt = style if isinstance(style, StylePrompt) else StylePrompt("label", style)
     settings = GeneratorSettings(sampler=sampler, style=prompt, seed=seed, threads=1,
                                  audio_guidance=audio_guidance, lookahead=lookahead, guidance=guidance,
-                                 part_styles=part_styles)
+                                 part_styles=part_styles, generator_style=NEUTRAL_STYLE if stylize else None)
     generator = Generator(bundle, settings)
     budget = LatencyBudget(bundle.frames_per_latent, generator.lookahead, LATENCY_MARGIN_MS,
                            smoothing_frames=DEFAULT_SMOOTHING_FRAMES)
-    return GestureSession(bundle, generator, budget, clock)
+    return GestureSession(bundle, generator, budget, clock, SessionConfig(style_params=None) if not stylize else None)
 
 
 def _generated(frames: list[PoseFrame], start: float, setup_s: float) -> Generated:
@@ -82,13 +83,15 @@ def _with_wav(audio: np.ndarray, run):
 def generate_offline(
     bundle: ModelBundle, sampler: SamplerConfig, clip: EvalClip, style: str | StylePrompt, seed: int = 0,
     audio_guidance: float = DEFAULT_AUDIO_GUIDANCE, lookahead: int | None = None, guidance: float | None = None,
-    part_styles: PartStyles = (),
+    part_styles: PartStyles = (), stylize: bool = True,
 ) -> Generated:
     """Motion for the clip's audio in ``style`` through ``run_offline`` (the `generate` path), at look-ahead
     ``lookahead`` (default: the model's δa) and style guidance ``guidance`` (default: the model's); body parts
-    named in ``part_styles`` follow their own prompt."""
+    named in ``part_styles`` follow their own prompt; ``stylize`` False: the generator's motion without the
+    stylizer after it."""
     start = time.perf_counter()
-    session = _session(bundle, sampler, style, seed, FakeClock(), audio_guidance, lookahead, guidance, part_styles)
+    session = _session(bundle, sampler, style, seed, FakeClock(), audio_guidance, lookahead, guidance, part_styles,
+                       stylize)
     setup_s = time.perf_counter() - start
     frames, _ = _with_wav(clip.audio, lambda path: run_offline(session, FastFileSource(path)))
     return _generated(frames, start, setup_s)

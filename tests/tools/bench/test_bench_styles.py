@@ -48,10 +48,11 @@ def styles_cache(tmp_path_factory, shared_data) -> Path:
 
 
 @pytest.fixture(scope="module")
-def quick_study(tiny_model, styles_cache, tmp_path_factory) -> tuple[dict, Path]:
+def quick_study(tiny_model, styles_cache, tmp_path_factory, shared_data) -> tuple[dict, Path]:
     _, bundle = tiny_model
     out = tmp_path_factory.mktemp("study")
     code = main(["bench", "styles", "--quick", "--model", str(bundle), "--cache", str(styles_cache),
+                 "--data", str(shared_data), "--grid", str(out / "grid.png"),
                  "--json", str(out / "styles.json"), "--plot", str(out / "styles.png"),
                  "--prompt-dir", str(out / "prompts"), "--sheet", str(out / "sheet.png")])
     assert code == 0
@@ -125,6 +126,28 @@ def test_the_sheet_has_a_row_per_style_of_body_frames_and_a_face_panel(quick_stu
     width, height = FigureConfig().image_size
     with Image.open(out / "sheet.png") as sheet:
         assert sheet.height >= len(SHEET_STYLES) * height and sheet.width >= 5 * width  # 4 frames + the face
+
+
+def test_the_stylizer_part_reports_fk_distances_judges_following_jerk_face_and_cost(quick_study):
+    report, out = quick_study
+    stylizer = report["stylizer"]
+    styles = stylizer["styles"]
+    assert len(styles) == 7 and stylizer["speech"]["seeds"] == [0, 1]
+    for variant in ("generator", "styled"):
+        section = stylizer[variant]
+        fk = section["fk"]
+        assert len(fk["pairs"]) == 21 and fk["closest"] == min(fk["pairs"].values())
+        assert fk["seed_floor"] > 0.0 and fk["min_over_floor"] == pytest.approx(fk["closest"] / fk["seed_floor"],
+                                                                                   rel=0.02)
+        for judged in (section["judge"], section["classifier"]):
+            assert set(judged["per_style"]) == set(styles)
+            assert all(0.0 <= value <= 1.0 for value in judged["per_style"].values())
+        assert section["following"]["ratio_to_neutral"]["neutral"] == 1.0
+        assert section["jerk"]["real"] > 0.0
+    assert stylizer["styled"]["fk"]["pairs"] != stylizer["generator"]["fk"]["pairs"]
+    assert set(stylizer["face"]) == set(styles) and stylizer["cost"]["ms_per_motion_second"] > 0.0
+    assert [Path(path).name for path in stylizer["grid"]] == ["grid_generator.png", "grid.png"]
+    assert (out / "grid.png").stat().st_size > 0
 
 
 def test_border_joints_are_where_parts_meet():

@@ -3,7 +3,9 @@
 A :class:`StyleRequest` is one way of asking for a style (a prompt, a guidance scale s, per-part prompts, a
 seed); :class:`StudyRuns` generates it through the product's offline session
 (:func:`gesturecast.tools.eval.generate.generate_offline`, DDIM K steps) and remembers the result,
-so the single-style runs of the accuracy sweep are reused by the motion-prompt and per-part comparisons.
+so the single-style runs of the accuracy sweep are reused by the motion-prompt and per-part comparisons. These
+sections study the generator's own style condition, so the runs hear the style asked and leave the stylizer out
+(the ``stylizer`` section measures the product's path: :mod:`.stylizer_study`).
 :meth:`StudyRuns.real_time_factor` generates afresh instead, for timing requests back to back.
 """
 
@@ -48,14 +50,15 @@ class StudyRuns:
         if key not in self.results:
             self.results[key] = generate_offline(
                 self.bundle, self.sampler, clip, request.style, request.seed, self.audio_guidance,
-                guidance=request.guidance, part_styles=request.part_styles)
+                guidance=request.guidance, part_styles=request.part_styles, stylize=False)
         return self.results[key]
 
     def real_time_factor(self, request: StyleRequest) -> float:
         """Wall seconds per generated second of a fresh generation of ``request``, session setup excluded."""
         started = time.perf_counter()
         generated = generate_offline(self.bundle, self.sampler, self.clip, request.style, request.seed,
-                                     self.audio_guidance, guidance=request.guidance, part_styles=request.part_styles)
+                                     self.audio_guidance, guidance=request.guidance, part_styles=request.part_styles,
+                                     stylize=False)
         return (time.perf_counter() - started - generated.setup_s) / self.clip.seconds
 
     def denoiser_rows(self, request: StyleRequest) -> int:

@@ -7,7 +7,11 @@
    motion prompts; how far apart the results' mean upper-body poses are, vs the label prompts
    (:mod:`.motion_prompts`);
 3. ``part_styles``: per-part prompts at the bundle's s — signatures, seams, metrics and compute vs
-   single-style generation (:mod:`.part_styles`).
+   single-style generation (:mod:`.part_styles`);
+4. ``stylizer``: the seven judged styles on held-out speech at the default settings with and without the stylizer
+   after the generator: FK distances and seed floor, the style judge beside the old classifier, speech following,
+   jerk, the face, the stylizer's cost (:mod:`.stylizer_study`). ``--stylizer-only`` runs this part alone (it
+   needs no dataset cache, only the shared data folder).
 
 Everything runs on the same speech (the first held-out clip at least ``--seconds`` long) through the
 product's offline session, DDIM K = 4, with every ``--seeds`` (default 0; the per-part study uses the first).
@@ -36,7 +40,8 @@ from gesturecast.tools.bench.styles.motion_prompts import prompt_comparison, wri
 from gesturecast.tools.bench.styles.part_styles import DEFAULT_PAIRS, TIMING_REPEATS, PartPair, part_study
 from gesturecast.tools.bench.styles.runs import StudyRuns
 from gesturecast.tools.bench.styles.sheet import SHEET_STYLES, style_sheet
-from gesturecast.tools.data_cli import DEFAULT_CACHE
+from gesturecast.tools.bench.styles.stylizer_study import stylizer_report
+from gesturecast.tools.data_cli import DEFAULT_CACHE, DEFAULT_SHARED
 from gesturecast.tools.eval.clips import EvalClip, held_out_clips, reference_positions
 from gesturecast.tools.eval.metrics import EvalNetworks
 
@@ -55,6 +60,7 @@ class StudyConfig:
 
 
 QUICK = StudyConfig(guidance=(1.5,), seconds=2.5, max_styles=2, timing_repeats=1)
+STYLIZER_S, QUICK_STYLIZER_S = 60.0, 10.0  # held-out speech per style in the stylizer part
 
 
 def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
@@ -71,6 +77,15 @@ def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
                         f"{DEFAULT_AUDIO_GUIDANCE}; docs/style-study.md: styles vs speech following)")
     parser.add_argument("--prompt-dir", type=Path, help="keep the CMU BVH prompts here (default: a temporary folder)")
     parser.add_argument("--quick", action="store_true", help="2 styles, s = 1.5 only, 2.5 s (for tests)")
+    parser.add_argument("--data", type=Path, default=DEFAULT_SHARED,
+                        help="shared data folder: held-out speech and real motion for the stylizer part "
+                             "(default %(default)s)")
+    parser.add_argument("--stylizer-seconds", type=float,
+                        help="seconds of held-out speech per style in the stylizer part (default 60; --quick: 10)")
+    parser.add_argument("--grid", type=Path, help="PNG: the stylizer part's styles (rows) at 8, 20, 32, 44, 56 s "
+                        "(columns), front and side; OUT_generator.png: the same without the stylizer")
+    parser.add_argument("--stylizer-only", action="store_true",
+                        help="only the stylizer part (seeds: --seeds, default 0 1)")
     parser.add_argument("--json", type=Path, help="also write the result here")
     parser.add_argument("--plot", type=Path, help="PNG: confusion matrix and accuracy vs s (and OUT_parts.png)")
     parser.add_argument("--sheet", type=Path, help="PNG: the speech in neutral, happy, old and angry at the default "
@@ -145,16 +160,25 @@ def study_report(model: Path, cache: Path, config: StudyConfig, prompt_dir: Path
 
 def run_bench(args: argparse.Namespace) -> int:
     config = study_config(args)
+    seconds = args.stylizer_seconds or (QUICK_STYLIZER_S if args.quick else STYLIZER_S)
+    stylizer = stylizer_report(load_bundle(args.model), args.data, seconds, tuple(args.seeds or (0, 1)), args.grid)
+    if args.stylizer_only:
+        return _print_report({"model": str(args.model), "stylizer": stylizer}, args)
     if args.prompt_dir is not None:
         args.prompt_dir.mkdir(parents=True, exist_ok=True)
         report = study_report(args.model, args.cache, config, args.prompt_dir, args.sheet)
     else:
         with tempfile.TemporaryDirectory(prefix="gesturecast-style-prompts-") as folder:
             report = study_report(args.model, args.cache, config, Path(folder), args.sheet)
+    report["stylizer"] = stylizer
     if args.plot is not None:
         from gesturecast.tools.render.plot_styles import plot_style_study
 
         report["plots"] = [str(path) for path in plot_style_study(report, args.plot)]
+    return _print_report(report, args)
+
+
+def _print_report(report: dict, args: argparse.Namespace) -> int:
     text = json.dumps(report, indent=1)
     if args.json is not None:
         write_text_atomic(args.json, text + "\n")

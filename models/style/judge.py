@@ -1,0 +1,95 @@
+"""The style judge: which style a motion window shows, read from what any speech gesture shares with any action.
+
+It judges a *set* of clips of the same content (one action, or one speech) in several styles, and reads how each
+clip differs from the others: every window's features (``descriptors.window_features``: upper body, posture, tempo;
+no legs, no root travel) less the content's reference, the mean over the set's clips of each clip's mean features
+(no labels used). A bow and a speech gesture differ far more than two styles of either; centred on its content, a
+style is what is left. A multinomial logistic regression on the centred features, standardised with the training
+windows' mean and deviation, labels each window. It is trained by
+``gesturecast style-fit`` so that it must generalise across content: its accuracy is measured with whole actions
+held out (leave-one-content-out over the Bandai dataset-1 actions), and the shipped judge is then fitted on all of
+them. numpy only.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from gesturecast.errors import UserError
+from gesturecast.models.style.descriptors import JUDGE_FEATURES, window_features
+
+JUDGE_FORMAT = "gesturecast-style-judge-1"
+JUDGED_STYLES = ("neutral", "happy", "angry", "sad", "old", "tired", "proud")
+
+
+@dataclass(frozen=True)
+class StyleJudge:
+    """labels (L,), feature mean / scale (F,), weights (F, L), bias (L,)."""
+
+    labels: tuple[str, ...]
+    mean: np.ndarray
+    scale: np.ndarray
+    weights: np.ndarray
+    bias: np.ndarray
+
+    def probabilities(self, features: np.ndarray) -> np.ndarray:
+        """(W, L) style probabilities of window features (W, F)."""
+        logits = ((features - self.mean) / self.scale) @ self.weights + self.bias  # (W, L)
+        logits -= logits.max(axis=1, keepdims=True)
+        odds = np.exp(logits)
+        return odds / odds.sum(axis=1, keepdims=True)
+
+    def predict(self, features: np.ndarray) -> list[str]:
+        return [self.labels[i] for i in np.argmax(self.probabilities(features), axis=1)]
+
+    def judge_set(self, clips: list[tuple[np.ndarray, np.ndarray]], fps: float) -> list[list[str]]:
+        """The style of every window of each clip (rotations (T, J, 4), hips (T, 3)) of one content's set."""
+        return [self.predict(features) for features in centred([window_features(r, root, fps) for r, root in clips])]
+
+    def save(self, path: Path, meta: dict) -> None:
+        data = {"format": JUDGE_FORMAT, "features": list(JUDGE_FEATURES), "labels": list(self.labels), **meta,
+                "mean": self.mean.tolist(), "scale": self.scale.tolist(), "weights": self.weights.tolist(),
+                "bias": self.bias.tolist()}
+        path.write_text(json.dumps(data, indent=1) + "\n", encoding="utf-8")
+
+    @staticmethod
+    def load(path: Path) -> StyleJudge:
+        try:
+            data = json.loads(Path(path).read_text(encoding="utf-8"))
+        except (OSError, ValueError) as error:
+            raise UserError(f"{path}: not a readable style judge ({error})") from None
+        if data.get("format") != JUDGE_FORMAT or data.get("features") != list(JUDGE_FEATURES):
+            raise UserError(f"{path}: not a {JUDGE_FORMAT} file with features {', '.join(JUDGE_FEATURES)}")
+        return StyleJudge(tuple(data["labels"]), *(np.asarray(data[key]) for key in ("mean", "scale", "weights",
+                                                                                     "bias")))
+
+
+def centred(clips: list[np.ndarray]) -> list[np.ndarray]:
+    """Window features (W_i, F) of one content's clips less the content reference (module docstring)."""
+    reference = np.mean([features.mean(axis=0) for features in clips], axis=0)  # (F,)
+    return [features - reference for features in clips]
+
+
+def train_judge(features: np.ndarray, labels: np.ndarray, names: tuple[str, ...], l2: float = 1e-2,
+                steps: int = 600, rate: float = 0.5) -> StyleJudge:
+    """A judge fitted to windows (W, F) with label indices (W,) into ``names``: full-batch gradient descent on the
+    class-balanced cross-entropy plus ``l2``·|weights|²."""
+    mean, scale = features.mean(axis=0), features.std(axis=0) + 1e-6
+    x = (features - mean) / scale  # (W, F)
+    onehot = np.eye(len(names))[labels]  # (W, L)
+    counts = np.maximum(onehot.sum(axis=0), 1.0)  # (L,)
+    balance = (onehot / counts).sum(axis=1) * len(x) / len(names)  # (W,) each class weighs the same
+    weights, bias = np.zeros((x.shape[1], len(names))), np.zeros(len(names))
+    for _ in range(steps):
+        logits = x @ weights + bias
+        logits -= logits.max(axis=1, keepdims=True)
+        p = np.exp(logits)
+        p /= p.sum(axis=1, keepdims=True)
+        error = (p - onehot) * balance[:, None] / len(x)  # (W, L)
+        weights -= rate * (x.T @ error + 2.0 * l2 * weights)
+        bias -= rate * error.sum(axis=0)
+    return StyleJudge(names, mean, scale, weights, bias)

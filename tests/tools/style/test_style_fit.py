@@ -1,0 +1,93 @@
+"""Fitting the stylizer and the style judge from content-paired Bandai takes (a few real actions and styles)."""
+
+from __future__ import annotations
+
+import json
+import tarfile
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from gesturecast.cli import main
+from gesturecast.models.motion.rotations import quat_from_axis_angle
+from gesturecast.models.style.judge import StyleJudge
+from gesturecast.models.style.params import (
+    LOG_GAIN,
+    OFFSET,
+    STYLED_INDEX,
+    STYLED_JOINTS,
+    TENSION,
+    StyleBook,
+    StyleFilter,
+    StyleParams,
+    rotation_vectors,
+)
+from gesturecast.tools.style.fit import REST, fit_styles
+from gesturecast.tools.style.judge_fit import fit_judge
+from gesturecast.tools.style.takes import Take, load_paired_takes
+
+CONTENTS = ("bye", "byebye", "guide", "bow")
+STYLES = ("normal", "sad", "old", "happy")
+
+
+@pytest.fixture(scope="module")
+def takes_folder(tmp_path_factory, shared_data) -> Path:
+    """The dataset-1 takes of CONTENTS × STYLES, extracted from the archive."""
+    folder = tmp_path_factory.mktemp("bandai")
+    with tarfile.open(shared_data / "bandai" / "dataset-1.tar.xz", "r:xz") as tar:
+        members = [m for m in tar.getmembers() if any(f"_{c}_{s}_" in Path(m.name).name
+                                                      for c in CONTENTS for s in STYLES)]
+        tar.extractall(folder, members=members, filter="data")
+    return folder
+
+
+@pytest.fixture(scope="module")
+def takes(takes_folder) -> list[Take]:
+    return load_paired_takes(takes_folder)
+
+
+def restyled(take: Take, values: np.ndarray) -> Take:
+    """The take re-performed by the stylizer's filter with parameters ``values`` (S, CHANNELS), as style "sad"."""
+    v = rotation_vectors(take.motion.rotations)  # (T, S, 3)
+    styled = StyleFilter(take.motion.fps, REST).run(v, np.broadcast_to(values, (len(v), *values.shape)),
+                                                     np.arange(len(v)) / take.motion.fps)
+    rotations = take.motion.rotations.copy()
+    rotations[:, STYLED_INDEX] = quat_from_axis_angle(styled)
+    return replace(take, style="sad", motion=replace(take.motion, rotations=rotations))
+
+
+def test_the_fit_recovers_a_style_made_with_known_parameters(takes):
+    known = StyleParams.identity().values.copy()
+    head = STYLED_JOINTS.index("Head")
+    arms = [STYLED_JOINTS.index(name) for name in STYLED_JOINTS if "Arm" in name or "Hand" in name]
+    known[head, OFFSET] = (0.3, 0.0, 0.0)  # the head bowed
+    known[arms, LOG_GAIN] = np.log(0.6)  # smaller arm gestures
+    known[arms, TENSION] = -0.6  # slower, smoother
+    neutral = [take for take in takes if take.style == "neutral"]
+    styles, report = fit_styles(neutral + [restyled(take, known) for take in neutral])
+    fitted = styles["sad"].values
+    np.testing.assert_allclose(fitted[head, OFFSET], known[head, OFFSET], atol=0.05)
+    assert np.exp(fitted[arms, LOG_GAIN]) == pytest.approx(0.6, abs=0.12)
+    assert (fitted[arms, TENSION] < -0.3).all()
+    assert report["sad"]["arms"]["tempo_ratio"] < 0.9 and report["sad"]["arms"]["contents"] == len(CONTENTS)
+    assert not styles["neutral"].values.any()
+
+
+def test_the_judge_is_measured_on_actions_it_never_saw(takes):
+    judge, report = fit_judge(takes, ("neutral", "sad", "old", "happy"))
+    assert report["contents"] == len(CONTENTS)
+    assert sum(report["windows_per_style"]) == np.sum(report["confusion"])
+    assert report["mean"] > report["chance"] + 0.15
+    assert judge.labels == ("neutral", "sad", "old", "happy")
+
+
+def test_style_fit_writes_the_styles_and_the_judge_it_reports(takes_folder, tmp_path, capsys):
+    assert main(["style-fit", "--takes", str(takes_folder), "--out", str(tmp_path), "--contents", "bye", "guide"]) == 0
+    printed = json.loads(capsys.readouterr().out)
+    book = StyleBook.load(tmp_path / "styles.json")
+    assert set(book.labels) == {"neutral", "sad", "old", "happy"} and "non-commercial" in book.meta["license"]
+    assert printed["styles"]["sad"]["arms"]["contents"] == 2
+    judge = StyleJudge.load(tmp_path / "judge.json")
+    assert judge.weights.shape == (len(judge.mean), len(judge.labels))

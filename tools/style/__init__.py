@@ -1,0 +1,1 @@
+"""Fitting the stylizer and the style judge from content-paired styled takes."""
