@@ -16,6 +16,7 @@ import sys
 from gesturecast import stop_signals
 from gesturecast.arguments import OneLineParser
 from gesturecast.errors import INTERRUPTED_EXIT, USER_ERROR_EXIT_CODE, UserError
+from gesturecast.extras import missing_extra
 
 DESCRIPTION = ("Real-time avatar driver: speech from a microphone or a recording in, stylized full-body gestures "
                "out over VMC, OSC, WebSocket and BVH.")
@@ -88,6 +89,12 @@ def run_command(args: argparse.Namespace) -> int:
         return int(args.func(args) or 0)
     except UserError as error:
         print(f"gesturecast {args.command}: error: {error}", file=sys.stderr)
+        return USER_ERROR_EXIT_CODE
+    except ModuleNotFoundError as error:  # an optional extra that is not installed (torch, Ray, Pipecat)
+        message = missing_extra(error)
+        if message is None:
+            raise
+        print(f"gesturecast {args.command}: error: {message}", file=sys.stderr)
         return USER_ERROR_EXIT_CODE
     except KeyboardInterrupt:
         return INTERRUPTED_EXIT
