@@ -18,6 +18,7 @@ import os
 import queue
 import signal
 import socket
+import sys
 import time
 from dataclasses import replace
 from multiprocessing.sharedctypes import SynchronizedArray
@@ -38,8 +39,9 @@ MAX_WORKERS = 64
 
 def listen_port(host: str, port: int) -> socket.socket:
     """The listening socket on ``host:port`` (0: a free port) whose connections the parent deals out."""
-    if not hasattr(socket, "send_fds"):
-        raise UserError("serve --workers needs Unix socket passing (Linux); run one server per port instead")
+    if not sys.platform.startswith("linux"):  # macOS has send_fds, but not the abstract socket names used here
+        raise UserError(f"serve --workers runs on Linux only (this is {sys.platform}); "
+                        "run one `gesturecast serve` per port instead")
     try:
         return socket.create_server((host, port), family=socket.AF_INET6 if ":" in host else socket.AF_INET)
     except OSError as error:
