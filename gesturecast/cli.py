@@ -87,9 +87,8 @@ def main(argv: list[str] | None = None) -> int:
     tolerate_narrow_encodings()
     argv = sys.argv[1:] if argv is None else argv
     args = build_parser(only=command_in(argv)).parse_args(argv)
-    logging.basicConfig(
-        level=logging.DEBUG if getattr(args, "verbose", False) else logging.INFO, format="%(levelname)s %(name)s: %(message)s"
-    )
+    level = logging.DEBUG if getattr(args, "verbose", False) else logging.INFO  # -v before or after the command
+    logging.basicConfig(level=level, format="%(levelname)s %(name)s: %(message)s")
     with stop_signals.handled():  # SIGTERM / SIGHUP end the command as Ctrl-C does
         return stop_signals.exit_status(run_command(args))
 
