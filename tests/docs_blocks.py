@@ -87,6 +87,29 @@ def fence_count(page: str) -> int:
     return sum(line.startswith("```") for line in (REPO_ROOT / page).read_text(encoding="utf-8").splitlines())
 
 
+GROUP_COMMANDS = ("bench", "data", "gestures")  # commands whose next word is a sub-command
+
+
+def command_lines(code: str) -> list[str]:
+    """The ``gesturecast ...`` lines of a block without their comments, continuations joined (a line after a
+    trailing backslash, or an indented line under a command)."""
+    commands: list[str] = []
+    current = False
+    for line in code.splitlines():
+        continues = current and (line.startswith(" ") or commands[-1].endswith("\\"))
+        if line.startswith("gesturecast ") or continues:
+            text = line.split(" # ", 1)[0].strip()
+            commands.append(f"{commands.pop()} {text}" if continues else text)
+        current = line.startswith("gesturecast ") or continues
+    return commands
+
+
+def command_words(line: str) -> list[str]:
+    """The sub-command of a ``gesturecast`` line: ``["generate"]``, or ``["bench", "voices"]`` for a group."""
+    words = line.split()[1:3]
+    return words[:2] if words[0] in GROUP_COMMANDS else words[:1]
+
+
 def free_port() -> int:
     with socket.socket() as probe:
         probe.bind(("127.0.0.1", 0))
