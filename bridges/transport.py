@@ -76,7 +76,8 @@ class UdpSender:
             family, kind, proto, _, address = socket.getaddrinfo(target.host, target.port, type=socket.SOCK_DGRAM)[0]
         except (socket.gaierror, OverflowError) as error:
             where = f"{target.host}:{target.port}"
-            raise UserError(f"{label}: cannot resolve {where} ({error}); check --host/--port") from None
+            raise UserError(f"{label}: cannot resolve {where} ({error}); check the host name given to "
+                            f"--{label.lower()}") from None
         self._socket = socket.socket(family, kind, proto)
         self.max_datagram_size = max_datagram_size(family)
         self._socket.setblocking(False)

@@ -68,6 +68,11 @@ class Motion:
             face_names=face_names if face else (),
         )
 
+    def __repr__(self) -> str:
+        return (f"Motion({self.num_frames} frames at {self.fps:g} fps = {self.duration:.2f} s, "
+                f"{len(self.bone_names)} bones, visemes {'on' if self.visemes is not None else 'off'}, "
+                f"face {'on' if self.face is not None else 'off'})")
+
     @property
     def num_frames(self) -> int:
         return self.rotations.shape[0]
@@ -89,15 +94,33 @@ class Motion:
 
 def generate(audio: str | Path | np.ndarray, sample_rate: int | None = None, settings: Settings | None = None, *,
              transcript: str | Path | list[dict] | None = None, **overrides) -> Motion:
-    """Speech → motion, offline (as fast as the CPU allows).
+    """Speech → motion, offline (as fast as the CPU allows): the poses ``gesturecast live`` would stream for the
+    same audio, settings and seed.
 
-    audio: a file path (any format soundfile reads, any rate and channel count), or samples as an array,
-        (n,) or (n, channels), float in [-1, 1] or int16, with ``sample_rate``.
-    settings: a :class:`Settings` (default ``Settings()``); ``overrides`` change single fields,
-        e.g. ``generate("talk.wav", style="happy", seed=3)``.
-    transcript: the audio's words with times, as a file (JSON word list, .srt, .vtt) or a list of
-        ``{"word", "start", "end"}`` (seconds): trigger words ("hello", "thank you") cue lexicon gestures with
-        their stroke on the word (docs/gestures.md).
+    Args:
+        audio: a file path (any format soundfile reads, any rate and channel count), or samples as an array,
+            (n,) or (n, channels), float in [-1, 1] or int16, with ``sample_rate``.
+        sample_rate: the rate of an array of samples (a file carries its own).
+        settings: a :class:`Settings` (default ``Settings()``), by name: ``settings=Settings(style="old")``;
+            ``overrides`` change single fields, e.g. ``generate("talk.wav", style="happy", seed=3)``.
+        transcript: the audio's words with times, as a file (JSON word list, .srt, .vtt) or a list of
+            ``{"word", "start", "end"}`` (seconds): trigger words ("hello", "thank you") cue gestures of the
+            lexicon with their stroke on the word.
+
+    Returns:
+        A :class:`Motion`: ``rotations`` (T, 52, 4) local XYZW quaternions on Unity HumanBodyBones names,
+        ``root_positions`` (T, 3) metres, ``fps`` 30, mouth and face weights; ``motion.save("talk.bvh")`` writes
+        it as ``.bvh``, ``.vrma`` or ``.json``.
+
+    Raises:
+        UserError: one line, for an unreadable file, a bad setting or a style the model does not know.
+
+    Example::
+
+        import gesturecast
+        motion = gesturecast.generate("talk.wav", style="happy")
+        print(motion)  # Motion(750 frames at 30 fps = 25.00 s, 52 bones, visemes on, face on)
+        motion.save("talk.bvh")
     """
     settings = with_overrides(settings, overrides)
     source = _source(audio, sample_rate)
@@ -118,6 +141,9 @@ def _words(transcript: str | Path | list[dict] | None) -> list[Word]:
 
 
 def _source(audio: str | Path | np.ndarray, sample_rate: int | None) -> AudioSource:
+    if isinstance(sample_rate, Settings):
+        raise UserError("generate's second argument is the sample rate of an array; pass settings by name: "
+                        "generate(audio, settings=Settings(...))")
     if isinstance(audio, (str, Path)):
         if sample_rate is not None:
             raise UserError("sample_rate goes with an array of samples; a file carries its own rate")

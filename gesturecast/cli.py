@@ -13,12 +13,20 @@ import importlib
 import logging
 import sys
 
-from gesturecast import stop_signals
+from gesturecast import __version__, stop_signals
 from gesturecast.arguments import OneLineParser
+from gesturecast.cli_help import describe
 from gesturecast.errors import INTERRUPTED_EXIT, USER_ERROR_EXIT_CODE, UserError
+from gesturecast.extras import missing_extra
 
 DESCRIPTION = ("Real-time avatar driver: speech from a microphone or a recording in, stylized full-body gestures "
                "out over VMC, OSC, WebSocket and BVH.")
+
+EPILOG = """examples:
+  gesturecast demo                                   the bundled sample, live, with no set-up
+  gesturecast live --vmc 127.0.0.1:39539             your microphone to VSeeFace / Warudo / VNyan
+  gesturecast generate talk.wav -o talk.bvh          a recording to a BVH file
+  gesturecast COMMAND --help                         what a command does, its options and examples"""
 
 # command -> (the module whose ``register(subparsers)`` adds it, its line in ``gesturecast --help``), in listing
 # order. Only the module of the command being run is imported: the others would cost seconds of imports
@@ -45,9 +53,11 @@ COMMANDS: dict[str, tuple[str, str]] = {
 def build_parser(only: str | None = None) -> argparse.ArgumentParser:
     """Every command's parser; with ``only`` (a command name), only that command's module is imported and the
     others are listed by name and help line."""
-    parser = OneLineParser(prog="gesturecast", description=DESCRIPTION)
+    parser = OneLineParser(prog="gesturecast", description=DESCRIPTION, epilog=EPILOG,
+                           formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("-v", "--verbose", action="store_true", help="debug logging")
-    sub = parser.add_subparsers(dest="command", required=True)
+    parser.add_argument("--version", action="version", version=f"gesturecast {__version__}")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     wanted = COMMANDS[only][0] if only in COMMANDS else None
     for module_name in dict.fromkeys(module for module, _ in COMMANDS.values()):
         if wanted in (None, module_name):
@@ -56,6 +66,8 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
         for name, (owner, help_line) in COMMANDS.items():
             if owner == module_name:
                 sub.add_parser(name, help=help_line)
+    for name, command_parser in sub.choices.items():
+        describe(name, command_parser)
     return parser
 
 
@@ -76,9 +88,8 @@ def main(argv: list[str] | None = None) -> int:
     tolerate_narrow_encodings()
     argv = sys.argv[1:] if argv is None else argv
     args = build_parser(only=command_in(argv)).parse_args(argv)
-    logging.basicConfig(
-        level=logging.DEBUG if args.verbose else logging.INFO, format="%(levelname)s %(name)s: %(message)s"
-    )
+    level = logging.DEBUG if getattr(args, "verbose", False) else logging.INFO  # -v before or after the command
+    logging.basicConfig(level=level, format="%(levelname)s %(name)s: %(message)s")
     with stop_signals.handled():  # SIGTERM / SIGHUP end the command as Ctrl-C does
         return stop_signals.exit_status(run_command(args))
 
@@ -89,6 +100,12 @@ def run_command(args: argparse.Namespace) -> int:
         return int(args.func(args) or 0)
     except UserError as error:
         print(f"gesturecast {args.command}: error: {error}", file=sys.stderr)
+        return USER_ERROR_EXIT_CODE
+    except ModuleNotFoundError as error:  # an optional extra that is not installed (torch, Ray, Pipecat)
+        message = missing_extra(error)
+        if message is None:
+            raise
+        print(f"gesturecast {args.command}: error: {message}", file=sys.stderr)
         return USER_ERROR_EXIT_CODE
     except KeyboardInterrupt:
         return INTERRUPTED_EXIT

@@ -51,30 +51,39 @@ def add_generation_arguments(parser: argparse.ArgumentParser) -> None:
     group.add_argument("--part-style", nargs="+", default=[], metavar="PART=STYLE",
                        help="a style per body part (arms, torso, legs), e.g. arms=happy \"legs=text:tired\"; "
                             "parts not named follow --style (docs/part-styles.md)")
-    group.add_argument("--style2", help="second style for γ interpolation/extrapolation")
+    group.add_argument("--style2", help="a second style to mix with --style (the mix is set by --gamma)")
     group.add_argument("--gamma", default=defaults.gamma, **_limited("gamma"),
-                       help="x̂0 = γ·D(style) + (1 − γ)·D(style2)")
+                       help="how much of --style against --style2: 1 only --style, 0.5 half each, 0 only --style2, "
+                            "above 1 exaggerates --style away from --style2 (default %(default)s)")
     group.add_argument("--style-strength", default=defaults.style_strength, **_limited("style_strength"),
                        help="how strongly the style shows: 0 neutral, 1 the model's default, up to 2")
     group.add_argument("--guidance", **_limited("guidance"),
-                       help="classifier-free guidance scale s before --style-strength (default: the model's)")
+                       help="how closely the motion follows the style and speech prompts; higher shows styles "
+                            "more (4 is clear) but follows the speech less (default: the model's)")
     group.add_argument("--audio-guidance", default=defaults.audio_guidance, **_limited("audio_guidance"),
-                       help="audio guidance s_a: > 1 makes the motion follow the speech more, 1 turns it off "
-                            "(one batch row less)")
-    group.add_argument("--sampler", choices=SAMPLERS, default=defaults.sampler)
-    group.add_argument("--steps", default=defaults.steps, **_limited("steps"), help="DDIM steps K per latent frame")
-    group.add_argument("--seed", default=defaults.seed, **_limited("seed"))
+                       help="how strongly the motion follows the speech: above 1 more, 1 no extra pull (and a "
+                            "little less computing); default %(default)s")
+    group.add_argument("--sampler", choices=SAMPLERS, default=defaults.sampler,
+                       help="ddim: a few steps, fast enough for live use (default); ddpm: the full 1000 steps, "
+                            "offline quality, 250 times the work")
+    group.add_argument("--steps", default=defaults.steps, **_limited("steps"),
+                       help="denoising steps per 4 frames with ddim: more is smoother and slower "
+                            "(default %(default)s)")
+    group.add_argument("--seed", default=defaults.seed, **_limited("seed"),
+                       help="random seed: the same speech and seed give the same motion, another seed other "
+                            "gestures (default %(default)s)")
     group.add_argument("--latency", choices=tuple(LATENCY_SETTINGS), default=defaults.latency,
-                       help="latency dial: quality = the model's look-ahead δa (L 533 ms), balanced = δ 4, "
-                            "low = δ 0 (L 247 ms); below δa needs a model trained with look-ahead truncation "
-                            "(docs/latency.md)")
+                       help="how far behind the voice the poses come: quality 533 ms (hears 8 frames ahead, the "
+                            "default), balanced 380 ms, low 247 ms (hears no audio ahead); docs/latency.md")
     group.add_argument("--lookahead", **_limited("lookahead"),
-                       help="audio look-ahead δ in frames (default: the --latency setting's)")
+                       help="frames of audio the model hears ahead of each pose (default: the --latency "
+                            "setting's)")
     group.add_argument("--smoothing", default=defaults.smoothing, **_limited("smoothing"),
-                       help="half-width k of the centred motion smoothing window in frames (adds k frames to L; "
-                            "0: off)")
+                       help="frames averaged on each side of a pose to smooth the motion; each adds a frame "
+                            "(33 ms) of delay; 0 turns smoothing off (default %(default)s)")
     group.add_argument("--margin-ms", **_limited("margin_ms"),
-                       help="compute margin in the latency L (default: the --latency setting's)")
+                       help="milliseconds of delay kept for computing each pose (default: the --latency "
+                            "setting's)")
     group.add_argument("--threads", default=defaults.threads, **_limited("threads"),
                        help="onnxruntime intra-op threads")
     group.add_argument("--seed-motion", type=Path, metavar="FILE",
@@ -116,7 +125,9 @@ def add_output_arguments(parser: argparse.ArgumentParser) -> None:
                        help="bones sent over VMC: all, upper (no hips, legs, neck, head), arms, none (visemes "
                             "only) or a comma list of HumanBodyBones names; default all (assistant: upper)")
     group.add_argument("--osc", metavar="HOST:PORT", help="plain OSC (Unreal OSC plugin, TouchDesigner)")
-    group.add_argument("--osc-frame", choices=tuple(FRAMES), default="unity")
+    group.add_argument("--osc-frame", choices=tuple(FRAMES), default="unity",
+                       help="coordinates of the --osc quaternions: unity (left-handed, default), unreal, or "
+                            "internal (right-handed, Y up, facing +Z)")
     group.add_argument("--ws", metavar="PORT", type=port_number(allow_any=True),
                        help="WebSocket stream + browser viewer on this port")
     group.add_argument("--avatar", type=Path, metavar="FILE.vrm",

@@ -89,6 +89,7 @@ def run_live(args: argparse.Namespace) -> int:
         raise UserError("--transcript gives the words of an --input file (a microphone's words come as they are "
                         "spoken: send them as a words message)")
     words = transcript_words(args.transcript, settings)
+    osc_in = osc_in_address(args.osc_in)  # checked before any output file is opened
     clock = MonotonicClock()
     session = build_session(settings, clock)
     if args.input:
@@ -101,7 +102,7 @@ def run_live(args: argparse.Namespace) -> int:
         raise
     gestures_in = None
     try:
-        gestures_in = osc_listener(args, session)
+        gestures_in = osc_listener(args, osc_in, session)
         sys.stdout.write(session.budget.describe() + "\n")
         engine = LiveEngine(session, source, outputs.send, clock, scheduler_config(args), StatusLine(clock),
                             on_warm=lambda: start_stream_inputs(session, words, gestures_in))
@@ -117,12 +118,24 @@ def run_live(args: argparse.Namespace) -> int:
     return exit_status(report)
 
 
-def osc_listener(args: argparse.Namespace, session: GestureSession) -> OscControlListener | None:
-    """The ``--osc-in`` port, bound but not yet listening (None without it): its gesture messages go through the
-    control checks to the session."""
-    if args.osc_in is None:
+def osc_in_address(value: str | None) -> tuple[str, int] | None:
+    """``--osc-in [HOST:]PORT`` → (host, port), None without it; a one-line error quoting what was typed."""
+    if value is None:
         return None
-    host, port = parse_host_port(args.osc_in if ":" in args.osc_in else f":{args.osc_in}", "--osc-in")
+    try:
+        return parse_host_port(value if ":" in value else f":{value}", "--osc-in")
+    except UserError:
+        raise UserError(f"--osc-in wants a port (1 to 65535) or HOST:PORT, e.g. 9001 or 0.0.0.0:9001; got {value!r}"
+                        ) from None
+
+
+def osc_listener(args: argparse.Namespace, address: tuple[str, int] | None,
+                 session: GestureSession) -> OscControlListener | None:
+    """The ``--osc-in`` port at ``address``, bound but not yet listening (None without it): its gesture messages go
+    through the control checks to the session."""
+    if address is None:
+        return None
+    host, port = address
     token = server_token(args) if not is_loopback(host) else None
     return OscControlListener(OscInConfig(host, port, token), session.controls.submit)
 

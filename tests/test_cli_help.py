@@ -1,9 +1,14 @@
 """`gesturecast --help` opens with one plain line saying what the product does."""
 
+import shlex
 import subprocess
 import sys
 
+import pytest
+
+import gesturecast
 from gesturecast.cli import COMMANDS, build_parser, command_in
+from gesturecast.cli_help import HELP
 
 
 def test_help_opens_with_one_line_about_the_product():
@@ -16,6 +21,12 @@ def subcommands(parser) -> dict[str, str]:
     """command -> its line in ``gesturecast --help``."""
     action = next(a for a in parser._actions if a.__class__.__name__ == "_SubParsersAction")
     return {choice.dest: choice.help for choice in action._choices_actions}
+
+
+def subcommand_parsers(parser) -> dict:
+    """command -> its parser."""
+    action = next(a for a in parser._actions if a.__class__.__name__ == "_SubParsersAction")
+    return dict(action.choices)
 
 
 def test_the_command_table_lists_every_command_with_the_help_its_module_gives():
@@ -32,3 +43,48 @@ def test_running_one_command_imports_no_other_command_module():
 
 def test_command_in_finds_the_command_after_global_options():
     assert command_in(["-v", "generate", "x.wav"]) == "generate" and command_in(["--help"]) is None
+
+
+def help_of(*command: str) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "gesturecast.cli", *command, "--help"], capture_output=True,
+                          text=True, check=True)
+
+
+@pytest.mark.parametrize("command", list(HELP))
+def test_every_command_says_what_it_is_for_and_its_examples_parse(command):
+    parser = build_parser(only=command)
+    command_parser = subcommand_parsers(parser)[command]
+    assert command_parser.description == HELP[command][0] and "examples:" in command_parser.epilog
+    for example in HELP[command][1]:
+        words = shlex.split(example)
+        assert words[:2] == ["gesturecast", command]
+        parser.parse_args(words[1:])  # every flag of the example exists and takes its value
+
+
+def test_generation_help_speaks_in_words_not_equations():
+    text = help_of("generate").stdout
+    for symbol in ("x̂", "δ", "s_a", "γ·", "batch row"):
+        assert symbol not in text, symbol
+    assert "transcript" in text.split("--batch", 1)[1]  # the CSV's transcript column
+
+
+def test_every_generation_and_output_flag_has_help():
+    parser = subcommand_parsers(build_parser(only="live"))["live"]
+    bare = [action.option_strings[0] for action in parser._actions if action.option_strings and not action.help]
+    assert not bare
+
+
+def test_verbose_goes_before_or_after_the_command_and_version_answers():
+    parser = build_parser(only="generate")
+    assert parser.parse_args(["generate", "a.wav", "-o", "a.bvh", "-v"]).verbose
+    assert parser.parse_args(["-v", "generate", "a.wav", "-o", "a.bvh"]).verbose
+    assert not getattr(parser.parse_args(["generate", "a.wav", "-o", "a.bvh"]), "verbose", False)
+    result = subprocess.run([sys.executable, "-m", "gesturecast.cli", "--version"], capture_output=True, text=True)
+    assert result.stdout.strip() == f"gesturecast {gesturecast.__version__}"
+
+
+@pytest.mark.parametrize("group", ["gestures", "data", "bench"])
+def test_a_group_command_alone_prints_its_usage(group):
+    result = subprocess.run([sys.executable, "-m", "gesturecast.cli", group], capture_output=True, text=True)
+    assert result.returncode == 2 and "_command" not in result.stdout + result.stderr
+    assert f"usage: gesturecast {group}" in result.stdout and "examples:" in result.stdout

@@ -40,8 +40,8 @@ def add_batch_arguments(parser: argparse.ArgumentParser) -> None:
     group = parser.add_argument_group("batch (many files)")
     group.add_argument("--batch", type=Path, metavar="DIR_OR_CSV",
                        help="every audio file under a folder, or the rows of a CSV (columns: path, style, prompt, "
-                            "style2, part_style, gamma, style_strength, guidance, audio_guidance, seed); -o is then "
-                            "the output folder")
+                            "style2, part_style, gamma, style_strength, guidance, audio_guidance, seed, "
+                            "transcript); -o is then the output folder")
     group.add_argument("--workers", type=int_at_least(1), default=os.cpu_count() or 1,
                        help="worker processes (or Ray actors) for --batch (default: every core)")
     group.add_argument("--with-json", action="store_true", help="with --batch: also write NAME.json beside NAME.bvh")

@@ -9,8 +9,11 @@ instead of the engine reading a source.
 - :meth:`Stream.push` takes a block at any rate and channel count (float or int16, ``(n,)`` or ``(n, C)``),
   converts it to 16 kHz mono with the files' streaming resampler, times it as it is heard (a block starts when
   it arrives or where the previous block ends, whichever is later: TTS audio arrives faster than it plays)
-  and returns the pose frames it completed: the iterator route.
-- ``on_frame`` is called with each frame at its presentation time (with the outputs): the callback route.
+  and returns the pose frames it completed at once, *before* they are due (not paced: for recording, or for a
+  program that schedules them itself by ``presentation_time``, on ``time.monotonic``).
+- Paced, each frame handed over at its presentation time, as the outputs get it: ``on_frame`` (a callback, on
+  the release thread), :meth:`Stream.frames` (``for frame in ...``, blocking) and :meth:`Stream.aframes`
+  (``async for frame in ...``, in an asyncio program); the last two end when the stream is closed.
 - :meth:`Stream.control` changes style, part styles, guidance, γ or root mode, blended in (no pop).
 - :meth:`Stream.close` ends the stream: the look-ahead's last poses, every frame released on time, the
   outputs closed (a BVH recording is written then). A ``with`` block closes it; an exception stops it at once.
@@ -31,6 +34,7 @@ from gesturecast.realtime.audio.pcm import AudioConverter
 from gesturecast.realtime.audio.sources import AudioChunk, SourceStats
 from gesturecast.realtime.run.engine import EngineReport, FrameRelease, make_report, warm_up
 from gesturecast.realtime.run.engine_setup import build_outputs, build_session
+from gesturecast.realtime.run.paced import AsyncFrameFeed, FeedSet, FrameFeed
 from gesturecast.realtime.timing.clock import Clock, MonotonicClock
 from gesturecast.realtime.timing.scheduler import SchedulerConfig
 from gesturecast.settings import Settings, with_overrides
@@ -69,7 +73,8 @@ class Stream:
     settings: how to generate (default ``Settings()``); keyword ``overrides`` change single fields
         (``Stream(style="happy")``).
     outputs: where frames go besides the caller (VMC, OSC, WebSocket viewer, BVH); default none.
-    on_frame: called with each frame at its presentation time (from the release thread).
+    on_frame: called with each frame at its presentation time (from the release thread): paced, as are
+        :meth:`frames` and :meth:`aframes`; :meth:`push` returns frames before they are due.
     paced: release at capture time + L (True) or as soon as generated (False: frames are stamped in stream
         time, as ``generate`` does).
     warm: run every stage once on throwaway audio first, so the first frames are on time.
@@ -90,6 +95,7 @@ class Stream:
         self._converter = AudioConverter()
         self._timeline = AudioTimeline()
         self._closed = False
+        self._feeds = FeedSet()
         self.warm_up_s = warm_up(self.session, self.clock) if warm else 0.0
         self._release.start()
 
@@ -113,6 +119,17 @@ class Stream:
         pose frames it completed (often none: one latent of d frames at a time)."""
         self._check_open()
         return self._generate(self._converter.convert_samples(samples, sample_rate))
+
+    def frames(self) -> FrameFeed:
+        """The frames released from now on, each when it is due (its ``presentation_time``): ``for frame in
+        stream.frames()`` blocks until the next one and ends when the stream is closed (push audio from another
+        thread, or use ``on_frame``)."""
+        return self._feeds.open(FrameFeed())
+
+    def aframes(self) -> AsyncFrameFeed:
+        """:meth:`frames` for asyncio: ``async for frame in stream.aframes()``, opened inside the event loop that
+        reads it (push audio with ``await asyncio.to_thread(stream.push, ...)``)."""
+        return self._feeds.open(AsyncFrameFeed())
 
     def push_pcm16(self, data: bytes, sample_rate: int, channels: int) -> list[PoseFrame]:
         """:meth:`push` for interleaved 16-bit little-endian PCM bytes (what voice pipelines and network peers send)."""
@@ -196,6 +213,7 @@ class Stream:
 
     def _send(self, frame: PoseFrame) -> None:
         self.bridges.send(frame)
+        self._feeds.put(frame)
         if self._on_frame is not None:
             self._on_frame(frame)
 
@@ -208,6 +226,7 @@ class Stream:
         try:
             self._release.stop()
         finally:
+            self._feeds.end()
             self.bridges.close()
         if self.bridges.close_errors:
             raise UserError("; ".join(self.bridges.close_errors))

@@ -23,6 +23,7 @@ import multiprocessing.connection
 import os
 import signal
 import socket
+import sys
 import threading
 import time
 from contextlib import suppress
@@ -52,8 +53,9 @@ READ_BYTES = 1 << 16
 
 def listen_port(host: str, port: int) -> socket.socket:
     """The listening socket on ``host:port`` (0: a free port) whose connections the parent deals out."""
-    if not hasattr(socket, "send_fds"):
-        raise UserError("serve --workers needs Unix socket passing (Linux); run one server per port instead")
+    if not sys.platform.startswith("linux"):  # the worker supervision and socket passing are tested on Linux only
+        raise UserError(f"serve --workers runs on Linux only (this is {sys.platform}); "
+                        "run one `gesturecast serve` per port instead")
     try:
         return socket.create_server((host, port), family=socket.AF_INET6 if ":" in host else socket.AF_INET)
     except OSError as error:

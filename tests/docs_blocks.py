@@ -1,0 +1,162 @@
+"""The fenced code blocks of README.md and docs/*.md, and the folder they run in (tests/test_docs_examples.py).
+
+Every fence carries a language: ``python`` and ``bash`` blocks run; ``text`` (program output, diagrams, command
+synopses), ``json`` and ``yaml`` blocks are data. A block that cannot run here is preceded by one line
+``<!-- not run: REASON -->`` naming what it needs (a microphone, the network, several machines).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import shutil
+import socket
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import soundfile
+
+REPO_ROOT = Path(__file__).resolve().parents[1]
+PAGES = ("README.md", *sorted(f"docs/{page.name}" for page in (REPO_ROOT / "docs").glob("*.md")))
+FENCE = re.compile(r"^(?:<!-- not run: (?P<skip>[^>]*) -->\n)?```(?P<language>\S*)\n(?P<code>.*?)^```$", re.S | re.M)
+RUNNABLE = ("python", "bash")
+DATA_LANGUAGES = ("text", "json", "yaml")
+SECONDS = 3  # of speech in talk.wav
+RATE = 48000  # talk.wav's rate: a user's recording, not the model's 16 kHz
+
+# The shell the bash blocks run in. The commands are the real ones; the few that would run for minutes or until
+# stopped get a small input: `live` reads talk.wav as fast as possible instead of a microphone, `serve` is stopped
+# (SIGINT, as Ctrl-C) after a few seconds of listening, training and data builds use a few takes and steps.
+BASH_PRELUDE = """set -eo pipefail
+gesturecast() {
+  case "$1 $2" in
+    "live "*) command gesturecast "$@" --input talk.wav --pace fast ;;
+    "serve "*) local status=0; timeout -s INT 12 gesturecast "$@" || status=$?; [ "$status" = 124 ] ;;
+    "train "*) command gesturecast "$@" --preset tiny --vq-steps 2 --denoiser-steps 2 --prompt-steps 2 \\
+                 --no-progress ;;
+    "data build") command gesturecast "$@" --limit 1 ;;
+    "gestures build") command gesturecast "$@" --per-style 1 --styles 1 ;;
+    "bench styles") command gesturecast "$@" --quick ;;
+    "bench face") command gesturecast "$@" --minutes 0.2 ;;
+    *) command gesturecast "$@" ;;
+  esac
+}
+"""
+LISTEN_PORTS = ("8765", "8766", "9001")  # ports the blocks listen on: each run gets free ones instead
+
+
+@dataclass(frozen=True)
+class Block:
+    """One fenced block: where it is, its language, its text, and why it is not run (None: it runs)."""
+
+    page: str
+    line: int
+    language: str
+    code: str
+    skip: str | None
+
+    @property
+    def name(self) -> str:
+        return f"{self.page}:{self.line}"
+
+    @property
+    def needs_data(self) -> bool:
+        """It reads the training data (DATA, the SMPL-X take copied from it) or the cache built from it."""
+        return any(word in self.code for word in ("DATA", ".npz", "--cache"))
+
+    @property
+    def needs_microphone(self) -> bool:
+        return "gesturecast devices" in self.code
+
+
+def page_blocks(page: str) -> list[Block]:
+    """The fenced blocks of one page, in order."""
+    text = (REPO_ROOT / page).read_text(encoding="utf-8")
+    return [Block(page, text.count("\n", 0, match.start("language")) + 1, match["language"], match["code"],
+                  match["skip"]) for match in FENCE.finditer(text)]
+
+
+def all_blocks() -> list[Block]:
+    return [block for page in PAGES for block in page_blocks(page)]
+
+
+def fence_count(page: str) -> int:
+    """Lines opening or closing a fence: twice the blocks when every fence parsed."""
+    return sum(line.startswith("```") for line in (REPO_ROOT / page).read_text(encoding="utf-8").splitlines())
+
+
+GROUP_COMMANDS = ("bench", "data", "gestures")  # commands whose next word is a sub-command
+
+
+def command_lines(code: str) -> list[str]:
+    """The ``gesturecast ...`` lines of a block without their comments, continuations joined (a line after a
+    trailing backslash, or an indented line under a command)."""
+    commands: list[str] = []
+    current = False
+    for line in code.splitlines():
+        continues = current and (line.startswith(" ") or commands[-1].endswith("\\"))
+        if line.startswith("gesturecast ") or continues:
+            text = line.split(" # ", 1)[0].strip()
+            commands.append(f"{commands.pop()} {text}" if continues else text)
+        current = line.startswith("gesturecast ") or continues
+    return commands
+
+
+def command_words(line: str) -> list[str]:
+    """The sub-command of a ``gesturecast`` line: ``["generate"]``, or ``["bench", "voices"]`` for a group."""
+    words = line.split()[1:3]
+    return words[:2] if words[0] in GROUP_COMMANDS else words[:1]
+
+
+def free_port() -> int:
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        return probe.getsockname()[1]
+
+
+def with_free_ports(code: str) -> str:
+    """The block with each listening port replaced by a free one (other programs may hold the documented ones)."""
+    for port in LISTEN_PORTS:
+        code = re.sub(rf"\b{port}\b", str(free_port()), code)
+    return code
+
+
+def bash_script(code: str) -> str:
+    return BASH_PRELUDE + with_free_ports(code)
+
+
+def build_folder(folder: Path, shared_data: Path | None) -> Path:
+    """The files the blocks name: talk.wav (3 s, 48 kHz stereo), its words, a folder and a CSV of voice lines, BVHs
+    of generated motion, a VRM avatar, the examples, and DATA (the shared training data) where it exists."""
+    import gesturecast
+    from gesturecast.models.audio.files import PACKAGED_SAMPLE, SAMPLE_RATE, load_audio
+
+    speech = load_audio(PACKAGED_SAMPLE)[: SECONDS * SAMPLE_RATE]
+    stereo = np.repeat(np.interp(np.arange(SECONDS * RATE) * SAMPLE_RATE / RATE, np.arange(speech.shape[0]),
+                                 speech)[:, None], 2, axis=1).astype(np.float32)  # (n, 2)
+    for name in ("talk.wav", "speech.wav", "speech8.wav"):
+        soundfile.write(folder / name, stereo, RATE)
+    (folder / "voice_lines").mkdir()
+    for index in range(2):
+        soundfile.write(folder / "voice_lines" / f"line{index}.wav", speech[index * SAMPLE_RATE:][:SAMPLE_RATE],
+                        SAMPLE_RATE)
+    (folder / "lines.csv").write_text("path,style\nvoice_lines/line0.wav,happy\nvoice_lines/line1.wav,old\n")
+    words = [{"word": "hello", "start": 0.4, "end": 0.8}, {"word": "everyone", "start": 0.8, "end": 1.4}]
+    (folder / "words.json").write_text(json.dumps(words))
+    motion = gesturecast.generate(PACKAGED_SAMPLE, seed=0)  # 25 s: long enough for --start 10 --seconds 5
+    for name in ("IN.bvh", "take.bvh", "real.bvh", "gen.bvh"):
+        motion.save(folder / name)
+    shutil.copy(REPO_ROOT / "bridges" / "viewer" / "avatar" / "cryptovoxels.vrm", folder / "my_avatar.vrm")
+    (folder / "examples").symlink_to(REPO_ROOT / "examples")
+    if shared_data is not None:
+        (folder / "DATA").symlink_to(shared_data)
+        shutil.copy(shared_data / "beat2" / "2_scott_0_1_1.npz", folder / "IN.npz")
+    return folder
+
+
+def shared_data_folder() -> Path | None:
+    """The training data folder (``$GESTURECAST_SHARED_DATA``, else shared/data beside the repository), or None."""
+    folder = Path(os.environ.get("GESTURECAST_SHARED_DATA", REPO_ROOT.parent / "shared" / "data"))
+    return folder if folder.is_dir() else None
