@@ -40,6 +40,9 @@ HELP: dict[str, tuple[str, tuple[str, ...]]] = {
               ("gesturecast serve --port 8766", "gesturecast serve --workers 4")),
     "eval": ("Score generated motion against real motion capture (speech following, realism, styles); writes JSON.",
              ("gesturecast eval --json scores.json",)),
+    "style-fit": ("Fit the stylizer's styles and the style judge from the Bandai styled motion-capture takes "
+                  "(numpy only, about half a minute).",
+                  ("gesturecast style-fit --takes DATA/bandai/dataset-1.tar.xz",)),
     "eval-train": ("Train the networks `gesturecast eval` scores with (needs torch, as `train` does).",
                    ("gesturecast eval-train",)),
 }
