@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 import soundfile
 
+from gesturecast.controls import parse_controls
 from gesturecast.errors import UserError
 from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
 from gesturecast.models.generator.diffusion import SamplerConfig
@@ -56,7 +57,7 @@ def run(session, speech, chunk_samples=16000, controls=()) -> list:
     for chunk in FastFileSource(speech, chunk_samples=chunk_samples):
         for sample, control in controls:
             if chunk.start_sample <= sample < chunk.start_sample + len(chunk.samples):
-                session.controls.submit(control)
+                session.controls.submit(parse_controls(control))
         frames.extend(session.push(chunk))
     return frames + session.finish()
 
