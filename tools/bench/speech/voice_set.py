@@ -20,7 +20,6 @@ training data; docs/voices.md). Sources:
 
 from __future__ import annotations
 
-import shutil
 import subprocess
 import tempfile
 from dataclasses import dataclass
@@ -31,6 +30,7 @@ import soundfile
 
 from gesturecast.errors import UserError
 from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
+from gesturecast.tools.bench.speech.lipsync_set import espeak
 
 HELD_OUT = "held-out"
 DEV = "dev"
@@ -148,10 +148,8 @@ def join_with_pauses(parts: list[np.ndarray]) -> np.ndarray:
 
 def espeak_sentence(spec: Espeak, sentence: str, folder: Path) -> np.ndarray:
     """One sentence spoken by espeak-ng, read back at 16 kHz: (N,)."""
-    if shutil.which("espeak-ng") is None:
-        raise UserError("espeak-ng is not installed: the TTS voices of bench voices need it (Debian: espeak-ng)")
     path = folder / "sentence.wav"
-    subprocess.run(["espeak-ng", "-v", spec.voice, "-s", str(spec.speed), "-p", str(spec.pitch), "-w", str(path),
+    subprocess.run([espeak(), "-v", spec.voice, "-s", str(spec.speed), "-p", str(spec.pitch), "-w", str(path),
                     sentence], check=True, capture_output=True)
     return load_audio(path)
 
