@@ -64,3 +64,23 @@ def test_configs_saved_before_speaker_normalisation_load_with_it_off():
     assert FeatureConfig.from_dict(NORMALISED.to_dict()) == NORMALISED
     with pytest.raises(ValueError, match="time_constant_s"):
         SpeakerNormConfig(enabled=True, time_constant_s=0.0)
+
+
+def test_a_warm_start_averages_the_speech_heard_until_one_time_constant():
+    normalizer = SpeakerNormalizer(1, SpeakerNormConfig(enabled=True, time_constant_s=1.0, warm_start=True), FPS)
+    speech = np.linspace(-30.0, -20.0, 2 * FPS)[:, None]  # (60, 1): two time constants of speech
+    out = normalizer.update(speech, np.ones(2 * FPS, bool))
+    assert out[0, 0] == 0.0  # the first speech frame is its own mean: no pull from the prior
+    np.testing.assert_allclose(speech[:FPS, 0] - out[:FPS, 0], np.cumsum(speech[:FPS, 0]) / np.arange(1, FPS + 1))
+    mean = speech[:FPS, 0].mean()
+    for value in speech[FPS:, 0]:  # then the usual EMA with weight 1 / (τ fps)
+        mean += (value - mean) / FPS
+    np.testing.assert_allclose(normalizer.mean, [mean])
+    normalizer.reset()
+    assert normalizer.speech_frames == 0
+
+
+def test_bundles_without_a_warm_start_keep_the_prior():
+    saved = NORMALISED.to_dict()
+    del saved["speaker_norm"]["warm_start"]
+    assert FeatureConfig.from_dict(saved).speaker_norm.warm_start is False
