@@ -77,6 +77,7 @@ def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--steps", type=int, default=4, help="DDIM steps K")
     parser.add_argument("--audio-guidance", type=float, default=DEFAULT_AUDIO_GUIDANCE,
                         help="audio guidance scale s_a (1: off)")
+    parser.add_argument("--guidance", type=float, help="style guidance scale s (default: the bundle's)")
     parser.add_argument("--json", type=Path, help="also write the result here")
     parser.add_argument("--plot", type=Path, help="PNG: loudness and generated speed for three voices")
     parser.set_defaults(func=run_bench)
@@ -187,7 +188,7 @@ def bench_cases(voice_set: str, cache: Path, shared: Path) -> list[VoiceCase]:
 
 def voices_report(bundle_dir: Path, cache: Path, shared: Path, seeds: list[int], steps: int,
                   audio_guidance: float = DEFAULT_AUDIO_GUIDANCE, plot: Path | None = None,
-                  voice_set: str = HELD_OUT) -> dict:
+                  voice_set: str = HELD_OUT, guidance: float | None = None) -> dict:
     bundle = load_bundle(bundle_dir)
     sampler = SamplerConfig("ddim", steps)
     started = time.perf_counter()
@@ -201,14 +202,15 @@ def voices_report(bundle_dir: Path, cache: Path, shared: Path, seeds: list[int],
                          **score_case(case.positions, case, onsets, references)})
         for seed in seeds:
             clip = EvalClip(case.file, case.heard, case.style)
-            positions = generate_offline(bundle, sampler, clip, case.style, seed, audio_guidance).positions
+            positions = generate_offline(bundle, sampler, clip, case.style, seed, audio_guidance,
+                                         guidance=guidance).positions
             first_motion.setdefault(case_key(case), positions)
             rows.append({"condition": case.condition, "file": case.file, "voice": case.voice, "seed": seed,
                          **score_case(positions, case, onsets, references)})
     conditions = summarise(rows)
     report = {
         "bundle": str(bundle_dir), "set": voice_set, "sampler": f"ddim K={steps}", "audio_guidance": audio_guidance,
-        "seeds": seeds,
+        "guidance": guidance, "seeds": seeds,
         "metric": "r: Pearson r of smoothed upper-body speed vs the clean reference speech's RMS dB, best lag "
                   "within ±0.5 s; chance: the same motion against the other recordings; ratio: r / r(original) "
                   "on the same files; rest: speed in pauses / while speaking; bc: BEAT beat consistency",
@@ -227,7 +229,7 @@ def voices_report(bundle_dir: Path, cache: Path, shared: Path, seeds: list[int],
 def run_bench(args: argparse.Namespace) -> int:
     seeds = [int(value) for value in args.seeds.split(",")]
     report = voices_report(args.bundle, args.cache, args.shared, seeds, args.steps, args.audio_guidance, args.plot,
-                           args.voice_set)
+                           args.voice_set, args.guidance)
     text = json.dumps(report, indent=1)
     if args.json is not None:
         write_text_atomic(args.json, text + "\n")

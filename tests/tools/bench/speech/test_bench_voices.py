@@ -70,8 +70,9 @@ def test_bench_voices_scores_every_transform(tiny_model, voices_inputs, tmp_path
 def test_bench_voices_scores_each_voice_group_against_chance(tiny_model, voices_inputs, tmp_path):
     _, bundle = tiny_model
     cache, shared = voices_inputs
-    report = run_voices(bundle, cache, shared, tmp_path / "dev.json", "--set", "dev")
+    report = run_voices(bundle, cache, shared, tmp_path / "dev.json", "--set", "dev", "--guidance", "1")
     dev = [voice for voice in VOICES if voice.split == DEV]
+    assert report["set"] == "dev" and report["guidance"] == 1.0
     groups = report["conditions"]
     assert set(groups) == {voice.group for voice in dev}
     assert sum(group["files"] for group in groups.values()) == len(dev)
