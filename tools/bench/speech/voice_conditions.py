@@ -20,7 +20,7 @@ import numpy as np
 
 from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
 from gesturecast.models.dataset import voice_transforms as vt
-from gesturecast.models.dataset.cache import DEFAULT_SPLIT
+from gesturecast.models.dataset.cache import DEFAULT_SPLIT, INDEX_FILE, load_take, read_index
 from gesturecast.models.generator.styles import canonical_style
 from gesturecast.tools.bench.speech.voice_set import voice_audio
 from gesturecast.tools.eval.clips import EvalClip, held_out_clips
@@ -78,12 +78,25 @@ def transformed_cases(cache: Path, shared: Path, transforms: dict[str, Transform
     return cases
 
 
-def voice_set_cases(split: str, shared: Path) -> list[VoiceCase]:
+def recorded_motion(cache: Path) -> dict[str, np.ndarray]:
+    """Real motion (T, J, 3) of the cache's takes that came with a recording, by the recording's path under the
+    shared folder (``show/NAME.wav``); empty without a cache. SHOW takes hold reliable arms only (docs/dataset.md)."""
+    if not (cache / INDEX_FILE).is_file():
+        return {}
+    takes = [record for record in read_index(cache)["takes"] if record["dataset"] == "show"]
+    return {f"show/{record['name']}.wav": load_take(cache, record)[0].positions() for record in takes}
+
+
+def voice_set_cases(split: str, shared: Path, cache: Path) -> list[VoiceCase]:
     """The unseen voices of one split of :mod:`voice_set`: the condition is the voice group, the file the source
-    recording (a re-recorded channel variant shares its source's, so it is never its own chance reference)."""
+    recording (a re-recorded channel variant shares its source's, so it is never its own chance reference).
+    A whole single recording whose motion the cache holds carries it as the real motion."""
+    motion = recorded_motion(cache)
     cases = []
     for item in voice_audio(split, shared):
         voice = item.voice
         source = voice.channel.of if voice.channel is not None else voice.name
-        cases.append(VoiceCase(voice.group, source, item.heard, item.reference, UNSEEN_STYLE, voice=voice.name))
+        whole = voice.channel is None and voice.span_s is None and len(voice.files) == 1
+        cases.append(VoiceCase(voice.group, source, item.heard, item.reference, UNSEEN_STYLE,
+                               motion.get(voice.files[0]) if whole else None, voice=voice.name))
     return cases

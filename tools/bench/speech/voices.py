@@ -183,7 +183,7 @@ def bench_cases(voice_set: str, cache: Path, shared: Path) -> list[VoiceCase]:
     """The cases of ``--set``."""
     if voice_set == TRANSFORMS_SET:
         return transformed_cases(cache, shared, TRANSFORMS)
-    return voice_set_cases(voice_set, shared)
+    return voice_set_cases(voice_set, shared, cache)
 
 
 def voices_report(bundle_dir: Path, cache: Path, shared: Path, seeds: list[int], steps: int,

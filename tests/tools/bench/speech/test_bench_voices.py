@@ -16,8 +16,12 @@ from dataset_fixtures import make_zeggs_folder  # noqa: E402
 
 from gesturecast.models.audio.files import SAMPLE_RATE, load_audio  # noqa: E402
 from gesturecast.models.dataset.cache import build_dataset  # noqa: E402
-from gesturecast.models.dataset.sources import zeggs_takes  # noqa: E402
-from gesturecast.tools.bench.speech.voice_conditions import TRANSFORMS  # noqa: E402
+from gesturecast.models.dataset.sources import show_takes, zeggs_takes  # noqa: E402
+from gesturecast.tools.bench.speech.voice_conditions import (  # noqa: E402
+    TRANSFORMS,
+    recorded_motion,
+    voice_set_cases,
+)
 from gesturecast.tools.bench.speech.voice_set import DEV, VOICES  # noqa: E402
 
 pytest.importorskip("librosa")
@@ -82,3 +86,15 @@ def test_bench_voices_scores_each_voice_group_against_chance(tiny_model, voices_
     assert groups["tts english"]["rest"] is not None  # espeak-ng sentences joined with ≥ 0.7 s pauses
     means = [groups[name]["margin"] for name in groups]
     assert report["overall"]["margin"] == pytest.approx(np.mean(means), abs=2e-4)
+
+
+def test_whole_show_recordings_carry_their_cached_real_motion(shared_data, tmp_path):
+    build_dataset(show_takes(shared_data / "show"), tmp_path / "cache", progress=False)
+    motion = recorded_motion(tmp_path / "cache")
+    seth = motion["show/seth_98201-00_04_32-00_04_42.wav"]
+    assert seth.ndim == 3 and seth.shape[0] == 300 and seth.shape[2] == 3  # (T, J, 3): 10 s at 30 fps
+    cases = voice_set_cases(DEV, shared_data, tmp_path / "cache")
+    carrying = {case.voice for case in cases if case.positions is not None}
+    assert carrying == {voice.name for voice in VOICES if voice.split == DEV and voice.files
+                        and voice.files[0].startswith("show/")}
+    assert recorded_motion(tmp_path / "no_cache") == {}
