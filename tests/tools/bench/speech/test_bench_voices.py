@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -27,6 +28,7 @@ from gesturecast.tools.bench.speech.voice_set import DEV, VOICES  # noqa: E402
 pytest.importorskip("librosa")
 pytest.importorskip("matplotlib")
 PAIRED_FRAMES = 400  # 13.3 s: the held-out final 15 % is 2 s
+needs_espeak = pytest.mark.skipif(shutil.which("espeak-ng") is None, reason="espeak-ng is not installed")
 
 
 def cut_voice(source: Path, target: Path, seconds: float) -> None:
@@ -71,6 +73,7 @@ def test_bench_voices_scores_every_transform(tiny_model, voices_inputs, tmp_path
     assert plot.stat().st_size > 10_000
 
 
+@needs_espeak
 def test_bench_voices_scores_each_voice_group_against_chance(tiny_model, voices_inputs, tmp_path):
     _, bundle = tiny_model
     cache, shared = voices_inputs
@@ -88,6 +91,7 @@ def test_bench_voices_scores_each_voice_group_against_chance(tiny_model, voices_
     assert report["overall"]["margin"] == pytest.approx(np.mean(means), abs=2e-4)
 
 
+@needs_espeak
 def test_whole_show_recordings_carry_their_cached_real_motion(shared_data, tmp_path):
     build_dataset(show_takes(shared_data / "show"), tmp_path / "cache", progress=False)
     motion = recorded_motion(tmp_path / "cache")

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import shutil
+
 import numpy as np
 import pytest
 import soundfile
@@ -57,6 +59,7 @@ def test_a_rerecorded_voice_reads_back_as_the_same_speech(tmp_path):
     np.testing.assert_allclose(back[middle], tone[middle] * 10 ** (-6 / 20), atol=3e-3)
 
 
+@pytest.mark.skipif(shutil.which("espeak-ng") is None, reason="espeak-ng is not installed")
 def test_a_missing_recording_or_split_is_a_clear_error(tmp_path):
     with pytest.raises(UserError, match="not found"):
         voice_audio(HELD_OUT, tmp_path)
