@@ -27,6 +27,7 @@ from pathlib import Path
 
 import numpy as np
 import soundfile
+import soxr
 
 from gesturecast.errors import UserError
 from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
@@ -156,8 +157,6 @@ def espeak_sentence(spec: Espeak, sentence: str, folder: Path) -> np.ndarray:
 
 def rerecorded(audio: np.ndarray, channel: Channel, folder: Path) -> np.ndarray:
     """``audio`` written at ``channel``'s rate, channel count and gain, read back through the file reader: (N,)."""
-    import soxr
-
     scaled = soxr.resample(audio, SAMPLE_RATE, channel.rate) * np.float32(10.0 ** (channel.gain_db / 20.0))
     path = folder / "channel.wav"
     soundfile.write(path, np.repeat(scaled[:, None], channel.channels, axis=1), channel.rate, subtype="PCM_16")
