@@ -37,10 +37,12 @@ def test_a_louder_voice_gives_the_same_features_once_the_mean_has_adapted():
     assert np.abs(difference[late][speaking[late]]).mean() < np.abs(difference[:FPS][speaking[:FPS]]).mean()
 
 
-def test_normalised_features_do_not_depend_on_the_chunk_size():
+@pytest.mark.parametrize("warm_start", [False, True])
+def test_normalised_features_do_not_depend_on_the_chunk_size(warm_start):
+    config = FeatureConfig(speaker_norm=SpeakerNormConfig(enabled=True, warm_start=warm_start))
     audio = syllables(4.0, seed=1)
-    whole = StreamingFeatureExtractor(NORMALISED).push(audio)
-    extractor = StreamingFeatureExtractor(NORMALISED)
+    whole = StreamingFeatureExtractor(config).push(audio)
+    extractor = StreamingFeatureExtractor(config)
     chunked = np.concatenate([extractor.push(audio[i : i + 333]) for i in range(0, audio.size, 333)])
     np.testing.assert_array_equal(chunked, whole)
 
