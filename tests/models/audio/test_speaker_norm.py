@@ -37,10 +37,12 @@ def test_a_louder_voice_gives_the_same_features_once_the_mean_has_adapted():
     assert np.abs(difference[late][speaking[late]]).mean() < np.abs(difference[:FPS][speaking[:FPS]]).mean()
 
 
-def test_normalised_features_do_not_depend_on_the_chunk_size():
+@pytest.mark.parametrize("warm_start", [False, True])
+def test_normalised_features_do_not_depend_on_the_chunk_size(warm_start):
+    config = FeatureConfig(speaker_norm=SpeakerNormConfig(enabled=True, warm_start=warm_start))
     audio = syllables(4.0, seed=1)
-    whole = StreamingFeatureExtractor(NORMALISED).push(audio)
-    extractor = StreamingFeatureExtractor(NORMALISED)
+    whole = StreamingFeatureExtractor(config).push(audio)
+    extractor = StreamingFeatureExtractor(config)
     chunked = np.concatenate([extractor.push(audio[i : i + 333]) for i in range(0, audio.size, 333)])
     np.testing.assert_array_equal(chunked, whole)
 
@@ -64,3 +66,23 @@ def test_configs_saved_before_speaker_normalisation_load_with_it_off():
     assert FeatureConfig.from_dict(NORMALISED.to_dict()) == NORMALISED
     with pytest.raises(ValueError, match="time_constant_s"):
         SpeakerNormConfig(enabled=True, time_constant_s=0.0)
+
+
+def test_a_warm_start_averages_the_speech_heard_until_one_time_constant():
+    normalizer = SpeakerNormalizer(1, SpeakerNormConfig(enabled=True, time_constant_s=1.0, warm_start=True), FPS)
+    speech = np.linspace(-30.0, -20.0, 2 * FPS)[:, None]  # (60, 1): two time constants of speech
+    out = normalizer.update(speech, np.ones(2 * FPS, bool))
+    assert out[0, 0] == 0.0  # the first speech frame is its own mean: no pull from the prior
+    np.testing.assert_allclose(speech[:FPS, 0] - out[:FPS, 0], np.cumsum(speech[:FPS, 0]) / np.arange(1, FPS + 1))
+    mean = speech[:FPS, 0].mean()
+    for value in speech[FPS:, 0]:  # then the usual EMA with weight 1 / (τ fps)
+        mean += (value - mean) / FPS
+    np.testing.assert_allclose(normalizer.mean, [mean])
+    normalizer.reset()
+    assert normalizer.speech_frames == 0
+
+
+def test_bundles_without_a_warm_start_keep_the_prior():
+    saved = NORMALISED.to_dict()
+    del saved["speaker_norm"]["warm_start"]
+    assert FeatureConfig.from_dict(saved).speaker_norm.warm_start is False

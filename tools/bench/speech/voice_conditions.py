@@ -6,8 +6,8 @@
   :mod:`gesturecast.models.dataset.voice_transforms`). The motion generated for a transformed version
   is scored against the **original** audio's loudness and onsets: the transforms keep words, timing
   and prosody, so the motion should follow the same envelope.
-- Unseen voices: the clips of the held-out SHOW speakers (``SHOW_HELD_OUT_SPEAKERS``), the ZeroEGGS
-  Flirty recording, the synthetic espeak voices one by one and all joined with 1.5 s pauses.
+- Unseen voices (:mod:`gesturecast.tools.bench.speech.voice_set`): voice groups written down before any
+  choice was made, in a held-out split (scored, never chosen on) and a dev split (may be chosen on).
 """
 
 from __future__ import annotations
@@ -20,18 +20,14 @@ import numpy as np
 
 from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
 from gesturecast.models.dataset import voice_transforms as vt
-from gesturecast.models.dataset.cache import DEFAULT_SPLIT
-from gesturecast.models.dataset.sources import SHOW_HELD_OUT_SPEAKERS, show_speaker
+from gesturecast.models.dataset.cache import DEFAULT_SPLIT, INDEX_FILE, load_take, read_index
 from gesturecast.models.generator.styles import canonical_style
+from gesturecast.tools.bench.speech.voice_set import voice_audio
 from gesturecast.tools.eval.clips import EvalClip, held_out_clips
 
 SR = SAMPLE_RATE
 FORMANT_FACTOR = 1.15  # ±15 % vocal-tract length: about the adult female / male difference
 NOISE_SEED = 11  # noise and reverb draws are fixed: every model hears the same transformed audio
-JOIN_GAP_S = 1.5
-FLIRTY = "zeggs/037_Flirty_1_x_1_0.wav"
-ESPEAK = "speech/*.wav"
-SHOW = "show/*.wav"
 ZEGGS_UPPER = "zeggs_upper/*.wav"
 ZEGGS_UPPER_STYLE = "Neutral"  # both takes (zeggs_upper/README.md)
 
@@ -59,6 +55,7 @@ class VoiceCase:
     reference: np.ndarray  # (N,) the clean speech its motion is scored against
     style: str
     positions: np.ndarray | None = None  # (T, J, 3) real motion (originals of paired takes only)
+    voice: str = ""  # the voice heard, where it differs from the file (unseen voices)
 
 
 def upper_body_held_out(shared: Path) -> list[EvalClip]:
@@ -81,25 +78,25 @@ def transformed_cases(cache: Path, shared: Path, transforms: dict[str, Transform
     return cases
 
 
-def _joined(audios: list[np.ndarray], gap_s: float) -> np.ndarray:
-    gap = np.zeros(int(round(gap_s * SR)), np.float32)
-    return np.concatenate([part for audio in audios for part in (audio, gap)])
+def recorded_motion(cache: Path) -> dict[str, np.ndarray]:
+    """Real motion (T, J, 3) of the cache's takes that came with a recording, by the recording's path under the
+    shared folder (``show/NAME.wav``); empty without a cache. SHOW takes hold reliable arms only (docs/dataset.md)."""
+    if not (cache / INDEX_FILE).is_file():
+        return {}
+    takes = [record for record in read_index(cache)["takes"] if record["dataset"] == "show"]
+    return {f"show/{record['name']}.wav": load_take(cache, record)[0].positions() for record in takes}
 
 
-def unseen_cases(shared: Path) -> list[VoiceCase]:
-    """Held-out SHOW speakers, Flirty, espeak single files and joined (whatever of them ``shared`` holds)."""
+def voice_set_cases(split: str, shared: Path, cache: Path) -> list[VoiceCase]:
+    """The unseen voices of one split of :mod:`voice_set`: the condition is the voice group, the file the source
+    recording (a re-recorded channel variant shares its source's, so it is never its own chance reference).
+    A whole single recording whose motion the cache holds carries it as the real motion."""
+    motion = recorded_motion(cache)
     cases = []
-    for path in sorted(shared.glob(SHOW)):
-        if show_speaker(path.stem) in SHOW_HELD_OUT_SPEAKERS:
-            audio = load_audio(path)
-            cases.append(VoiceCase("show held-out speakers", path.name, audio, audio, UNSEEN_STYLE))
-    for path in sorted(shared.glob(FLIRTY)):
-        audio = load_audio(path)
-        cases.append(VoiceCase("flirty", path.name, audio, audio, UNSEEN_STYLE))
-    espeak = [load_audio(path) for path in sorted(shared.glob(ESPEAK))]
-    cases += [VoiceCase("espeak single", path.name, audio, audio, UNSEEN_STYLE)
-              for path, audio in zip(sorted(shared.glob(ESPEAK)), espeak, strict=True)]
-    if espeak:
-        joined = _joined(espeak, JOIN_GAP_S)
-        cases.append(VoiceCase("espeak joined", "espeak_joined", joined, joined, UNSEEN_STYLE))
+    for item in voice_audio(split, shared):
+        voice = item.voice
+        source = voice.channel.of if voice.channel is not None else voice.name
+        whole = voice.channel is None and voice.span_s is None and len(voice.files) == 1
+        cases.append(VoiceCase(voice.group, source, item.heard, item.reference, UNSEEN_STYLE,
+                               motion.get(voice.files[0]) if whole else None, voice=voice.name))
     return cases

@@ -1,7 +1,10 @@
 """``gesturecast bench voices``: does the motion follow the speech whoever speaks, and through any channel?
 
-For every condition of :mod:`gesturecast.tools.bench.speech.voice_conditions` and every seed, motion is
-generated through the product's offline path (``run_offline``, DDIM K, the bundle's guidance) and scored:
+``--set held-out`` (the default) scores the held-out unseen voices of
+:mod:`gesturecast.tools.bench.speech.voice_set` per voice group, ``--set dev`` the voices that may be chosen on,
+``--set transforms`` the held-out paired segments and nine voice/channel transforms of them
+(:mod:`gesturecast.tools.bench.speech.voice_conditions`). For every case and every seed, motion is generated
+through the product's offline path (``run_offline``, DDIM K, the bundle's guidance) and scored:
 
 - ``r``: the speech-following measure (:mod:`gesturecast.models.evaluation.speech_following`: Pearson r of
   smoothed upper-body speed vs the reference speech's loudness, best lag within ±0.5 s);
@@ -12,7 +15,8 @@ generated through the product's offline path (``run_offline``, DDIM K, the bundl
 - ``bc``: BEAT beat consistency against the reference speech's onsets;
 - ``rest``: mean upper-body speed in the reference's pauses (the runtime's speaking flag off) over its
   mean speed while speaking (< 1: the avatar calms down in pauses); only where ≥ 1 s of pause exists.
-One JSON object (``--json``) and a picture (``--plot``); nothing is asserted. Definitions: docs/voices.md.
+Each group's (condition's) numbers are means over its recordings and seeds; ``overall`` weighs every voice group
+equally. One JSON object (``--json``) and a picture (``--plot``); nothing is asserted. Definitions: docs/voices.md.
 """
 
 from __future__ import annotations
@@ -45,8 +49,9 @@ from gesturecast.tools.bench.speech.voice_conditions import (
     TRANSFORMS,
     VoiceCase,
     transformed_cases,
-    unseen_cases,
+    voice_set_cases,
 )
+from gesturecast.tools.bench.speech.voice_set import HELD_OUT, SPLITS
 from gesturecast.tools.data_cli import DEFAULT_CACHE, DEFAULT_SHARED
 from gesturecast.tools.eval.clips import EvalClip
 from gesturecast.tools.eval.generate import generate_offline
@@ -55,7 +60,8 @@ from gesturecast.tools.render.plot_voices import VoiceTrace, plot_voice_traces
 DEFAULT_SEEDS = "0,1,2"
 MIN_PAUSE_S = 1.0
 PLOT_SECONDS = 20.0
-PLOT_UNSEEN = ("show held-out speakers", "flirty", "espeak joined")  # the first present is pictured
+PLOT_ROWS = 3  # the first case of the first three conditions
+TRANSFORMS_SET = "transforms"
 FOLLOWING = FollowingConfig()
 
 
@@ -64,10 +70,14 @@ def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--bundle", type=Path, default=DEFAULT_MODEL_DIR, help="model bundle (default: bundled)")
     parser.add_argument("--cache", type=Path, default=DEFAULT_CACHE, help="dataset cache (held-out segments)")
     parser.add_argument("--shared", type=Path, default=DEFAULT_SHARED, help="shared data folder (unseen voices)")
+    parser.add_argument("--set", dest="voice_set", choices=[*SPLITS, TRANSFORMS_SET], default=HELD_OUT,
+                        help="held-out unseen voices per group (default), the dev voices, or the paired held-out "
+                             "segments under nine voice/channel transforms")
     parser.add_argument("--seeds", default=DEFAULT_SEEDS, help="comma-separated generation seeds")
     parser.add_argument("--steps", type=int, default=4, help="DDIM steps K")
     parser.add_argument("--audio-guidance", type=float, default=DEFAULT_AUDIO_GUIDANCE,
                         help="audio guidance scale s_a (1: off)")
+    parser.add_argument("--guidance", type=float, help="style guidance scale s (default: the bundle's)")
     parser.add_argument("--json", type=Path, help="also write the result here")
     parser.add_argument("--plot", type=Path, help="PNG: loudness and generated speed for three voices")
     parser.set_defaults(func=run_bench)
@@ -110,17 +120,30 @@ def _mean(rows: list[dict], key: str) -> float | None:
     return round(float(np.mean(values)), 4) if values else None
 
 
-def condition_summary(rows: list[dict], original_r: dict[str, float]) -> dict:
-    """One condition's means; the seed spread is the s.d. of the per-seed means of r."""
-    per_seed = [_mean([row for row in rows if row["seed"] == seed], "r") for seed in sorted({r["seed"] for r in rows})]
+def _seed_sd(rows: list[dict], key: str) -> float | None:
+    """The s.d. over seeds of the per-seed means of ``key``."""
+    per_seed = [_mean([row for row in rows if row["seed"] == seed], key) for seed in sorted({r["seed"] for r in rows})]
     per_seed = [value for value in per_seed if value is not None]
+    return round(float(np.std(per_seed)), 4) if per_seed else None
+
+
+def condition_summary(rows: list[dict], original_r: dict[str, float]) -> dict:
+    """One condition's means; the seed spreads are the s.d. of the per-seed means of r and of the margin."""
     r, chance = _mean(rows, "r"), _mean(rows, "chance")
     originals = [original_r[row["file"]] for row in rows if row["file"] in original_r]
     ratio = None if r is None or not originals or np.mean(originals) <= 0 else round(r / float(np.mean(originals)), 3)
-    return {"r": r, "r_seed_sd": round(float(np.std(per_seed)), 4) if per_seed else None, "chance": chance,
-            "margin": None if r is None or chance is None else round(r - chance, 4), "ratio_to_original": ratio,
+    margins = [{**row, "margin": row["r"] - row["chance"]} for row in rows
+               if row["r"] is not None and row["chance"] is not None]
+    return {"r": r, "r_seed_sd": _seed_sd(rows, "r"), "chance": chance,
+            "margin": None if r is None or chance is None else round(r - chance, 4),
+            "margin_seed_sd": _seed_sd(margins, "margin"), "ratio_to_original": ratio,
             "bc": _mean(rows, "bc"), "rest": _mean(rows, "rest"), "files": len({row["file"] for row in rows}),
             "rows": len(rows)}
+
+
+def overall(groups: dict[str, dict]) -> dict:
+    """Every group weighed equally: the mean of the groups' r, chance, margin, bc and rest."""
+    return {key: _mean(list(groups.values()), key) for key in ("r", "chance", "margin", "bc", "rest")}
 
 
 def summarise(rows: list[dict]) -> dict:
@@ -143,42 +166,57 @@ def trace(title: str, audio: np.ndarray, positions: np.ndarray) -> VoiceTrace:
     return VoiceTrace(title, moving_average(loudness, width), moving_average(speed, width), MOTION_FPS)
 
 
-def picture(cases: list[VoiceCase], motion: dict[tuple[str, str], np.ndarray], out: Path, bundle: Path) -> Path:
-    """Original voice, its −4 st shift and the first unseen voice of PLOT_UNSEEN (seed of the first row)."""
-    first = next(case for case in cases if case.condition == ORIGINAL)
-    chosen = [first, next(c for c in cases if c.condition == "pitch -4 st" and c.file == first.file)]
-    chosen += [next(c for c in cases if c.condition == group) for group in PLOT_UNSEEN
-               if any(c.condition == group for c in cases)][:1]
-    traces = [trace(f"{case.condition}: {case.file}", case.heard, motion[(case.condition, case.file)])
+def case_key(case: VoiceCase) -> tuple[str, str, str]:
+    return case.condition, case.file, case.voice
+
+
+def picture(cases: list[VoiceCase], motion: dict[tuple[str, str, str], np.ndarray], out: Path, bundle: Path) -> Path:
+    """The first case of each of the first PLOT_ROWS conditions (the first seed's motion)."""
+    conditions = list(dict.fromkeys(case.condition for case in cases))[:PLOT_ROWS]
+    chosen = [next(case for case in cases if case.condition == condition) for condition in conditions]
+    traces = [trace(f"{case.condition}: {case.voice or case.file}", case.heard, motion[case_key(case)])
               for case in chosen]
     return plot_voice_traces(traces, out, f"bench voices: {bundle}")
 
 
+def bench_cases(voice_set: str, cache: Path, shared: Path) -> list[VoiceCase]:
+    """The cases of ``--set``."""
+    if voice_set == TRANSFORMS_SET:
+        return transformed_cases(cache, shared, TRANSFORMS)
+    return voice_set_cases(voice_set, shared, cache)
+
+
 def voices_report(bundle_dir: Path, cache: Path, shared: Path, seeds: list[int], steps: int,
-                  audio_guidance: float = DEFAULT_AUDIO_GUIDANCE, plot: Path | None = None) -> dict:
+                  audio_guidance: float = DEFAULT_AUDIO_GUIDANCE, plot: Path | None = None,
+                  voice_set: str = HELD_OUT, guidance: float | None = None) -> dict:
     bundle = load_bundle(bundle_dir)
     sampler = SamplerConfig("ddim", steps)
     started = time.perf_counter()
-    cases = [*transformed_cases(cache, shared, TRANSFORMS), *unseen_cases(shared)]
+    cases = bench_cases(voice_set, cache, shared)
     references = {case.file: case.reference for case in cases}
     rows, real, first_motion = [], [], {}
     for case in cases:
         onsets = speech_onsets(case.reference, SAMPLE_RATE)
         if case.positions is not None:
-            real.append({"condition": case.condition, "file": case.file, "seed": -1,
+            real.append({"condition": case.condition, "file": case.file, "voice": case.voice, "seed": -1,
                          **score_case(case.positions, case, onsets, references)})
         for seed in seeds:
             clip = EvalClip(case.file, case.heard, case.style)
-            positions = generate_offline(bundle, sampler, clip, case.style, seed, audio_guidance).positions
-            first_motion.setdefault((case.condition, case.file), positions)
-            rows.append({"condition": case.condition, "file": case.file, "seed": seed,
+            positions = generate_offline(bundle, sampler, clip, case.style, seed, audio_guidance,
+                                         guidance=guidance).positions
+            first_motion.setdefault(case_key(case), positions)
+            rows.append({"condition": case.condition, "file": case.file, "voice": case.voice, "seed": seed,
                          **score_case(positions, case, onsets, references)})
+    conditions = summarise(rows)
     report = {
-        "bundle": str(bundle_dir), "sampler": f"ddim K={steps}", "audio_guidance": audio_guidance, "seeds": seeds,
+        "bundle": str(bundle_dir), "set": voice_set, "sampler": f"ddim K={steps}", "audio_guidance": audio_guidance,
+        "guidance": guidance, "seeds": seeds,
         "metric": "r: Pearson r of smoothed upper-body speed vs the clean reference speech's RMS dB, best lag "
                   "within ±0.5 s; chance: the same motion against the other recordings; ratio: r / r(original) "
                   "on the same files; rest: speed in pauses / while speaking; bc: BEAT beat consistency",
-        "conditions": summarise(rows),
+        "conditions": conditions,
+        "overall": overall({name: row for name, row in conditions.items()
+                            if name != ORIGINAL and name not in TRANSFORMS}),
         "real_motion": summarise(real),
         "per_file": rows,
         "seconds": round(time.perf_counter() - started, 1),
@@ -190,7 +228,8 @@ def voices_report(bundle_dir: Path, cache: Path, shared: Path, seeds: list[int],
 
 def run_bench(args: argparse.Namespace) -> int:
     seeds = [int(value) for value in args.seeds.split(",")]
-    report = voices_report(args.bundle, args.cache, args.shared, seeds, args.steps, args.audio_guidance, args.plot)
+    report = voices_report(args.bundle, args.cache, args.shared, seeds, args.steps, args.audio_guidance, args.plot,
+                           args.voice_set, args.guidance)
     text = json.dumps(report, indent=1)
     if args.json is not None:
         write_text_atomic(args.json, text + "\n")

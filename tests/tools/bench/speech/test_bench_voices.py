@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -16,12 +17,18 @@ from dataset_fixtures import make_zeggs_folder  # noqa: E402
 
 from gesturecast.models.audio.files import SAMPLE_RATE, load_audio  # noqa: E402
 from gesturecast.models.dataset.cache import build_dataset  # noqa: E402
-from gesturecast.models.dataset.sources import zeggs_takes  # noqa: E402
-from gesturecast.tools.bench.speech.voice_conditions import TRANSFORMS  # noqa: E402
+from gesturecast.models.dataset.sources import show_takes, zeggs_takes  # noqa: E402
+from gesturecast.tools.bench.speech.voice_conditions import (  # noqa: E402
+    TRANSFORMS,
+    recorded_motion,
+    voice_set_cases,
+)
+from gesturecast.tools.bench.speech.voice_set import DEV, VOICES  # noqa: E402
 
 pytest.importorskip("librosa")
 pytest.importorskip("matplotlib")
 PAIRED_FRAMES = 400  # 13.3 s: the held-out final 15 % is 2 s
+needs_espeak = pytest.mark.skipif(shutil.which("espeak-ng") is None, reason="espeak-ng is not installed")
 
 
 def cut_voice(source: Path, target: Path, seconds: float) -> None:
@@ -35,27 +42,26 @@ def voices_inputs(tmp_path_factory, shared_data) -> tuple[Path, Path]:
     folder = make_zeggs_folder(root / "zeggs_src", shared_data / "zeggs", {"001_Neutral_0": "Neutral"}, PAIRED_FRAMES)
     build_dataset(zeggs_takes(folder), root / "dataset", progress=False)
     shared = root / "shared"
-    cut_voice(shared_data / "show" / "seth_98201-00_04_32-00_04_42.wav", shared / "show" / "seth_1.wav", 2.5)
-    cut_voice(shared_data / "show" / "oliver_214542-00_01_17-00_01_27.wav", shared / "show" / "oliver_1.wav", 2.5)
-    cut_voice(shared_data / "zeggs" / "037_Flirty_1_x_1_0.wav", shared / "zeggs" / "037_Flirty_1_x_1_0.wav", 3.0)
     cut_voice(shared_data / "zeggs_upper" / "001_Neutral_0_x_1_0.wav", shared / "zeggs_upper" / "001_x.wav", 14.0)
-    for name in ("tts_01_en-us.wav", "tts_03_en-gb.wav"):
-        cut_voice(shared_data / "speech" / name, shared / "speech" / name, 2.5)
+    for name in {name for voice in VOICES if voice.split == DEV for name in voice.files}:
+        cut_voice(shared_data / name, shared / name, 2.5)
     return root / "dataset", shared
 
 
-def test_bench_voices_scores_every_condition(tiny_model, voices_inputs, tmp_path):
+def run_voices(bundle: Path, cache: Path, shared: Path, out: Path, *options: str) -> dict:
+    subprocess.run([sys.executable, "-m", "gesturecast.cli", "bench", "voices", "--bundle", str(bundle), "--cache",
+                    str(cache), "--shared", str(shared), "--seeds", "0,1", "--json", str(out), *options],
+                   check=True, capture_output=True, text=True)
+    return json.loads(out.read_text())
+
+
+def test_bench_voices_scores_every_transform(tiny_model, voices_inputs, tmp_path):
     _, bundle = tiny_model
     cache, shared = voices_inputs
-    out, plot = tmp_path / "voices.json", tmp_path / "voices.png"
-    subprocess.run([sys.executable, "-m", "gesturecast.cli", "bench", "voices", "--bundle", str(bundle), "--cache",
-                    str(cache), "--shared", str(shared), "--seeds", "0,1", "--json", str(out), "--plot", str(plot)],
-                   check=True, capture_output=True, text=True)
-    report = json.loads(out.read_text())
+    plot = tmp_path / "voices.png"
+    report = run_voices(bundle, cache, shared, tmp_path / "voices.json", "--set", "transforms", "--plot", str(plot))
     conditions = report["conditions"]
-    expected = {"original", *TRANSFORMS, "show held-out speakers", "flirty", "espeak single", "espeak joined"}
-    assert set(conditions) == expected
-    assert conditions["show held-out speakers"]["files"] == 1  # oliver is not a held-out speaker
+    assert set(conditions) == {"original", *TRANSFORMS}
     assert conditions["original"]["ratio_to_original"] == 1.0
     assert conditions["original"]["files"] == 2  # the cached take's test segment and zeggs_upper's final 15 %
     for name in TRANSFORMS:
@@ -63,6 +69,36 @@ def test_bench_voices_scores_every_condition(tiny_model, voices_inputs, tmp_path
         assert row["rows"] == 4 and np.isfinite(row["chance"])
         if row["r"] is not None and conditions["original"]["r"] > 0:
             assert row["ratio_to_original"] == pytest.approx(row["r"] / conditions["original"]["r"], abs=2e-3)
-    assert conditions["espeak joined"]["rest"] is not None  # 1.5 s pauses
     assert report["real_motion"]["original"]["rows"] == 1
     assert plot.stat().st_size > 10_000
+
+
+@needs_espeak
+def test_bench_voices_scores_each_voice_group_against_chance(tiny_model, voices_inputs, tmp_path):
+    _, bundle = tiny_model
+    cache, shared = voices_inputs
+    report = run_voices(bundle, cache, shared, tmp_path / "dev.json", "--set", "dev", "--guidance", "1")
+    dev = [voice for voice in VOICES if voice.split == DEV]
+    assert report["set"] == "dev" and report["guidance"] == 1.0
+    groups = report["conditions"]
+    assert set(groups) == {voice.group for voice in dev}
+    assert sum(group["files"] for group in groups.values()) == len(dev)
+    for group in groups.values():
+        assert group["rows"] == 2 * group["files"] and np.isfinite(group["chance"])
+        assert group["margin"] == pytest.approx(group["r"] - group["chance"], abs=2e-4)
+    assert groups["tts english"]["rest"] is not None  # espeak-ng sentences joined with ≥ 0.7 s pauses
+    means = [groups[name]["margin"] for name in groups]
+    assert report["overall"]["margin"] == pytest.approx(np.mean(means), abs=2e-4)
+
+
+@needs_espeak
+def test_whole_show_recordings_carry_their_cached_real_motion(shared_data, tmp_path):
+    build_dataset(show_takes(shared_data / "show"), tmp_path / "cache", progress=False)
+    motion = recorded_motion(tmp_path / "cache")
+    seth = motion["show/seth_98201-00_04_32-00_04_42.wav"]
+    assert seth.ndim == 3 and seth.shape[0] == 300 and seth.shape[2] == 3  # (T, J, 3): 10 s at 30 fps
+    cases = voice_set_cases(DEV, shared_data, tmp_path / "cache")
+    carrying = {case.voice for case in cases if case.positions is not None}
+    assert carrying == {voice.name for voice in VOICES if voice.split == DEV and voice.files
+                        and voice.files[0].startswith("show/")}
+    assert recorded_motion(tmp_path / "no_cache") == {}
