@@ -79,6 +79,14 @@ from gesturecast.models.motion.body_parts import PART_NAMES
 from gesturecast.models.motion.motion import MOTION_FPS, Motion
 from gesturecast.models.motion.motion_features import FEATURE_DIM, facing_yaw, rotate_planar
 from gesturecast.models.motion.skeleton import CANONICAL
+from gesturecast.models.runtime.lexicon_checks import (
+    MIN_CLIP_S,
+    ClipArchive,
+    built_fps,
+    check_built_item,
+    inside,
+    user_clip_path,
+)
 
 FORMAT_VERSION = 1
 LEXICON_FILE = "lexicon.json"
@@ -617,12 +625,20 @@ def _fail(path: Path, message: str) -> UserError:
 
 
 def _read_json(path: Path, limit: int, what: str) -> object:
+    """The JSON of ``path``; integers of more digits than a float holds exactly come as floats (a 400-digit one as
+    inf, which every numeric field refuses), and nesting too deep for the parser is one line."""
     try:
-        return json.loads(read_bounded(path, limit, what).decode("utf-8"))
+        return json.loads(read_bounded(path, limit, what).decode("utf-8"), parse_int=_json_int)
     except UnicodeDecodeError as error:
         raise _fail(path, f"not UTF-8 text ({error.reason})") from None
     except json.JSONDecodeError as error:
         raise _fail(path, f"not valid JSON: {error.msg} (line {error.lineno})") from None
+    except RecursionError:
+        raise _fail(path, "not valid JSON: nested too deep") from None
+
+
+def _json_int(digits: str) -> int | float:
+    return int(digits) if len(digits) <= 15 else float(digits)
 
 
 def read_built_lexicon(folder: Path) -> Lexicon:
@@ -635,16 +651,17 @@ def read_built_lexicon(folder: Path) -> Lexicon:
     if raw.get("format_version") != FORMAT_VERSION:
         raise _fail(path, f"format_version {raw.get('format_version')!r} is not {FORMAT_VERSION}; rebuild it with "
                           "`gesturecast gestures build`")
-    clips_path = folder / str(raw.get("clips", CLIPS_FILE))
-    if not clips_path.is_file():
-        raise _fail(clips_path, "missing (the lexicon's clips)")
+    clips_path = inside(folder, str(raw.get("clips", CLIPS_FILE)))
+    if clips_path is None or not clips_path.is_file():
+        raise _fail(path, f"'clips' {raw.get('clips', CLIPS_FILE)!r} is not a file in {folder}")
     if clips_path.stat().st_size > MAX_LEXICON_BYTES:
         raise _fail(clips_path, "larger than 64 MiB, more than a gesture lexicon holds")
-    fps = float(raw.get("fps", MOTION_FPS))
+    fps = built_fps(raw.get("fps", MOTION_FPS), path)
     entries = {}
     try:
-        with np.load(clips_path, allow_pickle=False) as clips:
-            for item in raw["gestures"]:
+        with ClipArchive(clips_path) as clips:
+            for index, item in enumerate(raw["gestures"]):
+                check_built_item(item, index, path)
                 variants = []
                 for v in item["variants"]:
                     features = clips[v["clip"]]
@@ -690,9 +707,7 @@ def _user_entry(name: str, item: object, folder: Path, mapping: Path,
     clip = item.get("clip")
     if not isinstance(clip, str) or not clip:
         raise _fail(mapping, f"{where}: 'clip' must name a motion file in {folder}")
-    clip_path = folder / clip
-    if not clip_path.is_file():
-        raise _fail(mapping, f"{where}: 'clip' file not found: {clip_path}")
+    clip_path = user_clip_path(folder, clip, where, mapping)
     triggers = item.get("triggers")
     if isinstance(triggers, str):
         triggers = [triggers]
@@ -715,8 +730,9 @@ def _user_entry(name: str, item: object, folder: Path, mapping: Path,
     if style is None:
         raise _fail(mapping, f"{where}: 'style' {item.get('style')!r} is not a known style")
     motion = read(clip_path)
-    if motion.num_frames < 2:
-        raise _fail(mapping, f"{where}: 'clip' {clip} holds fewer than 2 frames")
+    if motion.num_frames < 2 or motion.duration < MIN_CLIP_S:
+        raise _fail(mapping, f"{where}: 'clip' {clip} holds {motion.num_frames} frames ({motion.duration:.2f} s); a "
+                             f"gesture clip is at least {MIN_CLIP_S} s")
     stroke = item.get("stroke")
     if stroke is None:
         stroke_index = stroke_frame(pose_distance(body_frame_positions(motion)))
