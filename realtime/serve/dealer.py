@@ -28,6 +28,7 @@ logger = logging.getLogger(__name__)
 
 DEAL = b"c"  # the one byte that carries each passed socket
 ACCEPT_POLL_S = 0.25  # how often the dealer looks for its stop while no client connects
+WAIT_FOR_WORKER_S = 15.0  # a connection that arrives while no worker is ready waits this long for one
 STOP_TIMEOUT_S = 5.0
 
 
@@ -66,9 +67,10 @@ def fewest(slots: list[WorkerSlot]) -> WorkerSlot | None:
 
 class ConnectionDealer:
     """Parent side: a thread that accepts on ``listener`` and passes each connection to a ready worker (``slots``,
-    guarded by ``lock``: the supervisor replaces a dead worker's process and channel under it)."""
+    guarded by ``lock``: the supervisor replaces a dead worker's process and channel under it, and notifies it when
+    a worker becomes ready)."""
 
-    def __init__(self, listener: socket.socket, slots: list[WorkerSlot], lock: threading.Lock) -> None:
+    def __init__(self, listener: socket.socket, slots: list[WorkerSlot], lock: threading.Condition) -> None:
         self.listener = listener
         self.slots = slots
         self.lock = lock
@@ -85,7 +87,9 @@ class ConnectionDealer:
 
     def close(self) -> None:
         """Stop accepting (clients that connect after this are refused by the closed port)."""
-        self._stop.set()
+        with self.lock:
+            self._stop.set()
+            self.lock.notify_all()  # a connection waiting for a worker gives up now
         if self._thread.ident is not None:  # started
             self._thread.join(STOP_TIMEOUT_S)
         self.listener.close()
@@ -104,9 +108,11 @@ class ConnectionDealer:
 
     def _pass(self, connection: socket.socket) -> None:
         """Pass ``connection`` to the ready worker with the fewest; one that cannot take it (it died a moment ago)
-        is marked not ready and the next is tried. With none ready the client sees its connection closed."""
+        is marked not ready and the next is tried. With none ready it waits up to WAIT_FOR_WORKER_S for one (the
+        clients behind it wait in the listen queue), then the client sees its connection closed."""
         for _ in self.slots:
             with self.lock:
+                self.lock.wait_for(lambda: self._stop.is_set() or fewest(self.slots) is not None, WAIT_FOR_WORKER_S)
                 slot = fewest(self.slots)
                 if slot is None:
                     break
@@ -123,7 +129,8 @@ class ConnectionDealer:
                     slot.ready = False
                 logger.warning("could not pass a connection to worker-%d (%s); trying another", slot.index, error)
         self.unserved += 1
-        logger.warning("no worker is ready (restarting); closed a connection (%d so far)", self.unserved)
+        logger.warning("no worker became ready within %.0f s; closed a connection (%d so far)", WAIT_FOR_WORKER_S,
+                       self.unserved)
 
 
 class WorkerLink:

@@ -106,7 +106,7 @@ class Workers:
         self._worker_args = (settings, replace(config, port=self.port, dealt=True),
                              logging.getLogger().getEffectiveLevel())
         self.count = count
-        self.lock = threading.Lock()  # the slots' state: the dealer reads it, the supervisor changes it
+        self.lock = threading.Condition()  # the slots' state: the dealer reads it, the supervisor changes it
         self.slots: list[WorkerSlot] = []
         self.dealer = ConnectionDealer(self._listener, self.slots, self.lock)
         self.served: list[dict] = []  # the closed streams' stats the workers reported as they stopped
@@ -205,6 +205,7 @@ class Workers:
         with self.lock:
             if kind == "ready":
                 slot.ready, slot.ready_at = True, time.monotonic()
+                self.lock.notify_all()  # a connection may be waiting for a ready worker
                 logger.info("worker-%d ready (pid %d)", slot.index, detail)
             elif kind == "closed":
                 slot.open = max(slot.open - 1, 0)

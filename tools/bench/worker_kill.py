@@ -6,9 +6,10 @@ streaming ``--stream-seconds`` of the bundled sample at real-time pace, ending, 
 would. Then SIGTERM goes to the parent, and the seconds until every process of the service has ended are timed.
 
 Reported (JSON): each kill's seconds until its replacement was ready; the connections by outcome (``served``: the
-stream's stats arrived; ``cut``: it ended without them, its worker killed under it; ``refused``: no hello); the
-connections begun while every worker was ready and not cut by a kill during their life, and how many of those
-were not served (0 is the goal); the stop's seconds, exit status and processes left running.
+stream's stats arrived; ``cut``: it ended without them, its worker killed under it; ``refused``: no hello, the
+client tries again after :data:`REFUSED_PAUSE_S`) and when the refused ones began; the connections begun while
+every worker was ready and not cut by a kill during their life, and those of them not served (none is the goal);
+the stop's seconds, exit status and processes left running.
 """
 
 from __future__ import annotations
@@ -35,6 +36,7 @@ CHUNK = 1600  # 100 ms per audio message
 START_TIMEOUT_S = 300.0
 OPEN_TIMEOUT_S = 10.0
 STATS_TIMEOUT_S = 30.0
+REFUSED_PAUSE_S = 0.5  # a refused client tries again after this (not in a tight loop)
 READY = re.compile(r"worker-(\d+) ready \(pid (\d+)\)")
 
 
@@ -99,14 +101,16 @@ async def one_connection(url: str, audio: np.ndarray, origin: float) -> Connecti
             json.loads(await asyncio.wait_for(websocket.recv(), OPEN_TIMEOUT_S))
             outcome = "cut"
             sending = asyncio.create_task(send_audio(websocket, audio))
-            async for message in websocket:
-                if isinstance(message, bytes):
-                    frames += 1
-                elif json.loads(message).get("type") == "stats":
-                    outcome = "served"
-                    break
-            sending.cancel()
-            await asyncio.gather(sending, return_exceptions=True)  # its own end (the connection closed) is no news
+            try:
+                async for message in websocket:
+                    if isinstance(message, bytes):
+                        frames += 1
+                    elif json.loads(message).get("type") == "stats":
+                        outcome = "served"
+                        break
+            finally:
+                sending.cancel()
+                await asyncio.gather(sending, return_exceptions=True)  # its end (the connection closed) is no news
     except Exception:  # noqa: BLE001 - any failure (refused, reset, timed out) is an outcome here
         pass
     return Connection(start, time.monotonic() - origin, outcome, frames)
@@ -124,7 +128,9 @@ async def client(url: str, audio: np.ndarray, origin: float, until: float, index
     done = []
     while time.monotonic() < until:
         done.append(await asyncio.wait_for(one_connection(f"{url}c{index}-{len(done)}", audio, origin),
-                                           len(audio) / SAMPLE_RATE + STATS_TIMEOUT_S))
+                                           len(audio) / SAMPLE_RATE + STATS_TIMEOUT_S + OPEN_TIMEOUT_S))
+        if done[-1].outcome == "refused":
+            await asyncio.sleep(REFUSED_PAUSE_S)
     return done
 
 
@@ -194,5 +200,6 @@ def summary(args: argparse.Namespace, kills: list[dict], connections: list[Conne
             "kill_every_s": args.kill_every, "kills": kills,
             "respawn_s": [None if k["ready_at"] is None else k["ready_at"] - k["at"] for k in kills],
             "connections": len(connections), "outcomes": outcomes,
+            "refused_at_s": [round(c.start, 2) for c in connections if c.outcome == "refused"],
             "begun_with_all_ready_and_not_cut": len(calm),
             "of_those_not_served": [asdict(c) for c in calm if c.outcome != "served"]}

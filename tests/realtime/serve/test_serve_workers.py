@@ -46,6 +46,18 @@ def test_connections_go_to_the_worker_holding_fewest_also_after_some_close(tiny_
         workers.stop()
 
 
+def test_a_connection_made_while_no_worker_is_ready_waits_for_the_replacement(tiny_model, wait_until):
+    workers = Workers(Settings(model=tiny_model[1], steps=2), ServeConfig(host="127.0.0.1", port=0), 1).start()
+    try:
+        os.kill(workers.processes[0].pid, signal.SIGKILL)
+        assert wait_until(lambda: not workers.slots[0].ready)  # seen dead: no worker is ready now
+        with ExitStack() as connections:
+            hello(connections, f"ws://127.0.0.1:{workers.port}/stream/", "waits")  # served by the replacement
+        assert workers.respawns == 1 and workers.dealer.unserved == 0
+    finally:
+        workers.stop()
+
+
 def started_workers(server, count: int) -> tuple[str, list[int]]:
     """The stream URL and the worker pids of a ``serve --workers`` process once ``count`` workers are ready (the
     parent has their reports: a worker that ends before that stops the run)."""
