@@ -70,11 +70,11 @@ def started_workers(server, count: int) -> tuple[str, list[int]]:
 def test_a_killed_worker_is_never_dealt_to_is_started_again_and_sigterm_ends_every_process(tiny_model, cli_process):
     server = cli_process(["serve", "--workers", "2", "--port", "0", "--model", str(tiny_model[1])])
     url, pids = started_workers(server, 2)
-    os.kill(pids[0], signal.SIGKILL)  # as the OOM killer would (a connection passed while it dies is lost with it)
-    server.wait_for_stderr(f"(pid {pids[0]}) ended (killed by SIGKILL)", START_BOUND_S)
-    with ExitStack() as connections:
-        for name in ("while-one-is-dead-a", "while-one-is-dead-b"):  # both to the live worker, none lost
+    os.kill(pids[0], signal.SIGKILL)  # as the OOM killer would
+    with ExitStack() as connections:  # at once: one passed while it dies is dealt again, none is lost
+        for name in ("while-one-is-dead-a", "while-one-is-dead-b", "while-one-is-dead-c"):
             hello(connections, url, name)
+    server.wait_for_stderr(f"(pid {pids[0]}) ended (killed by SIGKILL)", START_BOUND_S)
     server.wait_for_stderr(" ready (pid ", START_BOUND_S, count=3)  # the dead worker's replacement
     with ExitStack() as connections:
         for name in ("after-a", "after-b", "after-c"):
