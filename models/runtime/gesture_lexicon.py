@@ -74,7 +74,7 @@ from pathlib import Path
 import numpy as np
 
 from gesturecast.errors import UserError
-from gesturecast.input_files import MIB, read_bounded
+from gesturecast.input_files import MIB
 from gesturecast.models.motion.body_parts import PART_NAMES
 from gesturecast.models.motion.motion import MOTION_FPS, Motion
 from gesturecast.models.motion.motion_features import FEATURE_DIM, facing_yaw, rotate_planar
@@ -85,6 +85,7 @@ from gesturecast.models.runtime.lexicon_checks import (
     built_fps,
     check_built_item,
     inside,
+    read_json,
     user_clip_path,
 )
 
@@ -624,28 +625,11 @@ def _fail(path: Path, message: str) -> UserError:
     return UserError(f"{path}: {message}")
 
 
-def _read_json(path: Path, limit: int, what: str) -> object:
-    """The JSON of ``path``; integers of more digits than a float holds exactly come as floats (a 400-digit one as
-    inf, which every numeric field refuses), and nesting too deep for the parser is one line."""
-    try:
-        return json.loads(read_bounded(path, limit, what).decode("utf-8"), parse_int=_json_int)
-    except UnicodeDecodeError as error:
-        raise _fail(path, f"not UTF-8 text ({error.reason})") from None
-    except json.JSONDecodeError as error:
-        raise _fail(path, f"not valid JSON: {error.msg} (line {error.lineno})") from None
-    except RecursionError:
-        raise _fail(path, "not valid JSON: nested too deep") from None
-
-
-def _json_int(digits: str) -> int | float:
-    return int(digits) if len(digits) <= 15 else float(digits)
-
-
 def read_built_lexicon(folder: Path) -> Lexicon:
     """A lexicon written by :func:`save_lexicon` (numpy + json only)."""
     folder = Path(folder)
     path = folder / LEXICON_FILE
-    raw = _read_json(path, MAX_LEXICON_BYTES, "gesture lexicon")
+    raw = read_json(path, MAX_LEXICON_BYTES, "gesture lexicon")
     if not isinstance(raw, dict) or not isinstance(raw.get("gestures"), list):
         raise _fail(path, "not a gesture lexicon (no 'gestures' list)")
     if raw.get("format_version") != FORMAT_VERSION:
@@ -754,7 +738,7 @@ def read_user_lexicon(folder: Path, read: Callable[[Path], Motion] | None = None
     clips it names, retargeted like the training data. Bad entries raise a one-line :class:`UserError`."""
     folder = Path(folder)
     mapping = folder / USER_MAPPING_FILE
-    raw = _read_json(mapping, MAX_MAPPING_BYTES, "gesture mapping")
+    raw = read_json(mapping, MAX_MAPPING_BYTES, "gesture mapping")
     if not isinstance(raw, dict):
         raise _fail(mapping, "must be a JSON object: gesture name -> {clip, triggers, parts, stroke}")
     joint_map = raw.pop("joint_map", None)

@@ -9,6 +9,7 @@ a header asking for 5 GiB), and a user's clip must be a regular file inside the 
 
 from __future__ import annotations
 
+import json
 import math
 import zipfile
 from pathlib import Path
@@ -16,12 +17,30 @@ from pathlib import Path
 import numpy as np
 
 from gesturecast.errors import UserError
-from gesturecast.input_files import MIB, format_size
+from gesturecast.input_files import MIB, format_size, read_bounded
 
 MAX_CLIPS_VALUES = 64 * MIB  # array values of all a built lexicon's clips together (the shipped one: about 1 M)
 MAX_CLIP_FILE_BYTES = 16 * MIB  # a user's clip is seconds of motion: a 10 s BVH of 70 joints at 120 fps is ~5 MB
 MAX_FPS = 1000.0
 MIN_CLIP_S = 0.25  # a user's clip shorter than this is not a gesture (the model needs a latent's frames at least)
+
+
+def read_json(path: Path, limit: int, what: str) -> object:
+    """The JSON of ``path`` (at most ``limit`` bytes); integers of more digits than a float holds exactly come as
+    floats (a 400-digit one as inf, which every numeric field refuses), and nesting too deep for the parser is one
+    line."""
+    try:
+        return json.loads(read_bounded(path, limit, what).decode("utf-8"), parse_int=_json_int)
+    except UnicodeDecodeError as error:
+        raise UserError(f"{path}: not UTF-8 text ({error.reason})") from None
+    except json.JSONDecodeError as error:
+        raise UserError(f"{path}: not valid JSON: {error.msg} (line {error.lineno})") from None
+    except RecursionError:
+        raise UserError(f"{path}: not valid JSON: nested too deep") from None
+
+
+def _json_int(digits: str) -> int | float:
+    return int(digits) if len(digits) <= 15 else float(digits)
 
 
 def built_fps(value: object, path: Path) -> float:
