@@ -18,7 +18,7 @@ from gesturecast.realtime.timing.clock import MonotonicClock
 from gesturecast.settings import Settings
 
 START_BOUND_S = 120.0  # two workers load the model on a loaded 2-core machine
-STOP_BOUND_S = 10.0  # the bound: SIGTERM ends every process within 10 s
+STOP_BOUND_S = 10.0  # SIGTERM ends every process of the service within 10 s (docs/serve.md)
 
 
 def hello(connections: ExitStack, url: str, stream: str):
