@@ -139,9 +139,10 @@ class ConnectionDealer:
                     slot.untaken.remove(connection)
                 logger.warning("could not pass a connection to worker-%d (%s); trying another", slot.index, error)
         connection.close()
-        self.unserved += 1
-        logger.warning("no worker became ready within %.0f s; closed a connection (%d so far)", WAIT_FOR_WORKER_S,
-                       self.unserved)
+        if not self._stop.is_set():  # stopping closes it without a word
+            self.unserved += 1
+            logger.warning("no worker became ready within %.0f s; closed a connection (%d so far)", WAIT_FOR_WORKER_S,
+                           self.unserved)
 
 
 class WorkerLink:
