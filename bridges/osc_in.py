@@ -169,6 +169,10 @@ class OscControlListener:
             return self._drop("refused", f"gesture {arguments[0]!r:.40} refused: {error}")
         self.counts["gestures"] += 1
 
+    def dropped(self) -> dict[str, int]:
+        """The messages dropped so far by kind, named for the run's summary and report (``osc_in_wrong_token``)."""
+        return {f"osc_in_{kind}": count for kind, count in self.counts.items() if kind not in ("received", "gestures")}
+
     def _drop(self, kind: str, description: str) -> None:
         self.counts[kind] += 1
         if self.counts[kind] == 1:

@@ -12,6 +12,8 @@ The limits live beside their readers: a token file (``bridges/ws_access.py``), a
 
 from __future__ import annotations
 
+import os
+import stat
 from pathlib import Path
 
 from gesturecast.errors import UserError
@@ -29,14 +31,20 @@ def format_size(num_bytes: int) -> str:
     return f"{num_bytes} bytes"
 
 
-def read_bounded(path: str | Path, limit: int, what: str) -> bytes:
+def read_bounded(path: str | Path, limit: int, what: str, regular_only: bool = False) -> bytes:
     """The whole content of ``path`` when it holds at most ``limit`` bytes, reading at most ``limit + 1``.
 
     ``what`` names the file in the one-line UserError for a file that cannot be opened (missing, a folder,
-    no permission) or that holds more than ``limit`` bytes (also a device such as ``/dev/zero``).
+    no permission) or that holds more than ``limit`` bytes (also a device such as ``/dev/zero``). With
+    ``regular_only`` anything but a regular file (a FIFO, which would wait for a writer; a device) is refused
+    without waiting: it is opened non-blocking and looked at before any read.
     """
+    flags = os.O_RDONLY | (os.O_NONBLOCK if regular_only and hasattr(os, "O_NONBLOCK") else 0)
     try:
-        with open(path, "rb") as handle:
+        descriptor = os.open(path, flags)
+        with open(descriptor, "rb") as handle:
+            if regular_only and not stat.S_ISREG(os.fstat(descriptor).st_mode):
+                raise UserError(f"{what} {path} is not a regular file (a FIFO, device or folder)")
             data = handle.read(limit + 1)
     except OSError as error:
         raise UserError(f"cannot read {what} {path}: {error.strerror or error}") from None

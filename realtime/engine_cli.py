@@ -113,6 +113,8 @@ def run_live(args: argparse.Namespace) -> int:
             gestures_in.close()
         outputs.close()
     report.outputs = outputs.counters()
+    if gestures_in is not None:  # its drops (malformed, wrong token, refused...) in the summary and the report
+        report.outputs["osc_in"] = gestures_in.dropped()
     sys.stdout.write(summary_line(report) + "\n")
     raise_output_errors(outputs)
     return exit_status(report)

@@ -184,6 +184,8 @@ def load_joint_map(path: str | Path) -> JointMap:
         raise UserError(f"joint map {path} is not UTF-8 text ({error})") from None
     except json.JSONDecodeError as error:
         raise UserError(f"joint map {path} is not valid JSON: {error.msg} (line {error.lineno})") from None
+    except (ValueError, RecursionError) as error:  # an integer of thousands of digits, nesting thousands deep
+        raise UserError(f"joint map {path} is not valid JSON ({type(error).__name__})") from None
     if not isinstance(raw, dict):
         raise UserError(f"joint map {path} must be a JSON object: canonical joint name -> source joint names")
     unknown = [k for k in raw if k not in CANONICAL_JOINTS]

@@ -74,11 +74,20 @@ from pathlib import Path
 import numpy as np
 
 from gesturecast.errors import UserError
-from gesturecast.input_files import MIB, read_bounded
+from gesturecast.input_files import MIB
 from gesturecast.models.motion.body_parts import PART_NAMES
 from gesturecast.models.motion.motion import MOTION_FPS, Motion
 from gesturecast.models.motion.motion_features import FEATURE_DIM, facing_yaw, rotate_planar
 from gesturecast.models.motion.skeleton import CANONICAL
+from gesturecast.models.runtime.lexicon_checks import (
+    MIN_CLIP_S,
+    ClipArchive,
+    built_fps,
+    check_built_item,
+    inside,
+    read_json,
+    user_clip_path,
+)
 
 FORMAT_VERSION = 1
 LEXICON_FILE = "lexicon.json"
@@ -616,35 +625,27 @@ def _fail(path: Path, message: str) -> UserError:
     return UserError(f"{path}: {message}")
 
 
-def _read_json(path: Path, limit: int, what: str) -> object:
-    try:
-        return json.loads(read_bounded(path, limit, what).decode("utf-8"))
-    except UnicodeDecodeError as error:
-        raise _fail(path, f"not UTF-8 text ({error.reason})") from None
-    except json.JSONDecodeError as error:
-        raise _fail(path, f"not valid JSON: {error.msg} (line {error.lineno})") from None
-
-
 def read_built_lexicon(folder: Path) -> Lexicon:
     """A lexicon written by :func:`save_lexicon` (numpy + json only)."""
     folder = Path(folder)
     path = folder / LEXICON_FILE
-    raw = _read_json(path, MAX_LEXICON_BYTES, "gesture lexicon")
+    raw = read_json(path, MAX_LEXICON_BYTES, "gesture lexicon")
     if not isinstance(raw, dict) or not isinstance(raw.get("gestures"), list):
         raise _fail(path, "not a gesture lexicon (no 'gestures' list)")
     if raw.get("format_version") != FORMAT_VERSION:
         raise _fail(path, f"format_version {raw.get('format_version')!r} is not {FORMAT_VERSION}; rebuild it with "
                           "`gesturecast gestures build`")
-    clips_path = folder / str(raw.get("clips", CLIPS_FILE))
-    if not clips_path.is_file():
-        raise _fail(clips_path, "missing (the lexicon's clips)")
+    clips_path = inside(folder, str(raw.get("clips", CLIPS_FILE)))
+    if clips_path is None or not clips_path.is_file():
+        raise _fail(path, f"'clips' {raw.get('clips', CLIPS_FILE)!r} is not a file in {folder}")
     if clips_path.stat().st_size > MAX_LEXICON_BYTES:
         raise _fail(clips_path, "larger than 64 MiB, more than a gesture lexicon holds")
-    fps = float(raw.get("fps", MOTION_FPS))
+    fps = built_fps(raw.get("fps", MOTION_FPS), path)
     entries = {}
     try:
-        with np.load(clips_path, allow_pickle=False) as clips:
-            for item in raw["gestures"]:
+        with ClipArchive(clips_path) as clips:
+            for index, item in enumerate(raw["gestures"]):
+                check_built_item(item, index, path)
                 variants = []
                 for v in item["variants"]:
                     features = clips[v["clip"]]
@@ -690,9 +691,7 @@ def _user_entry(name: str, item: object, folder: Path, mapping: Path,
     clip = item.get("clip")
     if not isinstance(clip, str) or not clip:
         raise _fail(mapping, f"{where}: 'clip' must name a motion file in {folder}")
-    clip_path = folder / clip
-    if not clip_path.is_file():
-        raise _fail(mapping, f"{where}: 'clip' file not found: {clip_path}")
+    clip_path = user_clip_path(folder, clip, where, mapping)
     triggers = item.get("triggers")
     if isinstance(triggers, str):
         triggers = [triggers]
@@ -715,8 +714,9 @@ def _user_entry(name: str, item: object, folder: Path, mapping: Path,
     if style is None:
         raise _fail(mapping, f"{where}: 'style' {item.get('style')!r} is not a known style")
     motion = read(clip_path)
-    if motion.num_frames < 2:
-        raise _fail(mapping, f"{where}: 'clip' {clip} holds fewer than 2 frames")
+    if motion.num_frames < 2 or motion.duration < MIN_CLIP_S:
+        raise _fail(mapping, f"{where}: 'clip' {clip} holds {motion.num_frames} frames ({motion.duration:.2f} s); a "
+                             f"gesture clip is at least {MIN_CLIP_S} s")
     stroke = item.get("stroke")
     if stroke is None:
         stroke_index = stroke_frame(pose_distance(body_frame_positions(motion)))
@@ -738,7 +738,7 @@ def read_user_lexicon(folder: Path, read: Callable[[Path], Motion] | None = None
     clips it names, retargeted like the training data. Bad entries raise a one-line :class:`UserError`."""
     folder = Path(folder)
     mapping = folder / USER_MAPPING_FILE
-    raw = _read_json(mapping, MAX_MAPPING_BYTES, "gesture mapping")
+    raw = read_json(mapping, MAX_MAPPING_BYTES, "gesture mapping")
     if not isinstance(raw, dict):
         raise _fail(mapping, "must be a JSON object: gesture name -> {clip, triggers, parts, stroke}")
     joint_map = raw.pop("joint_map", None)

@@ -37,6 +37,7 @@ DEFAULT_REFRACTORY_S = 4.0  # the same gesture again within this many seconds is
 RAMP_LATENTS = 4  # latents over which the imposition weight rises to 1 (and falls back) at each end of a clip
 MAX_PLACEMENTS = 20_000  # placed cues still to come (a transcript's hours of gestures); beyond: CueRefused
 MAX_AHEAD_S = 300.0  # words sent live (a TTS reply) are at most this far ahead of the stream
+MAX_CUE_TIME_S = 1e6  # a cue time beyond this (or not finite) is not a stream time (11 days)
 
 
 class CueRefused(UserError):
@@ -162,6 +163,8 @@ class CuePlan:
         """Place ``cue`` no earlier than ``next_latent`` (the first latent not generated yet); None when it is
         dropped (refractory time, or a part it moves is busy); CueRefused when the plan is full."""
         clip = self.check(cue.gesture)
+        if not math.isfinite(cue.time) or cue.time > MAX_CUE_TIME_S:
+            raise CueRefused(f"gesture {cue.gesture} at {cue.time!r} s: not a stream time (at most {MAX_CUE_TIME_S:g})")
         self._check_room()
         wanted = math.floor(cue.time / self.seconds_per_latent) - clip.stroke_latent
         first = max(wanted, next_latent)

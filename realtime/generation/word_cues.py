@@ -10,7 +10,6 @@ cues its gesture with the stroke at the phrase's first word's start.
 from __future__ import annotations
 
 import json
-import math
 import re
 from collections import deque
 from collections.abc import Iterable, Mapping
@@ -18,12 +17,14 @@ from pathlib import Path
 
 from gesturecast.controls import Word  # the words of transcripts and of ``words`` controls are one type
 from gesturecast.errors import UserError
+from gesturecast.input_files import read_bounded
 from gesturecast.realtime.generation.gesture_cues import Cue
 
 MAX_TRANSCRIPT_BYTES = 16 << 20  # a day of speech is a few MB of word JSON
-MAX_WORDS = 200_000
+MAX_WORDS = 200_000  # of a transcript (JSON or subtitles) or a word list
+MAX_WORD_SECONDS = 1e6  # word times beyond this are not stream times (11 days)
 SUBTITLE_SUFFIXES = (".srt", ".vtt")
-TIMESTAMP = re.compile(r"(?:(\d+):)?(\d{1,2}):(\d{2})[.,](\d{1,3})")
+TIMESTAMP = re.compile(r"(?:(\d{1,5}):)?(\d{1,2}):(\d{2})[.,](\d{1,3})")
 SPAN = re.compile(rf"{TIMESTAMP.pattern}\s*-->\s*{TIMESTAMP.pattern}")
 NOT_A_LETTER = re.compile(r"[^\w']+")
 DEFAULT_TRIGGERS: dict[str, tuple[str, ...]] = {  # gesture -> English trigger phrases
@@ -50,46 +51,68 @@ def _word(item: object, where: str) -> Word:
     if not isinstance(item, Mapping) or not isinstance(item.get("word"), str):
         raise UserError(f"{where}: needs a string \"word\"")
     times = [item.get("start"), item.get("end", item.get("start"))]
-    if not all(isinstance(t, (int, float)) and not isinstance(t, bool) and math.isfinite(t) and t >= 0 for t in times):
-        raise UserError(f"{where}: \"start\" and \"end\" must be seconds ≥ 0")
-    if times[1] < times[0]:
+    start, end = (_time(value, where) for value in times)
+    if end < start:
         raise UserError(f"{where}: \"end\" {times[1]} is before \"start\" {times[0]}")
-    return Word(item["word"], float(times[0]), float(times[1]))
+    return Word(item["word"], start, end)
+
+
+def _time(value: object, where: str) -> float:
+    """A word time in seconds: a JSON number within [0, MAX_WORD_SECONDS] (no huge integer reaches float())."""
+    if isinstance(value, (int, float)) and not isinstance(value, bool) and 0 <= value <= MAX_WORD_SECONDS:
+        return float(value)
+    raise UserError(f"{where}: \"start\" and \"end\" must be seconds ≥ 0 and at most {MAX_WORD_SECONDS:g}")
 
 
 def read_transcript(path: Path) -> list[Word]:
-    """The words of a ``.json`` word list or an ``.srt`` / ``.vtt`` subtitle file."""
+    """The words of a ``.json`` word list or an ``.srt`` / ``.vtt`` subtitle file (a regular file of at most
+    MAX_TRANSCRIPT_BYTES)."""
+    data = read_bounded(path, MAX_TRANSCRIPT_BYTES, "the transcript", regular_only=True)
     try:
-        size = path.stat().st_size
-        if size > MAX_TRANSCRIPT_BYTES:
-            raise UserError(f"{path}: {size} bytes is more than a transcript holds ({MAX_TRANSCRIPT_BYTES} at most)")
-        text = path.read_text(encoding="utf-8-sig")
-    except (OSError, UnicodeDecodeError) as error:
-        raise UserError(f"{path}: cannot read the transcript ({error})") from None
+        text = data.decode("utf-8-sig")
+    except UnicodeDecodeError as error:
+        raise UserError(f"{path}: cannot read the transcript (not UTF-8 at byte {error.start})") from None
     if path.suffix.lower() in SUBTITLE_SUFFIXES:
-        return subtitle_words(text)
+        return subtitle_words(text, str(path))
     try:
         return words_from_list(json.loads(text), str(path))
     except json.JSONDecodeError as error:
         raise UserError(f"{path}: not a JSON word list ({error.msg} at line {error.lineno}); subtitles need a "
                         f"{' or '.join(SUBTITLE_SUFFIXES)} suffix") from None
+    except (ValueError, RecursionError) as error:  # an integer of thousands of digits, nesting thousands deep
+        raise UserError(f"{path}: not a JSON word list ({type(error).__name__}: {str(error)[:80]})") from None
 
 
 def _seconds(hours: str | None, minutes: str, seconds: str, fraction: str) -> float:
     return int(hours or 0) * 3600 + int(minutes) * 60 + int(seconds) + int(fraction.ljust(3, "0")) / 1000
 
 
-def subtitle_words(text: str) -> list[Word]:
-    """SRT / WebVTT cues → words spread evenly over each cue's span."""
+def _span(line: str, where: str) -> tuple[float, float]:
+    """(start, end) seconds of a cue's ``00:00:01,000 --> 00:00:02,500`` line; UserError for minutes or seconds
+    beyond 59 or an end before the start."""
+    times = SPAN.search(line).groups()
+    if any(int(field) > 59 for field in (*times[1:3], *times[5:7])):
+        raise UserError(f"{where}: {line.strip()!r} has minutes or seconds beyond 59")
+    start, end = _seconds(*times[:4]), _seconds(*times[4:])
+    if end < start:
+        raise UserError(f"{where}: {line.strip()!r} ends before it starts")
+    if end > MAX_WORD_SECONDS:
+        raise UserError(f"{where}: {line.strip()!r} is beyond {MAX_WORD_SECONDS:g} s")
+    return start, end
+
+
+def subtitle_words(text: str, source: str = "subtitles") -> list[Word]:
+    """SRT / WebVTT cues → words spread evenly over each cue's span (at most MAX_WORDS)."""
     words: list[Word] = []
-    for block in re.split(r"\n\s*\n", text.replace("\r\n", "\n")):
+    for number, block in enumerate(re.split(r"\n\s*\n", text.replace("\r\n", "\n")), 1):
         lines = block.strip().split("\n")
         span_line = next((i for i, line in enumerate(lines) if SPAN.search(line)), None)
         if span_line is None:
             continue
-        times = SPAN.search(lines[span_line]).groups()
-        start, end = _seconds(*times[:4]), _seconds(*times[4:])
+        start, end = _span(lines[span_line], f"{source} block {number}")
         tokens = " ".join(lines[span_line + 1 :]).split()
+        if len(words) + len(tokens) > MAX_WORDS:
+            raise UserError(f"{source}: more than {MAX_WORDS} words; split the transcript")
         step = (end - start) / max(len(tokens), 1)
         words += [Word(token, start + i * step, start + (i + 1) * step) for i, token in enumerate(tokens)]
     return words

@@ -10,7 +10,9 @@ The socket pair is the only link between the two processes (no shared memory, lo
 could leave held). Parent → worker: one byte per passed socket; the parent's end shut for writing means "stop"
 (its end closed by the kernel, when the parent is killed, reads the same). Worker → parent: one JSON line per
 report: ``ready`` (its pid), ``error`` (why it could not start), ``closed`` (one of its connections ended: the
-parent counts it down) and ``served`` (the closed streams' stats, when it stops).
+parent counts it down) and ``served`` (the closed streams' stats, when it stops), and ``took`` as it takes each
+passed socket: until then the parent keeps its own copy, and a worker that dies before taking some (passed in the
+instant it was killed) has them dealt again to another.
 """
 
 from __future__ import annotations
@@ -19,6 +21,7 @@ import json
 import logging
 import socket
 import threading
+from collections import deque
 from dataclasses import dataclass, field
 from multiprocessing.process import BaseProcess
 
@@ -28,6 +31,7 @@ logger = logging.getLogger(__name__)
 
 DEAL = b"c"  # the one byte that carries each passed socket
 ACCEPT_POLL_S = 0.25  # how often the dealer looks for its stop while no client connects
+WAIT_FOR_WORKER_S = 15.0  # a connection that arrives while no worker is ready waits this long for one
 STOP_TIMEOUT_S = 5.0
 
 
@@ -47,6 +51,7 @@ class WorkerSlot:
     failures: int = 0  # ends in a row, each before it had been ready STEADY_S (the respawn back-off doubles)
     respawn_at: float | None = None  # monotonic time its replacement starts, while it is dead
     pending: bytearray = field(default_factory=bytearray)  # report bytes not yet ending in a newline
+    untaken: deque[socket.socket] = field(default_factory=deque)  # passed, the worker's "took" not yet read
 
     def reports(self, data: bytes) -> list[tuple[str, object]]:
         """The complete (kind, detail) reports in ``data`` (appended to what came before)."""
@@ -66,14 +71,16 @@ def fewest(slots: list[WorkerSlot]) -> WorkerSlot | None:
 
 class ConnectionDealer:
     """Parent side: a thread that accepts on ``listener`` and passes each connection to a ready worker (``slots``,
-    guarded by ``lock``: the supervisor replaces a dead worker's process and channel under it)."""
+    guarded by ``lock``: the supervisor replaces a dead worker's process and channel under it, and notifies it when
+    a worker becomes ready)."""
 
-    def __init__(self, listener: socket.socket, slots: list[WorkerSlot], lock: threading.Lock) -> None:
+    def __init__(self, listener: socket.socket, slots: list[WorkerSlot], lock: threading.Condition) -> None:
         self.listener = listener
         self.slots = slots
         self.lock = lock
         self.dealt: list[int] = []  # connections passed to each worker slot, for the summary
         self.unserved = 0  # connections closed because no worker was ready
+        self.returned: deque[socket.socket] = deque()  # passed to a worker that died before taking them
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._deal, name="connection-dealer", daemon=True)
 
@@ -85,13 +92,17 @@ class ConnectionDealer:
 
     def close(self) -> None:
         """Stop accepting (clients that connect after this are refused by the closed port)."""
-        self._stop.set()
+        with self.lock:
+            self._stop.set()
+            self.lock.notify_all()  # a connection waiting for a worker gives up now
         if self._thread.ident is not None:  # started
             self._thread.join(STOP_TIMEOUT_S)
         self.listener.close()
 
     def _deal(self) -> None:
         while not self._stop.is_set():
+            while self.returned:
+                self._pass(self.returned.popleft())
             try:
                 connection, _ = self.listener.accept()
             except TimeoutError:
@@ -99,31 +110,39 @@ class ConnectionDealer:
             except OSError as error:  # the listener is gone: nothing more to deal
                 logger.warning("serve --workers stopped accepting: %s", error)
                 return
-            with connection:  # the worker holds its own copy once passed; the parent's is closed here
-                self._pass(connection)
+            self._pass(connection)
 
     def _pass(self, connection: socket.socket) -> None:
-        """Pass ``connection`` to the ready worker with the fewest; one that cannot take it (it died a moment ago)
-        is marked not ready and the next is tried. With none ready the client sees its connection closed."""
+        """Pass ``connection`` to the ready worker with the fewest (it stays in the slot's ``untaken`` until the
+        worker reports it took it); one that cannot take it (it died a moment ago) is marked not ready and the next
+        is tried. With none ready it waits up to WAIT_FOR_WORKER_S for one (the clients behind it wait in the listen
+        queue), then the client sees its connection closed."""
         for _ in self.slots:
             with self.lock:
+                self.lock.wait_for(lambda: self._stop.is_set() or fewest(self.slots) is not None, WAIT_FOR_WORKER_S)
                 slot = fewest(self.slots)
                 if slot is None:
                     break
                 slot.open += 1  # counted before it is passed: the worker may report it closed before we go on
                 self.dealt[slot.index] += 1
+                slot.untaken.append(connection)
                 channel = slot.channel
             try:
                 socket.send_fds(channel, [DEAL], [connection.fileno()])
                 return
             except OSError as error:  # gone: the supervisor respawns it when it sees the process end
                 with self.lock:
-                    slot.open -= 1
+                    slot.open, slot.ready = max(slot.open - 1, 0), False
                     self.dealt[slot.index] -= 1
-                    slot.ready = False
+                    if connection not in slot.untaken:  # the supervisor saw it die and returned it already
+                        return
+                    slot.untaken.remove(connection)
                 logger.warning("could not pass a connection to worker-%d (%s); trying another", slot.index, error)
-        self.unserved += 1
-        logger.warning("no worker is ready (restarting); closed a connection (%d so far)", self.unserved)
+        connection.close()
+        if not self._stop.is_set():  # stopping closes it without a word
+            self.unserved += 1
+            logger.warning("no worker became ready within %.0f s; closed a connection (%d so far)", WAIT_FOR_WORKER_S,
+                           self.unserved)
 
 
 class WorkerLink:
@@ -158,6 +177,7 @@ class WorkerLink:
                         return
                     for fd in fds:
                         server.adopt(socket.socket(fileno=fd)).add_done_callback(closed)
+                        self.report("took")
             except OSError:
                 return
             finally:

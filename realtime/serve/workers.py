@@ -108,7 +108,7 @@ class Workers:
         self._worker_args = (settings, replace(config, port=self.port, dealt=True),
                              logging.getLogger().getEffectiveLevel())
         self.count = count
-        self.lock = threading.Lock()  # the slots' state: the dealer reads it, the supervisor changes it
+        self.lock = threading.Condition()  # the slots' state: the dealer reads it, the supervisor changes it
         self.slots: list[WorkerSlot] = []
         self.dealer = ConnectionDealer(self._listener, self.slots, self.lock)
         self.served: list[dict] = []  # the closed streams' stats the workers reported as they stopped
@@ -161,6 +161,8 @@ class Workers:
                 slot.process.kill()
                 slot.process.join(KILL_TIMEOUT_S)
             slot.channel.close()
+        for connection in [*self.dealer.returned, *(c for slot in self.slots for c in slot.untaken)]:
+            connection.close()
         return self.served
 
     # ---- the supervisor (the caller's thread while starting and stopping, its own thread while serving) ----
@@ -207,7 +209,10 @@ class Workers:
         with self.lock:
             if kind == "ready":
                 slot.ready, slot.ready_at = True, time.monotonic()
+                self.lock.notify_all()  # a connection may be waiting for a ready worker
                 logger.info("worker-%d ready (pid %d)", slot.index, detail)
+            elif kind == "took" and slot.untaken:
+                slot.untaken.popleft().close()  # the worker holds its own copy now
             elif kind == "closed":
                 slot.open = max(slot.open - 1, 0)
             elif kind == "served":
@@ -227,7 +232,14 @@ class Workers:
         with self.lock:
             slot.running = slot.ready = False
             held, slot.open = slot.open, 0
+            untaken = list(slot.untaken)
+            slot.untaken.clear()
         slot.channel.close()
+        if self._phase == "serving":
+            self.dealer.returned.extend(untaken)  # passed in the instant it died: dealt again
+        else:
+            for connection in untaken:
+                connection.close()
         how = slot.error or how_it_ended(slot.process.exitcode)
         if self._phase == "starting":
             raise UserError(slot.error or f"worker-{slot.index} ended before it was ready ({how})")
@@ -238,8 +250,9 @@ class Workers:
         delay = min(RESPAWN_FIRST_S * 2 ** slot.failures, RESPAWN_MAX_S)
         slot.failures += 1
         slot.respawn_at = time.monotonic() + delay
-        logger.warning("worker-%d (pid %d) ended (%s) holding %d connections; a new one starts in %.0f s",
-                       slot.index, slot.process.pid, how, held, delay)
+        logger.warning("worker-%d (pid %d) ended (%s) holding %d connections (%d it had not taken are dealt again); "
+                       "a new one starts in %.0f s", slot.index, slot.process.pid, how, held - len(untaken),
+                       len(untaken), delay)
 
     def _respawn_due(self) -> None:
         """Start the replacement of each dead worker whose back-off is over."""

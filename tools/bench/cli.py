@@ -27,6 +27,7 @@ BENCH_MODULES: tuple[str, ...] = (
     "gesturecast.tools.bench.styles.study",
     "gesturecast.tools.bench.gestures",
     "gesturecast.tools.bench.cues",
+    "gesturecast.tools.bench.worker_kill",
     "gesturecast.tools.bench.styles.face",
 )
 

@@ -56,3 +56,10 @@ def test_live_cue_times_far_ahead_of_the_stream_are_refused():
     with pytest.raises(CueRefused, match=r"a word at 1e\+06 s is .* ahead of the stream"):
         cues.check_ahead([1e6], next_latent=0)
     cues.check_ahead([1e6], next_latent=int(1e6 / SECONDS_PER_LATENT))  # not ahead once the stream is there
+
+
+def test_a_cue_time_that_is_not_a_stream_time_is_refused_in_one_line():
+    cues = plan()
+    for time in (1e308, float("inf"), float("nan")):
+        with pytest.raises(CueRefused, match="not a stream time"):
+            cues.place(Cue("wave", time), 0)
