@@ -23,8 +23,10 @@ class PoseFrame:
     """One canonical pose.
 
     seq: frame number in the stream (0, 1, 2, ...).
-    capture_time: clock time (s) at which the audio this frame answers was captured.
-    presentation_time: capture_time + the fixed latency L; bridges send at this time.
+    capture_time: when the audio this frame answers was heard, seconds on the stream's clock (``time.monotonic``
+        by default; stream seconds when unpaced, as in ``generate``).
+    presentation_time: capture_time + the fixed latency L, on the same clock: the outputs (and ``Stream.frames()``)
+        get the frame at this time.
     root_position: (3,) Hips position, metres, internal frame (right-handed, Y-up, faces +Z).
     rotations: (J, 4) local XYZW rotations; the session sends J = 52 on ``CANONICAL_WITH_HANDS`` (22 body
         joints, then 15 finger joints per hand), the bridges' default skeleton.

@@ -88,6 +88,7 @@ def fence_count(page: str) -> int:
 
 
 GROUP_COMMANDS = ("bench", "data", "gestures")  # commands whose next word is a sub-command
+COMMAND_LINE = re.compile(r"gesturecast [a-z-]+(?: |$)")  # a command, not output such as "gesturecast live: error"
 
 
 def command_lines(code: str) -> list[str]:
@@ -97,10 +98,11 @@ def command_lines(code: str) -> list[str]:
     current = False
     for line in code.splitlines():
         continues = current and (line.startswith(" ") or commands[-1].endswith("\\"))
-        if line.startswith("gesturecast ") or continues:
+        starts = COMMAND_LINE.match(line) is not None
+        if starts or continues:
             text = line.split(" # ", 1)[0].strip()
             commands.append(f"{commands.pop()} {text}" if continues else text)
-        current = line.startswith("gesturecast ") or continues
+        current = starts or continues
     return commands
 
 
