@@ -32,7 +32,7 @@ class PoseFrame:
         joints, then 15 finger joints per hand), the bridges' default skeleton.
     style: the style prompt in effect (for display).
     speaking: the voice-activity decision of this frame's own audio instant (on with the voice, off 267 ms after
-        it); not the idle cross-fade's decision, which looks ahead and holds for 1 s (docs/bridges.md).
+        it); not the idle cross-fade's decision, which looks ahead and holds for 1 s.
     visemes: (5,) mouth-shape weights in [0, 1] of the vowels ``VISEME_VOWELS`` at this frame's audio
         instant, or None when lip sync is off. Bridges name them per ``VISEME_NAMES`` (VRM 0.x or 1.0).
     gesture: the lexicon gesture(s) being carried out at this frame ("wave", "bow+guide"), "" when none.
