@@ -83,6 +83,12 @@ def test_json_blocks_parse(block):
     json.loads(block.code)
 
 
+@pytest.mark.parametrize("block", [block for block in BLOCKS if block.language == "yaml"], ids=lambda b: b.name)
+def test_yaml_blocks_parse(block):
+    yaml = pytest.importorskip("yaml")  # Ray's dependency: there where the `scale` extra is installed
+    assert isinstance(yaml.safe_load(block.code), dict)
+
+
 @functools.cache
 def help_text(*command: str) -> str:
     return subprocess.run([sys.executable, "-m", "gesturecast.cli", *command, "--help"], capture_output=True,
