@@ -32,6 +32,7 @@ FLOORS = {
     "gesturecast.realtime": 5,
     "gesturecast.models.training": 5,
     "gesturecast.api": 6,
+    "gesturecast.pipecat": 6,
     "gesturecast.models.export": 6,
     "gesturecast.models.evaluation": 6,
     "gesturecast.tools": 7,
