@@ -1,13 +1,14 @@
 """gesturecast: speech in, stylized full-body gestures out, live on a CPU.
 
-The library (docs/python-api.md)::
+The library (the Python API page of the documentation: docs/python-api.md in the source repository)::
 
     import gesturecast
     motion = gesturecast.generate("talk.wav", style="happy")   # -> gesturecast.Motion
     motion.save("talk.bvh")
 
     with gesturecast.Stream(gesturecast.Settings(style="old"), outputs=gesturecast.Outputs(vmc="127.0.0.1")) as s:
-        frames = s.push(samples, sample_rate=48000)
+        frames = s.push(samples, sample_rate=48000)   # at once, before they are due
+    # each frame at its presentation time: Stream(on_frame=...), ``for f in s.frames()``, ``async for f in s.aframes()``
 
 The names below are imported on first use, so ``import gesturecast`` stays light (no model, no onnxruntime).
 The installed namespace maps the repository folders ``realtime/``, ``models/``, ``bridges/`` and ``tools/`` to

@@ -23,14 +23,16 @@ class PoseFrame:
     """One canonical pose.
 
     seq: frame number in the stream (0, 1, 2, ...).
-    capture_time: clock time (s) at which the audio this frame answers was captured.
-    presentation_time: capture_time + the fixed latency L; bridges send at this time.
+    capture_time: when the audio this frame answers was heard, seconds on the stream's clock (``time.monotonic``
+        by default; stream seconds when unpaced, as in ``generate``).
+    presentation_time: capture_time + the fixed latency L, on the same clock: the outputs (and ``Stream.frames()``)
+        get the frame at this time.
     root_position: (3,) Hips position, metres, internal frame (right-handed, Y-up, faces +Z).
     rotations: (J, 4) local XYZW rotations; the session sends J = 52 on ``CANONICAL_WITH_HANDS`` (22 body
         joints, then 15 finger joints per hand), the bridges' default skeleton.
     style: the style prompt in effect (for display).
     speaking: the voice-activity decision of this frame's own audio instant (on with the voice, off 267 ms after
-        it); not the idle cross-fade's decision, which looks ahead and holds for 1 s (docs/bridges.md).
+        it); not the idle cross-fade's decision, which looks ahead and holds for 1 s.
     visemes: (5,) mouth-shape weights in [0, 1] of the vowels ``VISEME_VOWELS`` at this frame's audio
         instant, or None when lip sync is off. Bridges name them per ``VISEME_NAMES`` (VRM 0.x or 1.0).
     gesture: the lexicon gesture(s) being carried out at this frame ("wave", "bow+guide"), "" when none.

@@ -24,7 +24,7 @@ FENCE = re.compile(r"^(?:<!-- not run: (?P<skip>[^>]*) -->\n)?```(?P<language>\S
 RUNNABLE = ("python", "bash")
 DATA_LANGUAGES = ("text", "json", "yaml")
 SECONDS = 3  # of speech in talk.wav
-RATE = 48000  # talk.wav's rate: a user's recording, not the model's 16 kHz
+RATE = 44100  # talk.wav's rate: a user's recording, not the model's 16 kHz
 
 # The shell the bash blocks run in. The commands are the real ones; the few that would run for minutes or until
 # stopped get a small input: `live` reads talk.wav as fast as possible instead of a microphone, `serve` is stopped
@@ -88,6 +88,7 @@ def fence_count(page: str) -> int:
 
 
 GROUP_COMMANDS = ("bench", "data", "gestures")  # commands whose next word is a sub-command
+COMMAND_LINE = re.compile(r"gesturecast [a-z-]+(?: |$)")  # a command, not output such as "gesturecast live: error"
 
 
 def command_lines(code: str) -> list[str]:
@@ -97,10 +98,11 @@ def command_lines(code: str) -> list[str]:
     current = False
     for line in code.splitlines():
         continues = current and (line.startswith(" ") or commands[-1].endswith("\\"))
-        if line.startswith("gesturecast ") or continues:
+        starts = COMMAND_LINE.match(line) is not None
+        if starts or continues:
             text = line.split(" # ", 1)[0].strip()
             commands.append(f"{commands.pop()} {text}" if continues else text)
-        current = line.startswith("gesturecast ") or continues
+        current = starts or continues
     return commands
 
 
@@ -128,8 +130,9 @@ def bash_script(code: str) -> str:
 
 
 def build_folder(folder: Path, shared_data: Path | None) -> Path:
-    """The files the blocks name: talk.wav (3 s, 48 kHz stereo), its words, a folder and a CSV of voice lines, BVHs
-    of generated motion, a VRM avatar, the examples, and DATA (the shared training data) where it exists."""
+    """The files the blocks name: talk.wav (3 s, 44.1 kHz stereo; half its length is no multiple of 1600 samples, as
+    in the recordings the README's first streaming example failed on), its words, a folder and a CSV of voice lines,
+    BVHs of generated motion, a VRM avatar, the examples, and DATA (the shared training data) where it exists."""
     import gesturecast
     from gesturecast.models.audio.files import PACKAGED_SAMPLE, SAMPLE_RATE, load_audio
 

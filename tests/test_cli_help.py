@@ -61,15 +61,20 @@ def test_every_command_says_what_it_is_for_and_its_examples_parse(command):
         parser.parse_args(words[1:])  # every flag of the example exists and takes its value
 
 
-def test_generation_help_speaks_in_words_not_equations():
-    text = help_of("generate").stdout
+@pytest.mark.parametrize("command", ["generate", "live", "serve", "train", "eval"])
+def test_help_speaks_in_words_not_equations(command):
+    text = help_of(command).stdout
     for symbol in ("x̂", "δ", "s_a", "γ·", "batch row"):
         assert symbol not in text, symbol
-    assert "transcript" in text.split("--batch", 1)[1]  # the CSV's transcript column
 
 
-def test_every_generation_and_output_flag_has_help():
-    parser = subcommand_parsers(build_parser(only="live"))["live"]
+def test_generate_help_names_every_csv_column():
+    assert "transcript" in help_of("generate").stdout.split("--batch", 1)[1]
+
+
+@pytest.mark.parametrize("command", ["live", "generate", "serve", "train", "eval-train", "export", "demo"])
+def test_every_flag_has_help(command):
+    parser = subcommand_parsers(build_parser(only=command))[command]
     bare = [action.option_strings[0] for action in parser._actions if action.option_strings and not action.help]
     assert not bare
 

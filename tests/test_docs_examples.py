@@ -83,6 +83,12 @@ def test_json_blocks_parse(block):
     json.loads(block.code)
 
 
+@pytest.mark.parametrize("block", [block for block in BLOCKS if block.language == "yaml"], ids=lambda b: b.name)
+def test_yaml_blocks_parse(block):
+    yaml = pytest.importorskip("yaml")  # Ray's dependency: there where the `scale` extra is installed
+    assert isinstance(yaml.safe_load(block.code), dict)
+
+
 @functools.cache
 def help_text(*command: str) -> str:
     return subprocess.run([sys.executable, "-m", "gesturecast.cli", *command, "--help"], capture_output=True,
@@ -119,3 +125,14 @@ def test_the_streaming_example_changes_style_and_records_every_frame(folder):
     styles = [line.split()[1] for line in result.stdout.splitlines()[1:]]
     assert "delay your audio by" in result.stdout and styles[0] == "old" and styles[-1] == "happy"
     assert read_bvh(folder / "live.bvh").num_frames == SECONDS * 30
+
+
+@pytest.mark.parametrize("block", [block for block in BLOCKS if block.language == "text"
+                                   and block.code.startswith("latency L = ")], ids=lambda b: b.name)
+def test_the_latency_line_shown_is_the_one_the_engine_prints(block):
+    from gesturecast.realtime.run.engine_setup import build_session
+    from gesturecast.realtime.timing.clock import MonotonicClock
+    from gesturecast.settings import Settings
+
+    printed = build_session(Settings(), MonotonicClock()).budget.describe()
+    assert block.code.splitlines()[0] == printed

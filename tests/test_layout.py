@@ -29,6 +29,7 @@ FLOORS: tuple[tuple[str, tuple[str, ...]], ...] = (
     ("gesturecast.realtime", ("timing", "audio", "generation", "pose", "run", "agents", "cli_flags", "jobs", "serve",
                               "engine_cli")),
     ("gesturecast.api", ("",)),
+    ("gesturecast.pipecat", ("",)),
     ("gesturecast.tools", ("render", "", "eval", "bench")),
     ("gesturecast.cli", ("",)),
 )

@@ -29,13 +29,14 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--out", type=Path, default=None, help="also export the bundle to this folder")
     parser.add_argument("--resume", action="store_true", help="continue from the checkpoint's finished stages")
     parser.add_argument("--seed", type=int, default=None, help="random seed (default: the preset's)")
-    parser.add_argument("--lookahead", type=int, default=None, help="audio look-ahead δa in frames (default 8)")
+    parser.add_argument("--lookahead", type=int, default=None,
+                        help="frames of audio the model hears ahead of each pose (default 8)")
     parser.add_argument("--threads", type=int, default=None, help="torch CPU threads (default: the preset's)")
     parser.add_argument("--audio-augmentation", action=argparse.BooleanOptionalAction, default=None,
                         help="voice / channel augmentation of the paired audio (default: the preset's)")
     parser.add_argument("--lookahead-truncation", action=argparse.BooleanOptionalAction, default=None,
-                        help="random look-ahead δ ≤ δa in training, so one model serves every --latency setting "
-                             "(default: the preset's)")
+                        help="train with a random look-ahead from 0 to --lookahead, so one model serves every "
+                             "--latency setting (default: the preset's)")
     parser.add_argument("--speaker-norm", action=argparse.BooleanOptionalAction, default=None,
                         help="listen to speaker-normalised log-mel / energy (docs/voices.md; default: the preset's)")
     parser.add_argument("--front-end", choices=("mel", "prosody"), default=None,
@@ -62,9 +63,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="transformer layers of the denoiser (default: the preset's; fewer run cheaper)")
     parser.add_argument("--vq-from", type=Path, default=None,
                         help="reuse the VQ-VAE of this finished work folder instead of training one")
-    parser.add_argument("--vq-steps", type=int, default=None)
-    parser.add_argument("--denoiser-steps", type=int, default=None)
-    parser.add_argument("--prompt-steps", type=int, default=None)
+    parser.add_argument("--vq-steps", type=int, default=None,
+                        help="training steps of the motion VQ-VAE (default: the preset's)")
+    parser.add_argument("--denoiser-steps", type=int, default=None,
+                        help="training steps of the denoiser (default: the preset's)")
+    parser.add_argument("--prompt-steps", type=int, default=None,
+                        help="training steps of the motion-prompt encoder (default: the preset's)")
     parser.add_argument("--no-progress", action="store_true", help="no progress bars")
     parser.set_defaults(func=run_train)
 

@@ -4,7 +4,8 @@ presentation times, for programs that act on each pose when it is due (a robot, 
 The stream's release thread (the scheduler that also feeds the outputs) puts each frame into every open feed when
 the frame is due; a feed ends when the stream is closed or stopped. :class:`FrameFeed` is read with ``for`` (it
 blocks until the next frame is due), :class:`AsyncFrameFeed` with ``async for`` (it awaits without blocking the
-event loop). A feed sees the frames released after it was opened.
+event loop). A feed sees the frames released after it was opened, and keeps those its reader has not taken yet
+until the stream ends.
 """
 
 from __future__ import annotations
@@ -54,8 +55,10 @@ class AsyncFrameFeed:
         self._hand_over(_END)
 
     def _hand_over(self, item: PoseFrame | None) -> None:
-        if not self._loop.is_closed():
+        try:
             self._loop.call_soon_threadsafe(self._queue.put_nowait, item)
+        except RuntimeError:  # the event loop has closed: nobody reads this feed any more
+            return
 
     async def __aiter__(self) -> AsyncIterator[PoseFrame]:
         while (frame := await self._queue.get()) is not _END:

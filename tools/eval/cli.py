@@ -43,7 +43,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--ddpm-seconds", type=float, help="crop of every clip DDPM runs on (costly: "
                         "~5 s of compute per second of motion)")
     parser.add_argument("--lookahead-models", type=Path, nargs="*", default=[], metavar="DIR",
-                        help="bundles trained with other δa, compared at K = 4 on the held-out set")
+                        help="bundles trained with another look-ahead, compared at K = 4 on the held-out set")
     parser.add_argument("--fgd-encoder", type=Path, default=DEFAULT_FGD_ENCODER, help=argparse.SUPPRESS)
     parser.add_argument("--style-classifier", type=Path, default=DEFAULT_STYLE_CLASSIFIER, help=argparse.SUPPRESS)
     parser.set_defaults(func=run_eval)

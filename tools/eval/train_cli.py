@@ -18,7 +18,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--cache", type=Path, default=DEFAULT_CACHE, help="dataset cache (default %(default)s)")
     parser.add_argument("--out", type=Path, default=EVAL_WEIGHTS_DIR, help="output folder (default: the bundled one)")
     parser.add_argument("--steps", type=int, help="optimiser steps per network (default: EvalTrainConfig's)")
-    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--seed", type=int, default=0, help="random seed (default %(default)s)")
     parser.set_defaults(func=run_eval_train)
 
 
