@@ -38,12 +38,12 @@ CUED_STORIES: dict[str, tuple[str, ...]] = {
     "team-win": (
         "[raise-both]Yay! We won the final!",
         "Nobody expected a small club to get this far.",
-        "[bow]I want to thank every single player on the team.",
+        "I want to [bow]thank every single player on the team.",
         "[raise-both]Congrats to the coach as well!",
         "[bye]Take care, and [bye]bye-bye for now.",
     ),
     "museum-tour": (
-        "[wave]Hello there, and welcome to the museum.",
+        "[wave]Hello there, and [wave]welcome to the museum.",
         "[guide]Here you can see the oldest painting in our collection.",
         "It was found in a farmhouse attic in nineteen twelve.",
         "[call]Come closer, so you can see the brush strokes.",
