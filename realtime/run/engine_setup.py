@@ -23,7 +23,7 @@ from gesturecast.models.generator.diffusion import SamplerConfig
 from gesturecast.models.motion.root_anchor import RootMode
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
 from gesturecast.models.runtime.bundle import ModelBundle
-from gesturecast.models.runtime.gesture_lexicon import load_lexicon
+from gesturecast.models.runtime.gesture_lexicon import LEXICON_FILE, load_lexicon
 from gesturecast.realtime.generation.generator import Generator, GeneratorSettings
 from gesturecast.realtime.generation.gesture_clips import ClipMotion, encode_clips
 from gesturecast.realtime.pose.seed_motion import load_seed_motion
@@ -74,7 +74,9 @@ def generator_settings(settings: Settings, bundle: ModelBundle, budget: LatencyB
 
 def gesture_setup(settings: Settings, bundle: ModelBundle) -> dict:
     """The session's gesture lexicon in this model's latent space (each gesture's clip in the style variant named
-    like the settings' style label, else its neutral one) and each gesture's trigger phrases."""
+    like the settings' style label, else its neutral one). A built lexicon's gestures are cued by the speech acts
+    of words (:mod:`gesturecast.realtime.generation.speech_acts`); a user's folder's trigger phrases cue their
+    gestures wherever they are said."""
     if settings.gestures is None:
         return {}
     lexicon = load_lexicon(settings.gestures)
@@ -82,8 +84,9 @@ def gesture_setup(settings: Settings, bundle: ModelBundle) -> dict:
     style = prompt.value if prompt.kind == "label" else None
     motions = [ClipMotion(entry.name, variant.features, variant.stroke_frame, entry.parts)
                for entry in lexicon for variant in [entry.variant(style)]]
-    return {"gesture_clips": encode_clips(bundle, motions, settings.threads),
-            "gesture_triggers": tuple((entry.name, entry.triggers) for entry in lexicon)}
+    built = (Path(settings.gestures) / LEXICON_FILE).is_file()  # the Bandai lexicon: cued by speech acts
+    return {"gesture_clips": encode_clips(bundle, motions, settings.threads), "speech_acts": built,
+            "gesture_triggers": () if built else tuple((entry.name, entry.triggers) for entry in lexicon)}
 
 
 def build_session(settings: Settings, clock: Clock, bundle: ModelBundle | None = None) -> GestureSession:

@@ -28,6 +28,7 @@ from gesturecast.frames import PoseFrame
 from gesturecast.models.audio.files import SAMPLE_RATE
 from gesturecast.realtime.audio.pcm import AudioConverter
 from gesturecast.realtime.audio.sources import AudioChunk, SourceStats
+from gesturecast.realtime.generation.gesture_cues import played
 from gesturecast.realtime.generation.word_cues import Word, words_from_list
 from gesturecast.realtime.run.engine import EngineReport, FrameRelease, make_report, warm_up
 from gesturecast.realtime.run.engine_setup import build_outputs, build_session
@@ -129,7 +130,7 @@ class Stream:
         a TTS service's word timings sent before the audio plays: trigger words cue their gestures with the stroke on
         the word (late by the wait when the word's latents are already generated). Returns the cues placed."""
         self._check_open()
-        return len(self.session.cue_words(words_from_list(words, "words")))
+        return played(self.session.cue_words(words_from_list(words, "words")))
 
     def spoken(self, text: str, start: float | None = None) -> int:
         """Words as a TTS service reports them while speaking (one word, or a sentence without word times):
@@ -140,7 +141,7 @@ class Stream:
         start = self.heard_time() if start is None else start
         words = [Word(token, start + i * SPOKEN_WORD_S, start + (i + 1) * SPOKEN_WORD_S)
                  for i, token in enumerate(text.split())]
-        return sum(len(self.session.cue_spoken(word)) for word in words)
+        return sum(played(self.session.cue_spoken(word)) for word in words)
 
     def heard_time(self, ahead_s: float = 0.0) -> float:
         """Stream time of the audio heard ``ahead_s`` seconds from now (unpaced: the end of the pushed audio)."""
