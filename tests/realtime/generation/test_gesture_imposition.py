@@ -48,7 +48,8 @@ def clip() -> GestureClip:
 
 def test_the_clip_channels_are_committed_and_the_other_parts_stay_generated(clip, speech):
     session = session_with(clip)
-    placement = session.cue(Cue("raise", 2.0, "hooray"))
+    assert session.cue(Cue("raise", 2.0, "hooray")).status == "on time"
+    (placement,) = session.cues.placements
     run(session, speech, 512)
     history = [h.latent for h in session.generator.history]  # the last window of committed latents
     first = placement.first - (session.next_latent - len(history))
