@@ -13,7 +13,7 @@ floor of the variation measure).
 blended, merged, dropped: :class:`gesturecast.realtime.generation.gesture_cues.CueOutcome`), and whether the
 kinematic detector (:mod:`gesturecast.tools.bench.gesture_detector`) sees the gesture within
 [word − 1.5 s, word + 2.5 s]: *hit* = played, detected, and the detected stroke within :data:`STROKE_TOLERANCE_S`
-of the word. A merged cue counts as played (the same gesture is playing over its word).
+of the word; a merged cue (the same gesture already playing) is a hit when the detection spans its word.
 
 **Measures** (JSON): hits / intended, per intent; stroke − word p50/p95 (ms); outcomes; cues played where none was
 intended; on the narrations, gestures played per minute and detector events per minute (cued and uncued runs);
@@ -125,11 +125,14 @@ def intended_rows(story: Story, run: Run, detector: Detector, expected: dict[str
         hits = [e for e in detector.events(gesture) if e[0] <= hi and e[1] >= lo]
         stroke = min(hits, key=lambda e: abs(e[2] - word_frame))[2] if hits else None
         error = None if stroke is None else (stroke - word_frame) / MOTION_FPS
+        on_word = error is not None and abs(error) <= STROKE_TOLERANCE_S
+        if played and outcome.status == "merged":  # the gesture playing when the word is said counts
+            on_word = any(start <= word_frame < stop for start, stop, _ in hits)
         rows.append({"story": story.name, "intent": cue.intent, "gesture": gesture, "word": cue.word,
                      "word_s": round(cue.time, 3), "decided": None if outcome is None else outcome.cue.gesture,
                      "outcome": None if outcome is None else outcome.status, "played": played,
                      "detected": bool(hits), "stroke_error_ms": None if error is None else round(error * 1e3),
-                     "hit": played and error is not None and abs(error) <= STROKE_TOLERANCE_S})
+                     "hit": bool(played and on_word)})
     return rows
 
 
@@ -228,7 +231,8 @@ def seed_floor(settings: Settings, story: Story, uncued_body: np.ndarray) -> flo
 
 def summary(stories: list[dict], narrations: list[dict], floor: float) -> dict:
     rows = [row for story in stories for row in story["cues"]]
-    errors = np.array([abs(r["stroke_error_ms"]) for r in rows if r["played"] and r["stroke_error_ms"] is not None])
+    errors = np.array([abs(r["stroke_error_ms"]) for r in rows
+                       if r["played"] and r["outcome"] != "merged" and r["stroke_error_ms"] is not None])
     by_intent: dict[str, list[bool]] = {}
     for row in rows:
         by_intent.setdefault(row["intent"], []).append(row["hit"])
