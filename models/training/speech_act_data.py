@@ -94,6 +94,15 @@ NOT_ACTS = (  # the candidate words, not a speech act: none of them opens a gest
     "The bus should come along any minute now.",
     "The tide will come in over the rocks.", "The neighbours come over for dinner on Sundays.",
     "Prices will come closer to normal next year.", "The children gather around the fire at night.",
+    # the candidate opens the sentence but names a thing (added in the second revision)
+    "Welcome rain fell on the dry fields.", "Welcome guests receive a small gift at the door.",
+    "Welcome signs were put up along the road.", "Cheers erupted when the goal was scored.",
+    "Cheers rang out across the square.", "Thanks were given to the volunteers at the end.",
+    "Thank you notes were sent to every guest.", "Hello and goodbye are the first words children learn.",
+    "Goodbye letters were found in the drawer.", "Farewell speeches tend to go on too long.",
+    "Bravo was the only word the critic wrote.", "Congratulations poured in from abroad.",
+    "If you look at the budget, the numbers are clear.", "Hooray headlines filled the papers the next day.",
+    "Greetings cards sell best in December.", "Take care homes are short of staff.",
 )
 
 

@@ -8,7 +8,8 @@ from the sentence around it:
 
 1. **Rules** where the grammar is clear (:func:`rule`): a causal "thanks to the rain" or "thanks to careful
    planning, the bridge opened"; "thank goodness"; a phrase inside a hyphenated word ("hi-fi"); reported speech
-   ("said hello", "waved goodbye"); a phrase mentioned, not used ("come on is what he said"). Presenting is cued
+   ("said hello", "waved goodbye"); a phrase mentioned, not used ("come on is what he said"); and the other way, an
+   interjection standing alone at the start of a clause ("Hooray!", "and goodbye!") is its act. Presenting is cued
    by its phrases ("here is", "look at", "over there", "this is our"), never by a bare "this", "there" or "here".
 2. **A small classifier** for the rest (:class:`SpeechActClassifier`): softmax regression over the packaged
    wordllama text embedding (numpy only) of the phrase's window, the words before and the words after it, plus
@@ -160,7 +161,8 @@ def clause_start(tokens: list[Token], candidate: Candidate, first: int) -> bool:
 
 
 def rule(tokens: list[Token], candidate: Candidate) -> str | None:
-    """"none" where the grammar rules a speech act out, else None (the classifier decides)."""
+    """"none" where the grammar rules a speech act out, the intent of an interjection standing alone at the start of
+    a clause ("Hooray!", "and goodbye!"), else None (the classifier decides)."""
     first, stop = sentence_bounds(tokens, candidate)
     words = [t.text for t in tokens[candidate.start: candidate.stop]]
     after = tokens[candidate.stop].text if candidate.stop < stop else ""
@@ -172,6 +174,9 @@ def rule(tokens: list[Token], candidate: Candidate) -> str | None:
         return "none"
     if words[0] in ("thanks", "thank") and joined and (after in NOT_THANKS or causal_thanks(tokens, candidate, stop)):
         return "none"
+    interjection = not joined and len(candidate.intents) == 1 and candidate.intents[0] != "presenting"
+    if interjection and clause_start(tokens, candidate, first):  # "Hooray!", "Thank you, and goodbye!"
+        return candidate.intents[0]
     return None
 
 

@@ -51,7 +51,7 @@ from gesturecast.realtime.timing.clock import MonotonicClock
 from gesturecast.settings import Settings
 from gesturecast.tools.bench.gesture_detector import Detector, jerk
 from gesturecast.tools.bench.gesture_stories import Story, make_story
-from gesturecast.tools.bench.gesture_texts import CUED_STORIES, NARRATION, NARRATION_LATE
+from gesturecast.tools.bench.gesture_texts import CUED_STORIES, NARRATION, NARRATION_FINAL, NARRATION_LATE
 
 WINDOW_BEFORE_S, WINDOW_AFTER_S = 1.5, 2.5  # where an intended gesture must show, around its word
 STROKE_TOLERANCE_S = 0.3
@@ -272,7 +272,8 @@ def run(args: argparse.Namespace) -> int:
     stories = [story_result(settings, make_story(name, sentences), expected)
                for name, sentences in CUED_STORIES.items()]
     narrations = [narration_result(settings, make_story(name, texts))
-                  for name, texts in (("narration", NARRATION), ("narration-late", NARRATION_LATE))]
+                  for name, texts in (("narration", NARRATION), ("narration-late", NARRATION_LATE),
+                                      ("narration-final", NARRATION_FINAL))]
     floor = seed_floor(settings, make_story(*next(iter(CUED_STORIES.items()))), stories[0]["uncued_body"])
     args.out.mkdir(parents=True, exist_ok=True)
     picture = plot_cues(stories[0], args.out / "gestures.png")

@@ -68,3 +68,8 @@ def test_words_heard_one_at_a_time_cue_the_same_as_the_transcript(phrases):
     assert heard == phrases.cues(words)
     assert [(cue.gesture, cue.source) for cue in heard] == [("wave", "Hi,"), ("bow", "thanks"),
                                                             ("wave-right", "Take care,"), ("wave-right", "bye-bye")]
+
+
+def test_an_interjection_alone_at_a_clause_start_is_its_act():
+    tokens = tokenize(["Thank", "you,", "and", "goodbye!", "Hello", "and", "goodbye", "are", "words."])
+    assert [rule(tokens, c) for c in candidates(tokens)] == ["thanks", "farewell", None, "none"]
