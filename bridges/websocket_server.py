@@ -105,6 +105,7 @@ class WebSocketBridge:
         self.skeleton = skeleton
         self.coords = coordinate_frame(config.coordinate_frame)
         self.style = config.style
+        self.gesture = ""  # the gesture the last broadcast frame named (side messages on change)
         self.dropped_pending = 0  # outbox: frames dropped (oldest first) before the event loop took them
         self.slow_client_skips = 0  # frames not sent to a client whose socket buffer was full (all clients)
         self._clients: dict[ServerConnection, ClientState] = {}
@@ -254,6 +255,10 @@ class WebSocketBridge:
         ready = self._ready_clients()
         send_unix = time.time()
         capture_unix = send_unix - (self.config.clock() - frame.capture_time)
+        if frame.gesture != self.gesture:
+            broadcast(self._clients, ws_protocol.gesture_message(self.gesture, frame.gesture, frame.seq,
+                                                                 capture_unix))
+            self.gesture = frame.gesture
         binary_clients = [c for c, state in ready if not state.wants_json]
         json_clients = [c for c, state in ready if state.wants_json]
         if binary_clients:
