@@ -95,7 +95,7 @@ class WebSocketBridge:
     def __init__(
         self,
         config: WebSocketConfig = WebSocketConfig(),
-        on_control: Callable[[dict], None] = _ignore_control,
+        on_control: Callable[[dict], dict | None] = _ignore_control,
         skeleton: Skeleton = CANONICAL_WITH_HANDS,
     ) -> None:
         self.access = AccessPolicy(config.host, config.token, config.allow_origins, config.clock)
@@ -235,10 +235,10 @@ class WebSocketBridge:
         """Validate, hand to the engine (which resolves the styles, off the event loop), then ack."""
         control = validate_control(message)
         try:
-            await asyncio.to_thread(self.on_control, control)
+            notes = await asyncio.to_thread(self.on_control, control)
         except (ValueError, UserError) as error:
             raise ControlError(f"the engine refused it: {error}") from None
-        return json.dumps({"type": "ack", "applied": control})
+        return json.dumps({"type": "ack", "applied": control, **(notes or {})})  # notes: e.g. when a gesture plays
 
     def _drain(self) -> None:
         with self._lock:

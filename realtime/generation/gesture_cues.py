@@ -47,6 +47,7 @@ HOLD_LATENTS = 6  # a gesture holds its stroke this long (800 ms) before a later
 MAX_DEFER_S = 0.6  # a cue's stroke is moved at most this much after its word to fit after a playing gesture
 MAX_OUTCOMES = 256  # recent outcomes kept for reports (the counts cover the whole stream)
 STATUSES = ("on time", "late", "blended", "merged", "dropped")
+CONTROL_SOURCE = "control"  # a cue from a gesture control (button, OSC): played as soon as it can
 
 
 @dataclass(frozen=True)
@@ -157,7 +158,8 @@ class CueOutcome:
         if self.stroke_time is None:
             return f"{what} dropped: {self.note}"
         delay = (self.stroke_time - self.cue.time) * 1e3
-        when = "on its time" if delay <= 0 else f"{delay:.0f} ms after its time"
+        since = "the press" if self.cue.source == CONTROL_SOURCE else "its time"
+        when = f"on {since}" if delay <= 0 else f"{delay:.0f} ms after {since}"
         note = f": {self.note}" if self.note else ""
         return f"{what} {self.status}, stroke at {self.stroke_time:.2f} s ({when}){note}"
 
@@ -237,6 +239,8 @@ class CuePlan:
         conflicts = [p for p in self.placements if p.overlaps(placement)]
         if conflicts:
             return self._blend(placement, conflicts)
+        if cue.source == CONTROL_SOURCE:  # a button press: as soon as it can, never "late"
+            return self._accept(placement, "on time", "as soon as the look-ahead allows")
         return self._accept(placement, "late" if placement.late_s > 0 else "on time", "")
 
     def _time(self, latent: int) -> float:
@@ -308,7 +312,7 @@ class CuePlan:
         self.outcomes.append(outcome)
         if outcome.status == "dropped":
             logger.warning(outcome.describe())
-        elif outcome.status != "on time":
+        elif outcome.status != "on time" or outcome.cue.source == CONTROL_SOURCE:
             logger.info(outcome.describe())
         return outcome
 

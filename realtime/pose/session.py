@@ -42,7 +42,7 @@ from gesturecast.models.motion.skeleton import CANONICAL
 from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.realtime.audio.sources import AudioChunk
 from gesturecast.realtime.generation.generator import Generator
-from gesturecast.realtime.generation.gesture_cues import Cue, CueOutcome, CuePlan, GestureClip
+from gesturecast.realtime.generation.gesture_cues import BLEND_LATENTS, Cue, CueOutcome, CuePlan, GestureClip
 from gesturecast.realtime.generation.phrase_cues import PhraseCues, PhraseListener
 from gesturecast.realtime.generation.word_cues import TriggerVocabulary, Word, WordListener
 from gesturecast.realtime.pose.face import Expressions, FaceAnimator, text_embedder
@@ -266,6 +266,14 @@ class GestureSession:
         plays, or why it was dropped (logged and counted). Call it from the thread that pushes audio (live
         controls go through :attr:`controls`)."""
         return self.cues.place(cue, self.next_latent)
+
+    def control_stroke_lead_s(self) -> float:
+        """About how long from now until the stroke of a gesture control submitted now shows: it starts at the next
+        latent and approaches over :data:`BLEND_LATENTS`; a stream instant shows L after its audio arrived, and the
+        newest audio is at :attr:`samples_in`."""
+        d = self.denoiser_config.frames_per_latent
+        stroke_s = (self.next_latent + BLEND_LATENTS) * d / self.fps
+        return max(0.0, self.budget.total_s + stroke_s - self.samples_in / self.sample_rate)
 
     def cue_words(self, words: list[Word]) -> list[CueOutcome]:
         """Cue the gestures of the speech acts and forced trigger phrases in ``words`` (stream-time stamps)."""

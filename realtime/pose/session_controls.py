@@ -21,7 +21,7 @@ from gesturecast.errors import UserError
 from gesturecast.models.generator.style_prompt import PartStyles, StylePrompt, parse_part_styles
 from gesturecast.models.motion.root_anchor import RootAnchor, RootMode
 from gesturecast.realtime.generation.generator import Generator
-from gesturecast.realtime.generation.gesture_cues import Cue, CuePlan
+from gesturecast.realtime.generation.gesture_cues import CONTROL_SOURCE, Cue, CuePlan
 from gesturecast.realtime.generation.style_mixture import align_mixtures, bound_blend_rows, drop_unused_rows
 from gesturecast.realtime.generation.word_cues import Word, words_from_list
 from gesturecast.realtime.pose.transitions import DEFAULT_RAMP_S, Ramp
@@ -63,13 +63,16 @@ class SessionControls:
         self._blending_from: StylePrompt | None = None  # old style while a style change blends in
         self._mixture_ramp: Ramp | None = None  # W (R, C) flattened, while a part-style change blends in
 
-    def submit(self, control: dict) -> None:
+    def submit(self, control: dict) -> dict:
         """Queue a schema-checked control message (keys: style, prompt, style2, part_styles, style_strength,
         guidance, audio_guidance, gamma, root); thread-safe. Its styles and body parts are resolved first, so one
         the model cannot use raises UserError here (the caller answers the client) instead of failing the stream
-        when applied."""
+        when applied. Returns what the ack may tell: for a gesture, about when its stroke shows
+        (``{"gesture_stroke_in_ms": ...}``); else {}."""
+        notes = {}
         if "gesture" in control:
             self._check_gesture(control["gesture"])
+            notes["gesture_stroke_in_ms"] = round(self.gestures.control_stroke_lead_s() * 1e3)
         if "words" in control:
             self._check_gesture(None)
             words_from_list(control["words"], "words")
@@ -82,6 +85,7 @@ class SessionControls:
                 self.generator.styles.embed(prompt)
         with self._lock:
             self._inbox.append(dict(control))
+        return notes
 
     def advance(self, t: float) -> None:
         """Apply queued controls and move the ramps to stream time ``t`` (called once per latent)."""
@@ -123,7 +127,7 @@ class SessionControls:
 
     def _apply(self, control: dict, t: float) -> None:
         if "gesture" in control:  # as soon as possible: from this latent on, its stroke as early as the clip allows
-            self.gestures.cue(Cue(control["gesture"], t, "control"))
+            self.gestures.cue(Cue(control["gesture"], t, CONTROL_SOURCE))
         if "words" in control:  # on the words' own stream times (late by the wait when already generated)
             self.gestures.cue_words(words_from_list(control["words"], "words"))
         if "root" in control:

@@ -176,8 +176,9 @@ def started(stream_id: str, style: str, audio_format: str, latency_budget_ms: fl
                        "latency_budget_ms": latency_budget_ms})
 
 
-def ack(control: dict) -> str:
-    return json.dumps({"type": "ack", "applied": control})
+def ack(control: dict, notes: dict | None = None) -> str:
+    """The answer to a control; ``notes`` add what the session tells of it (when a gesture's stroke shows)."""
+    return json.dumps({"type": "ack", "applied": control, **(notes or {})})
 
 
 def stats_message(stats: dict) -> str:

@@ -174,10 +174,10 @@ class StreamConnection:
         """Acknowledged only once the session has resolved its styles (off the event loop)."""
         control = check_control(message)
         try:
-            await asyncio.to_thread(self.stream.session.controls.submit, control)
+            notes = await asyncio.to_thread(self.stream.session.controls.submit, control)
         except UserError as error:
             raise ControlError(str(error)) from None
-        return ack(control)
+        return ack(control, notes)
 
     async def _start(self, message: dict) -> str:
         if self.stream is not None:

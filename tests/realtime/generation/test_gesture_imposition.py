@@ -81,6 +81,7 @@ def test_a_gesture_control_is_checked_on_submit_and_placed_at_the_next_latent(cl
         session.controls.submit({"gesture": "wave"})
     session.push(AudioChunk(speech[:SAMPLE_RATE], 0, 0.0))
     waiting = session.next_latent
-    session.controls.submit({"gesture": "raise"})
+    notes = session.controls.submit({"gesture": "raise"})  # the ack tells when the stroke shows, about L + 0.4 s
+    assert 0 < notes["gesture_stroke_in_ms"] < (session.budget.total_s + 1.0) * 1e3
     frames = session.push(AudioChunk(speech[SAMPLE_RATE:], SAMPLE_RATE, 1.0)) + session.finish()
     assert min(f.seq for f in frames if f.gesture) == waiting * 4
