@@ -111,6 +111,22 @@ CONTINUATIONS = frozenset(["for", "to", "and", "on", "later", "tomorrow", "next"
 JOINERS = (", ", " ", "! ", ", ")
 
 
+NOUN_OPENERS = ("Welcome", "Cheers", "Thanks", "Goodbye", "Farewell", "Hello", "Congratulations", "Hooray",
+                "Bravo", "Greetings", "Take care", "Come on")  # opening a noun phrase that is the subject
+SUBJECT_NOUNS = ("parties", "speeches", "messages", "tours", "cards", "letters", "songs", "shouts", "signs", "calls",
+                 "banners", "gifts")
+PREDICATES = ("were held in the old hall.", "became popular after the war.", "filled the square that night.",
+              "are less common than they used to be.", "went on for hours.", "made the evening news.",
+              "cost more than anyone expected.", "were printed in three languages.", "drew a large crowd.",
+              "have a long history in the region.")
+
+
+def _noun_phrase_sentences(rng: random.Random, count: int) -> list[str]:
+    """``count`` sentences whose subject opens with a candidate used as a noun or adjective ("Farewell tours
+    became popular"): none of them is a speech act (added in the second revision)."""
+    return [f"{rng.choice(NOUN_OPENERS)} {rng.choice(SUBJECT_NOUNS)} {rng.choice(PREDICATES)}" for _ in range(count)]
+
+
 def _fill(text: str, rng: random.Random) -> str:
     return text.replace("{a}", rng.choice(ADDRESSEES))
 
@@ -132,8 +148,9 @@ def _acts(rng: random.Random, openers: tuple[str, ...], tails: tuple[str, ...], 
 
 
 def training_sentences(seed: int = 0, per_act: int = 220) -> list[str]:
-    """The whole training set: ``per_act`` sentences per speech act, the verb forms of thanks, and every
-    :data:`NOT_ACTS` sentence three times (alone, after and before a filler)."""
+    """The whole training set: ``per_act`` sentences per speech act, the verb forms of thanks, every
+    :data:`NOT_ACTS` sentence three times (alone, after and before a filler), and ``per_act // 2`` sentences whose
+    subject opens with a candidate."""
     rng = random.Random(seed)
     sentences = (_acts(rng, GREETINGS, GREETING_TAILS, "wave", per_act)
                  + _acts(rng, THANKS, THANKS_TAILS, "bow", per_act)
@@ -144,4 +161,4 @@ def training_sentences(seed: int = 0, per_act: int = 220) -> list[str]:
                  + [_fill(t, rng) for t in THANK_VERBS for _ in range(4)])
     for text in NOT_ACTS:
         sentences += [text, f"{rng.choice(FILLERS)} {text}", f"{text} {rng.choice(FILLERS)}"]
-    return sentences
+    return sentences + _noun_phrase_sentences(rng, per_act // 2)

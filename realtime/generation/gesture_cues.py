@@ -24,7 +24,9 @@ than recorded), and the blend keeps their shape while the latents keep the neigh
 - ``merged``: the same gesture is already playing over the word (a "hello" right after a "hi");
 - ``dropped``: none of these fits (logged, counted).
 
-The plan is deterministic in stream time, so streaming and offline runs with the same cues give the same poses.
+A gesture may have several performances (:mod:`gesturecast.realtime.generation.gesture_clips`, tempo and amplitude
+drawn from the seed); the plan plays them in turn. The plan is deterministic in stream time, so streaming and
+offline runs with the same cues give the same poses.
 """
 
 from __future__ import annotations
@@ -32,7 +34,7 @@ from __future__ import annotations
 import logging
 import math
 from collections import Counter, deque
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -209,8 +211,11 @@ class Imposition:
 class CuePlan:
     """Placed cues of one stream (see the module docstring); ``seconds_per_latent`` = d / fps."""
 
-    def __init__(self, clips: Mapping[str, GestureClip], seconds_per_latent: float) -> None:
+    def __init__(self, clips: Mapping[str, GestureClip], seconds_per_latent: float,
+                 performances: Mapping[str, Sequence[GestureClip]] | None = None) -> None:
         self.clips = dict(clips)
+        self.performances = {name: tuple(p) for name, p in (performances or {}).items() if p}
+        self.plays: Counter[str] = Counter()  # cues placed per gesture: the next performance to play
         self.seconds_per_latent = seconds_per_latent
         self.placements: list[Placement] = []
         self.counts: Counter[str] = Counter()  # outcomes by status, over the whole stream
@@ -230,7 +235,7 @@ class CuePlan:
     def place(self, cue: Cue, next_latent: int) -> CueOutcome:
         """Place ``cue`` no earlier than ``next_latent`` (the first latent not generated yet): on time, late,
         blended with a playing gesture, merged into the same one, or dropped; logged unless on time, and counted."""
-        clip = self.check(cue.gesture)
+        clip = self._performance(self.check(cue.gesture))
         wanted = math.floor(cue.time / self.seconds_per_latent)  # the stroke latent that covers the word
         merged = next((p for p in self.placements if p.cue.gesture == cue.gesture and p.weight(wanted) >= 0.5), None)
         if merged is not None:
@@ -242,6 +247,14 @@ class CuePlan:
         if cue.source == CONTROL_SOURCE:  # a button press: as soon as it can, never "late"
             return self._accept(placement, "on time", "as soon as the look-ahead allows")
         return self._accept(placement, "late" if placement.late_s > 0 else "on time", "")
+
+    def _performance(self, clip: GestureClip) -> GestureClip:
+        """The gesture's next performance in turn (its clip when it has none): two plays in a row differ."""
+        versions = self.performances.get(clip.name)
+        if not versions:
+            return clip
+        self.plays[clip.name] += 1
+        return versions[(self.plays[clip.name] - 1) % len(versions)]
 
     def _time(self, latent: int) -> float:
         return latent * self.seconds_per_latent
@@ -269,8 +282,11 @@ class CuePlan:
         if stroke - placement.stroke > self.max_defer:
             return self._drop(placement.cue, f"{earlier.cue.gesture} ({earlier.cue.source}) plays too close before it")
         shift = stroke - placement.stroke
-        later = replace(placement, first=placement.first + shift, start=start, stop=placement.stop + shift,
-                        ramp_in=BLEND_LATENTS, late_s=max(0.0, self._time(stroke) - placement.cue.time))
+        first = placement.first + shift
+        start = max(start, first)  # a moved clip may start after the hand-over: it approaches from its own start
+        later = replace(placement, first=first, start=start, stop=placement.stop + shift,
+                        ramp_in=max(1, min(BLEND_LATENTS, stroke - start)),
+                        late_s=max(0.0, self._time(stroke) - placement.cue.time))
         cut = replace(earlier, stop=min(earlier.stop, start + BLEND_LATENTS - 1),
                       ramp_out=min(earlier.ramp_out, BLEND_LATENTS))
         others = [p for p in self.placements if p is not earlier]

@@ -8,14 +8,15 @@ from the sentence around it:
 
 1. **Rules** where the grammar is clear (:func:`rule`): a causal "thanks to the rain" or "thanks to careful
    planning, the bridge opened"; "thank goodness"; a phrase inside a hyphenated word ("hi-fi"); reported speech
-   ("said hello", "waved goodbye"); a phrase mentioned, not used ("come on is what he said"); and the other way, an
+   ("said hello", "waved goodbye"); a phrase mentioned, not used ("come on is what he said"); "come on time" and
+   "come on stage"; "cheers" neither alone nor followed by "for" or "to" (the crowd's); and the other way, an
    interjection standing alone at the start of a clause ("Hooray!", "and goodbye!") is its act. Presenting is cued
    by its phrases ("here is", "look at", "over there", "this is our"), never by a bare "this", "there" or "here".
 2. **A small classifier** for the rest (:class:`SpeechActClassifier`): softmax regression over the packaged
-   wordllama text embedding (numpy only) of the phrase's window, the words before and the words after it, plus
-   where it stands (opening the sentence or a clause, punctuation after it). It is trained on sentences written
-   for it (:mod:`gesturecast.models.training.speech_act_data`, ``gesturecast gestures train-acts``), never on the
-   benchmark's texts; its weights ship in ``models/weights/speech_acts.npz``.
+   wordllama text embedding (numpy only) of the phrase's window, the words before and after it and the single
+   words next to it, plus where it stands (opening the sentence or a clause, punctuation after it). It is trained
+   on sentences written for it (:mod:`gesturecast.models.training.speech_act_data`, ``gesturecast gestures
+   train-acts``), never on the benchmark's texts; its weights ship in ``models/weights/speech_acts.npz``.
 
 The decision needs :data:`AFTER_TOKENS` words after the phrase, or the end of its sentence: what follows decides
 ("see you *walking*", "lights come *on*"). Words are only read inside their sentence, so a transcript given at once
@@ -65,9 +66,11 @@ CAUSAL_AFTER = frozenset(["the", "a", "an", "this", "that", "its", "it"])
 NOT_THANKS = frozenset(["goodness", "god", "heavens", "heaven"])
 REPORTING = frozenset(["say", "said", "says", "saying", "wave", "waved", "waves", "waving", "bid", "bade", "bidding",
                        "wish", "wished"])
+COME_ON_PLACES = frozenset(["time", "stage", "board", "air", "duty", "top", "line", "screen", "camera", "again"])
 MAIN_CLAUSE_TOKENS = 3  # words after the comma that make a main clause
 OPENERS = frozenset(["and", "so", "oh", "well", "but", "now"])  # a speech act may follow these at a clause start
-FEATURE_VERSION = 1
+FEATURE_VERSION = 2
+CONTEXTS = 5  # texts embedded per candidate (context_texts)
 
 
 @dataclass(frozen=True)
@@ -170,7 +173,9 @@ def rule(tokens: list[Token], candidate: Candidate) -> str | None:
     hyphenated = tokens[candidate.stop - 1].hyphen or (candidate.start > first and tokens[candidate.start - 1].hyphen)
     joined = not tokens[candidate.stop - 1].clause_end
     mentioned = joined and after in BE and "presenting" not in candidate.intents  # "come on is what he said"
-    if hyphenated or before in REPORTING or mentioned:
+    phrasal = words == ["come", "on"] and joined and after in COME_ON_PLACES  # "come on time", "come on stage"
+    crowd = words == ["cheers"] and joined and after not in ("for", "to")  # "cheers from the crowd"
+    if hyphenated or before in REPORTING or mentioned or phrasal or crowd:
         return "none"
     if words[0] in ("thanks", "thank") and joined and (after in NOT_THANKS or causal_thanks(tokens, candidate, stop)):
         return "none"
@@ -210,9 +215,9 @@ class Embedder:
         return out
 
 
-def context_texts(tokens: list[Token], words: list[str], candidate: Candidate) -> tuple[str, str, str]:
-    """(window, before, after) texts of a candidate, from the transcript words (punctuation kept), inside its
-    sentence."""
+def context_texts(tokens: list[Token], words: list[str], candidate: Candidate) -> tuple[str, ...]:
+    """(window, before, after, the word before, the word after) texts of a candidate, from the transcript words
+    (punctuation kept), inside its sentence ("" where there is none)."""
     first, stop = sentence_bounds(tokens, candidate)
 
     def text(a: int, b: int) -> str:
@@ -222,7 +227,9 @@ def context_texts(tokens: list[Token], words: list[str], candidate: Candidate) -
     window = text(candidate.start - WINDOW_TOKENS, candidate.stop + WINDOW_TOKENS)
     before = text(candidate.start - BEFORE_TOKENS, candidate.start) if candidate.start > first else ""
     after = text(candidate.stop, candidate.stop + AFTER_TOKENS) if candidate.stop < stop else ""
-    return window, before, after
+    previous = tokens[candidate.start - 1].text if candidate.start > first else ""
+    following = tokens[candidate.stop].text if candidate.stop < stop else ""
+    return window, before, after, previous, following
 
 
 def shape_features(tokens: list[Token], candidate: Candidate) -> np.ndarray:
@@ -236,11 +243,13 @@ def shape_features(tokens: list[Token], candidate: Candidate) -> np.ndarray:
 
 
 def features(embed: Embedder, tokens: list[Token], words: list[str], found: list[Candidate]) -> np.ndarray:
-    """(n, 3·256 + 12) classifier inputs of the candidates ``found``."""
+    """(n, 5·256 + 12) classifier inputs of the candidates ``found``: the embeddings of :func:`context_texts`
+    (the single words next to the phrase tell a function word or an addressee from a noun: "welcome *to*" /
+    "welcome *news*") and :func:`shape_features`."""
     if not found:
-        return np.zeros((0, 3 * embed.dim + 12), np.float32)
+        return np.zeros((0, CONTEXTS * embed.dim + 12), np.float32)
     texts = [context_texts(tokens, words, c) for c in found]
-    parts = [embed([t[k] for t in texts]) for k in range(3)]  # 3 × (n, 256)
+    parts = [embed([t[k] for t in texts]) for k in range(CONTEXTS)]  # CONTEXTS × (n, 256)
     return np.concatenate(parts + [np.stack([shape_features(tokens, c) for c in found])], axis=1)
 
 

@@ -83,7 +83,7 @@ class SessionConfig:
     silence_hold_s: float = 1.0  # silence this long after the last speech frame fades to idle
     root_mode: RootMode = RootMode.BOUNDED  # in place by default (models/motion/root_anchor.py)
     seed_motion: SeedMotion | None = None  # start from this motion's last pose, not idle (realtime/pose/seed_motion.py)
-    gesture_clips: tuple[GestureClip, ...] = ()  # the lexicon in this model's latent space (gesture cues)
+    gesture_clips: tuple[GestureClip, ...] = ()  # the lexicon in this model's latent space, performances in turn
     gesture_triggers: tuple[tuple[str, tuple[str, ...]], ...] = ()  # (gesture, phrases that always cue it)
     speech_acts: bool = False  # cue the lexicon's gestures from the speech acts of words (greetings, thanks, …)
     lipsync: str = "vrm0"  # a key of VISEME_NAMES: fill PoseFrame.visemes (docs/lipsync.md); "off": None
@@ -158,8 +158,11 @@ class GestureSession:
         if self.face is not None:
             self.face.reset()
         self._unsmoothed: deque[tuple[int, bool, str]] = deque()  # (frame, gesturing, gesture) inside the smoother
-        self.cues = CuePlan({clip.name: clip for clip in self.config.gesture_clips},
-                            self.denoiser_config.frames_per_latent / self.fps)
+        performances: dict[str, list[GestureClip]] = {}
+        for clip in self.config.gesture_clips:
+            performances.setdefault(clip.name, []).append(clip)
+        self.cues = CuePlan({name: clips[0] for name, clips in performances.items()},
+                            self.denoiser_config.frames_per_latent / self.fps, performances)
         self.listener = WordListener(self.vocabulary)  # words reported one at a time (a TTS speaking)
         self.phrase_listener = None if self.phrases is None else PhraseListener(self.phrases)
         self._visemes: deque[np.ndarray] = deque()  # (5,) weights of the audio frames not yet posed, in order
