@@ -15,7 +15,8 @@ than recorded), and the blend keeps their shape while the latents keep the neigh
 
 - ``on time``: the stroke latent covers the word;
 - ``late``: the cue came after its window began; the clip's opening is skipped (a quicker approach over
-  :data:`BLEND_LATENTS` latents) so the stroke lands as soon after the word as that allows;
+  :data:`BLEND_LATENTS` latents) so the stroke lands as soon after the word as that allows, at most
+  :data:`MAX_LATE_S` after it (later, the cue is dropped: a gesture seconds after its word means nothing);
 - ``blended``: it meets a gesture playing on a shared body part. A later gesture with parts of its own (a bow's
   torso after a wave) plays those on time alongside the earlier one and takes the shared parts over once the earlier
   has held its stroke (:data:`HOLD_LATENTS`); otherwise the earlier one's return is cut short and cross-fades over
@@ -47,6 +48,7 @@ RAMP_LATENTS = 4  # latents over which the imposition weight rises to 1 (and fal
 BLEND_LATENTS = 3  # the cross-fade of two gestures that meet, and the quickest approach of a late one (400 ms)
 HOLD_LATENTS = 6  # a gesture holds its stroke this long (800 ms) before a later one takes over parts it shares
 MAX_DEFER_S = 0.6  # a cue's stroke is moved at most this much after its word to fit after a playing gesture
+MAX_LATE_S = 1.0  # a cue whose stroke cannot come within this of its time (words that came too late) is dropped
 MAX_OUTCOMES = 256  # recent outcomes kept for reports (the counts cover the whole stream)
 STATUSES = ("on time", "late", "blended", "merged", "dropped")
 CONTROL_SOURCE = "control"  # a cue from a gesture control (button, OSC): played as soon as it can
@@ -241,6 +243,8 @@ class CuePlan:
         if merged is not None:
             return self._record(CueOutcome(cue, "merged", self._time(merged.stroke), f"into the {cue.gesture} playing"))
         placement = self._fresh(cue, clip, wanted, next_latent)
+        if placement.late_s > MAX_LATE_S and cue.source != CONTROL_SOURCE:
+            return self._drop(cue, f"its words came {placement.late_s:.1f} s too late for the stroke to be near them")
         conflicts = [p for p in self.placements if p.overlaps(placement)]
         if conflicts:
             return self._blend(placement, conflicts)

@@ -152,6 +152,8 @@ def decidable(tokens: list[Token], candidate: Candidate) -> bool:
     sentence: a main clause after a comma makes it causal)."""
     _, stop = sentence_bounds(tokens, candidate)
     whole = tokens[candidate.start].text == "thanks" and candidate.stop < stop and tokens[candidate.stop].text == "to"
+    if tokens[candidate.stop - 1].clause_end and rule(tokens, candidate) is not None:
+        return True  # punctuation closes the phrase: the rules read nothing after it ("Hello," waves at once)
     return tokens[stop - 1].sentence_end or not whole and stop - candidate.stop >= AFTER_TOKENS
 
 
