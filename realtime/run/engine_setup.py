@@ -40,7 +40,9 @@ from gesturecast.realtime.timing.clock import Clock
 from gesturecast.realtime.timing.latency import LatencyBudget
 from gesturecast.settings import LATENCY_SETTINGS, LatencySetting, Settings
 
-MEANT_STYLES = {"raise-both": "active"}  # gesture -> the take that means it when the neutral one falls short
+MEANT_STYLES = {"raise-both": "active", "guide": "proud"}  # gesture -> the take that means it, where the neutral
+# one falls short: Bandai's neutral raise stops at the top of the head (a cheer: arms overhead), its neutral guide
+# holds a bent arm near the body (presenting: an open arm held out)
 
 
 def load_bundle(path: Path) -> ModelBundle:
@@ -102,9 +104,7 @@ def gesture_setup(settings: Settings, bundle: ModelBundle) -> dict:
 
 def performed_variant(entry: GestureEntry, style: str | None) -> GestureVariant:
     """The clip of ``entry`` a stream in ``style`` plays: the style's own, else the one of
-    :data:`MEANT_STYLES` where the neutral take falls short of what the gesture means (Bandai's neutral "raise up
-    both hands" stops at the top of the head; a cheer is the arms overhead, as its active take does), else the
-    neutral one."""
+    :data:`MEANT_STYLES` where the neutral take falls short of what the gesture means, else the neutral one."""
     variant = entry.variant(style)
     meant = MEANT_STYLES.get(entry.name)
     return entry.variant(meant) if variant.style == DEFAULT_STYLE and meant in entry.styles else variant
