@@ -1,6 +1,6 @@
-"""Training sentences of the speech-act classifier (:mod:`gesturecast.realtime.generation.speech_acts`).
+"""Training sentences of the speech-act classifier (:mod:`gesturecast.models.runtime.speech_acts`).
 
-Written for it, and kept apart from the benchmark's texts (``tools/bench/gesture_texts.py``), which nothing here
+Written for it, and kept apart from the benchmark's texts (``tools/bench/gesture_set/texts.py``), which nothing here
 reads. ``[gesture]`` marks the word that opens an intended gesture (the same convention as the benchmark); every
 other candidate phrase in a sentence ("there are", "thanks to the", "see you running") is a "none" example.
 :func:`training_sentences` combines the openers of each speech act with continuations, and adds the sentences where

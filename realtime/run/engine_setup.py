@@ -87,7 +87,7 @@ def generator_settings(settings: Settings, bundle: ModelBundle, budget: LatencyB
 def gesture_setup(settings: Settings, bundle: ModelBundle) -> dict:
     """The session's gesture lexicon in this model's latent space: each gesture's clip in the style variant named
     like the settings' style label (:func:`performed_variant`), as performances drawn from the seed. A built
-    lexicon's gestures are cued by the speech acts of words (:mod:`gesturecast.realtime.generation.speech_acts`);
+    lexicon's gestures are cued by the speech acts of words (:mod:`gesturecast.models.runtime.speech_acts`);
     a user's folder's trigger phrases cue their gestures wherever they are said."""
     if settings.gestures is None:
         return {}

@@ -1,9 +1,9 @@
 """``gesturecast bench gestures``: are intended gestures played on their words, are ordinary words left alone, and is
 no cue lost in silence?
 
-**Texts** (:mod:`gesturecast.tools.bench.gesture_texts`, held out from the classifier's training): cued stories
+**Texts** (:mod:`gesturecast.tools.bench.gesture_set.texts`, held out from the classifier's training): cued stories
 whose sentences mark the intended speech acts, and ordinary narration with none, spoken by espeak-ng with exact word
-times (:mod:`gesturecast.tools.bench.gesture_stories`).
+times (:mod:`gesturecast.tools.bench.gesture_set.stories`).
 
 **Runs.** Each cued story is generated with and without its transcript (the same session code as
 ``generate --transcript``), the narrations with theirs; one story also without it at the next seed (the seed-to-seed
@@ -11,7 +11,7 @@ floor of the variation measure).
 
 **Per intended cue**: the decision (the gesture the session cued at the word, if any), its outcome (on time, late,
 blended, merged, dropped: :class:`gesturecast.realtime.generation.gesture_cues.CueOutcome`), and whether the
-kinematic detector (:mod:`gesturecast.tools.bench.gesture_detector`) sees the gesture within
+kinematic detector (:mod:`gesturecast.tools.bench.gesture_set.detector`) sees the gesture within
 [word − 1.5 s, word + 2.5 s]: *hit* = played, detected, and the detected stroke within :data:`STROKE_TOLERANCE_S`
 of the word; a merged cue (the same gesture already playing) is a hit when the detection spans its word.
 
@@ -49,9 +49,9 @@ from gesturecast.realtime.run.engine import run_offline
 from gesturecast.realtime.run.engine_setup import build_session
 from gesturecast.realtime.timing.clock import MonotonicClock
 from gesturecast.settings import Settings
-from gesturecast.tools.bench.gesture_detector import Detector, jerk
-from gesturecast.tools.bench.gesture_stories import Story, make_story
-from gesturecast.tools.bench.gesture_texts import CUED_STORIES, NARRATION, NARRATION_FINAL, NARRATION_LATE
+from gesturecast.tools.bench.gesture_set.detector import Detector, jerk
+from gesturecast.tools.bench.gesture_set.stories import Story, make_story
+from gesturecast.tools.bench.gesture_set.texts import CUED_STORIES, NARRATION, NARRATION_FINAL, NARRATION_LATE
 
 WINDOW_BEFORE_S, WINDOW_AFTER_S = 1.5, 2.5  # where an intended gesture must show, around its word
 STROKE_TOLERANCE_S = 0.3

@@ -3,8 +3,8 @@ the phrasings users write, and words heard one at a time deciding the same as a 
 
 import pytest
 
+from gesturecast.models.runtime.speech_acts import candidates, rule, tokenize
 from gesturecast.realtime.generation.phrase_cues import PhraseCues, PhraseListener
-from gesturecast.realtime.generation.speech_acts import candidates, rule, tokenize
 from gesturecast.realtime.generation.word_cues import Word
 
 GESTURES = ("wave", "wave-right", "bye", "bow", "raise-both", "guide", "call")

@@ -1,10 +1,10 @@
 """The spoken texts of ``gesturecast bench gestures``: espeak-ng audio with exact word times, and the intended cues.
 
-Each sentence of :mod:`gesturecast.tools.bench.gesture_texts` is spoken on its own by espeak-ng through its library
+Each sentence of :mod:`gesturecast.tools.bench.gesture_set.texts` is spoken on its own by espeak-ng through its library
 (:mod:`gesturecast.tools.bench.speech.espeak_words`: every word's start from the synthesiser's own word events);
 sentences are joined with :data:`PAUSE_S` of silence after :data:`LEAD_IN_S`. A word ends where the next begins
 (the last one at its sentence's end). ``[mark]`` marks become :class:`Intended` cues: the intent the mark stands
-for (:data:`~gesturecast.realtime.generation.speech_acts.MARKS`) at the marked word's start.
+for (:data:`~gesturecast.models.runtime.speech_acts.MARKS`) at the marked word's start.
 """
 
 from __future__ import annotations
@@ -15,8 +15,8 @@ from pathlib import Path
 import numpy as np
 
 from gesturecast.models.audio.files import SAMPLE_RATE
+from gesturecast.models.runtime.speech_acts import MARKS
 from gesturecast.models.training.speech_acts import parse_marked
-from gesturecast.realtime.generation.speech_acts import MARKS
 from gesturecast.realtime.generation.word_cues import Word
 from gesturecast.tools.bench.speech.espeak_words import spoken
 
