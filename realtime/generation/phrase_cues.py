@@ -40,7 +40,18 @@ class PhraseCues:
 
     def __init__(self, gestures: Iterable[str], classifier: SpeechActClassifier | None = None) -> None:
         self.gestures = frozenset(gestures)
-        self.classifier = classifier or shared_classifier()
+        self._classifier = classifier
+
+    @property
+    def classifier(self) -> SpeechActClassifier:
+        """The classifier, loaded when the first words come (a stream that gets none never loads wordllama)."""
+        if self._classifier is None:
+            self._classifier = shared_classifier()
+        return self._classifier
+
+    def warm(self) -> None:
+        """Load the classifier now (a live stream's warm-up), not when the first words come."""
+        self.cues([])
 
     def gesture_of(self, intent: str) -> str | None:
         """The gesture that performs ``intent`` in this lexicon (None for "none" or when it has none)."""

@@ -100,6 +100,8 @@ def warm_up(session: GestureSession, clock: Clock) -> float:
     kept, session.stats = session.stats, LatencyStats(clock)
     start = clock.now()
     try:
+        if session.phrases is not None:
+            session.phrases.warm()
         for chunk in warm_up_chunks(session.sample_rate):
             session.push(chunk)
     finally:

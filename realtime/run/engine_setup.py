@@ -40,9 +40,10 @@ from gesturecast.realtime.timing.clock import Clock
 from gesturecast.realtime.timing.latency import LatencyBudget
 from gesturecast.settings import LATENCY_SETTINGS, LatencySetting, Settings
 
-MEANT_STYLES = {"raise-both": "active"}  # gesture -> the take that means it, where the neutral one falls short:
-# Bandai's neutral raise stops at the top of the head (all 74 neutral takes: wrists 5-19 cm above the head joint);
-# a cheer is the arms overhead, as its active take does (34 cm)
+MEANT_STYLES = {"raise-both": "active", "guide": "proud"}  # gesture -> the take that means it, where the neutral
+# one falls short: Bandai's neutral raise stops at the top of the head (all 74 neutral takes: wrists 5-19 cm above
+# the head joint), a cheer is the arms overhead (its active take: 34 cm); the neutral guide holds a bent arm below
+# the shoulder, presenting holds an open arm out at shoulder height (its proud take)
 
 
 def load_bundle(path: Path) -> ModelBundle:
