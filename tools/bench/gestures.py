@@ -18,7 +18,8 @@ of the word; a merged cue (the same gesture already playing) is a hit when the d
 **Measures** (JSON): hits / intended, per intent; stroke − word p50/p95 (ms); outcomes; cues played where none was
 intended; on the narrations, gestures played per minute and detector events per minute (cued and uncued runs);
 silent drops (dropped outcomes without a warning log line, plus cues decided without an outcome); two plays of one
-gesture in a stream against the seed-to-seed distance of the uncued speech; the largest jerk within 0.3 s of each
+gesture in a stream against the seed-to-seed distance of the uncued speech; the speed of the parts no playing
+gesture moves (the torso during a wave), cued over uncued; the largest jerk within 0.3 s of each
 clip's ends over the uncued stream's 95th percentile; speech following outside the cue windows, cued over uncued;
 a PNG strip of frames around each cue of the first story.
 """
@@ -35,12 +36,13 @@ from pathlib import Path
 import numpy as np
 
 from gesturecast.files import write_text_atomic
-from gesturecast.frames import PoseFrame
+from gesturecast.frames import PoseFrame, gesture_names
 from gesturecast.models.audio.files import SAMPLE_RATE
 from gesturecast.models.evaluation.speech_following import speech_following
+from gesturecast.models.motion.body_parts import PART_JOINTS
 from gesturecast.models.motion.motion import MOTION_FPS
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
-from gesturecast.models.runtime.gesture_lexicon import body_frame_positions
+from gesturecast.models.runtime.gesture_lexicon import body_frame_positions, load_lexicon
 from gesturecast.realtime.audio.sources import ArraySource
 from gesturecast.realtime.cli_flags import add_generation_arguments, settings_from_args
 from gesturecast.realtime.engine_cli import frames_to_motion
@@ -168,6 +170,11 @@ def following_ratio(cued: Run, uncued: Run, audio: np.ndarray) -> float:
     return following(cued.frames, audio, outside) / following(uncued.frames, audio, outside)
 
 
+def finite_or_none(value: float) -> float | None:
+    """``value`` rounded, or None when it is not finite (no frame left to measure)."""
+    return round(value, 3) if np.isfinite(value) else None
+
+
 def play_distances(run: Run, body: np.ndarray) -> list[dict]:
     """Mean joint distance (m) between consecutive plays of the same gesture in one stream, aligned at strokes."""
     width = int(PLAY_WINDOW_S * MOTION_FPS)
@@ -182,6 +189,24 @@ def play_distances(run: Run, body: np.ndarray) -> list[dict]:
                 distance = np.linalg.norm(body[a - width: a + width, :22] - body[b - width: b + width, :22], axis=-1)
                 pairs.append({"gesture": gesture, "distance_m": round(float(distance.mean()), 4)})
     return pairs
+
+
+def idle_part_speed_ratio(run: Run, body: np.ndarray, uncued_body: np.ndarray, parts: dict[str, tuple[str, ...]]
+                          ) -> float | None:
+    """Mean joint speed of the body parts no playing gesture moves (the torso during a wave), over the frames with a
+    gesture, cued ÷ uncued (None when every part is busy, as in a bow)."""
+    names = CANONICAL_WITH_HANDS.names
+    count = min(len(body), len(uncued_body)) - 1
+    cued = np.linalg.norm(np.diff(body[: count + 1], axis=0), axis=-1)  # (T-1, J) metres per frame
+    uncued = np.linalg.norm(np.diff(uncued_body[: count + 1], axis=0), axis=-1)
+    total_cued = total_uncued = 0.0
+    for k, frame in enumerate(run.frames[1: count + 1]):
+        busy = {part for name in gesture_names(frame.gesture) for part in parts[name]}
+        joints = [names.index(j) for part, js in PART_JOINTS.items() if part not in busy for j in js]
+        if busy and joints:
+            total_cued += float(cued[k, joints].mean())
+            total_uncued += float(uncued[k, joints].mean())
+    return total_cued / total_uncued if total_uncued else None
 
 
 def narration_result(settings: Settings, story: Story) -> dict:
@@ -203,7 +228,8 @@ def silent_drops(run: Run) -> int:
     return unlogged + max(0, run.decided - len(run.outcomes))
 
 
-def story_result(settings: Settings, story: Story, expected: dict[str, str]) -> dict:
+def story_result(settings: Settings, story: Story, expected: dict[str, str], parts: dict[str, tuple[str, ...]]
+                 ) -> dict:
     cued, uncued = generate(settings, story, True), generate(settings, story, False)
     body, uncued_body = body_positions(cued.frames), body_positions(uncued.frames)
     detector = Detector(body, CANONICAL_WITH_HANDS.names)
@@ -217,8 +243,9 @@ def story_result(settings: Settings, story: Story, expected: dict[str, str]) -> 
     return {"story": story.name, "seconds": round(len(story.audio) / SAMPLE_RATE, 2), "cues": rows,
             "outcomes": outcomes, "unintended": extra, "silent_drops": silent_drops(cued),
             "seam_jerk_ratios": [round(r, 2) for r in seams(cued, uncued_body, body)],
-            "following_ratio": round(following_ratio(cued, uncued, story.audio), 3),
+            "following_ratio": finite_or_none(following_ratio(cued, uncued, story.audio)),
             "plays": play_distances(cued, body), "rtf_ratio": round(cued.rtf / uncued.rtf, 3),
+            "idle_parts_speed_ratio": idle_part_speed_ratio(cued, body, uncued_body, parts),
             "frames_cued": cued.frames, "uncued_body": uncued_body}
 
 
@@ -241,6 +268,7 @@ def summary(stories: list[dict], narrations: list[dict], floor: float) -> dict:
         for status, n in story["outcomes"].items():
             outcomes[status] = outcomes.get(status, 0) + n
     plays = [p["distance_m"] for s in stories for p in s["plays"]]
+    idle = [s["idle_parts_speed_ratio"] for s in stories if s["idle_parts_speed_ratio"] is not None]
     minutes = sum(n["minutes"] for n in narrations)
     return {
         "intended": len(rows),
@@ -259,7 +287,9 @@ def summary(stories: list[dict], narrations: list[dict], floor: float) -> dict:
         "repeat_distance_m": {"min": min(plays), "median": float(np.median(plays))} if plays else None,
         "seed_floor_m": round(floor, 4),
         "seam_jerk_ratio_max": max((r for s in stories for r in s["seam_jerk_ratios"]), default=None),
-        "following_ratio_min": min(s["following_ratio"] for s in stories),
+        "following_ratio_min": min((s["following_ratio"] for s in stories if s["following_ratio"] is not None),
+                                   default=None),
+        "idle_parts_speed_ratio": {"min": min(idle), "median": float(np.median(idle))} if idle else None,
         "rtf_ratio_median": float(np.median([s["rtf_ratio"] for s in stories])),
     }
 
@@ -269,7 +299,8 @@ def run(args: argparse.Namespace) -> int:
     probe = build_session(settings, MonotonicClock())
     expected = {intent: probe.phrases.gesture_of(intent) for intent in ("greeting", "thanks", "farewell",
                                                                          "celebration", "presenting", "calling")}
-    stories = [story_result(settings, make_story(name, sentences), expected)
+    parts = {entry.name: entry.parts for entry in load_lexicon(settings.gestures)}
+    stories = [story_result(settings, make_story(name, sentences), expected, parts)
                for name, sentences in CUED_STORIES.items()]
     narrations = [narration_result(settings, make_story(name, texts))
                   for name, texts in (("narration", NARRATION), ("narration-late", NARRATION_LATE),
