@@ -116,3 +116,12 @@ def test_imposition_holds_the_clip_latent_on_its_parts_with_ramped_weights(plan)
 def test_an_unknown_gesture_is_one_line(plan):
     with pytest.raises(UserError, match="unknown gesture 'wav'; known: bow, raise, wave"):
         plan.place(Cue("wav", 1.0), 0)
+
+
+def test_performances_play_in_turn_so_two_plays_differ():
+    versions = (clip("wave", ARMS, length=10), clip("wave", ARMS, length=12, stroke=5))
+    plan = CuePlan({"wave": versions[0]}, SECONDS_PER_LATENT, {"wave": versions})
+    plan.place(Cue("wave", at(20)), 0)
+    plan.place(Cue("wave", at(60)), 0)
+    plan.place(Cue("wave", at(100)), 0)
+    assert [p.clip for p in plan.placements] == [versions[0], versions[1], versions[0]]
