@@ -24,7 +24,7 @@ from gesturecast.realtime.generation.gesture_cues import GestureClip
 
 PERFORMANCES = 4  # versions of each gesture per stream, played in turn
 TEMPO_RANGE = (0.88, 1.12)  # a performance's speed, relative to the recorded clip
-AMPLITUDE_RANGE = (1.0, 1.2)  # how far its moving joints turn, relative to the recorded clip (never smaller)
+AMPLITUDE_RANGE = (0.9, 1.15)  # how far its moving joints turn, relative to the recorded clip
 
 
 @dataclass(frozen=True)
