@@ -13,6 +13,7 @@ import hashlib
 import json
 import wave
 from dataclasses import dataclass
+from functools import cache
 from pathlib import Path
 
 import numpy as np
@@ -75,7 +76,7 @@ class _Espeak:
         chunks: list[np.ndarray] = []
         events: list[tuple[int, int, int]] = []
 
-        def collect(wav, count, event_list):  # noqa: ANN001 - ctypes callback
+        def collect(wav, count: int, event_list) -> int:  # the synthesis callback: audio and events so far
             if count > 0:
                 chunks.append(np.ctypeslib.as_array(wav, shape=(count,)).copy())
             index = 0
@@ -94,13 +95,10 @@ class _Espeak:
         return (np.concatenate(chunks) if chunks else np.zeros(0, np.int16)), events
 
 
-_ENGINE: list[_Espeak] = []
-
-
+@cache
 def _engine() -> _Espeak:
-    if not _ENGINE:
-        _ENGINE.append(_Espeak())
-    return _ENGINE[0]
+    """The library, initialised once per process (espeak-ng keeps its state globally)."""
+    return _Espeak()
 
 
 def words_at(text: str, events: list[tuple[int, int, int]], duration: float) -> list[TimedWord]:
