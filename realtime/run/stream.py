@@ -127,16 +127,16 @@ class Stream:
 
     def words(self, words: list[dict]) -> int:
         """Words with stream-time stamps (``[{"word", "start", "end"}]``, seconds since the first pushed sample), e.g.
-        a TTS service's word timings sent before the audio plays: trigger words cue their gestures with the stroke on
-        the word (late by the wait when the word's latents are already generated). Returns the cues placed."""
+        a TTS service's word timings sent before the audio plays: speech acts cue their gestures with the stroke on the
+        word (a quicker approach when the word's window is already generated). Returns the cues that play."""
         self._check_open()
         return played(self.session.cue_words(words_from_list(words, "words")))
 
     def spoken(self, text: str, start: float | None = None) -> int:
         """Words as a TTS service reports them while speaking (one word, or a sentence without word times):
         ``start`` is the first word's stream time (default :meth:`heard_time`), further words follow at
-        :data:`SPOKEN_WORD_S` each; a trigger phrase cues its gesture when its last word arrives. Returns the cues
-        placed."""
+        :data:`SPOKEN_WORD_S` each; a speech act cues its gesture once the words after it that tell have arrived.
+        Returns the cues that play."""
         self._check_open()
         start = self.heard_time() if start is None else start
         words = [Word(token, start + i * SPOKEN_WORD_S, start + (i + 1) * SPOKEN_WORD_S)
