@@ -20,6 +20,7 @@ import numpy as np
 from gesturecast.errors import UserError
 from gesturecast.models.motion.body_parts import PART_JOINTS, joint_columns
 from gesturecast.models.runtime.bundle import ModelBundle, VQEncoderRuntime
+from gesturecast.realtime.generation.arm_reattach import body_frame_shoulders
 from gesturecast.realtime.generation.gesture_cues import GestureClip
 
 PERFORMANCES = 4  # versions of each gesture per stream, played in turn
@@ -58,9 +59,10 @@ def encode_clip(bundle: ModelBundle, motion: ClipMotion, encoder: VQEncoderRunti
                         f"{motion.stroke_frame}; it needs at least {d} frames and its stroke inside them")
     features = np.asarray(motion.features[:usable], np.float32)  # (T', D)
     latents = encoder.encode(bundle.motion_stats.normalize(features))  # (N, C)
+    columns = rotation_columns(motion.parts, features.shape[1])
     return GestureClip(motion.name, bundle.latent_stats.normalize(latents).astype(np.float32),
-                       part_mask(bundle, motion.parts, motion.name), motion.stroke_frame // d, features,
-                       rotation_columns(motion.parts, features.shape[1]))
+                       part_mask(bundle, motion.parts, motion.name), motion.stroke_frame // d, features, columns,
+                       tuple(body_frame_shoulders(features, columns)))
 
 
 def rotation_columns(parts: Iterable[str], feature_dim: int) -> np.ndarray:

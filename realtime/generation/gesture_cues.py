@@ -36,11 +36,12 @@ import logging
 import math
 from collections import Counter, deque
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from gesturecast.errors import UserError
+from gesturecast.realtime.generation.arm_reattach import reattach
 
 logger = logging.getLogger(__name__)
 
@@ -72,6 +73,7 @@ class GestureClip:
     stroke_latent: index of the latent that holds the stroke.
     features: (N·d, D) the clip's motion features (denormalised), d frames per latent.
     columns: (D,) bool, the feature columns of the moving parts' joint rotations (never the root's travel).
+    shoulders: for a clip of arms only, each shoulder's feature columns and (N·d, 4) rotation in the body frame.
     """
 
     name: str
@@ -80,6 +82,7 @@ class GestureClip:
     stroke_latent: int
     features: np.ndarray
     columns: np.ndarray
+    shoulders: tuple = ()  # (columns, (N·d, 4) body-frame rotation) per shoulder of an arms-only clip (arm_reattach)
 
     @property
     def num_latents(self) -> int:
@@ -139,7 +142,9 @@ class Placement:
 
 def part_clip(clip: GestureClip, channels: np.ndarray, columns: np.ndarray) -> GestureClip:
     """``clip`` on the latent ``channels`` and feature ``columns`` it moves among those given (bool masks)."""
-    return replace(clip, channels=clip.channels & channels, columns=clip.columns & columns)
+    kept = clip.columns & columns
+    return replace(clip, channels=clip.channels & channels, columns=kept,
+                   shoulders=tuple(s for s in clip.shoulders if kept[s[0]].all()))
 
 
 def ramp_weight(k: int, length: int, ramp: int = RAMP_LATENTS) -> float:
@@ -183,6 +188,7 @@ class Imposition:
     pose: np.ndarray
     pose_weights: np.ndarray
     names: str
+    shoulders: list = field(default_factory=list)  # (columns, (d, 4) body-frame rotation) of arms-only clips
 
     @classmethod
     def of(cls, placements: list[Placement], latent: int) -> Imposition:
@@ -202,12 +208,17 @@ class Imposition:
             pose_weights[:, c.columns] += frame_w
         target /= np.maximum(weights, 1e-6)
         pose /= np.maximum(pose_weights, 1e-6)
+        strongest = max(placements, key=lambda p: p.weight(latent))  # its shoulders, when two cross-fade
+        k = latent - strongest.first
+        shoulders = [(cols, rotations[k * d:(k + 1) * d]) for cols, rotations in strongest.clip.shoulders]
         return cls(target, np.minimum(weights, 1.0), pose, np.minimum(pose_weights, 1.0),
-                   "+".join(dict.fromkeys(p.cue.gesture for p in placements)))
+                   "+".join(dict.fromkeys(p.cue.gesture for p in placements)), shoulders)
 
     def blend(self, features: np.ndarray) -> np.ndarray:
-        """(d, D) decoded features pulled toward the clip's joint rotations."""
-        return features + self.pose_weights * (self.pose - features)
+        """(d, D) decoded features pulled toward the clip's joint rotations, an arms-only clip's shoulders
+        re-attached under the decoded torso (:mod:`gesturecast.realtime.generation.arm_reattach`)."""
+        pose = reattach(self.pose, features, self.shoulders)
+        return features + self.pose_weights * (pose - features)
 
 
 class CuePlan:
