@@ -9,7 +9,8 @@ from the sentence around it:
 1. **Rules** where the grammar is clear (:func:`rule`): a causal "thanks to the rain" or "thanks to careful
    planning, the bridge opened"; "thank goodness"; a phrase inside a hyphenated word ("hi-fi"); reported speech
    ("said hello", "waved goodbye"); a phrase mentioned, not used ("come on is what he said"); "come on time" and
-   "come on stage"; "cheers" neither alone nor followed by "for" or "to" (the crowd's); and the other way, an
+   "come on stage"; "cheers" neither alone nor followed by "for" or "to" (the crowd's); quoted words with their
+   speaker after a comma ("Come on, she thought"); and the other way, an
    interjection standing alone at the start of a clause ("Hooray!", "and goodbye!") is its act. Presenting is cued
    by its phrases ("here is", "look at", "over there", "this is our"), never by a bare "this", "there" or "here".
 2. **A small classifier** for the rest (:class:`SpeechActClassifier`): softmax regression over the packaged
@@ -67,6 +68,10 @@ NOT_THANKS = frozenset(["goodness", "god", "heavens", "heaven"])
 REPORTING = frozenset(["say", "said", "says", "saying", "wave", "waved", "waves", "waving", "bid", "bade", "bidding",
                        "wish", "wished"])
 COME_ON_PLACES = frozenset(["time", "stage", "board", "air", "duty", "top", "line", "screen", "camera", "again"])
+ATTRIBUTION = frozenset(["said", "says", "asked", "asks", "argued", "argues", "thought", "thinks", "wrote", "writes",
+                         "shouted", "shouts", "replied", "replies", "added", "explained", "told", "cried",
+                         "whispered", "muttered", "insisted", "suggested", "suggests", "called", "yelled"])
+ATTRIBUTION_TOKENS = 3  # "she thought", "the article argued"
 MAIN_CLAUSE_TOKENS = 3  # words after the comma that make a main clause
 OPENERS = frozenset(["and", "so", "oh", "well", "but", "now"])  # a speech act may follow these at a clause start
 FEATURE_VERSION = 2
@@ -152,8 +157,8 @@ def decidable(tokens: list[Token], candidate: Candidate) -> bool:
     sentence: a main clause after a comma makes it causal)."""
     _, stop = sentence_bounds(tokens, candidate)
     whole = tokens[candidate.start].text == "thanks" and candidate.stop < stop and tokens[candidate.stop].text == "to"
-    if tokens[candidate.stop - 1].clause_end and rule(tokens, candidate) is not None:
-        return True  # punctuation closes the phrase: the rules read nothing after it ("Hello," waves at once)
+    if tokens[candidate.stop - 1].sentence_end and rule(tokens, candidate) is not None:
+        return True  # the phrase ends its sentence: the rules read nothing after it ("Hooray!" at once)
     return tokens[stop - 1].sentence_end or not whole and stop - candidate.stop >= AFTER_TOKENS
 
 
@@ -181,10 +186,21 @@ def rule(tokens: list[Token], candidate: Candidate) -> str | None:
         return "none"
     if words[0] in ("thanks", "thank") and joined and (after in NOT_THANKS or causal_thanks(tokens, candidate, stop)):
         return "none"
+    if quoted(tokens, candidate, stop):
+        return "none"
     interjection = not joined and len(candidate.intents) == 1 and candidate.intents[0] != "presenting"
     if interjection and clause_start(tokens, candidate, first):  # "Hooray!", "Thank you, and goodbye!"
         return candidate.intents[0]
     return None
+
+
+def quoted(tokens: list[Token], candidate: Candidate, stop: int) -> bool:
+    """"Come on, she thought" / "Hello, the sign said": a comma after the phrase, then a speaker and a verb of
+    saying within :data:`ATTRIBUTION_TOKENS` words: the words are quoted, not said to the listener."""
+    last = tokens[candidate.stop - 1]
+    if not last.clause_end or last.sentence_end:
+        return False
+    return any(t.text in ATTRIBUTION for t in tokens[candidate.stop: min(stop, candidate.stop + ATTRIBUTION_TOKENS)])
 
 
 def causal_thanks(tokens: list[Token], candidate: Candidate, stop: int) -> bool:

@@ -187,7 +187,8 @@ def test_word_frames_that_come_with_their_audio_get_their_strokes_on_the_words_w
     """A TTS that sends each word frame with its audio (no presentation time): without a hold the strokes come late;
     holding the audio by SUGGESTED_HOLD_S puts them on the words; every audio frame still goes on, in order."""
     audio = pcm_frames(np.tile(speech, 4), SAMPLE_RATE, 1, OutputAudioRawFrame)  # 8 s of 20 ms frames
-    words = {100: "Hello,", 250: "thank", 265: "you", 280: "so", 295: "much."}  # 2.0 s; 5.0 s, 0.3 s apart
+    words = {100: "Hello,", 115: "it", 130: "is", 145: "me.",  # 2.0 s, 0.3 s apart
+             250: "thank", 265: "you", 280: "so", 295: "much."}  # 5.0 s
     frames = [f for k, a in enumerate(audio) for f in ([TTSTextFrame(words[k], text_type="word")] if k in words
                                                         else []) + [a]]
     delays = {}

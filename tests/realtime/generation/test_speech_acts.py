@@ -30,7 +30,8 @@ def test_recogniser_spellings_and_common_phrasings_are_candidates():
                                   "Thanks to careful planning, the bridge opened on time.",
                                   "Thank goodness it stopped.", "Hi-fi shops were everywhere.",
                                   "He said hello to the postman.", "Come on is what he always said.",
-                                  "Please come on time.", "Cheers rang out across the square."])
+                                  "Please come on time.", "Cheers rang out across the square.",
+                                  "Come on, she thought, it cannot be that hard."])
 def test_rules_rule_out_what_grammar_makes_clear(text):
     tokens = tokenize(text.split())
     assert [rule(tokens, c) for c in candidates(tokens)] == ["none"]
