@@ -1,10 +1,11 @@
 """The pose stream as JSON (``generate --json``), written frame batch by frame batch.
 
 The document is ``{"bones": [...], "fps": 30, "visemes": [...], "face": [...], "frames": [{seq, capture_time, root,
-rotations, speaking, visemes, face, gesture}, ...]}`` on one line (``gesture``: the lexicon gesture being carried out,
-only on frames that have one; ``visemes``: the blend-shape names of ``--lipsync`` and each
-frame's weights in that order; both absent with ``--lipsync off``; ``face``: the same for the blinks and the
-emotion presets, absent with ``--face off``; ``speaking``: the voice activity of the
+rotations, speaking, visemes, face, gesture}, ...], "gesture_cues": {...}}`` on one line (``gesture``: the lexicon
+gesture being carried out, only on frames that have one; ``gesture_cues``: ``generate``'s cues by outcome, on time,
+late, blended, merged, dropped, and a line for each one not on time; ``visemes``: the blend-shape names of
+``--lipsync`` and each frame's weights in that order; both absent with ``--lipsync off``; ``face``: the same for
+the blinks and the emotion presets, absent with ``--face off``; ``speaking``: the voice activity of the
 frame's own audio instant, with a 267 ms hangover), the same bytes as ``json.dumps`` of the
 whole document, but the frames are never all in memory: each batch is formatted and written as it comes, into a
 temporary file that replaces the target on :meth:`PoseJsonWriter.save` (:func:`gesturecast.files.atomic_file`).
@@ -13,6 +14,7 @@ temporary file that replaces the target on :meth:`PoseJsonWriter.save` (:func:`g
 from __future__ import annotations
 
 import json
+from collections.abc import Callable
 from contextlib import ExitStack
 from pathlib import Path
 
@@ -50,8 +52,10 @@ def frame_record(frame: PoseFrame) -> dict:
 class PoseJsonWriter:
     """Append frames with :meth:`write`; :meth:`save` finishes the document and replaces the target."""
 
-    def __init__(self, path: str | Path, viseme_names: tuple[str, ...] = (), face_names: tuple[str, ...] = ()) -> None:
+    def __init__(self, path: str | Path, viseme_names: tuple[str, ...] = (), face_names: tuple[str, ...] = (),
+                 closing: Callable[[], dict] | None = None) -> None:
         self.path = Path(path)
+        self.closing = closing  # fields added after the frames when saved (the gesture cues' outcomes)
         self._stack = ExitStack()
         self._file = self._stack.enter_context(atomic_file(self.path))
         self._count = 0
@@ -76,8 +80,9 @@ class PoseJsonWriter:
             self._count += 1
 
     def save(self) -> None:
-        """Close the document; the file replaces the target."""
-        self._write("]}\n")
+        """Close the document (with the ``closing`` fields after the frames); the file replaces the target."""
+        extra = self.closing() if self.closing is not None else {}
+        self._write("]" + "".join(f", {json.dumps(k)}: {json.dumps(v)}" for k, v in extra.items()) + "}\n")
         self._stack.close()
 
     def close(self) -> None:

@@ -90,7 +90,7 @@ class WebSocketBridge:
     def __init__(
         self,
         config: WebSocketConfig = WebSocketConfig(),
-        on_control: Callable[[tuple[Control, ...]], None] = _ignore_control,
+        on_control: Callable[[tuple[Control, ...]], dict | None] = _ignore_control,
         skeleton: Skeleton = CANONICAL_WITH_HANDS,
     ) -> None:
         self.access = AccessPolicy(config.host, config.token, config.allow_origins, config.clock)
@@ -100,6 +100,7 @@ class WebSocketBridge:
         self.skeleton = skeleton
         self.coords = coordinate_frame(config.coordinate_frame)
         self.style = config.style
+        self.gesture = ""  # the gesture the last broadcast frame named (side messages on change)
         self.dropped_pending = 0  # outbox: frames dropped (oldest first) before the event loop took them
         self.slow_client_skips = 0  # frames not sent to a client whose socket buffer was full (all clients)
         self._clients: dict[ServerConnection, ClientState] = {}
@@ -229,10 +230,10 @@ class WebSocketBridge:
         """Validate, hand to the engine (which resolves the styles, off the event loop), then ack."""
         controls = message_controls(message)
         try:
-            await asyncio.to_thread(self.on_control, controls)
+            notes = await asyncio.to_thread(self.on_control, controls)
         except (ValueError, UserError) as error:
             raise ControlError(f"the engine refused it: {error}") from None
-        return json.dumps({"type": "ack", "applied": wire(controls)})
+        return json.dumps({"type": "ack", "applied": wire(controls), **(notes or {})})  # notes: when a gesture plays
 
     def _drain(self) -> None:
         with self._lock:
@@ -249,6 +250,10 @@ class WebSocketBridge:
         ready = self._ready_clients()
         send_unix = time.time()
         capture_unix = send_unix - (self.config.clock() - frame.capture_time)
+        if frame.gesture != self.gesture:
+            broadcast(self._clients, ws_protocol.gesture_message(self.gesture, frame.gesture, frame.seq,
+                                                                 capture_unix))
+            self.gesture = frame.gesture
         binary_clients = [c for c, state in ready if not state.wants_json]
         json_clients = [c for c, state in ready if state.wants_json]
         if binary_clients:

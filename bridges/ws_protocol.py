@@ -22,6 +22,10 @@ The viseme weights are those of ``PoseFrame.visemes`` (vowels a, i, u, e, o), na
 ``visemes`` is empty and frames end after the rotations: byte-identical to format version 1 before
 visemes, and a client reading J rotations after the header is unaffected either way. The face weights (blinks and
 emotion presets, ``PoseFrame.face``) follow in the same way, named by the hello's ``face``.
+
+The gesture playing (``PoseFrame.gesture``) is the JSON frame's ``gesture`` field ("" when none), and every client,
+binary or JSON, gets a ``{"type": "gesture", "playing", "started", "ended", "seq", "capture_time"}`` message before
+the first frame of a change (:func:`gesture_message`).
 """
 
 from __future__ import annotations
@@ -33,7 +37,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from gesturecast.bridges.coords import CoordinateFrame
-from gesturecast.frames import PoseFrame
+from gesturecast.frames import PoseFrame, gesture_names
 from gesturecast.models.motion.skeleton import Skeleton
 
 FORMAT_VERSION = 1
@@ -118,8 +122,17 @@ def json_frame(frame: PoseFrame, coords: CoordinateFrame, capture_unix: float, s
             "speaking": bool(frame.speaking),
             "visemes": np.round(blend_weights(frame.visemes, viseme_count), JSON_DECIMALS).tolist(),
             "face": np.round(blend_weights(frame.face, face_count), JSON_DECIMALS).tolist(),
+            "gesture": frame.gesture,  # the lexicon gesture(s) playing ("wave", "wave+bow" while they cross-fade)
         }
     )
+
+
+def gesture_message(previous: str, current: str, seq: int, capture_unix: float) -> str:
+    """The side message sent when the gesture playing changes: what started, what ended, what plays now (also for
+    binary subscribers, whose frames have no room for a name)."""
+    before, now = gesture_names(previous), gesture_names(current)
+    return json.dumps({"type": "gesture", "playing": current, "started": sorted(now - before),
+                       "ended": sorted(before - now), "seq": int(seq), "capture_time": capture_unix})
 
 
 def style_message(style: str) -> str:

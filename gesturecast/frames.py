@@ -50,3 +50,8 @@ class PoseFrame:
     visemes: np.ndarray | None = None
     gesture: str = ""
     face: np.ndarray | None = None
+
+
+def gesture_names(gesture: str) -> set[str]:
+    """The lexicon gestures a frame's ``gesture`` names ("wave+bow" while they cross-fade → {"wave", "bow"})."""
+    return set(gesture.split("+")) - {""}

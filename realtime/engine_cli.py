@@ -216,6 +216,8 @@ def summary_line(report: EngineReport) -> str:
         parts.append(root_summary(report.root))
     if report.nonfinite_poses:
         parts.append(f"non-finite poses held {report.nonfinite_poses}")
+    if any(report.gesture_cues.values()):
+        parts.append("gesture cues " + ", ".join(f"{status} {n}" for status, n in report.gesture_cues.items() if n))
     dropped = {name: n for bridge in report.outputs.values() for name, n in bridge.items() if n}
     parts.extend(f"{name.replace('_', ' ')} {n}" for name, n in dropped.items())
     return " | ".join(parts)

@@ -1,10 +1,12 @@
-"""`gesturecast gestures build | list`: the gesture lexicon (docs/gestures.md).
+"""`gesturecast gestures build | list | train-acts`: the gesture lexicon and the speech-act classifier
+(docs/gestures.md).
 
 ``build`` reads the labelled Bandai Namco takes of the training data folder (both archives, unpacked once into
 ``.cache/raw`` as ``gesturecast data build`` does), retargets them like the dataset cache, trims each take to its
 gesture, marks the stroke and writes ``lexicon.json`` + ``clips.npz`` (default ``models/weights/gestures``, the
 lexicon that ships). ``list`` prints a lexicon: the shipped one, a built one, or a user folder of clips with its
-``gestures.json``. Both need numpy only (no torch).
+``gestures.json``. ``train-acts`` fits the classifier that decides cues from the phrase on the sentences written for
+it and writes its weights. All need numpy only (no torch).
 """
 
 from __future__ import annotations
@@ -16,6 +18,7 @@ from pathlib import Path
 
 DEFAULT_OUT = Path("models/weights/gestures")
 DEFAULT_RAW = Path(".cache/raw")
+DEFAULT_ACTS = Path("models/weights/speech_acts.npz")
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -37,6 +40,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                          help="a built lexicon or a folder of your clips with gestures.json (default: the shipped one)")
     listing.add_argument("--json", action="store_true", help="one JSON document instead of the table")
     listing.set_defaults(func=run_list)
+    acts = commands.add_parser("train-acts", help="train the speech-act classifier that decides cues from phrases "
+                               "(numpy, about 20 s)")
+    acts.add_argument("--out", type=Path, default=DEFAULT_ACTS, help="weights file (default %(default)s)")
+    acts.set_defaults(func=run_train_acts)
 
 
 def _positive(value: int | None, flag: str) -> None:
@@ -111,4 +118,16 @@ def run_list(args: argparse.Namespace) -> int:
         print(format_table(lexicon))
         if lexicon.license:
             print(lexicon.license)
+    return 0
+
+
+def run_train_acts(args: argparse.Namespace) -> int:
+    from gesturecast.models.training.speech_act_data import training_sentences
+    from gesturecast.models.training.speech_acts import train
+
+    started = time.perf_counter()
+    model, info = train(training_sentences())
+    args.out.parent.mkdir(parents=True, exist_ok=True)
+    model.save(args.out)
+    print(json.dumps({**info, "out": str(args.out), "seconds": round(time.perf_counter() - started, 1)}))
     return 0

@@ -14,7 +14,7 @@ const MAX_PITCH = 1.4;
 const SLIDERS = ["style_strength", "guidance", "audio_guidance"];  // numeric control fields (ranges from the hello's control_schema)
 
 const state = {
-  hello: null, frame: null, pose: null, frames: 0, latencyMs: null, arrivals: [], avatar: null,
+  hello: null, frame: null, pose: null, frames: 0, latencyMs: null, arrivals: [], avatar: null, gesture: "",
   camera: { yaw: 0.5, pitch: 0.15, distance: 3.2 }, touchedSliders: new Set(), styleTouched: false,
   partsTouched: false,
 };
@@ -128,10 +128,17 @@ function showStyle(style) {
   if (!state.styleTouched && [...select.options].some((option) => option.value === style)) select.value = style;
 }
 
+// The lexicon gesture playing ("wave", "wave+bow" while they cross-fade), from the side message sent on each change.
+function showGesture(playing) {
+  el("gesture").textContent = playing || "–";
+  state.gesture = playing;
+}
+
 function onText(message) {
   if (message.type === "hello") onHello(message);
   else if (message.type === "frame") onFrame({ ...message, captureTime: message.capture_time });
   else if (message.type === "style") showStyle(message.style);
+  else if (message.type === "gesture") showGesture(message.playing);
   else if (message.type === "ack") el("message").textContent = "applied " + JSON.stringify(message.applied);
   else if (message.type === "error") el("message").textContent = "error: " + message.message;
 }

@@ -9,9 +9,15 @@ every frame downstream unchanged; on the side it drives a :class:`gesturecast.St
   mono) on a worker thread, so the event loop never waits on the model; the stream times the audio as it will be
   heard (a block starts when it arrives or when the previous block ends, whichever is later: TTS audio arrives
   faster than it is played, back to back) and releases each pose at capture + L to the outputs;
-- the words the TTS speaks (``TTSTextFrame``) cue the lexicon's gestures: a trigger phrase ("hello", "thank you")
-  makes its gesture with the stroke on the word; a frame with a presentation time (TTS services with word
-  timestamps stamp each word) is placed at that time, one without at the audio being heard (``gestures=True``);
+- the words the TTS speaks (``TTSTextFrame``) cue the lexicon's gestures: a speech act ("hello", "thank you",
+  docs/gestures.md) makes its gesture with the stroke on the word; a frame with a presentation time (TTS services
+  with word timestamps stamp each word) is placed at that time, a word frame without one where the audio received
+  with it ends, a sentence at the audio being heard (``gestures=True``); ``TTSStoppedFrame`` decides the phrases
+  still waiting for words after them;
+- ``hold_s`` (0 to :data:`MAX_HOLD_S`): audio, word and style frames are held back by that many seconds of audio
+  before they go to the stream and downstream, in order, so words that come *with* their audio are known before
+  their latents are generated and the stroke lands on the word (:data:`SUGGESTED_HOLD_S`); the voice is delayed by
+  the same amount. Cues too late for their word are logged and counted by the stream's cue plan;
 - style changes from the pipeline become the stream's controls: a :class:`GestureStyleFrame` (in order with the
   audio), and/or ``style_for_text`` called on each ``TTSTextFrame`` (one style per spoken sentence, as
   GestureDiffuCLIP changes style sentence by sentence).
@@ -24,6 +30,7 @@ from __future__ import annotations
 
 import asyncio
 import logging
+from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
@@ -34,6 +41,7 @@ from pipecat.frames.frames import (
     Frame,
     InputAudioRawFrame,
     OutputAudioRawFrame,
+    TTSStoppedFrame,
     TTSTextFrame,
 )
 from pipecat.processors.frame_processor import FrameDirection, FrameProcessor
@@ -48,6 +56,8 @@ logger = logging.getLogger(__name__)
 AUDIO_OUTPUT = "output"  # the bot's voice: OutputAudioRawFrame (TTSAudioRawFrame, …)
 AUDIO_INPUT = "input"  # the user's voice: InputAudioRawFrame
 AUDIO_FRAME_TYPES = {AUDIO_OUTPUT: OutputAudioRawFrame, AUDIO_INPUT: InputAudioRawFrame}
+MAX_HOLD_S = 2.0  # the most audio the processor may hold back (hold_s)
+SUGGESTED_HOLD_S = 1.2  # a word frame that comes with its audio: the 3 words a decision may wait for, the approach
 
 StyleForText = Callable[[str], "dict | None"]  # spoken text → a control message (e.g. {"style": "happy"}) or None
 
@@ -71,10 +81,16 @@ class GesturecastProcessor(FrameProcessor):
 
     def __init__(self, settings: Settings | None = None, outputs: Outputs | None = None, *,
                  stream: Stream | None = None, audio: str = AUDIO_OUTPUT,
-                 style_for_text: StyleForText | None = None, gestures: bool = True, **kwargs) -> None:
+                 style_for_text: StyleForText | None = None, gestures: bool = True, hold_s: float = 0.0,
+                 **kwargs) -> None:
         super().__init__(**kwargs)
         if audio not in AUDIO_FRAME_TYPES:
             raise UserError(f"audio must be one of {', '.join(AUDIO_FRAME_TYPES)}, got {audio!r}")
+        if not 0.0 <= hold_s <= MAX_HOLD_S:
+            raise UserError(f"hold_s must be between 0 and {MAX_HOLD_S} s, got {hold_s}")
+        self.hold_s = hold_s
+        self._held: deque[tuple[Frame, FrameDirection]] = deque()  # audio, words and styles not yet passed on
+        self._held_s = 0.0  # seconds of audio in it
         self.stream = stream or Stream(settings, outputs)
         self.session = self.stream.session
         self._audio_type = AUDIO_FRAME_TYPES[audio]
@@ -88,25 +104,60 @@ class GesturecastProcessor(FrameProcessor):
 
     async def process_frame(self, frame: Frame, direction: FrameDirection) -> None:
         await super().process_frame(frame, direction)
+        if isinstance(frame, TTSTextFrame) and self._gestures:
+            self._cue_words(frame)  # on arrival: with a hold, its audio is not in the stream yet
+        if self.hold_s > 0 and isinstance(frame, (self._audio_type, TTSTextFrame, GestureStyleFrame)):
+            self._held.append((frame, direction))
+            self._held_s += self._duration(frame)
+            while self._held and self._held_s > self.hold_s:
+                await self._release(*self._held.popleft())
+            return
+        if isinstance(frame, CancelFrame):
+            self._held.clear()  # cancelled: nothing more is played
+        while self._held:  # any other frame: what is held goes on first, in order
+            await self._release(*self._held.popleft())
+        await self._release(frame, direction)
+
+    async def _release(self, frame: Frame, direction: FrameDirection) -> None:
+        """Act on ``frame`` and pass it on."""
+        self._held_s -= self._duration(frame) if self.hold_s > 0 else 0.0
         if isinstance(frame, self._audio_type):
             await asyncio.to_thread(self.stream.push_pcm16, frame.audio, frame.sample_rate, frame.num_channels)
         elif isinstance(frame, GestureStyleFrame):
             self._submit(frame.control)
         elif isinstance(frame, TTSTextFrame):
-            self._spoken(frame)
+            self._style_of(frame)
+        elif isinstance(frame, TTSStoppedFrame) and self._gestures:
+            self.session.end_of_words()  # the utterance ended: its last phrases need no more words
         elif isinstance(frame, EndFrame):
             await self._finish()
         elif isinstance(frame, CancelFrame):
             self.stream.stop()
         await self.push_frame(frame, direction)
 
-    def _spoken(self, frame: TTSTextFrame) -> None:
-        """Text the TTS speaks: its style (``style_for_text``) and the gestures of its trigger words."""
+    def _duration(self, frame: Frame) -> float:
+        """Seconds of audio in ``frame`` (0 for any other frame)."""
+        if not isinstance(frame, self._audio_type):
+            return 0.0
+        return len(frame.audio) / (2 * frame.num_channels * frame.sample_rate)
+
+    def _style_of(self, frame: TTSTextFrame) -> None:
+        """The style of the text the TTS speaks (``style_for_text``), in order with its audio."""
         if self._style_for_text is not None and (control := self._style_for_text(frame.text)):
             self._submit(control)
-        if self._gestures:
-            ahead_s = 0.0 if frame.pts is None else (frame.pts - self.get_clock().get_time()) / 1e9
-            self.stream.spoken(frame.text, self.stream.heard_time(ahead_s))
+
+    def _cue_words(self, frame: TTSTextFrame) -> None:
+        """The gestures of the words the TTS speaks. A frame with a presentation time is placed there (plus the
+        hold); a word frame without one belongs to the audio received with it (it starts where that audio ends);
+        a sentence without one starts at the audio being heard. Words too late for their stroke are dropped with a
+        log line by the cue plan, and counted."""
+        if frame.pts is not None:
+            start = self.stream.heard_time((frame.pts - self.get_clock().get_time()) / 1e9 + self.hold_s)
+        elif frame.text_type == "word":
+            start = self.stream.audio_seconds + self._held_s
+        else:
+            start = self.stream.heard_time()
+        self.stream.spoken(frame.text, start)
 
     def _submit(self, control: dict) -> None:
         """A style change from the pipeline; one the model cannot use is logged and the stream goes on."""

@@ -3,19 +3,29 @@ latents, with the channels of the body parts the gesture moves (:class:`GestureC
 
 The whole clip is encoded (the encoder sees its approach and return); only the moving parts' channels are imposed,
 so the clip's legs, root and facing never reach the stream.
+
+**Performances.** A gesture is not played as one canned clip: :func:`performances` makes :data:`PERFORMANCES`
+versions of it, each at its own tempo (:data:`TEMPO_RANGE`, resampled in time) and amplitude (:data:`AMPLITUDE_RANGE`,
+the moving joints' 6D rotation features scaled about the clip's first pose), drawn from the stream's seed. The cue
+plan plays them in turn, so two plays of a gesture in one stream differ, and another seed plays others.
 """
 
 from __future__ import annotations
 
 from collections.abc import Iterable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from gesturecast.errors import UserError
 from gesturecast.models.motion.body_parts import PART_JOINTS, joint_columns
 from gesturecast.models.runtime.bundle import ModelBundle, VQEncoderRuntime
+from gesturecast.realtime.generation.arm_reattach import body_frame_shoulders
 from gesturecast.realtime.generation.gesture_cues import GestureClip
+
+PERFORMANCES = 4  # versions of each gesture per stream, played in turn
+TEMPO_RANGE = (0.88, 1.12)  # a performance's speed, relative to the recorded clip
+AMPLITUDE_RANGE = (0.9, 1.15)  # how far its moving joints turn, relative to the recorded clip
 
 
 @dataclass(frozen=True)
@@ -49,9 +59,10 @@ def encode_clip(bundle: ModelBundle, motion: ClipMotion, encoder: VQEncoderRunti
                         f"{motion.stroke_frame}; it needs at least {d} frames and its stroke inside them")
     features = np.asarray(motion.features[:usable], np.float32)  # (T', D)
     latents = encoder.encode(bundle.motion_stats.normalize(features))  # (N, C)
+    columns = rotation_columns(motion.parts, features.shape[1])
     return GestureClip(motion.name, bundle.latent_stats.normalize(latents).astype(np.float32),
-                       part_mask(bundle, motion.parts, motion.name), motion.stroke_frame // d, features,
-                       rotation_columns(motion.parts, features.shape[1]))
+                       part_mask(bundle, motion.parts, motion.name), motion.stroke_frame // d, features, columns,
+                       tuple(body_frame_shoulders(features, columns)))
 
 
 def rotation_columns(parts: Iterable[str], feature_dim: int) -> np.ndarray:
@@ -66,3 +77,27 @@ def encode_clips(bundle: ModelBundle, motions: Iterable[ClipMotion], threads: in
     """Every clip through one encoder session (a session per clip cost 0.2 s of every session build)."""
     encoder = bundle.vq_encoder(threads)
     return tuple(encode_clip(bundle, motion, encoder) for motion in motions)
+
+
+def performance(motion: ClipMotion, tempo: float, amplitude: float) -> ClipMotion:
+    """``motion`` played ``tempo`` times as fast (linear resampling in time) with its moving joints' rotations
+    scaled by ``amplitude`` about its first pose (6D features, re-orthonormalised when decoded)."""
+    frames = motion.features.shape[0]
+    count = max(2, round(frames / tempo))
+    source = np.linspace(0.0, frames - 1, count)  # (T',) fractional source frames
+    low = np.floor(source).astype(int)
+    high = np.minimum(low + 1, frames - 1)
+    weight = (source - low)[:, None]  # (T', 1)
+    features = (1 - weight) * motion.features[low] + weight * motion.features[high]  # (T', D)
+    columns = rotation_columns(motion.parts, features.shape[1])
+    features[:, columns] = features[0, columns] + amplitude * (features[:, columns] - features[0, columns])
+    stroke = min(count - 1, round(motion.stroke_frame / tempo))
+    return replace(motion, features=features.astype(np.float32), stroke_frame=stroke)
+
+
+def performances(motion: ClipMotion, seed: int, count: int = PERFORMANCES) -> list[ClipMotion]:
+    """``count`` performances of ``motion`` at tempos and amplitudes drawn from ``seed`` and the gesture's name (the
+    same seed gives the same performances)."""
+    rng = np.random.default_rng([seed, *motion.name.encode()])
+    return [performance(motion, float(rng.uniform(*TEMPO_RANGE)), float(rng.uniform(*AMPLITUDE_RANGE)))
+            for _ in range(count)]

@@ -1,23 +1,36 @@
 """Gesture cues carried out by the generator: a lexicon clip's body-part latents imposed while denoising its window.
 
 A :class:`Cue` asks for a gesture's stroke at a stream time (a word's start, a button press). :class:`CuePlan`
-places it on the latent grid so that the clip's stroke latent covers that time (or, for a cue that arrives too
-late, the first latent not yet generated, reported late by how much). While a placed clip covers latent ``i``,
-:meth:`CuePlan.imposition` gives the clip's latent ``k = i − first`` and a weight per latent channel: the channels
-of the parts the gesture moves (arms for a wave, torso and arms for a bow), ramped up over the clip's first
-:data:`RAMP_LATENTS` latents and down over its last ones. The generator pulls its x̂0 prediction toward that latent
-at every sampler step (inpainting those channels, as motion-diffusion models inpaint joints), so the approach and
-the return blend with what it generates from the context, and the parts not gesturing keep following the speech.
-The decoded poses of those parts are then blended toward the clip's own joint rotations with the same ramp (per
-frame): the VQ decoder alone flattens some gestures (a bye's raised hand came out 0.2 m lower than recorded), and
-the blend keeps their shape while the latents keep the neighbouring motion consistent with it.
+places it on the latent grid so that the clip's stroke latent covers that time. While a placed clip covers latent
+``i``, :meth:`CuePlan.imposition` gives the clip's latent ``k = i − first`` and a weight per latent channel: the
+channels of the parts the gesture moves (arms for a wave, torso and arms for a bow), ramped up over the played
+part's first latents (:data:`RAMP_LATENTS`) and down over its last ones. The generator pulls its x̂0 prediction
+toward that latent at every sampler step (inpainting those channels, as motion-diffusion models inpaint joints), so
+the approach and the return blend with what it generates from the context, and the parts not gesturing keep
+following the speech. The decoded poses of those parts are then blended toward the clip's own joint rotations with
+the same ramp (per frame): the VQ decoder alone flattens some gestures (a bye's raised hand came out 0.2 m lower
+than recorded), and the blend keeps their shape while the latents keep the neighbouring motion consistent with it.
 
-A gesture is not repeated within :data:`DEFAULT_REFRACTORY_S`, and a body part does one gesture at a time: a cue
-that would overlap a placed clip on a shared part is dropped (and counted). The plan is deterministic in stream
-time, so streaming and offline runs with the same cues give the same poses.
+**Nothing is lost in silence.** Every cue ends in a :class:`CueOutcome`, counted in :attr:`CuePlan.counts`:
+
+- ``on time``: the stroke latent covers the word;
+- ``late``: the cue came after its window began; the clip's opening is skipped (a quicker approach over
+  :data:`BLEND_LATENTS` latents) so the stroke lands as soon after the word as that allows, at most
+  :data:`MAX_LATE_S` after it (later, the cue is dropped: a gesture seconds after its word means nothing);
+- ``blended``: it meets a gesture playing on a shared body part. A later gesture with parts of its own (a bow's
+  torso after a wave) plays those on time alongside the earlier one and takes the shared parts over once the earlier
+  has held its stroke (:data:`HOLD_LATENTS`); otherwise the earlier one's return is cut short and cross-fades over
+  :data:`BLEND_LATENTS` latents into the later one's approach, the later stroke moved at most :data:`MAX_DEFER_S`
+  after its word when the two strokes are closer than the cross-fade;
+- ``merged``: the same gesture is already playing over the word (a "hello" right after a "hi");
+- ``dropped``: none of these fits (logged, counted).
+
+A gesture may have several performances (:mod:`gesturecast.realtime.generation.gesture_clips`, tempo and amplitude
+drawn from the seed); the plan plays them in turn. The plan is deterministic in stream time, so streaming and
+offline runs with the same cues give the same poses.
 
 The placements are kept in order of their first latent, so placing a cue and imposing a latent look only at the
-clips that can overlap it (a clip is at most the lexicon's longest): their cost does not grow with the number of
+clips that can overlap it (a clip is at most the longest performance): their cost does not grow with the number of
 cues waiting. A plan holds at most :data:`MAX_PLACEMENTS` of them (:class:`CueRefused` beyond), and
 :meth:`CuePlan.check_ahead` refuses cue times more than :data:`MAX_AHEAD_S` ahead of the stream (live doors).
 """
@@ -25,16 +38,27 @@ cues waiting. A plan holds at most :data:`MAX_PLACEMENTS` of them (:class:`CueRe
 from __future__ import annotations
 
 import bisect
+import logging
 import math
-from collections.abc import Iterable, Mapping
-from dataclasses import dataclass
+from collections import Counter, deque
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from gesturecast.errors import UserError
+from gesturecast.realtime.generation.arm_reattach import reattach
 
-DEFAULT_REFRACTORY_S = 4.0  # the same gesture again within this many seconds is dropped
+logger = logging.getLogger(__name__)
+
 RAMP_LATENTS = 4  # latents over which the imposition weight rises to 1 (and falls back) at each end of a clip
+BLEND_LATENTS = 3  # the cross-fade of two gestures that meet, and the quickest approach of a late one (400 ms)
+HOLD_LATENTS = 6  # a gesture holds its stroke this long (800 ms) before a later one takes over parts it shares
+MAX_DEFER_S = 0.6  # a cue's stroke is moved at most this much after its word to fit after a playing gesture
+MAX_LATE_S = 1.0  # a cue whose stroke cannot come within this of its time (words that came too late) is dropped
+MAX_OUTCOMES = 256  # recent outcomes kept for reports (the counts cover the whole stream)
+STATUSES = ("on time", "late", "blended", "merged", "dropped")
+CONTROL_SOURCE = "control"  # a cue from a gesture control (button, OSC): played as soon as it can
 MAX_PLACEMENTS = 20_000  # placed cues still to come (a transcript's hours of gestures); beyond: CueRefused
 MAX_AHEAD_S = 300.0  # words sent live (a TTS reply) are at most this far ahead of the stream
 MAX_CUE_TIME_S = 1e6  # a cue time beyond this (or not finite) is not a stream time (11 days)
@@ -62,6 +86,7 @@ class GestureClip:
     stroke_latent: index of the latent that holds the stroke.
     features: (N·d, D) the clip's motion features (denormalised), d frames per latent.
     columns: (D,) bool, the feature columns of the moving parts' joint rotations (never the root's travel).
+    shoulders: for a clip of arms only, each shoulder's feature columns and (N·d, 4) rotation in the body frame.
     """
 
     name: str
@@ -70,27 +95,69 @@ class GestureClip:
     stroke_latent: int
     features: np.ndarray
     columns: np.ndarray
+    shoulders: tuple = ()  # (columns, (N·d, 4) body-frame rotation) per shoulder of an arms-only clip (arm_reattach)
 
     @property
     def num_latents(self) -> int:
         return self.latents.shape[0]
 
+    @property
+    def frames_per_latent(self) -> int:
+        return self.features.shape[0] // self.num_latents
+
 
 @dataclass(frozen=True)
 class Placement:
-    """A cue placed on the latent grid: clip latent ``k`` is imposed on stream latent ``first + k``."""
+    """A cue placed on the latent grid: clip latent ``k`` belongs to stream latent ``first + k``; the stream latents
+    ``start`` … ``stop`` (inclusive) play it, ramped over ``ramp_in`` latents after ``start`` and ``ramp_out`` before
+    ``stop``."""
 
     cue: Cue
     clip: GestureClip
     first: int
     late_s: float  # how much later than asked the stroke lands (0 when the cue came early enough)
+    start: int
+    stop: int
+    ramp_in: int = RAMP_LATENTS
+    ramp_out: int = RAMP_LATENTS
+
+    @property
+    def stroke(self) -> int:
+        """The stream latent of the stroke."""
+        return self.first + self.clip.stroke_latent
 
     @property
     def last(self) -> int:
-        return self.first + self.clip.num_latents - 1
+        return self.stop
 
     def covers(self, latent: int) -> bool:
-        return self.first <= latent <= self.last
+        return self.start <= latent <= self.stop
+
+    def weight(self, latent: int) -> float:
+        """Imposition weight on stream latent ``latent`` (0 outside the played span)."""
+        if not self.covers(latent):
+            return 0.0
+        return min(1.0, (latent - self.start + 1) / (self.ramp_in + 1), (self.stop - latent + 1) / (self.ramp_out + 1))
+
+    def frame_weights(self, latent: int) -> np.ndarray:
+        """(d,) pose-blend weights of the frames of stream latent ``latent`` (the same ramps, per frame)."""
+        d = self.clip.frames_per_latent
+        frames = np.arange(latent * d, (latent + 1) * d)  # (d,) stream frames
+        rise = (frames - self.start * d + 1) / (self.ramp_in * d + 1)
+        fall = ((self.stop + 1) * d - frames) / (self.ramp_out * d + 1)
+        return np.clip(np.minimum(rise, fall), 0.0, 1.0).astype(np.float32)
+
+    def overlaps(self, other: Placement) -> bool:
+        """Whether the two play on a shared body part at the same time."""
+        return (self.start <= other.stop and other.start <= self.stop
+                and bool((self.clip.channels & other.clip.channels).any()))
+
+
+def part_clip(clip: GestureClip, channels: np.ndarray, columns: np.ndarray) -> GestureClip:
+    """``clip`` on the latent ``channels`` and feature ``columns`` it moves among those given (bool masks)."""
+    kept = clip.columns & columns
+    return replace(clip, channels=clip.channels & channels, columns=kept,
+                   shoulders=tuple(s for s in clip.shoulders if kept[s[0]].all()))
 
 
 def ramp_weight(k: int, length: int, ramp: int = RAMP_LATENTS) -> float:
@@ -99,44 +166,95 @@ def ramp_weight(k: int, length: int, ramp: int = RAMP_LATENTS) -> float:
 
 
 @dataclass(frozen=True)
+class CueOutcome:
+    """What became of a cue: a status of :data:`STATUSES`, when its stroke plays (None when dropped), and why."""
+
+    cue: Cue
+    status: str
+    stroke_time: float | None
+    note: str = ""
+
+    def describe(self) -> str:
+        """One line for logs and control acks."""
+        what = f"gesture {self.cue.gesture} ({self.cue.source or 'cue'})"
+        if self.stroke_time is None:
+            return f"{what} dropped: {self.note}"
+        delay = (self.stroke_time - self.cue.time) * 1e3
+        since = "the press" if self.cue.source == CONTROL_SOURCE else "its time"
+        when = f"on {since}" if delay <= 0 else f"{delay:.0f} ms after {since}"
+        note = f": {self.note}" if self.note else ""
+        return f"{what} {self.status}, stroke at {self.stroke_time:.2f} s ({when}){note}"
+
+
+def played(outcomes: list[CueOutcome]) -> int:
+    """How many of ``outcomes`` play (all but the dropped)."""
+    return sum(outcome.stroke_time is not None for outcome in outcomes)
+
+
+@dataclass
 class Imposition:
     """What the placed clips ask of one latent: its latent (C,) target and weights, the decoded poses' (d, D)
-    target features and per-frame weights, and the gesture names ("wave", "bow+guide")."""
+    target features and per-frame weights, and the gesture names ("wave", "wave+bow" while they cross-fade)."""
 
     target: np.ndarray
     weights: np.ndarray
     pose: np.ndarray
     pose_weights: np.ndarray
     names: str
+    shoulders: list = field(default_factory=list)  # (columns, (d, 4) body-frame rotation) of arms-only clips
 
-    def add(self, placement: Placement, k: int, d: int) -> None:
-        """Clip latent ``k`` of ``placement`` on its channels and columns (ramped per latent and per frame)."""
-        clip = placement.clip
-        self.target[clip.channels] = clip.latents[k, clip.channels]
-        self.weights[clip.channels] = ramp_weight(k, clip.num_latents)
-        frames = np.arange(k * d, (k + 1) * d)  # (d,) clip frames of this latent
-        ramp = np.array([ramp_weight(f, clip.features.shape[0], RAMP_LATENTS * d) for f in frames], np.float32)
-        self.pose[:, clip.columns] = clip.features[frames][:, clip.columns]
-        self.pose_weights[:, clip.columns] = ramp[:, None]
+    @classmethod
+    def of(cls, placements: list[Placement], latent: int) -> Imposition:
+        """The weighted mean of the clips covering ``latent`` on their channels and columns (weights summed, at
+        most 1: two gestures cross-fading hand over to each other)."""
+        clip = placements[0].clip
+        d, dim, channels = clip.frames_per_latent, clip.features.shape[1], clip.latents.shape[1]
+        target, weights = np.zeros(channels, np.float32), np.zeros(channels, np.float32)
+        pose, pose_weights = np.zeros((d, dim), np.float32), np.zeros((d, dim), np.float32)
+        for placement in placements:
+            k, c = latent - placement.first, placement.clip
+            w = placement.weight(latent)
+            target[c.channels] += w * c.latents[k, c.channels]
+            weights[c.channels] += w
+            frame_w = placement.frame_weights(latent)[:, None]  # (d, 1)
+            pose[:, c.columns] += frame_w * c.features[k * d:(k + 1) * d][:, c.columns]
+            pose_weights[:, c.columns] += frame_w
+        target /= np.maximum(weights, 1e-6)
+        pose /= np.maximum(pose_weights, 1e-6)
+        strongest = max(placements, key=lambda p: p.weight(latent))  # its shoulders, when two cross-fade
+        k = latent - strongest.first
+        shoulders = [(cols, rotations[k * d:(k + 1) * d]) for cols, rotations in strongest.clip.shoulders]
+        return cls(target, np.minimum(weights, 1.0), pose, np.minimum(pose_weights, 1.0),
+                   "+".join(dict.fromkeys(p.cue.gesture for p in placements)), shoulders)
 
     def blend(self, features: np.ndarray) -> np.ndarray:
-        """(d, D) decoded features pulled toward the clip's joint rotations."""
-        return features + self.pose_weights * (self.pose - features)
+        """(d, D) decoded features pulled toward the clip's joint rotations, an arms-only clip's shoulders
+        re-attached under the decoded torso (:mod:`gesturecast.realtime.generation.arm_reattach`)."""
+        pose = reattach(self.pose, features, self.shoulders)
+        return features + self.pose_weights * (pose - features)
 
 
 class CuePlan:
     """Placed cues of one stream (see the module docstring); ``seconds_per_latent`` = d / fps."""
 
     def __init__(self, clips: Mapping[str, GestureClip], seconds_per_latent: float,
-                 refractory_s: float = DEFAULT_REFRACTORY_S, max_placements: int = MAX_PLACEMENTS) -> None:
+                 performances: Mapping[str, Sequence[GestureClip]] | None = None,
+                 max_placements: int = MAX_PLACEMENTS) -> None:
         self.clips = dict(clips)
+        self.performances = {name: tuple(p) for name, p in (performances or {}).items() if p}
+        self.plays: Counter[str] = Counter()  # cues placed per gesture: the next performance to play
         self.seconds_per_latent = seconds_per_latent
-        self.refractory_s = refractory_s
         self.max_placements = max_placements
-        self.longest = max((clip.num_latents for clip in self.clips.values()), default=1)  # latents of a clip
+        every = [*self.clips.values(), *(c for versions in self.performances.values() for c in versions)]
+        self.longest = max((clip.num_latents for clip in every), default=1)  # latents a placement can span
         self.placements: list[Placement] = []  # in order of their first latent
-        self.dropped = 0  # cues refused: refractory time or a body part already busy
-        self._last_stroke: dict[str, float] = {}  # gesture -> stream time of its last placed stroke
+        self.counts: Counter[str] = Counter()  # outcomes by status, over the whole stream
+        self.outcomes: deque[CueOutcome] = deque(maxlen=MAX_OUTCOMES)
+        self.max_defer = round(MAX_DEFER_S / seconds_per_latent)  # latents
+
+    @property
+    def dropped(self) -> int:
+        return self.counts["dropped"]
 
     def check(self, gesture: str) -> GestureClip:
         """The clip of ``gesture``; a one-line UserError naming the known ones otherwise."""
@@ -159,58 +277,149 @@ class CuePlan:
             raise CueRefused(f"the stream already holds {len(self.placements)} gestures to come (at most "
                              f"{self.max_placements}); send more once some have played")
 
-    def place(self, cue: Cue, next_latent: int) -> Placement | None:
-        """Place ``cue`` no earlier than ``next_latent`` (the first latent not generated yet); None when it is
-        dropped (refractory time, or a part it moves is busy); CueRefused when the plan is full."""
-        clip = self.check(cue.gesture)
+    def place(self, cue: Cue, next_latent: int) -> CueOutcome:
+        """Place ``cue`` no earlier than ``next_latent`` (the first latent not generated yet): on time, late,
+        blended with a playing gesture, merged into the same one, or dropped; logged unless on time, and counted.
+        CueRefused for a time that is no stream time, or when the plan is full."""
         if not math.isfinite(cue.time) or cue.time > MAX_CUE_TIME_S:
             raise CueRefused(f"gesture {cue.gesture} at {cue.time!r} s: not a stream time (at most {MAX_CUE_TIME_S:g})")
         self._check_room()
-        wanted = math.floor(cue.time / self.seconds_per_latent) - clip.stroke_latent
-        first = max(wanted, next_latent)
-        stroke_time = (first + clip.stroke_latent) * self.seconds_per_latent
-        placement = Placement(cue, clip, first, max(0.0, stroke_time - cue.time))
-        if self._refused(placement, stroke_time):
-            self.dropped += 1
-            return None
-        bisect.insort(self.placements, placement, key=_first_latent)
-        self._last_stroke[cue.gesture] = stroke_time
-        return placement
+        clip = self._performance(self.check(cue.gesture))
+        wanted = math.floor(cue.time / self.seconds_per_latent)  # the stroke latent that covers the word
+        merged = next((p for p in self._covering(wanted) if p.cue.gesture == cue.gesture and p.weight(wanted) >= 0.5),
+                      None)
+        if merged is not None:
+            return self._record(CueOutcome(cue, "merged", self._time(merged.stroke), f"into the {cue.gesture} playing"))
+        placement = self._fresh(cue, clip, wanted, next_latent)
+        if placement.late_s > MAX_LATE_S and cue.source != CONTROL_SOURCE:
+            return self._drop(cue, f"its words came {placement.late_s:.1f} s too late for the stroke to be near them")
+        conflicts = self._overlapping(placement)
+        if conflicts:
+            return self._blend(placement, conflicts)
+        if cue.source == CONTROL_SOURCE:  # a button press: as soon as it can, never "late"
+            return self._accept(placement, "on time", "as soon as the look-ahead allows")
+        return self._accept(placement, "late" if placement.late_s > 0 else "on time", "")
+
+    def _performance(self, clip: GestureClip) -> GestureClip:
+        """The gesture's next performance in turn (its clip when it has none): two plays in a row differ."""
+        versions = self.performances.get(clip.name)
+        if not versions:
+            return clip
+        self.plays[clip.name] += 1
+        return versions[(self.plays[clip.name] - 1) % len(versions)]
+
+    def _time(self, latent: int) -> float:
+        return latent * self.seconds_per_latent
+
+    def _fresh(self, cue: Cue, clip: GestureClip, stroke: int, next_latent: int) -> Placement:
+        """The whole clip with its stroke on ``stroke``; a cue too late for its approach skips the clip's opening and
+        approaches over :data:`BLEND_LATENTS`, its stroke moved later only as far as that needs."""
+        stroke = max(stroke, next_latent + BLEND_LATENTS)
+        first = stroke - clip.stroke_latent
+        start = max(first, next_latent)
+        late = max(0.0, self._time(stroke) - cue.time)
+        return Placement(cue, clip, first, late, start, first + clip.num_latents - 1,
+                         ramp_in=max(1, min(RAMP_LATENTS, stroke - start)))
+
+    def _blend(self, placement: Placement, conflicts: list[Placement]) -> CueOutcome:
+        """Fit ``placement`` after the latest conflicting gesture (cutting its return short), or drop it."""
+        earlier = max(conflicts, key=lambda p: p.stroke)
+        if earlier.stroke > placement.stroke:
+            return self._drop(placement.cue, f"{earlier.cue.gesture} ({earlier.cue.source}) holds the same body "
+                              f"parts around the word")
+        if (placement.clip.channels & ~earlier.clip.channels).any():
+            return self._share(placement, earlier)
+        start = max(placement.start, earlier.stroke + 1)
+        stroke = max(placement.stroke, start + BLEND_LATENTS)
+        if stroke - placement.stroke > self.max_defer:
+            return self._drop(placement.cue, f"{earlier.cue.gesture} ({earlier.cue.source}) plays too close before it")
+        shift = stroke - placement.stroke
+        first = placement.first + shift
+        start = max(start, first)  # a moved clip may start after the hand-over: it approaches from its own start
+        later = replace(placement, first=first, start=start, stop=placement.stop + shift,
+                        ramp_in=max(1, min(BLEND_LATENTS, stroke - start)),
+                        late_s=max(0.0, self._time(stroke) - placement.cue.time))
+        cut = replace(earlier, stop=min(earlier.stop, start + BLEND_LATENTS - 1),
+                      ramp_out=min(earlier.ramp_out, BLEND_LATENTS))
+        if any(p is not earlier for p in self._overlapping(later)):  # the cut only shrinks: it overlaps nothing new
+            return self._drop(placement.cue, "the gestures around it leave no room")
+        self._replace(earlier, cut)
+        return self._accept(later, "blended", f"after the {earlier.cue.gesture}, whose return is cut short")
+
+    def _share(self, placement: Placement, earlier: Placement) -> CueOutcome:
+        """The later gesture's own parts (a bow's torso) play on time alongside the earlier one; the parts they share
+        (the arms) hand over once the earlier has held its stroke :data:`HOLD_LATENTS`, cross-fading over
+        :data:`BLEND_LATENTS` (the earlier's return cut short), or never when the later has ended by then."""
+        shared = earlier.clip.channels, earlier.clip.columns
+        own = replace(placement, clip=part_clip(placement.clip, ~shared[0], ~shared[1]))
+        hand_over = max(placement.start, earlier.stroke + HOLD_LATENTS)
+        parts = [own]
+        cut = earlier
+        if hand_over + 2 * BLEND_LATENTS <= placement.stop:
+            parts.append(replace(placement, clip=part_clip(placement.clip, *shared), start=hand_over,
+                                 ramp_in=BLEND_LATENTS))
+            cut = replace(earlier, stop=min(earlier.stop, hand_over + BLEND_LATENTS - 1),
+                          ramp_out=min(earlier.ramp_out, BLEND_LATENTS))
+        if any(p is not earlier for q in parts for p in self._overlapping(q)):
+            return self._drop(placement.cue, "the gestures around it leave no room")
+        self._replace(earlier, cut)
+        for part in parts[1:]:
+            self._insert(part)
+        note = f"with the {earlier.cue.gesture}" + (", the shared parts after its stroke" if len(parts) > 1 else "")
+        return self._accept(own, "blended", note)
 
     def _starting_within(self, low: int, high: int) -> list[Placement]:
         """The placements whose first latent is within [low, high] (binary search on the ordered list)."""
         start = bisect.bisect_left(self.placements, low, key=_first_latent)
         return self.placements[start : bisect.bisect_right(self.placements, high, key=_first_latent)]
 
-    def _refused(self, placement: Placement, stroke_time: float) -> bool:
-        previous = self._last_stroke.get(placement.cue.gesture)
-        if previous is not None and abs(stroke_time - previous) < self.refractory_s:
-            return True
-        nearby = self._starting_within(placement.first - self.longest + 1, placement.last)  # all that can overlap
-        return any(other.first <= placement.last and placement.first <= other.last
-                   and bool((other.clip.channels & placement.clip.channels).any()) for other in nearby)
+    def _covering(self, latent: int) -> list[Placement]:
+        return [p for p in self._starting_within(latent - self.longest + 1, latent) if p.covers(latent)]
+
+    def _overlapping(self, placement: Placement) -> list[Placement]:
+        nearby = self._starting_within(placement.start - self.longest + 1, placement.stop)  # all that can overlap
+        return [p for p in nearby if p.overlaps(placement)]
+
+    def _insert(self, placement: Placement) -> None:
+        bisect.insort(self.placements, placement, key=_first_latent)
+
+    def _replace(self, old: Placement, new: Placement) -> None:
+        """Put ``new`` (the same first latent) where ``old`` is."""
+        low = bisect.bisect_left(self.placements, old.first, key=_first_latent)
+        index = next(i for i in range(low, len(self.placements)) if self.placements[i] is old)
+        self.placements[index] = new
+
+    def _accept(self, placement: Placement, status: str, note: str) -> CueOutcome:
+        self._insert(placement)
+        return self._record(CueOutcome(placement.cue, status, self._time(placement.stroke), note))
+
+    def _drop(self, cue: Cue, note: str) -> CueOutcome:
+        return self._record(CueOutcome(cue, "dropped", None, note))
+
+    def _record(self, outcome: CueOutcome) -> CueOutcome:
+        self.counts[outcome.status] += 1
+        self.outcomes.append(outcome)
+        if outcome.status == "dropped":
+            logger.warning(outcome.describe())
+        elif outcome.status != "on time" or outcome.cue.source == CONTROL_SOURCE:
+            logger.info(outcome.describe())
+        return outcome
 
     def imposition(self, latent: int) -> Imposition | None:
         """What the clips covering stream latent ``latent`` impose on it (None when none does)."""
-        covering = [p for p in self._starting_within(latent - self.longest + 1, latent) if p.covers(latent)]
-        if not covering:
-            return None
-        first = covering[0].clip
-        d = first.features.shape[0] // first.num_latents
-        imposition = Imposition(np.zeros(first.latents.shape[1], np.float32), np.zeros(first.latents.shape[1],
-                                np.float32), np.zeros((d, first.features.shape[1]), np.float32),
-                                np.zeros((d, first.features.shape[1]), np.float32),
-                                "+".join(p.cue.gesture for p in covering))
-        for placement in covering:
-            imposition.add(placement, latent - placement.first, d)
-        return imposition
+        covering = self._covering(latent)
+        return Imposition.of(covering, latent) if covering else None
 
     def forget_before(self, latent: int) -> None:
-        """Drop placements that ended before ``latent`` (their strokes still count for the refractory time): those
-        starting a whole longest clip before it, and the ended ones among the few starting after that."""
+        """Drop placements that ended before ``latent``: those starting a whole longest clip before it, and the
+        ended ones among the few starting after that."""
         del self.placements[: bisect.bisect_left(self.placements, latent - self.longest + 1, key=_first_latent)]
         started = bisect.bisect_left(self.placements, latent, key=_first_latent)  # the few that may have ended
-        self.placements[:started] = [p for p in self.placements[:started] if p.last >= latent]
+        self.placements[:started] = [p for p in self.placements[:started] if p.stop >= latent]
+
+    def summary(self) -> dict[str, int]:
+        """Cues by outcome over the whole stream (every status, zeros included)."""
+        return {status: self.counts[status] for status in STATUSES}
 
 
 def _first_latent(placement: Placement) -> int:

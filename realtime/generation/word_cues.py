@@ -126,7 +126,8 @@ class TriggerVocabulary:
     """Trigger phrases → gestures; ``triggers`` maps a gesture to its phrases (default: :data:`DEFAULT_TRIGGERS`)."""
 
     def __init__(self, triggers: Mapping[str, Iterable[str]] | None = None) -> None:
-        phrases = {normalise(p): gesture for gesture, ps in (triggers or DEFAULT_TRIGGERS).items() for p in ps}
+        chosen = DEFAULT_TRIGGERS if triggers is None else triggers
+        phrases = {normalise(p): gesture for gesture, ps in chosen.items() for p in ps}
         self.phrases = {tuple(phrase.split()): gesture for phrase, gesture in phrases.items() if phrase}
         self.longest = max((len(p) for p in self.phrases), default=0)
 

@@ -44,7 +44,8 @@ from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.models.style.params import DEFAULT_STYLE_PARAMS
 from gesturecast.realtime.audio.sources import AudioChunk
 from gesturecast.realtime.generation.generator import Generator
-from gesturecast.realtime.generation.gesture_cues import Cue, CuePlan, GestureClip, Placement
+from gesturecast.realtime.generation.gesture_cues import BLEND_LATENTS, Cue, CueOutcome, CuePlan, GestureClip
+from gesturecast.realtime.generation.phrase_cues import PhraseCues, PhraseListener
 from gesturecast.realtime.generation.word_cues import TriggerVocabulary, Word, WordListener
 from gesturecast.realtime.pose.face import Expressions, FaceAnimator, text_embedder
 from gesturecast.realtime.pose.feature_buffer import FeatureBuffer
@@ -87,8 +88,9 @@ class SessionConfig:
     silence_hold_s: float = 1.0  # silence this long after the last speech frame fades to idle
     root_mode: RootMode = RootMode.BOUNDED  # in place by default (models/motion/root_anchor.py)
     seed_motion: SeedMotion | None = None  # start from this motion's last pose, not idle (realtime/pose/seed_motion.py)
-    gesture_clips: tuple[GestureClip, ...] = ()  # the lexicon in this model's latent space (gesture cues)
-    gesture_triggers: tuple[tuple[str, tuple[str, ...]], ...] = ()  # (gesture, its trigger phrases) for words
+    gesture_clips: tuple[GestureClip, ...] = ()  # the lexicon in this model's latent space, performances in turn
+    gesture_triggers: tuple[tuple[str, tuple[str, ...]], ...] = ()  # (gesture, phrases that always cue it)
+    speech_acts: bool = False  # cue the lexicon's gestures from the speech acts of words (greetings, thanks, …)
     lipsync: str = "vrm0"  # a key of VISEME_NAMES: fill PoseFrame.visemes (docs/lipsync.md); "off": None
     face: str = FACE_FULL  # blinks and expression in PoseFrame.face ("blink": blinks only; "off": None)
     style_params: Path | None = DEFAULT_STYLE_PARAMS  # the stylizer's styles (realtime/pose/stylizer.py); None: off
@@ -129,6 +131,8 @@ class GestureSession:
         self.stylizer = None if self.config.style_params is None else Stylizer.from_file(
             self.config.style_params, generator.styles.embed, self.fps)
         self.vocabulary = TriggerVocabulary(dict(self.config.gesture_triggers))
+        self.phrases = PhraseCues(clip.name for clip in self.config.gesture_clips) if self.config.speech_acts \
+            else None
         self.reset()
 
     @property
@@ -164,9 +168,13 @@ class GestureSession:
         if self.stylizer is not None:
             self.stylizer.reset()
         self._unsmoothed: deque[tuple[int, bool, str]] = deque()  # (frame, gesturing, gesture) inside the smoother
-        self.cues = CuePlan({clip.name: clip for clip in self.config.gesture_clips},
-                            self.denoiser_config.frames_per_latent / self.fps)
+        performances: dict[str, list[GestureClip]] = {}
+        for clip in self.config.gesture_clips:
+            performances.setdefault(clip.name, []).append(clip)
+        self.cues = CuePlan({name: clips[0] for name, clips in performances.items()},
+                            self.denoiser_config.frames_per_latent / self.fps, performances)
         self.listener = WordListener(self.vocabulary)  # words reported one at a time (a TTS speaking)
+        self.phrase_listener = None if self.phrases is None else PhraseListener(self.phrases)
         self._visemes: deque[np.ndarray] = deque()  # (5,) weights of the audio frames not yet posed, in order
         self._speaking: deque[bool] = deque()  # voice-activity flag of the audio frames not yet posed, in order
         self._energy: deque[float] = deque()  # speech energy (dB) of the audio frames not yet posed, in order
@@ -212,7 +220,9 @@ class GestureSession:
             self._visemes.extend(self.extractor.take_visemes())  # one (5,) row per new audio frame
 
     def finish(self) -> list[PoseFrame]:
-        """End of stream: pad with silence for the look-ahead so every captured audio frame gets a pose."""
+        """End of stream: pad with silence for the look-ahead so every captured audio frame gets a pose (the words
+        still waiting for what follows them are decided first)."""
+        self.end_of_words()
         self._extract_pending()
         audio_frames = self.extractor.frames_emitted
         if audio_frames == 0:
@@ -266,31 +276,47 @@ class GestureSession:
         with self.stats.time(STAGE_POSES):
             return self._pose_frames(np.concatenate(batch), style)
 
-    def cue(self, cue: Cue) -> Placement | None:
+    def cue(self, cue: Cue) -> CueOutcome:
         """Carry out a lexicon gesture with its stroke at ``cue.time`` (stream s), or as soon as the latents not yet
-        generated allow; None when it is dropped (refractory time, or its body parts are busy). Call it from the
-        thread that pushes audio (live controls go through :attr:`controls`)."""
-        placement = self.cues.place(cue, self.next_latent)
-        if placement is not None and placement.late_s > 0:
-            logger.info("gesture %s (%s) lands %.0f ms late", cue.gesture, cue.source or "cue", placement.late_s * 1e3)
-        return placement
+        generated allow, blended after a gesture playing on the same body parts; the outcome says when its stroke
+        plays, or why it was dropped (logged and counted). Call it from the thread that pushes audio (live
+        controls go through :attr:`controls`)."""
+        return self.cues.place(cue, self.next_latent)
 
     def check_cue_times(self, times: list[float]) -> None:
         """CueRefused (one line) for a cue time too far ahead of the stream, or while the plan is full: what a live
         door (a words message, :meth:`gesturecast.Stream.words`) checks before it sends words."""
         self.cues.check_ahead(times, self.next_latent)
 
-    def cue_words(self, words: list[Word]) -> list[Placement]:
-        """Cue the gestures of the trigger phrases in ``words`` (stream-time stamps); returns the placed ones."""
-        return self._place(self.vocabulary.cues(words))
+    def control_stroke_lead_s(self) -> float:
+        """About how long from now until the stroke of a gesture control submitted now shows: it starts at the next
+        latent and approaches over :data:`BLEND_LATENTS`; a stream instant shows L after its audio arrived, and the
+        newest audio is at :attr:`samples_in`."""
+        d = self.denoiser_config.frames_per_latent
+        stroke_s = (self.next_latent + BLEND_LATENTS) * d / self.fps
+        return max(0.0, self.budget.total_s + stroke_s - self.samples_in / self.sample_rate)
 
-    def cue_spoken(self, word: Word) -> list[Placement]:
-        """Cue the trigger phrases that end at ``word``, one of the words a TTS service reports as it speaks them
-        (earlier words of the phrase came in earlier calls); returns the placed ones."""
-        return self._place(self.listener.hear(word))
+    def cue_words(self, words: list[Word]) -> list[CueOutcome]:
+        """Cue the gestures of the speech acts and forced trigger phrases in ``words`` (stream-time stamps)."""
+        forced = self.vocabulary.cues(words)
+        acts = [] if self.phrases is None else self.phrases.cues(words)
+        return self._place(forced, acts)
 
-    def _place(self, cues: list[Cue]) -> list[Placement]:
-        return [placement for cue in cues if cue.gesture in self.cues.clips and (placement := self.cue(cue))]
+    def cue_spoken(self, word: Word) -> list[CueOutcome]:
+        """Cue what ``word`` completes, one of the words a TTS service reports as it speaks them (earlier words of
+        the phrase came in earlier calls; a speech act is decided once the words after it that tell arrive)."""
+        acts = [] if self.phrase_listener is None else self.phrase_listener.hear(word)
+        return self._place(self.listener.hear(word), acts)
+
+    def end_of_words(self) -> list[CueOutcome]:
+        """The words stopped (the speech ended): decide the phrases still waiting for the words after them."""
+        return self._place([], [] if self.phrase_listener is None else self.phrase_listener.flush())
+
+    def _place(self, forced: list[Cue], acts: list[Cue]) -> list[CueOutcome]:
+        """Place the cues in time order; a forced trigger wins over a speech act on the same word."""
+        taken = {cue.time for cue in forced}
+        cues = sorted(forced + [cue for cue in acts if cue.time not in taken], key=lambda cue: cue.time)
+        return [self.cue(cue) for cue in cues if cue.gesture in self.cues.clips]
 
     def _generate_latent(self, index: int) -> np.ndarray:
         """Latent ``index`` denoised and decoded; returns the smoothed motion rows (m, D) it pushed out."""

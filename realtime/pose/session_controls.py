@@ -23,7 +23,7 @@ from gesturecast.errors import UserError
 from gesturecast.models.generator.style_prompt import PartStyles, StylePrompt, parse_part_styles
 from gesturecast.models.motion.root_anchor import RootAnchor, RootMode
 from gesturecast.realtime.generation.generator import Generator
-from gesturecast.realtime.generation.gesture_cues import Cue, CuePlan, CueRefused
+from gesturecast.realtime.generation.gesture_cues import CONTROL_SOURCE, Cue, CuePlan, CueRefused
 from gesturecast.realtime.generation.style_mixture import align_mixtures, bound_blend_rows, drop_unused_rows
 from gesturecast.realtime.pose.transitions import DEFAULT_RAMP_S, Ramp
 from gesturecast.settings import SINGLE_STYLE
@@ -39,13 +39,16 @@ MAX_MIXTURE_ROWS = 8
 
 class GestureDoor(Protocol):
     """Where ``gesture`` and ``words`` controls go: the session's cue plan (checked on submit, with the cue times
-    by ``check_cue_times``), ``cue`` and ``cue_words``."""
+    by ``check_cue_times``), ``cue`` and ``cue_words``; ``control_stroke_lead_s`` tells a gesture's ack when it
+    shows."""
 
     cues: CuePlan
 
     def check_cue_times(self, times: list[float]) -> None: ...
 
     def cue(self, cue: Cue) -> object: ...
+
+    def control_stroke_lead_s(self) -> float: ...
 
     def cue_words(self, words: list[Word]) -> object: ...
 
@@ -68,16 +71,21 @@ class SessionControls:
         self._blending_from: StylePrompt | None = None  # old style while a style change blends in
         self._mixture_ramp: Ramp | None = None  # W (R, C) flattened, while a part-style change blends in
 
-    def submit(self, controls: tuple[Control, ...]) -> None:
+    def submit(self, controls: tuple[Control, ...]) -> dict:
         """Queue one message's typed controls (built by :func:`gesturecast.controls.parse_controls`, so their values
         are already checked), applied together at the next latent; thread-safe. What only the model can tell is
         checked here first (a gesture not in the lexicon, a style label or body part the model does not know), so
         one it cannot use raises UserError here (the caller answers the client) instead of failing the stream when
-        applied."""
+        applied. Returns what the ack may tell: for a gesture, about when its stroke shows
+        (``{"gesture_stroke_in_ms": ...}``); else {}."""
+        notes = {}
         for control in controls:
             self._check(control)
+            if isinstance(control, Gesture):
+                notes["gesture_stroke_in_ms"] = round(self.gestures.control_stroke_lead_s() * 1e3)
         with self._lock:
             self._inbox.append(tuple(controls))
+        return notes
 
     def _check(self, control: Control) -> None:
         if isinstance(control, Gesture):
@@ -140,7 +148,7 @@ class SessionControls:
             return
         try:
             if isinstance(control, Gesture):  # as soon as possible: its stroke as early as it can be from this latent
-                self.gestures.cue(Cue(control.name, t, "control"))
+                self.gestures.cue(Cue(control.name, t, CONTROL_SOURCE))
             else:  # on the words' own stream times (late by the wait when already generated)
                 self.gestures.cue_words(list(control.words))
         except CueRefused as error:  # the plan filled up since the submit: the stream goes on without them

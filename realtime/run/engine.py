@@ -50,6 +50,7 @@ class EngineReport:
     interrupted: bool = False  # ended by Ctrl-C (KeyboardInterrupt) before the source ran out
     warm_up_s: float = 0.0  # spent warming the stages up before the source opened
     root: dict = field(default_factory=dict)  # RootTravel: max distance and net travel (m), max facing (°)
+    gesture_cues: dict = field(default_factory=dict)  # cues by outcome (on time, late, blended, merged, dropped)
 
     @property
     def rtf(self) -> float:
@@ -70,6 +71,7 @@ class EngineReport:
             "interrupted": self.interrupted,
             "warm_up_ms": self.warm_up_s * MS_PER_S,
             "root": self.root,
+            "gesture_cues": self.gesture_cues,
         }
 
 
@@ -98,6 +100,8 @@ def warm_up(session: GestureSession, clock: Clock) -> float:
     kept, session.stats = session.stats, LatencyStats(clock)
     start = clock.now()
     try:
+        if session.phrases is not None:
+            session.phrases.warm()
         for chunk in warm_up_chunks(session.sample_rate):
             session.push(chunk)
     finally:
@@ -132,6 +136,7 @@ def make_report(session: GestureSession, audio: SourceStats, scheduler_stats: di
         interrupted=interrupted,
         warm_up_s=warm_up_s,
         root=session.travel.to_dict(),
+        gesture_cues=session.cues.summary(),
     )
 
 

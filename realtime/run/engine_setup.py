@@ -11,6 +11,8 @@ from __future__ import annotations
 from dataclasses import replace
 from pathlib import Path
 
+import numpy as np
+
 from gesturecast.bridges.avatar_file import resolve_avatar
 from gesturecast.bridges.bvh_recorder import BvhRecorder
 from gesturecast.bridges.fanout import BridgeFanout
@@ -25,14 +27,25 @@ from gesturecast.models.generator.diffusion import SamplerConfig
 from gesturecast.models.motion.root_anchor import RootMode
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
 from gesturecast.models.runtime.bundle import ModelBundle
-from gesturecast.models.runtime.gesture_lexicon import load_lexicon
+from gesturecast.models.runtime.gesture_lexicon import (
+    DEFAULT_STYLE,
+    LEXICON_FILE,
+    GestureEntry,
+    GestureVariant,
+    load_lexicon,
+)
 from gesturecast.realtime.generation.generator import NEUTRAL_STYLE, Generator, GeneratorSettings
-from gesturecast.realtime.generation.gesture_clips import ClipMotion, encode_clips
+from gesturecast.realtime.generation.gesture_clips import ClipMotion, encode_clips, performances
 from gesturecast.realtime.pose.seed_motion import load_seed_motion
 from gesturecast.realtime.pose.session import GestureSession, SessionConfig
 from gesturecast.realtime.timing.clock import Clock
 from gesturecast.realtime.timing.latency import LatencyBudget
 from gesturecast.settings import LATENCY_SETTINGS, LatencySetting, Settings
+
+MEANT_STYLES = {"raise-both": "active", "guide": "proud"}  # gesture -> the take that means it, where the neutral
+# one falls short: Bandai's neutral raise stops at the top of the head (all 74 neutral takes: wrists 5-19 cm above
+# the head joint), a cheer is the arms overhead (its active take: 34 cm); the neutral guide holds a bent arm below
+# the shoulder, presenting holds an open arm out at shoulder height (its proud take)
 
 
 def load_bundle(path: Path) -> ModelBundle:
@@ -76,17 +89,29 @@ def generator_settings(settings: Settings, bundle: ModelBundle, budget: LatencyB
 
 
 def gesture_setup(settings: Settings, bundle: ModelBundle) -> dict:
-    """The session's gesture lexicon in this model's latent space (each gesture's clip in the style variant named
-    like the settings' style label, else its neutral one) and each gesture's trigger phrases."""
+    """The session's gesture lexicon in this model's latent space: each gesture's clip in the style variant named
+    like the settings' style label (:func:`performed_variant`), as performances drawn from the seed. A built
+    lexicon's gestures are cued by the speech acts of words (:mod:`gesturecast.models.runtime.speech_acts`);
+    a user's folder's trigger phrases cue their gestures wherever they are said."""
     if settings.gestures is None:
         return {}
     lexicon = load_lexicon(settings.gestures)
     prompt = settings.style_prompt()
     style = prompt.value if prompt.kind == "label" else None
-    motions = [ClipMotion(entry.name, variant.features, variant.stroke_frame, entry.parts)
-               for entry in lexicon for variant in [entry.variant(style)]]
-    return {"gesture_clips": encode_clips(bundle, motions, settings.threads),
-            "gesture_triggers": tuple((entry.name, entry.triggers) for entry in lexicon)}
+    recorded = [ClipMotion(entry.name, np.asarray(variant.features, np.float32), variant.stroke_frame, entry.parts)
+                for entry in lexicon for variant in [performed_variant(entry, style)]]
+    motions = [played for motion in recorded for played in performances(motion, settings.seed)]
+    built = (Path(settings.gestures) / LEXICON_FILE).is_file()  # the Bandai lexicon: cued by speech acts
+    return {"gesture_clips": encode_clips(bundle, motions, settings.threads), "speech_acts": built,
+            "gesture_triggers": () if built else tuple((entry.name, entry.triggers) for entry in lexicon)}
+
+
+def performed_variant(entry: GestureEntry, style: str | None) -> GestureVariant:
+    """The clip of ``entry`` a stream in ``style`` plays: the style's own, else the one of
+    :data:`MEANT_STYLES` where the neutral take falls short of what the gesture means, else the neutral one."""
+    variant = entry.variant(style)
+    meant = MEANT_STYLES.get(entry.name)
+    return entry.variant(meant) if variant.style == DEFAULT_STYLE and meant in entry.styles else variant
 
 
 def session_config(settings: Settings, bundle: ModelBundle) -> SessionConfig:

@@ -84,7 +84,8 @@ def generate_to_files(session: GestureSession, audio: Path, motion_paths: list[P
     with ExitStack() as files:
         writers = [files.enter_context(motion_writer(path, vrma_bones)) for path in motion_paths]
         if json_path is not None:
-            writers.append(files.enter_context(PoseJsonWriter(json_path, session.viseme_names, session.face_names)))
+            writers.append(files.enter_context(PoseJsonWriter(json_path, session.viseme_names, session.face_names,
+                                                              closing=lambda: {"gesture_cues": cue_report(session)})))
         for batch in offline_batches(session, source):
             with session.stats.time(STAGE_SINK):  # the outputs: the live engine's bridges, here the file writers
                 for writer in writers:
@@ -99,6 +100,12 @@ def generate_to_files(session: GestureSession, audio: Path, motion_paths: list[P
                 writers[0].num_frames, writers[0].num_frames / MOTION_FPS,
                 ", ".join(str(path) for path in motion_paths), report.rtf)
     return report
+
+
+def cue_report(session: GestureSession) -> dict:
+    """The session's gesture cues by outcome, and a line for each recent one not on time."""
+    return {**session.cues.summary(),
+            "notes": [o.describe() for o in session.cues.outcomes if o.status != "on time"]}
 
 
 def transcript_words(path: Path | None, settings: Settings) -> list[Word]:

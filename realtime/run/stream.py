@@ -37,6 +37,7 @@ from gesturecast.frames import PoseFrame
 from gesturecast.models.audio.files import SAMPLE_RATE
 from gesturecast.realtime.audio.pcm import AudioConverter
 from gesturecast.realtime.audio.sources import AudioChunk, SourceStats
+from gesturecast.realtime.generation.gesture_cues import played
 from gesturecast.realtime.run.engine import EngineReport, FrameRelease, make_report, warm_up
 from gesturecast.realtime.run.engine_setup import build_outputs, build_session
 from gesturecast.realtime.run.paced import AsyncFrameFeed, FeedSet, FrameFeed
@@ -166,25 +167,25 @@ class Stream:
     @one_at_a_time
     def words(self, words: list[dict]) -> int:
         """Words with stream-time stamps (``[{"word", "start", "end"}]``, seconds since the first pushed sample), e.g.
-        a TTS service's word timings sent before the audio plays: trigger words cue their gestures with the stroke on
-        the word (late by the wait when the word's latents are already generated); words more than five minutes
-        ahead of the stream are refused (one line). Checked as a ``words`` message is; returns the cues placed."""
+        a TTS service's word timings sent before the audio plays: speech acts cue their gestures with the stroke on the
+        word (a quicker approach when the word's window is already generated); words more than five minutes ahead of
+        the stream are refused (one line). Checked as a ``words`` message is; returns the cues that play."""
         self._check_open()
         (checked,) = _controls({"words": words})
         self.session.check_cue_times([word.start for word in checked.words])
-        return len(self.session.cue_words(list(checked.words)))
+        return played(self.session.cue_words(list(checked.words)))
 
     @one_at_a_time
     def spoken(self, text: str, start: float | None = None) -> int:
         """Words as a TTS service reports them while speaking (one word, or a sentence without word times):
         ``start`` is the first word's stream time (default :meth:`heard_time`), further words follow at
-        :data:`SPOKEN_WORD_S` each; a trigger phrase cues its gesture when its last word arrives. Returns the cues
-        placed."""
+        :data:`SPOKEN_WORD_S` each; a speech act cues its gesture once the words after it that tell have arrived.
+        Returns the cues that play."""
         self._check_open()
         start = self.heard_time() if start is None else _stream_time(start)
         words = [Word(token, start + i * SPOKEN_WORD_S, start + (i + 1) * SPOKEN_WORD_S)
                  for i, token in enumerate(text.split())]
-        return sum(len(self.session.cue_spoken(word)) for word in words)
+        return sum(played(self.session.cue_spoken(word)) for word in words)
 
     def heard_time(self, ahead_s: float = 0.0) -> float:
         """Stream time of the audio heard ``ahead_s`` seconds from now (unpaced: the end of the pushed audio)."""

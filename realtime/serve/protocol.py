@@ -127,8 +127,9 @@ def started(stream_id: str, style: str, audio_format: str, latency_budget_ms: fl
                        "latency_budget_ms": latency_budget_ms})
 
 
-def ack(controls: tuple[Control, ...]) -> str:
-    return json.dumps({"type": "ack", "applied": wire(controls)})
+def ack(controls: tuple[Control, ...], notes: dict | None = None) -> str:
+    """The answer to a control; ``notes`` add what the session tells of it (when a gesture's stroke shows)."""
+    return json.dumps({"type": "ack", "applied": wire(controls), **(notes or {})})
 
 
 def stats_message(stats: dict) -> str:

@@ -174,10 +174,10 @@ class StreamConnection:
         """Acknowledged only once the session has resolved its styles (off the event loop)."""
         controls = message_controls(message)
         try:
-            await asyncio.to_thread(self.stream.session.controls.submit, controls)
+            notes = await asyncio.to_thread(self.stream.session.controls.submit, controls)
         except UserError as error:
             raise ControlError(str(error)) from None
-        return ack(controls)
+        return ack(controls, notes)
 
     async def _start(self, message: dict) -> str:
         if self.stream is not None:

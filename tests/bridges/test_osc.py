@@ -113,3 +113,13 @@ def test_bundles_cross_a_1500_mtu_unfragmented_by_address_family(host, limit):
     bridge.close()
     assert max(len(d) for d in datagrams) <= limit
     assert len(decode(datagrams)) == 2 + SKELETON.num_joints + 5
+
+
+def test_gesture_start_and_end_go_out_when_the_frames_gesture_changes():
+    encoder = OscEncoder(OscConfig(bundled=False))
+    messages = [m.message for d in encoder.encode(replace(moving_frame(3), gesture="wave+bow"), 0.1, "wave")
+                for m in OscPacket(d).messages]
+    assert [(m.address, m.params) for m in messages[:1]] == [("/gesturecast/gesture/start", ["bow"])]
+    ended = decode(encoder.encode(replace(moving_frame(4), gesture=""), 0.2, "bow"))
+    assert ended["/gesturecast/gesture/end"] == ["bow"] and "/gesturecast/gesture/start" not in ended
+    assert not [a for a in decode(encoder.encode(moving_frame(5), 0.3, "")) if "/gesture/" in a]

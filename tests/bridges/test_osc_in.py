@@ -111,4 +111,4 @@ def test_live_waves_when_an_osc_gesture_arrives(cli_process, tmp_path):
         sender.sendto(message(GESTURE_ADDRESS, "wave"), ("127.0.0.1", port))
     code, _, _ = live.wait(60)
     assert code == 0
-    assert live.wait_for_stderr("gesture wave (control) lands", 1)
+    assert live.wait_for_stderr("gesture wave (control) on time, stroke at", 1)

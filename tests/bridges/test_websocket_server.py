@@ -270,3 +270,21 @@ def test_lip_sync_names_the_visemes_in_the_hello_and_frames_carry_them():
 def test_without_lip_sync_the_hello_names_no_visemes(bridge):
     with connect(ws_url(bridge)) as client:
         assert hello_of(client)["visemes"] == []
+
+
+def test_clients_see_the_gesture_playing_in_json_frames_and_a_side_message_on_each_change(bridge):
+    with connect(ws_url(bridge)) as binary, connect(ws_url(bridge)) as client:
+        hello_of(binary)
+        hello_of(client)
+        client.send(json.dumps({"type": "subscribe", "format": "json"}))
+        json.loads(client.recv(TIMEOUT_S))
+        wait_for_clients(bridge, 2)
+        for seq, gesture in enumerate(["", "wave", "wave", ""]):
+            bridge.send(dataclasses.replace(moving_frame(seq), gesture=gesture))
+        texts = [json.loads(client.recv(TIMEOUT_S)) for _ in range(7)]  # style, 4 frames, 2 gesture messages
+        side = [m for m in (binary.recv(TIMEOUT_S) for _ in range(7)) if isinstance(m, str)]
+    frames = [m for m in texts if m["type"] == "frame"]
+    changes = [(m["started"], m["ended"], m["seq"]) for m in texts if m["type"] == "gesture"]
+    assert [f["gesture"] for f in frames] == ["", "wave", "wave", ""]
+    assert changes == [(["wave"], [], 1), ([], ["wave"], 3)]
+    assert [json.loads(m)["playing"] for m in side if json.loads(m)["type"] == "gesture"] == ["wave", ""]

@@ -10,7 +10,7 @@ import numpy as np
 from bridge_test_frames import moving_frame
 
 from gesturecast.bridges.coords import INTERNAL, UNITY
-from gesturecast.bridges.ws_protocol import BINARY_HEADER, FRAME_MAGIC, binary_frame, json_frame
+from gesturecast.bridges.ws_protocol import BINARY_HEADER, FRAME_MAGIC, binary_frame, gesture_message, json_frame
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
 
 J = CANONICAL_WITH_HANDS.num_joints
@@ -52,3 +52,9 @@ def test_json_frame_lists_the_weights():
     frame = dataclasses.replace(moving_frame(4), visemes=WEIGHTS)
     assert json.loads(json_frame(frame, INTERNAL, CAPTURE_UNIX, SEND_UNIX, viseme_count=5))["visemes"] == list(WEIGHTS)
     assert json.loads(json_frame(frame, INTERNAL, CAPTURE_UNIX, SEND_UNIX))["visemes"] == []
+
+
+def test_the_gesture_message_names_what_starts_and_ends():
+    message = json.loads(gesture_message("wave", "wave+bow", 7, 12.5))
+    assert message == {"type": "gesture", "playing": "wave+bow", "started": ["bow"], "ended": [], "seq": 7,
+                       "capture_time": 12.5}

@@ -1,252 +1,159 @@
-"""``gesturecast bench gestures``: are cued gestures carried out, on the word, smoothly, and only when cued?
+"""``gesturecast bench gestures``: are intended gestures played on their words, are ordinary words left alone, and is
+no cue lost in silence?
 
-**Stories.** espeak-ng speaks each sentence at run time (deterministic, cached under ``.cache/bench/gestures``);
-sentences are joined with :data:`PAUSE_S` of silence. Every trigger phrase opens its sentence, so its start is the
-sentence's measured voice onset (first 10 ms frame within 30 dB of the sentence's peak); the other words are
-spread over the voiced span. A story without trigger words is the cue-free speech.
+**Texts** (:mod:`gesturecast.tools.bench.gesture_set.texts`, held out from the classifier's training): cued stories
+whose sentences mark the intended speech acts, and ordinary narration with none, spoken by espeak-ng with exact word
+times (:mod:`gesturecast.tools.bench.gesture_set.stories`).
 
-**Runs.** Each story is generated twice with the same seed, without and with its transcript (the same session
-code as ``generate --transcript``).
+**Runs.** Each cued story is generated with and without its transcript (the same session code as
+``generate --transcript``), the narrations with theirs; one story also without it at the next seed (the seed-to-seed
+floor of the variation measure).
 
-**Detector** (independent of the lexicon's stroke rules; joint positions relative to the hips in the body's
-facing frame, x left, y up, z forward): a wave or a bye is a wrist above its shoulder for at least 0.25 s with a
-lateral swing (two or more turns of at least 2 cm); a raise is the named wrist(s) 5 cm or more above the
-shoulder(s) for 0.2 s; a bow or a call (Bandai's call is a shout, leaning forward) is the head at least 12 cm
-further forward of the hips than the stream's median for 0.2 s; a guide is an arm held out (85 % of its length,
-the wrist within 15 cm of shoulder height and 20 cm in front of it) for 0.3 s. A detection's stroke is the first
-frame within 10 % of its signal's peak. A cued gesture is
-recognised when the detector fires within [word − 1.5 s, word + 2.5 s]; its stroke is the detector signal's
-first arrival near its peak. Detections in the uncued runs are gestures without a cue.
+**Per intended cue**: the decision (the gesture the session cued at the word, if any), its outcome (on time, late,
+blended, merged, dropped: :class:`gesturecast.realtime.generation.gesture_cues.CueOutcome`), and whether the
+kinematic detector (:mod:`gesturecast.tools.bench.gesture_set.detector`) sees the gesture within
+[word − 1.5 s, word + 2.5 s]: *hit* = played, detected, and the detected stroke within :data:`STROKE_TOLERANCE_S`
+of the word; a merged cue (the same gesture already playing) is a hit when the detection spans its word.
 
-**Measures** (JSON): recognised per gesture type; stroke − word start p50/p95 (ms); the largest jerk within
-0.3 s of each clip's start and end over the uncued stream's 95th-percentile jerk; speech following (correlation
-of speech energy and body speed, :func:`speech_following`, computed on the whole stream) on the frames outside the
-cue windows and :data:`FOLLOWING_MARGIN_S` around them, cued over uncued; compute
-seconds per second of audio, cued over uncued; a PNG strip of frames around each cue with its word.
+**Measures** (JSON): hits / intended, per intent; stroke − word p50/p95 (ms); outcomes; cues played where none was
+intended; on the narrations, gestures played per minute and detector events per minute (cued and uncued runs);
+silent drops (dropped outcomes without a warning log line, plus cues decided without an outcome); two plays of one
+gesture in a stream against the seed-to-seed distance of the uncued speech; the speed of the parts no playing
+gesture moves (the torso during a wave), cued over uncued; the largest jerk within 0.3 s of each
+clip's ends over the uncued stream's 95th percentile; speech following outside the cue windows, cued over uncued;
+a PNG strip of frames around each cue of the first story.
 """
 
 from __future__ import annotations
 
 import argparse
-import hashlib
 import json
-import subprocess
+import logging
 import sys
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
 
 from gesturecast.files import write_text_atomic
-from gesturecast.frames import PoseFrame
-from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
+from gesturecast.frames import PoseFrame, gesture_names
+from gesturecast.models.audio.files import SAMPLE_RATE
 from gesturecast.models.evaluation.speech_following import speech_following
+from gesturecast.models.motion.body_parts import PART_JOINTS
 from gesturecast.models.motion.motion import MOTION_FPS
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
-from gesturecast.models.runtime.gesture_lexicon import body_frame_positions
+from gesturecast.models.runtime.gesture_lexicon import body_frame_positions, load_lexicon
 from gesturecast.realtime.audio.sources import ArraySource
 from gesturecast.realtime.cli_flags import add_generation_arguments, settings_from_args
 from gesturecast.realtime.engine_cli import frames_to_motion
-from gesturecast.realtime.generation.word_cues import Word
+from gesturecast.realtime.generation.gesture_cues import CueOutcome
 from gesturecast.realtime.run.engine import run_offline
 from gesturecast.realtime.run.engine_setup import build_session
 from gesturecast.realtime.timing.clock import MonotonicClock
 from gesturecast.settings import Settings
-from gesturecast.tools.bench.speech.lipsync_set import espeak
+from gesturecast.tools.bench.gesture_set.detector import Detector, jerk
+from gesturecast.tools.bench.gesture_set.stories import Story, make_story
+from gesturecast.tools.bench.gesture_set.texts import CUED_STORIES, NARRATION, NARRATION_FINAL, NARRATION_LATE
 
-CACHE = Path(".cache/bench/gestures")
-PAUSE_S = 0.8
-LEAD_IN_S = 1.5  # silence before the first sentence: room for a gesture whose stroke lands on the first word
-ONSET_DB = 30.0  # a sentence's voice starts at its first 10 ms frame within this many dB of its loudest
-WINDOW_BEFORE_S, WINDOW_AFTER_S = 1.5, 2.5  # where a cued gesture must show, around its word
+WINDOW_BEFORE_S, WINDOW_AFTER_S = 1.5, 2.5  # where an intended gesture must show, around its word
+STROKE_TOLERANCE_S = 0.3
 SEAM_S = 0.3
 FOLLOWING_MARGIN_S = 0.5  # the following measure's smoothing width: a clip's own speed spreads this far past its ends
 LEAD_S = 0.8  # the picture starts this long before each word
-STORIES: dict[str, tuple[str, ...]] = {
-    "greetings": ("Hello everyone, and welcome back to the show.", "Today I want to talk about the weather.",
-                  "Thank you so much for watching every week.", "The forecast says rain, then some sun later.",
-                  "Hooray, we finally did it!", "It took a long time and a lot of work.",
-                  "Goodbye, and see you next time."),
-    "pointing": ("Look at this picture of the old harbour.", "The boats leave early in the morning.",
-                 "Come on, follow me to the end of the pier.", "The water is calm and very clear today.",
-                 "Hi there, nice to meet you!", "Thanks for coming all the way out here."),
-    "cue-free": ("Today I want to talk about the weather and the news.", "The forecast says rain in the morning.",
-                 "In the afternoon the sun comes back for a while.", "Most people will stay inside and read.",
-                 "Tomorrow will be colder, with wind from the north."),
-}
+PLAY_WINDOW_S = 1.0  # two plays of a gesture are compared over this long on each side of their strokes
+KINDS = ("wave", "wave-right", "raise-both", "bow", "guide", "call")  # what the detector counts on narration
 
 
-@dataclass(frozen=True)
-class Story:
-    name: str
-    audio: np.ndarray  # (n,) 16 kHz
-    words: list[Word]
+@dataclass
+class Run:
+    frames: list[PoseFrame]
+    outcomes: list[CueOutcome]
+    decided: int  # cues the session decided from the words (every one must have an outcome)
+    warnings: list[str]  # the cue log's warning lines
+    rtf: float
+
+
+class _Lines(logging.Handler):
+    def __init__(self) -> None:
+        super().__init__(logging.WARNING)
+        self.lines: list[str] = []
+
+    def emit(self, record: logging.LogRecord) -> None:
+        self.lines.append(record.getMessage())
 
 
 def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
-    parser = bench_subparsers.add_parser("gestures", help="cued gestures: recognised, on the word, smooth, only "
-                                         "when cued (espeak-ng stories; JSON + PNG)")
+    parser = bench_subparsers.add_parser("gestures", help="intended gestures on their words, none on ordinary "
+                                         "narration, no silent drops (espeak-ng texts; JSON + PNG)")
     add_generation_arguments(parser)
     parser.add_argument("--json", action="store_true", help="print the JSON result")
     parser.add_argument("--out", type=Path, default=Path("out/bench/gestures"), help="folder for JSON and PNG")
     parser.set_defaults(func=run)
 
 
-def sentence_audio(text: str) -> np.ndarray:
-    """(n,) 16 kHz speech of one sentence (espeak-ng, cached)."""
-    CACHE.mkdir(parents=True, exist_ok=True)
-    path = CACHE / f"{hashlib.sha1(text.encode()).hexdigest()[:16]}.wav"  # the same name in every run
-    if not path.is_file():
-        subprocess.run([espeak(), "-w", str(path), text], check=True, capture_output=True)
-    return load_audio(path)
-
-
-def voiced_span(audio: np.ndarray) -> tuple[float, float]:
-    """(onset, offset) seconds of a sentence: its first and last 10 ms frames within ONSET_DB of its peak."""
-    hop = SAMPLE_RATE // 100
-    frames = audio[: len(audio) // hop * hop].reshape(-1, hop)  # (F, hop)
-    level = 10 * np.log10(np.mean(frames**2, axis=1) + 1e-12)  # (F,)
-    voiced = np.flatnonzero(level >= level.max() - ONSET_DB)
-    return voiced[0] / 100, (voiced[-1] + 1) / 100
-
-
-def make_story(name: str, sentences: tuple[str, ...]) -> Story:
-    """The sentences after LEAD_IN_S of silence, joined with pauses, and their words timed over each voiced span."""
-    pieces, words, start = [np.zeros(int(LEAD_IN_S * SAMPLE_RATE), np.float32)], [], LEAD_IN_S
-    for text in sentences:
-        audio = sentence_audio(text)
-        onset, offset = voiced_span(audio)
-        tokens = text.split()
-        step = (offset - onset) / len(tokens)
-        words += [Word(token, start + onset + i * step, start + onset + (i + 1) * step) for i, token in
-                  enumerate(tokens)]
-        pieces += [audio, np.zeros(int(PAUSE_S * SAMPLE_RATE), np.float32)]
-        start += len(audio) / SAMPLE_RATE + PAUSE_S
-    return Story(name, np.concatenate(pieces), words)
-
-
-def generate(settings: Settings, story: Story, cued: bool) -> tuple[list[PoseFrame], list, float]:
-    """(frames, placements, compute seconds per audio second) of one run."""
+def generate(settings: Settings, story: Story, cued: bool) -> Run:
+    """One run of ``story``, with its words cued or not."""
     session = build_session(settings, MonotonicClock())
-    placements = session.cue_words(story.words) if cued else []
-    frames, report = run_offline(session, ArraySource(story.audio, SAMPLE_RATE))
-    return frames, placements, report.rtf
+    lines = _Lines()
+    log = logging.getLogger("gesturecast.realtime.generation.gesture_cues")
+    log.addHandler(lines)
+    try:
+        outcomes = session.cue_words(story.words) if cued else []
+        decided = len(session.phrases.cues(story.words)) if cued and session.phrases else len(outcomes)
+        frames, report = run_offline(session, ArraySource(story.audio, SAMPLE_RATE))
+    finally:
+        log.removeHandler(lines)
+    return Run(frames, outcomes, decided, lines.lines, report.rtf)
 
 
-def body_positions(frames: list[PoseFrame]) -> tuple[np.ndarray, tuple[str, ...]]:
+def body_positions(frames: list[PoseFrame]) -> np.ndarray:
     """(T, J, 3) joint positions relative to the hips in the hips' facing frame (x left, y up, z forward)."""
-    return body_frame_positions(frames_to_motion(frames)), CANONICAL_WITH_HANDS.names
+    return body_frame_positions(frames_to_motion(frames))
 
 
-def runs_of(mask: np.ndarray, min_frames: int) -> list[tuple[int, int]]:
-    """[start, stop) of the runs of True at least ``min_frames`` long."""
-    edges = np.flatnonzero(np.diff(np.concatenate([[0], mask.astype(int), [0]])))
-    return [(a, b) for a, b in zip(edges[::2], edges[1::2], strict=True) if b - a >= min_frames]
+def outcome_at(run: Run, time: float) -> CueOutcome | None:
+    return next((o for o in run.outcomes if abs(o.cue.time - time) < 1e-6), None)
 
 
-def swings(x: np.ndarray, min_swing: float = 0.02) -> int:
-    """Turns of a lateral trace (m) whose swing between consecutive extremes is at least ``min_swing``."""
-    turns, direction, extreme = 0, 0.0, float(x[0])
-    for value in map(float, x[1:]):
-        if direction == 0.0:
-            if abs(value - extreme) >= min_swing:
-                direction, extreme = float(np.sign(value - extreme)), value
-        elif (value - extreme) * direction > 0:
-            extreme = value
-        elif abs(value - extreme) >= min_swing:
-            turns, direction, extreme = turns + 1, -direction, value
-    return turns
-
-
-class Detector:
-    """The gesture detector over one stream's body-frame positions (rules: module docstring)."""
-
-    def __init__(self, body: np.ndarray, names: tuple[str, ...]) -> None:
-        self.body = body
-        joint = names.index
-        self.wrist = {side: body[:, joint(f"{side}Hand")] for side in ("Left", "Right")}  # (T, 3)
-        self.shoulder = {side: body[:, joint(f"{side}UpperArm")] for side in ("Left", "Right")}
-        self.arm_length = {side: float(np.median(np.linalg.norm(body[:, joint(f"{side}UpperArm")] - body[:, joint(
-            f"{side}LowerArm")], axis=1) + np.linalg.norm(body[:, joint(f"{side}LowerArm")] - self.wrist[side],
-            axis=1))) for side in ("Left", "Right")}
-        self.head_forward = body[:, joint("Head"), 2]  # (T,)
-
-    def height(self, side: str) -> np.ndarray:
-        return self.wrist[side][:, 1] - self.shoulder[side][:, 1]
-
-    def events(self, gesture: str) -> list[tuple[int, int, int]]:
-        """(start, stop, stroke frame) of each detection of ``gesture``'s kind."""
-        kind = gesture.split("-")[0]
-        sides = {"left": ["Left"], "right": ["Right"]}.get(gesture.split("-")[-1], ["Left", "Right"])
-        if kind in ("wave", "bye"):
-            return [e for side in sides for e in self._waves(side)]
-        if kind == "raise":
-            heights = np.min([self.height(side) for side in sides], axis=0) if gesture.endswith("both") else \
-                np.max([self.height(side) for side in sides], axis=0)
-            return self._peaks(heights >= 0.05, heights, 6)
-        if kind == "bow":
-            forward = self.head_forward - np.median(self.head_forward)
-            return self._peaks(forward >= 0.12, forward, 6)
-        if kind == "call":  # Bandai's call: hands cupped at the mouth, the body leaning forward
-            forward = self.head_forward - np.median(self.head_forward)
-            return self._peaks(forward >= 0.12, forward, 6)
-        reach = np.max([self._reach(side) for side in sides], axis=0)  # guide: an arm held out
-        return self._peaks(reach >= 0.85, reach, 9)
-
-    def _reach(self, side: str) -> np.ndarray:
-        """The arm's extension (fraction of its length) where it is held out near shoulder height, else 0."""
-        extension = np.linalg.norm(self.wrist[side] - self.shoulder[side], axis=1) / self.arm_length[side]
-        held_out = (np.abs(self.height(side)) <= 0.15) & (self.wrist[side][:, 2] - self.shoulder[side][:, 2] >= 0.2)
-        return np.where(held_out, extension, 0.0)
-
-    def _waves(self, side: str) -> list[tuple[int, int, int]]:
-        height = self.height(side)
-        found = []
-        for start, stop in runs_of(height >= 0.0, int(0.25 * MOTION_FPS)):
-            if swings(self.wrist[side][start:stop, 0]) >= 2:
-                found.append((start, stop, arrival(height, start, stop)))
-        return found
-
-    @staticmethod
-    def _peaks(mask: np.ndarray, signal: np.ndarray, min_frames: int) -> list[tuple[int, int, int]]:
-        return [(a, b, arrival(signal, a, b)) for a, b in runs_of(mask, min_frames)]
-
-
-def arrival(signal: np.ndarray, start: int, stop: int, tolerance: float = 0.1) -> int:
-    """The stroke of a detection: the first frame in [start, stop) within ``tolerance`` of the signal's range below
-    its peak (a held pose counts from when it is reached)."""
-    window = signal[start:stop]
-    level = window.max() - tolerance * (window.max() - window.min())
-    return start + int(np.flatnonzero(window >= level)[0])
-
-
-def jerk(body: np.ndarray) -> np.ndarray:
-    """(T-3,) mean joint jerk magnitude (m/s³) per frame of the body joints."""
-    third = np.diff(body[:, :22], n=3, axis=0) * MOTION_FPS**3  # (T-3, 22, 3)
-    return np.linalg.norm(third, axis=-1).mean(axis=1)
-
-
-def cue_rows(story: Story, frames: list[PoseFrame], placements: list, uncued_body: np.ndarray) -> list[dict]:
-    body, names = body_positions(frames)
-    detector = Detector(body, names)
-    seam_reference = float(np.percentile(jerk(uncued_body), 95))
-    stream_jerk = jerk(body)
+def intended_rows(story: Story, run: Run, detector: Detector, expected: dict[str, str]) -> list[dict]:
+    """One row per intended cue (module docstring)."""
     rows = []
-    for placement in placements:
-        word_frame = placement.cue.time * MOTION_FPS
+    for cue in story.intended:
+        gesture = expected[cue.intent]
+        outcome = outcome_at(run, cue.time)
+        played = outcome is not None and outcome.cue.gesture == gesture and outcome.stroke_time is not None
+        word_frame = cue.time * MOTION_FPS
         lo, hi = word_frame - WINDOW_BEFORE_S * MOTION_FPS, word_frame + WINDOW_AFTER_S * MOTION_FPS
-        hits = [e for e in detector.events(placement.cue.gesture) if e[0] <= hi and e[1] >= lo]
-        clip_start = placement.first * 4
-        clip_stop = (placement.last + 1) * 4
-        seams = [stream_jerk[max(f - int(SEAM_S * MOTION_FPS), 0): f + int(SEAM_S * MOTION_FPS)].max()
-                 for f in (clip_start, clip_stop) if f < len(stream_jerk)]
+        hits = [e for e in detector.events(gesture) if e[0] <= hi and e[1] >= lo]
         stroke = min(hits, key=lambda e: abs(e[2] - word_frame))[2] if hits else None
-        rows.append({"story": story.name, "gesture": placement.cue.gesture, "word": placement.cue.source,
-                     "word_s": placement.cue.time, "recognised": bool(hits),
-                     "stroke_error_ms": None if stroke is None else (stroke - word_frame) / MOTION_FPS * 1e3,
-                     "seam_jerk_ratio": max(seams) / seam_reference if seams else None,
-                     "frames": (clip_start, clip_stop)})
+        error = None if stroke is None else (stroke - word_frame) / MOTION_FPS
+        on_word = error is not None and abs(error) <= STROKE_TOLERANCE_S
+        if played and outcome.status == "merged":  # the gesture playing when the word is said counts
+            on_word = any(start <= word_frame < stop for start, stop, _ in hits)
+        rows.append({"story": story.name, "intent": cue.intent, "gesture": gesture, "word": cue.word,
+                     "word_s": round(cue.time, 3), "decided": None if outcome is None else outcome.cue.gesture,
+                     "outcome": None if outcome is None else outcome.status, "played": played,
+                     "detected": bool(hits), "stroke_error_ms": None if error is None else round(error * 1e3),
+                     "hit": bool(played and on_word)})
     return rows
+
+
+def seams(run: Run, uncued_body: np.ndarray, body: np.ndarray) -> list[float]:
+    """The largest jerk within SEAM_S of each played clip's start and stop over the uncued 95th percentile."""
+    reference = float(np.percentile(jerk(uncued_body), 95))
+    stream = jerk(body)
+    width = int(SEAM_S * MOTION_FPS)
+    ratios = []
+    for frame in clip_edges(run):
+        if frame < len(stream):
+            ratios.append(float(stream[max(frame - width, 0): frame + width].max()) / reference)
+    return ratios
+
+
+def clip_edges(run: Run) -> list[int]:
+    """Frames where a played gesture starts or ends (the frames' gesture names change)."""
+    names = [frame.gesture for frame in run.frames]
+    return [k for k in range(1, len(names)) if names[k] != names[k - 1]]
 
 
 def following(frames: list[PoseFrame], audio: np.ndarray, outside: np.ndarray) -> float:
@@ -255,67 +162,170 @@ def following(frames: list[PoseFrame], audio: np.ndarray, outside: np.ndarray) -
     return speech_following(positions, audio, SAMPLE_RATE, MOTION_FPS, kept=outside).best_correlation
 
 
-def study_story(settings: Settings, story: Story) -> dict:
-    uncued, _, rtf_uncued = generate(settings, story, cued=False)
-    uncued_body, names = body_positions(uncued)
-    spontaneous = {g: len(Detector(uncued_body, names).events(g)) for g in ("wave", "bye", "raise-both", "bow",
-                                                                           "guide", "call")}
-    result = {"story": story.name, "seconds": len(story.audio) / SAMPLE_RATE, "spontaneous": spontaneous}
-    if story.name == "cue-free":
-        return result
-    cued, placements, rtf_cued = generate(settings, story, cued=True)
-    rows = cue_rows(story, cued, placements, uncued_body)
-    outside = np.ones(len(cued), bool)
+def following_ratio(cued: Run, uncued: Run, audio: np.ndarray) -> float:
+    """Following outside the frames with a gesture (and FOLLOWING_MARGIN_S around them), cued over uncued."""
+    gesturing = np.array([bool(f.gesture) for f in cued.frames])
     margin = int(FOLLOWING_MARGIN_S * MOTION_FPS)
-    for row in rows:
-        outside[max(row["frames"][0] - margin, 0): row["frames"][1] + margin] = False
-    return {**result, "cues": rows, "rtf_ratio": rtf_cued / rtf_uncued,
-            "following_ratio": following(cued, story.audio, outside) / following(uncued, story.audio, outside),
-            "frames_cued": cued}
+    outside = ~np.convolve(gesturing, np.ones(2 * margin + 1), mode="same").astype(bool)
+    return following(cued.frames, audio, outside) / following(uncued.frames, audio, outside)
 
 
-def summary(stories: list[dict]) -> dict:
-    rows = [row for story in stories for row in story.get("cues", [])]
-    errors = np.array([r["stroke_error_ms"] for r in rows if r["stroke_error_ms"] is not None])
-    by_type: dict[str, list[bool]] = {}
+def finite_or_none(value: float) -> float | None:
+    """``value`` rounded, or None when it is not finite (no frame left to measure)."""
+    return round(value, 3) if np.isfinite(value) else None
+
+
+def play_distances(run: Run, body: np.ndarray) -> list[dict]:
+    """Mean joint distance (m) between consecutive plays of the same gesture in one stream, aligned at strokes."""
+    width = int(PLAY_WINDOW_S * MOTION_FPS)
+    strokes: dict[str, list[int]] = {}
+    for outcome in run.outcomes:
+        if outcome.status in ("on time", "late", "blended"):
+            strokes.setdefault(outcome.cue.gesture, []).append(round(outcome.stroke_time * MOTION_FPS))
+    pairs = []
+    for gesture, frames in strokes.items():
+        for a, b in zip(frames, frames[1:], strict=False):
+            if a >= width and b + width <= len(body):
+                distance = np.linalg.norm(body[a - width: a + width, :22] - body[b - width: b + width, :22], axis=-1)
+                pairs.append({"gesture": gesture, "distance_m": round(float(distance.mean()), 4)})
+    return pairs
+
+
+def idle_part_speed_ratio(run: Run, body: np.ndarray, uncued_body: np.ndarray, parts: dict[str, tuple[str, ...]]
+                          ) -> float | None:
+    """Mean joint speed of the body parts no playing gesture moves (the torso during a wave), over the frames with a
+    gesture, cued ÷ uncued (None when every part is busy, as in a bow)."""
+    names = CANONICAL_WITH_HANDS.names
+    count = min(len(body), len(uncued_body)) - 1
+    cued = np.linalg.norm(np.diff(body[: count + 1], axis=0), axis=-1)  # (T-1, J) metres per frame
+    uncued = np.linalg.norm(np.diff(uncued_body[: count + 1], axis=0), axis=-1)
+    total_cued = total_uncued = 0.0
+    for k, frame in enumerate(run.frames[1: count + 1]):
+        busy = {part for name in gesture_names(frame.gesture) for part in parts[name]}
+        joints = [names.index(j) for part, js in PART_JOINTS.items() if part not in busy for j in js]
+        if busy and joints:
+            total_cued += float(cued[k, joints].mean())
+            total_uncued += float(uncued[k, joints].mean())
+    return total_cued / total_uncued if total_uncued else None
+
+
+def narration_result(settings: Settings, story: Story) -> dict:
+    """Gestures played per minute on ordinary narration, and detector events per minute with and without words."""
+    cued, uncued = generate(settings, story, True), generate(settings, story, False)
+    played = [o for o in cued.outcomes if o.stroke_time is not None]
+    detected = {run_name: sum(len(Detector(body_positions(run.frames), CANONICAL_WITH_HANDS.names).events(kind))
+                              for kind in KINDS) for run_name, run in (("cued", cued), ("uncued", uncued))}
+    return {"story": story.name, "minutes": round(story.minutes, 2), "played": len(played),
+            "played_per_minute": round(len(played) / story.minutes, 2),
+            "played_cues": [f"{o.cue.gesture} at {o.cue.source!r} ({o.cue.time:.1f} s)" for o in played],
+            "detector_events_per_minute": {k: round(v / story.minutes, 2) for k, v in detected.items()},
+            "silent_drops": silent_drops(cued)}
+
+
+def silent_drops(run: Run) -> int:
+    """Dropped cues with no warning line, plus decided cues with no outcome."""
+    unlogged = sum(1 for o in run.outcomes if o.status == "dropped" and o.describe() not in run.warnings)
+    return unlogged + max(0, run.decided - len(run.outcomes))
+
+
+def story_result(settings: Settings, story: Story, expected: dict[str, str], parts: dict[str, tuple[str, ...]]
+                 ) -> dict:
+    cued, uncued = generate(settings, story, True), generate(settings, story, False)
+    body, uncued_body = body_positions(cued.frames), body_positions(uncued.frames)
+    detector = Detector(body, CANONICAL_WITH_HANDS.names)
+    rows = intended_rows(story, cued, detector, expected)
+    intended_times = {round(c.time, 6) for c in story.intended}
+    extra = [f"{o.cue.gesture} at {o.cue.source!r}" for o in cued.outcomes
+             if o.stroke_time is not None and round(o.cue.time, 6) not in intended_times]
+    outcomes: dict[str, int] = {}
+    for outcome in cued.outcomes:
+        outcomes[outcome.status] = outcomes.get(outcome.status, 0) + 1
+    return {"story": story.name, "seconds": round(len(story.audio) / SAMPLE_RATE, 2), "cues": rows,
+            "outcomes": outcomes, "unintended": extra, "silent_drops": silent_drops(cued),
+            "seam_jerk_ratios": [round(r, 2) for r in seams(cued, uncued_body, body)],
+            "following_ratio": finite_or_none(following_ratio(cued, uncued, story.audio)),
+            "plays": play_distances(cued, body), "rtf_ratio": round(cued.rtf / uncued.rtf, 3),
+            "idle_parts_speed_ratio": idle_part_speed_ratio(cued, body, uncued_body, parts),
+            "frames_cued": cued.frames, "uncued_body": uncued_body}
+
+
+def seed_floor(settings: Settings, story: Story, uncued_body: np.ndarray) -> float:
+    """Mean joint distance (m) between the uncued runs of ``story`` at two seeds: the variation of beat gestures."""
+    other = body_positions(generate(replace(settings, seed=settings.seed + 1), story, False).frames)
+    n = min(len(other), len(uncued_body))
+    return float(np.linalg.norm(other[:n, :22] - uncued_body[:n, :22], axis=-1).mean())
+
+
+def summary(stories: list[dict], narrations: list[dict], floor: float) -> dict:
+    rows = [row for story in stories for row in story["cues"]]
+    errors = np.array([abs(r["stroke_error_ms"]) for r in rows
+                       if r["played"] and r["outcome"] != "merged" and r["stroke_error_ms"] is not None])
+    by_intent: dict[str, list[bool]] = {}
     for row in rows:
-        by_type.setdefault(row["gesture"], []).append(row["recognised"])
+        by_intent.setdefault(row["intent"], []).append(row["hit"])
+    outcomes: dict[str, int] = {}
+    for story in stories:
+        for status, n in story["outcomes"].items():
+            outcomes[status] = outcomes.get(status, 0) + n
+    plays = [p["distance_m"] for s in stories for p in s["plays"]]
+    idle = [s["idle_parts_speed_ratio"] for s in stories if s["idle_parts_speed_ratio"] is not None]
+    minutes = sum(n["minutes"] for n in narrations)
     return {
-        "cues": len(rows),
-        "recognised_fraction": float(np.mean([r["recognised"] for r in rows])) if rows else None,
-        "recognised_by_gesture": {g: f"{sum(v)}/{len(v)}" for g, v in by_type.items()},
-        "stroke_error_ms": {"p50": float(np.percentile(np.abs(errors), 50)),
-                            "p95": float(np.percentile(np.abs(errors), 95))} if errors.size else None,
-        "seam_jerk_ratio_max": max((r["seam_jerk_ratio"] for r in rows if r["seam_jerk_ratio"]), default=None),
-        "following_ratio_min": min(s["following_ratio"] for s in stories if "following_ratio" in s),
-        "rtf_ratio_median": float(np.median([s["rtf_ratio"] for s in stories if "rtf_ratio" in s])),
-        "gestures_without_cue": {s["story"]: s["spontaneous"] for s in stories},
+        "intended": len(rows),
+        "hit_fraction": round(float(np.mean([r["hit"] for r in rows])), 3),
+        "played_fraction": round(float(np.mean([r["played"] for r in rows])), 3),
+        "detected_when_played": f"{sum(r['detected'] for r in rows if r['played'])}/{sum(r['played'] for r in rows)}",
+        "hits_by_intent": {k: f"{sum(v)}/{len(v)}" for k, v in by_intent.items()},
+        "stroke_error_ms": {"p50": float(np.percentile(errors, 50)), "p95": float(np.percentile(errors, 95))}
+        if errors.size else None,
+        "outcomes": outcomes,
+        "unintended_in_stories": sum(len(s["unintended"]) for s in stories),
+        "narration_minutes": round(minutes, 2),
+        "narration_played_per_minute": {n["story"]: n["played_per_minute"] for n in narrations},
+        "narration_played_per_minute_all": round(sum(n["played"] for n in narrations) / minutes, 2),
+        "silent_drops": sum(s["silent_drops"] for s in stories) + sum(n["silent_drops"] for n in narrations),
+        "repeat_distance_m": {"min": min(plays), "median": float(np.median(plays))} if plays else None,
+        "seed_floor_m": round(floor, 4),
+        "seam_jerk_ratio_max": max((r for s in stories for r in s["seam_jerk_ratios"]), default=None),
+        "following_ratio_min": min((s["following_ratio"] for s in stories if s["following_ratio"] is not None),
+                                   default=None),
+        "idle_parts_speed_ratio": {"min": min(idle), "median": float(np.median(idle))} if idle else None,
+        "rtf_ratio_median": float(np.median([s["rtf_ratio"] for s in stories])),
     }
 
 
 def run(args: argparse.Namespace) -> int:
     settings = settings_from_args(args)
-    stories = [study_story(settings, make_story(name, sentences)) for name, sentences in STORIES.items()]
+    probe = build_session(settings, MonotonicClock())
+    expected = {intent: probe.phrases.gesture_of(intent) for intent in ("greeting", "thanks", "farewell",
+                                                                         "celebration", "presenting", "calling")}
+    parts = {entry.name: entry.parts for entry in load_lexicon(settings.gestures)}
+    stories = [story_result(settings, make_story(name, sentences), expected, parts)
+               for name, sentences in CUED_STORIES.items()]
+    narrations = [narration_result(settings, make_story(name, texts))
+                  for name, texts in (("narration", NARRATION), ("narration-late", NARRATION_LATE),
+                                      ("narration-final", NARRATION_FINAL))]
+    floor = seed_floor(settings, make_story(*next(iter(CUED_STORIES.items()))), stories[0]["uncued_body"])
     args.out.mkdir(parents=True, exist_ok=True)
-    picture = plot_cues(stories, args.out / "gestures.png")
-    result = {"summary": summary(stories), "picture": str(picture),
-              "stories": [{k: v for k, v in s.items() if k != "frames_cued"} for s in stories]}
+    picture = plot_cues(stories[0], args.out / "gestures.png")
+    result = {"summary": summary(stories, narrations, floor), "picture": str(picture),
+              "stories": [{k: v for k, v in s.items() if k not in ("frames_cued", "uncued_body")} for s in stories],
+              "narrations": narrations}
     text = json.dumps(result, indent=2, default=str) + "\n"
     write_text_atomic(args.out / "gestures.json", text)
     sys.stdout.write(text if args.json else json.dumps(result["summary"], default=str) + "\n")
     return 0
 
 
-def plot_cues(stories: list[dict], out: Path) -> Path:
-    """One row per cue of the first story: frames from LEAD_S before to 1.6 s after the word, titled with it."""
+def plot_cues(story: dict, out: Path) -> Path:
+    """One row per intended cue of ``story``: frames from LEAD_S before to 1.6 s after the word, titled with it."""
     from gesturecast.tools.render.compare import CompareRow, render_comparison
 
-    story = next(s for s in stories if s.get("cues"))
-    frames = story["frames_cued"]
-    positions = frames_to_motion(frames).positions()  # (T, J, 3)
+    positions = frames_to_motion(story["frames_cued"]).positions()  # (T, J, 3)
     rows = []
     for cue in story["cues"]:
         start = max(int(round((cue["word_s"] - LEAD_S) * MOTION_FPS)), 0)
-        rows.append(CompareRow(f'"{cue["word"]}" -> {cue["gesture"]}', positions[start: start + int(2.4 * MOTION_FPS)],
-                               CANONICAL_WITH_HANDS.parents, CANONICAL_WITH_HANDS.names))
+        label = f'"{cue["word"]}" -> {cue["decided"] or "nothing"} ({cue["outcome"] or "no cue"})'
+        rows.append(CompareRow(label, positions[start: start + int(2.4 * MOTION_FPS)], CANONICAL_WITH_HANDS.parents,
+                               CANONICAL_WITH_HANDS.names))
     return render_comparison(rows, out, MOTION_FPS, start_s=-LEAD_S)  # captions: seconds from the word

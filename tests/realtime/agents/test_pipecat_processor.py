@@ -26,7 +26,11 @@ from pythonosc.osc_bundle import OscBundle  # noqa: E402
 from gesturecast.bridges.output_settings import Outputs  # noqa: E402
 from gesturecast.models.audio.files import SAMPLE_RATE, load_audio  # noqa: E402
 from gesturecast.models.motion.bvh import read_bvh  # noqa: E402
-from gesturecast.realtime.agents.pipecat_processor import GesturecastProcessor, GestureStyleFrame  # noqa: E402
+from gesturecast.realtime.agents.pipecat_processor import (  # noqa: E402
+    SUGGESTED_HOLD_S,
+    GesturecastProcessor,
+    GestureStyleFrame,
+)
 from gesturecast.realtime.run.stream import Stream  # noqa: E402
 from gesturecast.settings import Settings  # noqa: E402
 
@@ -164,9 +168,9 @@ class WordTimedTTS(FrameProcessor):
 
 
 def test_words_the_tts_speaks_cue_their_gestures_at_their_presentation_time(speech):
-    """Words stamped before their audio: "thank" cues nothing, "you" cues the bow with its stroke on "thank", "Hello"
-    waves at its time; the frames given to the stream's callback say which gesture plays, and when."""
-    ahead_s = {"thank": 2.0, "you": 2.3, "Hello": 5.5}
+    """Words stamped before their audio: "Thank" cues nothing, "you." cues the bow with its stroke on "Thank",
+    "Hello!" waves at its time; the frames given to the stream's callback say which gesture plays, and when."""
+    ahead_s = {"Thank": 2.0, "you.": 2.3, "Hello!": 5.5}
     words = [TTSTextFrame(word, text_type="word") for word in ahead_s]
     audio = pcm_frames(np.tile(speech, 4), SAMPLE_RATE, 1, OutputAudioRawFrame)  # 8 s
     released = []
@@ -174,9 +178,30 @@ def test_words_the_tts_speaks_cue_their_gestures_at_their_presentation_time(spee
     asyncio.run(asyncio.wait_for(run_pipeline([WordTimedTTS(ahead_s), processor], [*words, *audio]),
                                  PIPELINE_BOUND_S))
     playing = {name: [f.seq / FRAMES_PER_S for f in released if f.gesture == name] for name in ("bow", "wave")}
-    assert playing["bow"][0] < ahead_s["thank"] < playing["bow"][-1] < ahead_s["Hello"]
-    assert playing["wave"][0] < ahead_s["Hello"] < playing["wave"][-1]
+    assert playing["bow"][0] < ahead_s["Thank"] < playing["bow"][-1] < ahead_s["Hello!"]
+    assert playing["wave"][0] < ahead_s["Hello!"] < playing["wave"][-1]
     assert {f.gesture for f in released} == {"", "bow", "wave"}
+
+
+def test_word_frames_that_come_with_their_audio_get_their_strokes_on_the_words_with_a_hold(speech):
+    """A TTS that sends each word frame with its audio (no presentation time): without a hold the strokes come late;
+    holding the audio by SUGGESTED_HOLD_S puts them on the words; every audio frame still goes on, in order."""
+    audio = pcm_frames(np.tile(speech, 4), SAMPLE_RATE, 1, OutputAudioRawFrame)  # 8 s of 20 ms frames
+    words = {100: "Hello,", 115: "it", 130: "is", 145: "me.",  # 2.0 s, 0.3 s apart
+             250: "thank", 265: "you", 280: "so", 295: "much."}  # 5.0 s
+    frames = [f for k, a in enumerate(audio) for f in ([TTSTextFrame(words[k], text_type="word")] if k in words
+                                                        else []) + [a]]
+    delays = {}
+    for hold_s in (0.0, SUGGESTED_HOLD_S):
+        processor = GesturecastProcessor(stream=Stream(Settings(), paced=False), hold_s=hold_s)
+        recorder = Recorder()
+        asyncio.run(asyncio.wait_for(run_pipeline([processor, recorder], frames), PIPELINE_BOUND_S))
+        outcomes = list(processor.session.cues.outcomes)
+        assert [o.cue.gesture for o in outcomes] == ["wave", "bow"]
+        delays[hold_s] = [None if o.stroke_time is None else o.stroke_time - o.cue.time for o in outcomes]
+        assert [id(f) for f in recorder.frames if isinstance(f, OutputAudioRawFrame)] == [id(f) for f in audio]
+    assert delays[0.0][1] is None or delays[0.0][1] > 0.3  # "thanks" waits for its next words: late or dropped
+    assert all(abs(d) <= 0.3 for d in delays[SUGGESTED_HOLD_S])
 
 
 def test_the_offline_example_runs_a_pipeline_to_vmc_and_bvh(tiny_model, speech, vmc_receiver, tmp_path):

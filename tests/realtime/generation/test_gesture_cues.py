@@ -1,11 +1,21 @@
-"""Cue placement on the latent grid: on time when known early, late by the wait otherwise, one gesture per part,
-no repeat within the refractory time, ramped imposition weights."""
+"""Cue placement on the latent grid: on time when known early, a quicker approach when late, blended with a gesture
+playing on shared parts, merged into the same gesture, dropped only with a log line, and every outcome counted."""
+
+import logging
 
 import numpy as np
 import pytest
 
 from gesturecast.errors import UserError
-from gesturecast.realtime.generation.gesture_cues import RAMP_LATENTS, Cue, CuePlan, GestureClip, ramp_weight
+from gesturecast.realtime.generation.gesture_cues import (
+    BLEND_LATENTS,
+    HOLD_LATENTS,
+    RAMP_LATENTS,
+    Cue,
+    CuePlan,
+    GestureClip,
+    ramp_weight,
+)
 
 C = 8
 D = 10
@@ -14,42 +24,80 @@ ARMS = np.arange(C) < 4
 TORSO = (np.arange(C) >= 4) & (np.arange(C) < 6)
 
 
-def clip(name: str, channels: np.ndarray, length: int = 10, stroke: int = 4) -> GestureClip:
+def clip(name: str, channels: np.ndarray, length: int = 10, stroke: int = 4, columns: int = 3) -> GestureClip:
     latents = np.arange(length * C, dtype=np.float32).reshape(length, C)  # (N, C)
     features = np.arange(length * 4 * D, dtype=np.float32).reshape(length * 4, D)  # (N·d, D)
-    return GestureClip(name, latents, channels, stroke, features, np.arange(D) < 3)
+    return GestureClip(name, latents, channels, stroke, features, np.arange(D) < columns)
 
 
 @pytest.fixture
 def plan() -> CuePlan:
-    return CuePlan({"wave": clip("wave", ARMS), "bow": clip("bow", ARMS | TORSO), "nod": clip("nod", TORSO)},
-                   SECONDS_PER_LATENT)
+    return CuePlan({"wave": clip("wave", ARMS), "raise": clip("raise", ARMS),
+                    "bow": clip("bow", ARMS | TORSO, length=24, stroke=8, columns=6)}, SECONDS_PER_LATENT)
+
+
+def at(latent: float) -> float:
+    """The stream time inside latent ``latent``."""
+    return (latent + 0.5) * SECONDS_PER_LATENT
 
 
 def test_a_cue_known_early_puts_the_stroke_latent_on_the_word(plan):
-    placement = plan.place(Cue("wave", time=3.0), next_latent=0)
-    stroke_latent = placement.first + placement.clip.stroke_latent
-    assert stroke_latent * SECONDS_PER_LATENT <= 3.0 < (stroke_latent + 1) * SECONDS_PER_LATENT
-    assert placement.late_s == 0.0
+    outcome = plan.place(Cue("wave", time=3.0), next_latent=0)
+    (placement,) = plan.placements
+    assert placement.stroke * SECONDS_PER_LATENT <= 3.0 < (placement.stroke + 1) * SECONDS_PER_LATENT
+    assert outcome.status == "on time" and outcome.stroke_time == placement.stroke * SECONDS_PER_LATENT
+    assert placement.start == placement.first and placement.ramp_in == RAMP_LATENTS
 
 
-def test_a_late_cue_starts_at_the_next_latent_and_says_how_late(plan):
-    placement = plan.place(Cue("wave", time=1.0), next_latent=12)
-    assert placement.first == 12
-    assert placement.late_s == pytest.approx((12 + 4) * SECONDS_PER_LATENT - 1.0)
+def test_a_late_cue_skips_the_clip_opening_and_says_how_late(plan):
+    outcome = plan.place(Cue("wave", time=at(10)), next_latent=9)
+    (placement,) = plan.placements
+    assert placement.start == 9 and placement.stroke == 9 + BLEND_LATENTS  # a quicker approach, not the whole clip
+    assert outcome.status == "late" and outcome.stroke_time - outcome.cue.time == pytest.approx(
+        (12 - 10.5) * SECONDS_PER_LATENT)
+    assert placement.weight(placement.stroke) == 1.0
 
 
-def test_one_gesture_per_body_part_and_no_repeat_within_the_refractory_time(plan):
-    assert plan.place(Cue("wave", 3.0), 0) is not None
-    assert plan.place(Cue("bow", 3.5), 0) is None  # shares the arms
-    assert plan.place(Cue("nod", 3.5), 0) is not None  # the torso is free
-    assert plan.place(Cue("wave", 5.0), 0) is None  # refractory
-    assert plan.place(Cue("wave", 9.0), 0) is not None
-    assert plan.dropped == 2
+def test_the_same_gesture_over_its_word_is_merged_into_the_one_playing(plan):
+    plan.place(Cue("wave", at(20)), 0)
+    outcome = plan.place(Cue("wave", at(22), "welcome"), 0)
+    assert outcome.status == "merged" and len(plan.placements) == 1
+
+
+def test_a_gesture_close_after_another_on_the_same_parts_cuts_its_return_short(plan):
+    plan.place(Cue("wave", at(20)), 0)
+    outcome = plan.place(Cue("raise", at(22)), 0)
+    wave, raise_ = plan.placements
+    assert outcome.status == "blended"
+    assert raise_.start == wave.stroke + 1 and raise_.stroke == raise_.start + BLEND_LATENTS  # moved 2 latents
+    assert wave.stop == raise_.start + BLEND_LATENTS - 1 and wave.weight(wave.stroke) == 1.0
+    assert outcome.stroke_time - outcome.cue.time <= 0.6
+    imposed = plan.imposition(wave.stop)  # both cross-fading: weights add up to at most 1
+    assert imposed.names == "wave+raise" and imposed.weights[ARMS].max() <= 1.0 and not imposed.weights[~ARMS].any()
+
+
+def test_a_bow_after_a_wave_bows_on_time_and_takes_the_arms_after_the_wave_held_its_stroke(plan):
+    plan.place(Cue("wave", at(20)), 0)
+    outcome = plan.place(Cue("bow", at(22), "thanks"), 0)
+    wave, bow_arms, bow_torso = plan.placements
+    assert outcome.status == "blended" and outcome.stroke_time == bow_torso.stroke * SECONDS_PER_LATENT
+    assert bow_torso.stroke == 22 and np.array_equal(bow_torso.clip.channels, TORSO)
+    assert bow_arms.start == wave.stroke + HOLD_LATENTS and np.array_equal(bow_arms.clip.channels, ARMS)
+    assert plan.imposition(21).names == "wave+bow"
+
+
+def test_a_cue_with_no_room_is_dropped_with_a_log_line_and_counted(plan, caplog):
+    plan.place(Cue("wave", at(20)), 0)
+    with caplog.at_level(logging.WARNING):
+        outcome = plan.place(Cue("raise", at(19), "yay"), 0)  # its stroke before the wave's, on the same arms
+    assert outcome.status == "dropped" and outcome.stroke_time is None
+    assert "gesture raise (yay) dropped" in caplog.text
+    assert plan.summary() == {"on time": 1, "late": 0, "blended": 0, "merged": 0, "dropped": 1}
 
 
 def test_imposition_holds_the_clip_latent_on_its_parts_with_ramped_weights(plan):
-    placement = plan.place(Cue("wave", 3.0), 0)
+    plan.place(Cue("wave", 3.0), 0)
+    (placement,) = plan.placements
     assert plan.imposition(placement.first - 1) is None
     imposed = plan.imposition(placement.first + 5)
     assert imposed.names == "wave"
@@ -60,10 +108,20 @@ def test_imposition_holds_the_clip_latent_on_its_parts_with_ramped_weights(plan)
     assert np.array_equal(imposed.blend(decoded)[:, :3], placement.clip.features[20:24, :3])  # weight 1 mid-clip
     ramp = [ramp_weight(k, 10) for k in range(10)]
     assert ramp[0] < ramp[1] < ramp[RAMP_LATENTS] == 1.0 == ramp[-RAMP_LATENTS - 1] > ramp[-1] > 0
+    assert [placement.weight(placement.first + k) for k in range(10)] == pytest.approx(ramp)
     plan.forget_before(placement.last + 1)
-    assert plan.placements == [] and plan.place(Cue("wave", 4.0), 0) is None  # still refractory
+    assert plan.placements == []
 
 
 def test_an_unknown_gesture_is_one_line(plan):
-    with pytest.raises(UserError, match="unknown gesture 'wav'; known: bow, nod, wave"):
+    with pytest.raises(UserError, match="unknown gesture 'wav'; known: bow, raise, wave"):
         plan.place(Cue("wav", 1.0), 0)
+
+
+def test_performances_play_in_turn_so_two_plays_differ():
+    versions = (clip("wave", ARMS, length=10), clip("wave", ARMS, length=12, stroke=5))
+    plan = CuePlan({"wave": versions[0]}, SECONDS_PER_LATENT, {"wave": versions})
+    plan.place(Cue("wave", at(20)), 0)
+    plan.place(Cue("wave", at(60)), 0)
+    plan.place(Cue("wave", at(100)), 0)
+    assert [p.clip for p in plan.placements] == [versions[0], versions[1], versions[0]]

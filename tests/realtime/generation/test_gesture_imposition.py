@@ -49,7 +49,8 @@ def clip() -> GestureClip:
 
 def test_the_clip_channels_are_committed_and_the_other_parts_stay_generated(clip, speech):
     session = session_with(clip)
-    placement = session.cue(Cue("raise", 2.0, "hooray"))
+    assert session.cue(Cue("raise", 2.0, "hooray")).status == "on time"
+    (placement,) = session.cues.placements
     run(session, speech, 512)
     history = [h.latent for h in session.generator.history]  # the last window of committed latents
     first = placement.first - (session.next_latent - len(history))
@@ -81,6 +82,7 @@ def test_a_gesture_control_is_checked_on_submit_and_placed_at_the_next_latent(cl
         session.controls.submit(parse_controls({"gesture": "wave"}))
     session.push(AudioChunk(speech[:SAMPLE_RATE], 0, 0.0))
     waiting = session.next_latent
-    session.controls.submit(parse_controls({"gesture": "raise"}))
+    notes = session.controls.submit(parse_controls({"gesture": "raise"}))  # the ack: when the stroke shows (L + 0.4 s)
+    assert 0 < notes["gesture_stroke_in_ms"] < (session.budget.total_s + 1.0) * 1e3
     frames = session.push(AudioChunk(speech[SAMPLE_RATE:], SAMPLE_RATE, 1.0)) + session.finish()
     assert min(f.seq for f in frames if f.gesture) == waiting * 4

@@ -1,0 +1,330 @@
+"""Gesture cues decided from the phrase, not the word: is "thanks" a thank-you, or "thanks to the rain"?
+
+A cue is a speech act: a greeting (wave), thanks (bow), a farewell (a one-hand wave, ``wave-right``; Bandai's
+``bye`` holds the hand still, so it is the fallback), a celebration (raise-both), presenting something (guide) or
+calling someone over (call). :data:`CANDIDATES` lists the phrases that can open one ("good
+morning", "see ya", "bye bye": "Bye-bye" as recognisers write it is two tokens). Each occurrence is then decided
+from the sentence around it:
+
+1. **Rules** where the grammar is clear (:func:`rule`): a causal "thanks to the rain" or "thanks to careful
+   planning, the bridge opened"; "thank goodness"; a phrase inside a hyphenated word ("hi-fi"); reported speech
+   ("said hello", "waved goodbye"); a phrase mentioned, not used ("come on is what he said"); "come on time" and
+   "come on stage"; "cheers" neither alone nor followed by "for" or "to" (the crowd's); quoted words with their
+   speaker after a comma ("Come on, she thought"); and the other way, an
+   interjection standing alone at the start of a clause ("Hooray!", "and goodbye!") is its act. Presenting is cued
+   by its phrases ("here is", "look at", "over there", "this is our"), never by a bare "this", "there" or "here".
+2. **A small classifier** for the rest (:class:`SpeechActClassifier`): softmax regression over the packaged
+   wordllama text embedding (numpy only) of the phrase's window, the words before and after it and the single
+   words next to it, plus where it stands (opening the sentence or a clause, punctuation after it). It is trained
+   on sentences written for it (:mod:`gesturecast.models.training.speech_act_data`, ``gesturecast gestures
+   train-acts``), never on the benchmark's texts; its weights ship in ``models/weights/speech_acts.npz``.
+
+The decision needs :data:`AFTER_TOKENS` words after the phrase, or the end of its sentence: what follows decides
+("see you *walking*", "lights come *on*"). Words are only read inside their sentence, so a transcript given at once
+and the same words reported one at a time give the same cues.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from functools import cache
+from pathlib import Path
+
+import numpy as np
+
+from gesturecast.errors import UserError
+
+INTENT_GESTURES = {  # intent -> the lexicon gestures that perform it, the first the lexicon has wins
+    "greeting": ("wave",), "thanks": ("bow",), "farewell": ("wave-right", "bye"), "celebration": ("raise-both",),
+    "presenting": ("guide",), "calling": ("call",)}
+MARKS = {"wave": "greeting", "bow": "thanks", "bye": "farewell", "raise-both": "celebration", "guide": "presenting",
+         "call": "calling"}  # ``[mark]`` in marked sentences (training, benchmark) -> the intent it stands for
+CLASSES = ("none", *INTENT_GESTURES)
+CANDIDATES: dict[str, tuple[str, ...]] = {  # intent -> phrases (normalised tokens) that can open it
+    "greeting": ("hello", "hi", "hey", "hiya", "howdy", "good morning", "good afternoon", "good evening", "welcome",
+                 "greetings", "hello there", "hi there", "hey there"),
+    "thanks": ("thank you", "thanks", "thank", "many thanks", "much appreciated", "cheers", "thank you very much"),
+    "farewell": ("bye", "goodbye", "good bye", "bye bye", "see you", "see ya", "farewell", "take care", "so long",
+                 "good night", "have a nice day", "have a good day", "have a great day", "catch you later"),
+    "celebration": ("hooray", "hurray", "hurrah", "yay", "woohoo", "woo hoo", "congratulations", "congrats",
+                    "well done", "bravo", "yippee"),
+    "presenting": ("here is", "here are", "here's", "here you can see", "here we have", "this is our",
+                   "these are our", "this is my", "look at", "take a look", "have a look", "over there", "check out",
+                   "check this out"),
+    "calling": ("come on", "come here", "come over", "come over here", "come closer", "over here", "gather round",
+                "gather around", "come along", "come on over"),
+}
+AFTER_TOKENS = 3  # words after the phrase the decision reads (fewer at the end of its sentence)
+BEFORE_TOKENS = 3  # words before it
+WINDOW_TOKENS = 4  # the window's words on each side of the phrase
+SENTENCE_END = re.compile(r"[.!?]+[\"')\]]*$")
+CLAUSE_END = re.compile(r"[,;:—–-]+[\"')\]]*$")
+TOKEN = re.compile(r"[\w']+")
+BE = frozenset(["is", "are", "was", "were", "be", "been", "will", "would", "seems", "seem", "seemed", "has", "have",
+                "had", "might", "must", "may", "could", "should", "used", "isn't", "aren't", "wasn't", "weren't"])
+CAUSAL_AFTER = frozenset(["the", "a", "an", "this", "that", "its", "it"])
+NOT_THANKS = frozenset(["goodness", "god", "heavens", "heaven"])
+REPORTING = frozenset(["say", "said", "says", "saying", "wave", "waved", "waves", "waving", "bid", "bade", "bidding",
+                       "wish", "wished"])
+COME_ON_PLACES = frozenset(["time", "stage", "board", "air", "duty", "top", "line", "screen", "camera", "again"])
+ATTRIBUTION = frozenset(["said", "says", "asked", "asks", "argued", "argues", "thought", "thinks", "wrote", "writes",
+                         "shouted", "shouts", "replied", "replies", "added", "explained", "told", "cried",
+                         "whispered", "muttered", "insisted", "suggested", "suggests", "called", "yelled"])
+ATTRIBUTION_TOKENS = 3  # "she thought", "the article argued"
+MAIN_CLAUSE_TOKENS = 3  # words after the comma that make a main clause
+OPENERS = frozenset(["and", "so", "oh", "well", "but", "now"])  # a speech act may follow these at a clause start
+FEATURE_VERSION = 2
+CONTEXTS = 5  # texts embedded per candidate (context_texts)
+
+
+@dataclass(frozen=True)
+class Token:
+    """One word token: its text (lower case), the index of the transcript word it came from, whether punctuation
+    follows it (",", "." …), whether it ends a sentence, and whether a hyphen joins it to the next token."""
+
+    text: str
+    word: int
+    clause_end: bool
+    sentence_end: bool
+    hyphen: bool
+
+
+@dataclass(frozen=True)
+class Candidate:
+    """A phrase of :data:`CANDIDATES` at tokens ``[start, stop)``, with the intents it can open."""
+
+    start: int
+    stop: int
+    intents: tuple[str, ...]
+
+
+def tokenize(texts: list[str]) -> list[Token]:
+    """Transcript words → tokens ("Bye-bye," → "bye" joined by a hyphen to "bye", then a clause end)."""
+    tokens = []
+    for index, text in enumerate(texts):
+        parts = list(TOKEN.finditer(text.lower()))
+        for k, part in enumerate(parts):
+            tail = text[part.end(): parts[k + 1].start() if k + 1 < len(parts) else len(text)]
+            last = k + 1 == len(parts)
+            tokens.append(Token(part.group(), index, bool(CLAUSE_END.search(tail)) or (last and bool(
+                SENTENCE_END.search(tail))), last and bool(SENTENCE_END.search(tail)), "-" in tail and not last))
+    return tokens
+
+
+@cache
+def phrase_table() -> dict[tuple[str, ...], tuple[str, ...]]:
+    """Phrase tokens → the intents it can open."""
+    table: dict[tuple[str, ...], tuple[str, ...]] = {}
+    for intent, phrases in CANDIDATES.items():
+        for phrase in phrases:
+            table[tuple(phrase.split())] = (*table.get(tuple(phrase.split()), ()), intent)
+    return table
+
+
+def candidates(tokens: list[Token]) -> list[Candidate]:
+    """Every candidate phrase in ``tokens``, the longest first where several start at a token; a phrase never
+    runs over a sentence end."""
+    table = phrase_table()
+    longest = max(len(p) for p in table)
+    found, index = [], 0
+    while index < len(tokens):
+        for length in range(min(longest, len(tokens) - index), 0, -1):
+            words = tuple(t.text for t in tokens[index: index + length])
+            inside = not any(t.sentence_end for t in tokens[index: index + length - 1])
+            if inside and words in table:
+                found.append(Candidate(index, index + length, table[words]))
+                index += length
+                break
+        else:
+            index += 1
+    return found
+
+
+def sentence_bounds(tokens: list[Token], candidate: Candidate) -> tuple[int, int]:
+    """[first, stop) of the tokens of the candidate's sentence."""
+    first = candidate.start
+    while first > 0 and not tokens[first - 1].sentence_end:
+        first -= 1
+    stop = candidate.stop
+    while stop < len(tokens) and not tokens[stop - 1].sentence_end:
+        stop += 1
+    return first, stop
+
+
+def decidable(tokens: list[Token], candidate: Candidate) -> bool:
+    """Whether the words after the candidate that its decision reads have all arrived (for "thanks to", the whole
+    sentence: a main clause after a comma makes it causal)."""
+    _, stop = sentence_bounds(tokens, candidate)
+    whole = tokens[candidate.start].text == "thanks" and candidate.stop < stop and tokens[candidate.stop].text == "to"
+    if tokens[candidate.stop - 1].sentence_end and rule(tokens, candidate) is not None:
+        return True  # the phrase ends its sentence: the rules read nothing after it ("Hooray!" at once)
+    return tokens[stop - 1].sentence_end or not whole and stop - candidate.stop >= AFTER_TOKENS
+
+
+def clause_start(tokens: list[Token], candidate: Candidate, first: int) -> bool:
+    """The candidate opens its sentence or a clause (after punctuation, or after "and", "so", "oh" … there)."""
+    k = candidate.start
+    while k > first and tokens[k - 1].text in OPENERS:
+        k -= 1
+    return k == first or tokens[k - 1].clause_end
+
+
+def rule(tokens: list[Token], candidate: Candidate) -> str | None:
+    """"none" where the grammar rules a speech act out, the intent of an interjection standing alone at the start of
+    a clause ("Hooray!", "and goodbye!"), else None (the classifier decides)."""
+    first, stop = sentence_bounds(tokens, candidate)
+    words = [t.text for t in tokens[candidate.start: candidate.stop]]
+    after = tokens[candidate.stop].text if candidate.stop < stop else ""
+    before = tokens[candidate.start - 1].text if candidate.start > first else ""
+    hyphenated = tokens[candidate.stop - 1].hyphen or (candidate.start > first and tokens[candidate.start - 1].hyphen)
+    joined = not tokens[candidate.stop - 1].clause_end
+    mentioned = joined and after in BE and "presenting" not in candidate.intents  # "come on is what he said"
+    phrasal = words == ["come", "on"] and joined and after in COME_ON_PLACES  # "come on time", "come on stage"
+    crowd = words == ["cheers"] and joined and after not in ("for", "to")  # "cheers from the crowd"
+    if hyphenated or before in REPORTING or mentioned or phrasal or crowd:
+        return "none"
+    if words[0] in ("thanks", "thank") and joined and (after in NOT_THANKS or causal_thanks(tokens, candidate, stop)):
+        return "none"
+    if quoted(tokens, candidate, stop):
+        return "none"
+    interjection = not joined and len(candidate.intents) == 1 and candidate.intents[0] != "presenting"
+    if interjection and clause_start(tokens, candidate, first):  # "Hooray!", "Thank you, and goodbye!"
+        return candidate.intents[0]
+    return None
+
+
+def quoted(tokens: list[Token], candidate: Candidate, stop: int) -> bool:
+    """"Come on, she thought" / "Hello, the sign said": a comma after the phrase, then a speaker and a verb of
+    saying within :data:`ATTRIBUTION_TOKENS` words: the words are quoted, not said to the listener."""
+    last = tokens[candidate.stop - 1]
+    if not last.clause_end or last.sentence_end:
+        return False
+    return any(t.text in ATTRIBUTION for t in tokens[candidate.stop: min(stop, candidate.stop + ATTRIBUTION_TOKENS)])
+
+
+def causal_thanks(tokens: list[Token], candidate: Candidate, stop: int) -> bool:
+    """"Thanks to the rain" / "thanks to careful planning, the bridge opened": "thanks to" followed by a
+    determiner, or by a phrase that a comma closes before a main clause (not one opened by "and")."""
+    rest = [t for t in tokens[candidate.stop: stop]]
+    if [t.text for t in tokens[candidate.start: candidate.stop]] != ["thanks"] or not rest or rest[0].text != "to":
+        return False
+    if len(rest) > 1 and rest[1].text in CAUSAL_AFTER:
+        return True
+    comma = next((k for k, t in enumerate(rest[:-1]) if t.clause_end), None)
+    return comma is not None and len(rest) - comma - 1 >= MAIN_CLAUSE_TOKENS and rest[comma + 1].text != "and"
+
+
+class Embedder:
+    """Text → (256,) unit float32 vectors of the packaged wordllama model; "" → zeros."""
+
+    def __init__(self) -> None:
+        from gesturecast.models.generator.style_text import load_wordllama
+
+        self.model = load_wordllama()
+        self.dim = int(self.model.embed(["a"], norm=True).shape[1])
+
+    def __call__(self, texts: list[str]) -> np.ndarray:
+        """(n,) texts → (n, 256)."""
+        out = np.zeros((len(texts), self.dim), np.float32)
+        filled = [i for i, text in enumerate(texts) if text]
+        if filled:
+            out[filled] = self.model.embed([texts[i] for i in filled], norm=True)
+        return out
+
+
+def context_texts(tokens: list[Token], words: list[str], candidate: Candidate) -> tuple[str, ...]:
+    """(window, before, after, the word before, the word after) texts of a candidate, from the transcript words
+    (punctuation kept), inside its sentence ("" where there is none)."""
+    first, stop = sentence_bounds(tokens, candidate)
+
+    def text(a: int, b: int) -> str:
+        indices = dict.fromkeys(t.word for t in tokens[max(a, first): min(b, stop)])
+        return " ".join(words[i] for i in indices)
+
+    window = text(candidate.start - WINDOW_TOKENS, candidate.stop + WINDOW_TOKENS)
+    before = text(candidate.start - BEFORE_TOKENS, candidate.start) if candidate.start > first else ""
+    after = text(candidate.stop, candidate.stop + AFTER_TOKENS) if candidate.stop < stop else ""
+    previous = tokens[candidate.start - 1].text if candidate.start > first else ""
+    following = tokens[candidate.stop].text if candidate.stop < stop else ""
+    return window, before, after, previous, following
+
+
+def shape_features(tokens: list[Token], candidate: Candidate) -> np.ndarray:
+    """(6 + 6,) where the candidate stands and the intents it can open."""
+    first, stop = sentence_bounds(tokens, candidate)
+    last = tokens[candidate.stop - 1]
+    flags = [candidate.start == first, clause_start(tokens, candidate, first), last.clause_end, last.sentence_end,
+             candidate.stop == stop, candidate.stop - candidate.start > 1]
+    intents = [intent in candidate.intents for intent in INTENT_GESTURES]
+    return np.array(flags + intents, np.float32)
+
+
+def features(embed: Embedder, tokens: list[Token], words: list[str], found: list[Candidate]) -> np.ndarray:
+    """(n, 5·256 + 12) classifier inputs of the candidates ``found``: the embeddings of :func:`context_texts`
+    (the single words next to the phrase tell a function word or an addressee from a noun: "welcome *to*" /
+    "welcome *news*") and :func:`shape_features`."""
+    if not found:
+        return np.zeros((0, CONTEXTS * embed.dim + 12), np.float32)
+    texts = [context_texts(tokens, words, c) for c in found]
+    parts = [embed([t[k] for t in texts]) for k in range(CONTEXTS)]  # CONTEXTS × (n, 256)
+    return np.concatenate(parts + [np.stack([shape_features(tokens, c) for c in found])], axis=1)
+
+
+@dataclass(frozen=True)
+class SpeechActModel:
+    """Softmax regression: logits = x @ weights + bias over :data:`CLASSES`."""
+
+    weights: np.ndarray  # (F, len(CLASSES))
+    bias: np.ndarray  # (len(CLASSES),)
+
+    def save(self, path: Path) -> None:
+        np.savez(path, weights=self.weights.astype(np.float32), bias=self.bias.astype(np.float32),
+                 classes=np.asarray(CLASSES), feature_version=FEATURE_VERSION)
+
+    @classmethod
+    def load(cls, path: Path) -> SpeechActModel:
+        try:
+            with np.load(path) as data:
+                if tuple(data["classes"]) != CLASSES or int(data["feature_version"]) != FEATURE_VERSION:
+                    raise UserError(f"{path}: speech-act weights of another version; retrain with "
+                                    "`gesturecast gestures train-acts`")
+                return cls(data["weights"], data["bias"])
+        except (OSError, KeyError, ValueError) as error:
+            raise UserError(f"{path}: cannot read the speech-act weights ({error})") from None
+
+    def probabilities(self, x: np.ndarray) -> np.ndarray:
+        """(n, F) → (n, len(CLASSES))."""
+        logits = x @ self.weights + self.bias
+        logits -= logits.max(axis=1, keepdims=True)
+        exp = np.exp(logits)
+        return exp / exp.sum(axis=1, keepdims=True)
+
+
+def default_weights() -> Path:
+    from importlib import resources
+
+    return Path(str(resources.files("gesturecast.models"))) / "weights" / "speech_acts.npz"
+
+
+class SpeechActClassifier:
+    """Candidates → intents ("none" or one of :data:`INTENT_GESTURES`): rules first, then the model."""
+
+    def __init__(self, model: SpeechActModel | None = None, embed: Embedder | None = None) -> None:
+        self.model = model or SpeechActModel.load(default_weights())
+        self.embed = embed or Embedder()
+
+    def decide(self, tokens: list[Token], words: list[str], found: list[Candidate]) -> list[str]:
+        """One intent per candidate (the likeliest of "none" and the intents its phrase can open)."""
+        ruled = [rule(tokens, c) for c in found]
+        open_ = [c for c, r in zip(found, ruled, strict=True) if r is None]
+        probabilities = iter(self.model.probabilities(features(self.embed, tokens, words, open_)))
+        decided = []
+        for candidate, ruling in zip(found, ruled, strict=True):
+            if ruling is not None:
+                decided.append(ruling)
+                continue
+            p = next(probabilities)
+            allowed = ("none", *candidate.intents)
+            decided.append(max(allowed, key=lambda name: p[CLASSES.index(name)]))
+        return decided

@@ -1,0 +1,116 @@
+"""Words → the cues of their speech acts (:mod:`gesturecast.models.runtime.speech_acts`), for a transcript
+given at once (:meth:`PhraseCues.cues`) and for words reported one at a time (:class:`PhraseListener`).
+
+A cue's stroke is at the start of its phrase's first word, its source the phrase as spoken ("Bye-bye"). Only the
+gestures the session's lexicon has are cued. The listener holds the words of the sentence being spoken (at most
+:data:`MAX_HELD_WORDS`) and decides a phrase once the words after it that the decision reads have arrived or its
+sentence has ended; :meth:`PhraseListener.flush` decides what is left when the speech ends.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from functools import cache
+from pathlib import Path
+
+from gesturecast.models.runtime.speech_acts import (
+    INTENT_GESTURES,
+    SpeechActClassifier,
+    SpeechActModel,
+    Token,
+    candidates,
+    decidable,
+    default_weights,
+    tokenize,
+)
+from gesturecast.realtime.generation.gesture_cues import Cue
+from gesturecast.realtime.generation.word_cues import Word
+
+MAX_HELD_WORDS = 24  # a sentence longer than this is read from its last 24 words
+
+
+@cache
+def shared_classifier(weights: Path | None = None) -> SpeechActClassifier:
+    """One classifier per process and weights file (read-only; loading wordllama takes about a second)."""
+    return SpeechActClassifier(SpeechActModel.load(weights or default_weights()))
+
+
+class PhraseCues:
+    """The speech acts of words, as cues of the ``gestures`` available (the default classifier when None)."""
+
+    def __init__(self, gestures: Iterable[str], classifier: SpeechActClassifier | None = None) -> None:
+        self.gestures = frozenset(gestures)
+        self._classifier = classifier
+
+    @property
+    def classifier(self) -> SpeechActClassifier:
+        """The classifier, loaded when the first words come (a stream that gets none never loads wordllama)."""
+        if self._classifier is None:
+            self._classifier = shared_classifier()
+        return self._classifier
+
+    def warm(self) -> None:
+        """Load the classifier now (a live stream's warm-up), not when the first words come."""
+        self.cues([])
+
+    def gesture_of(self, intent: str) -> str | None:
+        """The gesture that performs ``intent`` in this lexicon (None for "none" or when it has none)."""
+        return next((g for g in INTENT_GESTURES.get(intent, ()) if g in self.gestures), None)
+
+    def cues(self, words: list[Word]) -> list[Cue]:
+        """One cue per speech act in ``words`` (a whole transcript or a stretch of it)."""
+        return [cue for cue, _ in self.decided(words, tokenize([w.text for w in words]), lambda _: True) if cue]
+
+    def decided(self, words: list[Word], tokens: list[Token], ready) -> list[tuple[Cue | None, int]]:
+        """(cue or None for "no speech act", the candidate's first token) of each candidate that ``ready(candidate)``
+        accepts, in order."""
+        found = [c for c in candidates(tokens) if ready(c)]
+        intents = self.classifier.decide(tokens, [w.text for w in words], found)
+        out = []
+        for candidate, intent in zip(found, intents, strict=True):
+            gesture = self.gesture_of(intent)
+            first = tokens[candidate.start].word
+            phrase = " ".join(w.text for w in words[first: tokens[candidate.stop - 1].word + 1])
+            cue = Cue(gesture, words[first].start, phrase) if gesture else None
+            out.append((cue, candidate.start))
+        return out
+
+
+class PhraseListener:
+    """Words one at a time (a TTS reporting what it speaks) → the cues decided by each new word."""
+
+    def __init__(self, phrases: PhraseCues) -> None:
+        self.phrases = phrases
+        self.held: list[Word] = []  # the words of the sentence being spoken
+        self.decided_upto = 0  # tokens of ``held`` before this are decided
+
+    def hear(self, word: Word) -> list[Cue]:
+        """The cues that ``word`` lets the listener decide."""
+        self.held.append(word)
+        cues = self._decide(lambda tokens, c: decidable(tokens, c))
+        tokens = tokenize([w.text for w in self.held])
+        if tokens:
+            self._forget(tokens)
+        return cues
+
+    def flush(self) -> list[Cue]:
+        """The speech ended: decide what is left and forget the sentence."""
+        cues = self._decide(lambda tokens, c: True)
+        self.held, self.decided_upto = [], 0
+        return cues
+
+    def _decide(self, ready) -> list[Cue]:
+        tokens = tokenize([w.text for w in self.held])
+        decided = self.phrases.decided(self.held, tokens,
+                                       lambda c: c.start >= self.decided_upto and ready(tokens, c))
+        if decided:
+            self.decided_upto = max(start for _, start in decided) + 1
+        return [cue for cue, _ in decided if cue is not None]
+
+    def _forget(self, tokens: list[Token]) -> None:
+        """Forget an ended sentence (all its phrases are decided), or the oldest word beyond the bound."""
+        if tokens[-1].sentence_end:
+            self.held, self.decided_upto = [], 0
+        elif len(self.held) > MAX_HELD_WORDS:
+            self.held.pop(0)
+            self.decided_upto = max(0, self.decided_upto - sum(1 for t in tokens if t.word == 0))

@@ -1,0 +1,77 @@
+"""Cues decided from the phrase: candidates (recogniser spellings too), the grammar rules, the shipped classifier on
+the phrasings users write, and words heard one at a time deciding the same as a transcript given at once."""
+
+import pytest
+
+from gesturecast.models.runtime.speech_acts import candidates, rule, tokenize
+from gesturecast.realtime.generation.phrase_cues import PhraseCues, PhraseListener
+from gesturecast.realtime.generation.word_cues import Word
+
+GESTURES = ("wave", "wave-right", "bye", "bow", "raise-both", "guide", "call")
+
+
+def words_of(text: str, step: float = 0.3) -> list[Word]:
+    return [Word(token, i * step, (i + 1) * step) for i, token in enumerate(text.split())]
+
+
+@pytest.fixture(scope="module")
+def phrases() -> PhraseCues:
+    return PhraseCues(GESTURES)
+
+
+def test_recogniser_spellings_and_common_phrasings_are_candidates():
+    tokens = tokenize(["Bye-bye,", "see", "ya!", "Good", "morning.", "Much", "appreciated,", "congrats,", "woohoo"])
+    found = [(" ".join(t.text for t in tokens[c.start:c.stop]), c.intents) for c in candidates(tokens)]
+    assert found == [("bye bye", ("farewell",)), ("see ya", ("farewell",)), ("good morning", ("greeting",)),
+                     ("much appreciated", ("thanks",)), ("congrats", ("celebration",)), ("woohoo", ("celebration",))]
+
+
+@pytest.mark.parametrize("text", ["Thanks to the rain, this year looks better.",
+                                  "Thanks to careful planning, the bridge opened on time.",
+                                  "Thank goodness it stopped.", "Hi-fi shops were everywhere.",
+                                  "He said hello to the postman.", "Come on is what he always said.",
+                                  "Please come on time.", "Cheers rang out across the square.",
+                                  "Come on, she thought, it cannot be that hard."])
+def test_rules_rule_out_what_grammar_makes_clear(text):
+    tokens = tokenize(text.split())
+    assert [rule(tokens, c) for c in candidates(tokens)] == ["none"]
+
+
+def test_a_thank_you_to_people_is_left_to_the_classifier():
+    tokens = tokenize(["Thanks", "to", "everyone", "who", "came", "tonight."])
+    assert [rule(tokens, c) for c in candidates(tokens)] == [None]
+
+
+@pytest.mark.parametrize("text, cued", [
+    ("Hi, thanks for calling.", ["wave", "bow"]),
+    ("Thanks to the rain, this year looks better.", []),
+    ("Good morning, everyone!", ["wave"]),
+    ("See ya, folks!", ["wave-right"]),
+    ("Congrats on the new job!", ["raise-both"]),
+    ("Much appreciated, thank you.", ["bow", "bow"]),
+    ("I can see you nodding, so I will go on.", []),
+    ("In the evening the street lights come on.", []),
+    ("Is there anything else?", []),
+    ("Come over here, quickly!", ["call"]),
+])
+def test_the_shipped_classifier_decides_from_the_phrase(phrases, text, cued):
+    assert [cue.gesture for cue in phrases.cues(words_of(text))] == cued
+
+
+def test_the_lexicon_decides_which_gesture_performs_an_intent():
+    assert PhraseCues(("bye", "wave")).gesture_of("farewell") == "bye"
+    assert PhraseCues(("wave",)).gesture_of("farewell") is None
+
+
+def test_words_heard_one_at_a_time_cue_the_same_as_the_transcript(phrases):
+    words = words_of("Hi, thanks for calling. Thanks to the rain we stayed in. Take care, and bye-bye for now.")
+    listener = PhraseListener(phrases)
+    heard = [cue for word in words for cue in listener.hear(word)] + listener.flush()
+    assert heard == phrases.cues(words)
+    assert [(cue.gesture, cue.source) for cue in heard] == [("wave", "Hi,"), ("bow", "thanks"),
+                                                            ("wave-right", "Take care,"), ("wave-right", "bye-bye")]
+
+
+def test_an_interjection_alone_at_a_clause_start_is_its_act():
+    tokens = tokenize(["Thank", "you,", "and", "goodbye!", "Hello", "and", "goodbye", "are", "words."])
+    assert [rule(tokens, c) for c in candidates(tokens)] == ["thanks", "farewell", None, "none"]

@@ -1,0 +1,53 @@
+"""The gesture benchmark's parts: espeak-ng word times, the marked stories, the kinematic detector."""
+
+import numpy as np
+
+from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
+from gesturecast.tools.bench.gesture_set.detector import OVERHEAD_M, Detector
+from gesturecast.tools.bench.gesture_set.stories import LEAD_IN_S, make_story
+from gesturecast.tools.bench.speech.espeak_words import words_at
+
+
+def test_word_events_go_to_their_tokens_in_order_and_a_merged_word_is_placed_between():
+    text = "Thanks so much for the candles."
+    events = [(1, 6, 0), (8, 2, 425), (9, 2, 650), (16, 3, 898), (0, 0, 1000), (24, 8, 1400)]  # "so" drifts
+    timed = words_at(text, events, duration=2.0)
+    assert [w.text for w in timed] == text.split()
+    assert [w.start for w in timed[:4]] == [0.0, 0.425, 0.65, 0.898]
+    assert 0.898 < timed[4].start < 1.4 == timed[5].start  # "the": spoken with "for", placed by its characters
+
+
+def test_a_story_marks_the_intended_cue_on_its_words_start(tmp_path):
+    story = make_story("s", ("[wave]Hi, [bow]thanks for calling.",), cache=tmp_path)
+    assert [(c.intent, c.word) for c in story.intended] == [("greeting", "Hi,"), ("thanks", "thanks")]
+    starts = {w.text: w.start for w in story.words}
+    assert story.intended[0].time == starts["Hi,"] == LEAD_IN_S and story.intended[1].time == starts["thanks"]
+    assert all(a.start < b.start for a, b in zip(story.words, story.words[1:], strict=False))
+
+
+def body_with(right_wrist: np.ndarray) -> np.ndarray:
+    """(T, J, 3) a standing body (joints at fixed places) whose right wrist follows ``right_wrist`` (T, 3)."""
+    names = CANONICAL_WITH_HANDS.names
+    body = np.zeros((len(right_wrist), len(names), 3))
+    places = {"Head": (0, 1.6, 0), "LeftUpperArm": (0.2, 1.4, 0), "RightUpperArm": (-0.2, 1.4, 0),
+              "LeftLowerArm": (0.2, 1.1, 0), "RightLowerArm": (-0.2, 1.1, 0), "LeftHand": (0.2, 0.85, 0)}
+    for name, place in places.items():
+        body[:, names.index(name)] = place
+    body[:, names.index("RightHand")] = right_wrist
+    return body
+
+
+def test_a_farewell_must_wave_and_a_cheer_must_be_overhead():
+    t = np.arange(60) / 30
+    up = np.stack([-0.2 + 0.05 * np.sin(2 * np.pi * 2 * t), np.full(60, 1.5), np.zeros(60)], axis=1)  # waving
+    held = up.copy()
+    held[:, 0] = -0.2  # the same height, held still
+    names = CANONICAL_WITH_HANDS.names
+    assert Detector(body_with(up), names).events("wave-right")
+    assert not Detector(body_with(held), names).events("wave-right")
+    overhead = held.copy()
+    overhead[:, 1] = 1.6 + OVERHEAD_M + 0.05
+    assert not Detector(body_with(overhead), names).events("raise-both")  # one hand up is no cheer
+    both = body_with(overhead)
+    both[:, names.index("LeftHand"), 1] = overhead[:, 1]
+    assert Detector(both, names).events("raise-both")

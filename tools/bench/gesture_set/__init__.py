@@ -1,0 +1,1 @@
+"""The texts, spoken stories and kinematic detector of ``gesturecast bench gestures``."""
