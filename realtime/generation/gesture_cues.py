@@ -374,7 +374,9 @@ class CuePlan:
         return self.placements[start : bisect.bisect_right(self.placements, high, key=_first_latent)]
 
     def _covering(self, latent: int) -> list[Placement]:
-        return [p for p in self._starting_within(latent - self.longest + 1, latent) if p.covers(latent)]
+        """The placements playing on ``latent``, in the order of their cues' times ("wave+bow")."""
+        covering = [p for p in self._starting_within(latent - self.longest + 1, latent) if p.covers(latent)]
+        return sorted(covering, key=lambda p: p.cue.time)
 
     def _overlapping(self, placement: Placement) -> list[Placement]:
         nearby = self._starting_within(placement.start - self.longest + 1, placement.stop)  # all that can overlap

@@ -26,7 +26,7 @@ def test_cues_placed_out_of_order_overlap_and_cover_as_when_placed_in_order():
     shuffled, ordered = plan(), plan()
     cues = [Cue("wave", 40.0), Cue("nod", 10.0), Cue("bow", 30.0), Cue("wave", 10.2), Cue("bow", 20.0),
             Cue("nod", 40.5), Cue("wave", 29.0)]
-    placed = [shuffled.place(cue, 0) is not None for cue in cues]
+    placed = [shuffled.place(cue, 0).stroke_time is not None for cue in cues]
     assert placed == [True, True, True, True, True, True, False]  # the last wave overlaps the bow at 30 s (arms)
     for cue, kept in sorted(zip(cues, placed, strict=True), key=lambda pair: pair[0].time):
         if kept:
@@ -43,11 +43,11 @@ def test_cues_placed_out_of_order_overlap_and_cover_as_when_placed_in_order():
 def test_a_full_plan_refuses_further_cues_with_one_line():
     small = plan(max_placements=3)
     for time in (5.0, 10.0, 15.0):
-        assert small.place(Cue("wave", time), 0) is not None
+        assert small.place(Cue("wave", time), 0).status == "on time"
     with pytest.raises(CueRefused, match="already holds 3 gestures to come"):
         small.place(Cue("wave", 20.0), 0)
     small.forget_before(1000)
-    assert small.place(Cue("wave", 200.0), 0) is not None  # room again once they have played
+    assert small.place(Cue("wave", 200.0), 0).status == "on time"  # room again once they have played
 
 
 def test_live_cue_times_far_ahead_of_the_stream_are_refused():

@@ -79,7 +79,8 @@ def test_a_gesture_close_after_another_on_the_same_parts_cuts_its_return_short(p
 def test_a_bow_after_a_wave_bows_on_time_and_takes_the_arms_after_the_wave_held_its_stroke(plan):
     plan.place(Cue("wave", at(20)), 0)
     outcome = plan.place(Cue("bow", at(22), "thanks"), 0)
-    wave, bow_arms, bow_torso = plan.placements
+    (wave,) = [p for p in plan.placements if p.cue.gesture == "wave"]
+    bow_arms, bow_torso = sorted((p for p in plan.placements if p.cue.gesture == "bow"), key=lambda p: p.start)[::-1]
     assert outcome.status == "blended" and outcome.stroke_time == bow_torso.stroke * SECONDS_PER_LATENT
     assert bow_torso.stroke == 22 and np.array_equal(bow_torso.clip.channels, TORSO)
     assert bow_arms.start == wave.stroke + HOLD_LATENTS and np.array_equal(bow_arms.clip.channels, ARMS)
