@@ -43,7 +43,7 @@ from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
 from gesturecast.models.evaluation.speech_following import speech_following
 from gesturecast.models.motion.motion import MOTION_FPS
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
-from gesturecast.models.runtime.gesture_lexicon import body_frame_positions
+from gesturecast.models.runtime.gesture_strokes import body_frame_positions
 from gesturecast.realtime.audio.sources import ArraySource
 from gesturecast.realtime.cli_flags import add_generation_arguments, settings_from_args
 from gesturecast.realtime.engine_cli import frames_to_motion
