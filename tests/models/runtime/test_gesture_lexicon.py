@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import json
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -137,3 +139,10 @@ def test_a_damaged_built_lexicon_is_a_one_line_error(shipped, tmp_path):
     (tmp_path / gl.CLIPS_FILE).write_bytes(b"not a zip")
     with pytest.raises(UserError, match="damaged gesture lexicon"):
         gl.load_lexicon(tmp_path)
+
+
+def test_reading_a_lexicon_loads_neither_torch_nor_the_builder():
+    code = ("import sys; from gesturecast.models.runtime.gesture_lexicon import load_lexicon; load_lexicon(); "
+            "loaded = [m for m in sys.modules if m == 'torch' or m.startswith('gesturecast.models.dataset')]; "
+            "assert not loaded, loaded")
+    subprocess.run([sys.executable, "-c", code], check=True)
