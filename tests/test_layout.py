@@ -22,7 +22,7 @@ SOURCE_ROOTS = {"gesturecast": "gesturecast", "models": "gesturecast.models", "r
 # (errors, controls, frames, files, flag helpers); the roof is the command line.
 FLOORS: tuple[tuple[str, tuple[str, ...]], ...] = (
     ("gesturecast", ("",)),
-    ("gesturecast.models", ("motion", "audio", "generator", "style", "networks", "dataset", "runtime", "training",
+    ("gesturecast.models", ("motion", "audio", "generator", "style", "networks", "runtime", "dataset", "training",
                             "export", "evaluation")),
     ("gesturecast.bridges", ("",)),
     ("gesturecast.settings", ("",)),

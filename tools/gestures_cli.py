@@ -57,9 +57,9 @@ def run_build(args: argparse.Namespace) -> int:
     from tqdm import tqdm
 
     from gesturecast.errors import UserError
+    from gesturecast.models.dataset import gesture_lexicon_build as lexicon_module
     from gesturecast.models.dataset.cache import read_take
     from gesturecast.models.dataset.sources import TakeSource, bandai_takes, unpack_archive
-    from gesturecast.models.runtime import gesture_lexicon as lexicon_module
     from gesturecast.tools.data_cli import BANDAI_ARCHIVES, DEFAULT_SHARED
 
     _positive(args.per_style, "--per-style")

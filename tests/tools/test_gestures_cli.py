@@ -12,6 +12,7 @@ import pytest
 
 from gesturecast.cli import main
 from gesturecast.errors import USER_ERROR_EXIT_CODE
+from gesturecast.models.dataset.gesture_lexicon_build import GESTURE_NAMES
 from gesturecast.models.motion.motion_features import features_to_motion
 from gesturecast.models.motion.retarget import motion_to_bvh
 from gesturecast.models.runtime import gesture_lexicon as gl
@@ -31,8 +32,8 @@ def test_list_prints_every_shipped_gesture_with_its_parts_times_styles_and_trigg
     assert run_cli(["gestures", "list"]) == 0
     lines = capsys.readouterr().out.splitlines()
     assert lines[0].split() == ["name", "parts", "duration", "stroke", "styles", "triggers"]
-    rows = {line.split()[0]: line for line in lines[1:len(gl.GESTURE_NAMES) + 1]}
-    assert set(rows) == set(gl.GESTURE_NAMES)
+    rows = {line.split()[0]: line for line in lines[1:len(GESTURE_NAMES) + 1]}
+    assert set(rows) == set(GESTURE_NAMES)
     assert "arms+torso" in rows["bow"] and "thank you, thanks" in rows["bow"] and "neutral" in rows["bow"]
     assert "hello, hi, hey, welcome" in rows["wave"]
     assert "CC BY-NC 4.0" in lines[-1]
@@ -75,10 +76,10 @@ def test_a_quick_build_writes_a_lexicon_without_torch(shared_data, tmp_path):
                             timeout=300, cwd=tmp_path)
     assert result.returncode == 0, result.stderr[-2000:]
     summary = json.loads(result.stdout.splitlines()[-1])
-    assert summary["gestures"] == len(gl.GESTURE_NAMES) and summary["total_bytes"] < 2_000_000
+    assert summary["gestures"] == len(GESTURE_NAMES) and summary["total_bytes"] < 2_000_000
     assert "gesture takes" in result.stderr  # the progress bar
     built = gl.load_lexicon(out)
-    assert set(built.entries) == set(gl.GESTURE_NAMES)
+    assert set(built.entries) == set(GESTURE_NAMES)
     assert all(len(entry.styles) <= 2 and entry.styles[0] == "neutral" for entry in built)
 
 

@@ -42,7 +42,8 @@ from gesturecast.models.evaluation.speech_following import speech_following
 from gesturecast.models.motion.body_parts import PART_JOINTS
 from gesturecast.models.motion.motion import MOTION_FPS
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
-from gesturecast.models.runtime.gesture_lexicon import body_frame_positions, load_lexicon
+from gesturecast.models.runtime.gesture_lexicon import load_lexicon
+from gesturecast.models.runtime.gesture_strokes import body_frame_positions
 from gesturecast.realtime.audio.sources import ArraySource
 from gesturecast.realtime.cli_flags import add_generation_arguments, settings_from_args
 from gesturecast.realtime.engine_cli import frames_to_motion

@@ -1,181 +1,25 @@
-"""The gesture lexicon: trimming and stroke rules on real Bandai takes, the shipped lexicon, a user's folder."""
+"""The gesture lexicon at run time: the shipped lexicon read back, a user's folder, damaged files."""
 
 from __future__ import annotations
 
 import json
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 from gesturecast.errors import UserError
-from gesturecast.models.dataset.cache import read_take
-from gesturecast.models.dataset.sources import TakeSource, bandai_takes, unpack_archive
+from gesturecast.models.dataset import gesture_lexicon_build as build
 from gesturecast.models.motion.body_parts import PART_NAMES
-from gesturecast.models.motion.motion import Motion
 from gesturecast.models.motion.motion_features import FEATURE_DIM, features_to_motion
 from gesturecast.models.motion.retarget import motion_to_bvh
-from gesturecast.models.motion.skeleton import CANONICAL
 from gesturecast.models.runtime import gesture_lexicon as gl
+from gesturecast.models.runtime.gesture_strokes import body_frame_positions, pose_distance, stroke_frame
 
-RAW_CACHE = Path(__file__).resolve().parents[3] / ".cache" / "raw"  # where `gesturecast data build` unpacks
-ARCHIVES = ("dataset-1.tar.xz", "dataset-2-gestures.tar.xz")
 SHIPPED_MAX_BYTES = 2_000_000
 FPS = 30
-
-
-@pytest.fixture(scope="module")
-def bandai(shared_data) -> dict[str, TakeSource]:
-    """Every Bandai take by name (both archives, unpacked once into .cache/raw as the data build does)."""
-    takes = []
-    for archive in ARCHIVES:
-        takes += bandai_takes(unpack_archive(shared_data / "bandai" / archive, RAW_CACHE / "bandai"))
-    return {take.name: take for take in takes}
-
-
-def motion_of(bandai: dict[str, TakeSource], name: str) -> Motion:
-    return read_take(bandai[name])[0]
-
-
-def relative(body: np.ndarray, joint: str, to: str) -> np.ndarray:
-    """(T, 3) body-frame offset of ``joint`` from ``to``."""
-    return body[:, CANONICAL.index(joint)] - body[:, CANONICAL.index(to)]
-
-
-def centre_crossings(values: np.ndarray, dead_band: float = 0.02) -> int:
-    """How often ``values`` swing from one side of their median to the other (moves inside ±dead_band ignored)."""
-    side = np.sign(values - np.median(values))
-    side = side[np.abs(values - np.median(values)) > dead_band]
-    return int(np.count_nonzero(np.diff(side)))
-
-
-@pytest.mark.parametrize(("name", "gesture", "sides"), [
-    ("dataset-2_wave-both-hands_normal_001", "wave", ("Left", "Right")),
-    ("dataset-2_wave-left-hand_elderly_001", "wave-left", ("Left",)),
-    ("dataset-2_wave-right-hand_active_001", "wave-right", ("Right",)),
-])
-def test_a_wave_stroke_has_the_wrist_above_the_shoulder_swinging_sideways(bandai, name, gesture, sides):
-    motion = motion_of(bandai, name)
-    cut = gl.find_gesture(motion, gl.gesture_spec(gesture))
-    body = gl.body_frame_positions(motion)
-    for side in sides:
-        wrist = relative(body, f"{side}Hand", f"{side}UpperArm")
-        assert wrist[cut.stroke, 1] > 0.05, f"{side} wrist {wrist[cut.stroke, 1]:.2f} m above the shoulder"
-        lateral = wrist[cut.stroke:cut.stroke + int(1.5 * FPS), 0]  # the 1.5 s after the stroke
-        assert np.ptp(lateral) > 0.1 and centre_crossings(lateral) >= 2
-    others = {"Left", "Right"} - set(sides)
-    for side in others:  # a one-hand wave leaves the other arm down
-        assert relative(body, f"{side}Hand", f"{side}UpperArm")[cut.stroke, 1] < -gl.REST_DROP
-    assert cut.hand == {"wave": "both", "wave-left": "left", "wave-right": "right"}[gesture]
-
-
-@pytest.mark.parametrize("name", ["dataset-1_bow_normal_001", "dataset-1_bow_old_001", "dataset-1_bow_sad_001"])
-def test_a_bow_stroke_has_the_head_well_forward_of_the_hips(bandai, name):
-    motion = motion_of(bandai, name)
-    cut = gl.find_gesture(motion, gl.gesture_spec("bow"))
-    head = gl.body_frame_positions(motion)[:, CANONICAL.index("Head")]
-    assert head[cut.stroke, 2] > 0.3 and head[cut.stroke, 2] > head[cut.start, 2] + 0.25
-    assert head[cut.stroke, 2] >= 0.9 * head[cut.start:cut.stop, 2].max()
-    assert head[cut.stroke, 1] < head[cut.start, 1] - 0.1  # bent down, too
-
-
-def test_a_raise_stroke_has_the_named_hand_up_and_the_other_down(bandai):
-    motion = motion_of(bandai, "dataset-2_raise-up-left-hand_normal_001")
-    cut = gl.find_gesture(motion, gl.gesture_spec("raise-left"))
-    body = gl.body_frame_positions(motion)
-    assert relative(body, "LeftHand", "LeftUpperArm")[cut.stroke, 1] > 0.1
-    assert relative(body, "RightHand", "RightUpperArm")[cut.stroke, 1] < -gl.REST_DROP
-    assert cut.rests and cut.stroke < cut.stop - 10  # it comes back down after the stroke
-
-
-def test_a_guide_stroke_holds_the_arm_out(bandai):
-    motion = motion_of(bandai, "dataset-1_guide_normal_001")
-    cut = gl.find_gesture(motion, gl.gesture_spec("guide"))
-    body = gl.body_frame_positions(motion)
-    side = cut.hand.capitalize()
-    reach = np.linalg.norm(relative(body, f"{side}Hand", f"{side}UpperArm")[:, [0, 2]], axis=-1)
-    assert reach[cut.stroke] > 0.3 and reach[cut.stroke] > reach[cut.start] + 0.15
-
-
-def pad_with_stillness(motion: Motion, frames: int) -> Motion:
-    """The take with its first pose held ``frames`` frames before it and its last pose held after it."""
-    rotations = np.concatenate([np.repeat(motion.rotations[:1], frames, 0), motion.rotations,
-                                np.repeat(motion.rotations[-1:], frames, 0)])
-    root = np.concatenate([np.repeat(motion.root_position[:1], frames, 0), motion.root_position,
-                           np.repeat(motion.root_position[-1:], frames, 0)])
-    return Motion(rotations, root, motion.fps)
-
-
-@pytest.mark.parametrize(("name", "gesture"), [("dataset-2_raise-up-left-hand_normal_001", "raise-left"),
-                                               ("dataset-1_bow_normal_001", "bow")])
-def test_trimming_drops_the_stillness_around_the_gesture(bandai, name, gesture):
-    motion = motion_of(bandai, name)
-    spec = gl.gesture_spec(gesture)
-    plain = gl.find_gesture(motion, spec, max_seconds=None)
-    pad = int(1.5 * FPS)
-    cut = gl.find_gesture(pad_with_stillness(motion, pad), spec, max_seconds=None)
-    margin = int(round(gl.MARGIN_SECONDS * FPS))
-    assert pad - margin - 2 <= cut.start <= pad + plain.start
-    assert pad + plain.stop - 2 <= cut.stop <= pad + motion.num_frames + margin
-    assert cut.stroke == pad + plain.stroke
-    assert cut.rests
-
-
-def test_a_long_wave_loses_part_of_its_hold_at_a_matching_pose(bandai):
-    motion = motion_of(bandai, "dataset-2_wave-both-hands_normal_001")  # 6.7 s of waving
-    cut = gl.find_gesture(motion, gl.gesture_spec("wave"))
-    assert cut.removed is not None
-    a, b = cut.removed
-    assert cut.stroke + gl.KEEP_SECONDS * FPS <= a < b < cut.stop
-    assert cut.num_frames <= gl.MAX_SECONDS * FPS
-    joints = [CANONICAL.index(name) for name in gl.SPLICE_JOINTS]
-    body = gl.body_frame_positions(motion)[:, joints]
-    assert np.linalg.norm(body[a] - body[b], axis=-1).max() <= gl.SPLICE_TOLERANCE
-    variant = gl.trimmed_variant(motion, cut, "neutral", "take")
-    assert variant.features.shape == (cut.num_frames, FEATURE_DIM) and variant.features.dtype == np.float16
-    clip = gl.body_frame_positions(features_to_motion(variant.features.astype(np.float64)))[:, joints]
-    step = np.linalg.norm(np.diff(clip, axis=0), axis=-1).max(axis=-1)  # (T-1,) fastest joint per frame
-    join = a - cut.start
-    assert step[join - 3:join + 3].max() <= np.percentile(step, 99)  # no jump at the join
-
-
-def test_splice_features_cross_fades_the_join():
-    features = np.stack([np.full(FEATURE_DIM, float(t)) for t in range(20)])
-    out = gl.splice_features(features, 8, 14, blend=4)
-    assert len(out) == 14
-    assert out[5, 0] == 5 and out[10, 0] == 16  # untouched outside the blend
-    assert out[6, 0] == pytest.approx(0.875 * 6 + 0.125 * 12) and out[9, 0] == pytest.approx(0.125 * 9 + 0.875 * 15)
-
-
-def test_a_small_build_keeps_resting_takes_and_reads_back_the_same(bandai, tmp_path):
-    names = ["dataset-2_wave-both-hands_normal_001", "dataset-2_wave-both-hands_normal_002",
-             "dataset-2_wave-both-hands_normal_003", "dataset-2_wave-both-hands_elderly_001",
-             "dataset-2_wave-both-hands_elderly_002", "dataset-1_bow_normal_001", "dataset-1_bow_happy_001",
-             "dataset-1_guide_normal_001"]
-    candidates = gl.bandai_gesture_takes([bandai[name] for name in names])
-    assert {c.gesture for c in candidates} == {"wave", "bow", "guide"}
-
-    def read(path: Path) -> Motion:
-        return read_take(next(t for t in bandai.values() if t.motion_path == path))[0]
-
-    lexicon = gl.build_lexicon(candidates, read)
-    assert lexicon["wave"].styles == ("neutral", "old") and lexicon["guide"].styles == ("neutral",)
-    assert lexicon["bow"].styles == ("neutral",) and lexicon.metadata["skipped"] == ["bow/happy"]  # ends mid-bow
-    assert lexicon["wave"].variant("old").source == "dataset-2_wave-both-hands_elderly_002"  # _001 starts mid-wave
-    lengths = {name: gl.find_gesture(read(bandai[name].motion_path), gl.gesture_spec("wave")).num_frames
-               for name in names[:3]}
-    assert lengths[lexicon["wave"].variant().source] == sorted(lengths.values())[1]  # the median length
-    assert lexicon["bow"].parts == ("arms", "torso", "legs") and lexicon.triggers()["hello"] == "wave"
-    gl.save_lexicon(lexicon, tmp_path)
-    again = gl.load_lexicon(tmp_path)
-    for entry in lexicon:
-        for variant in entry.variants:
-            loaded = again[entry.name].variant(variant.style)
-            assert np.array_equal(loaded.features, variant.features) and loaded.features.dtype == np.float16
-            assert (loaded.stroke_frame, loaded.source, loaded.removed) == (variant.stroke_frame, variant.source,
-                                                                           variant.removed)
-    listed = json.loads((tmp_path / gl.LEXICON_FILE).read_text())
-    assert "CC BY-NC 4.0" in listed["license"] and listed["feature_dim"] == FEATURE_DIM
 
 
 # ---------------------------------------------------------------------------------------------------------------
@@ -188,12 +32,12 @@ def shipped() -> gl.Lexicon:
 
 
 def test_the_shipped_lexicon_holds_every_gesture_as_small_float16_clips(shipped):
-    assert set(gl.GESTURE_NAMES) <= set(shipped.entries)
+    assert set(build.GESTURE_NAMES) <= set(shipped.entries)
     folder = gl.default_lexicon_dir()
     size = sum(path.stat().st_size for path in folder.iterdir() if path.is_file())
     assert size < SHIPPED_MAX_BYTES, f"{size} bytes"
     for entry in shipped:
-        assert entry.variants and entry.styles[0] == gl.DEFAULT_STYLE and len(entry.styles) <= gl.MAX_VARIANTS
+        assert entry.variants and entry.styles[0] == gl.DEFAULT_STYLE and len(entry.styles) <= build.MAX_VARIANTS
         assert set(entry.parts) <= set(PART_NAMES)
         assert ("legs" in entry.parts) == (entry.name in ("bow", "call"))  # a bow bends at the hips (legs part)
         for variant in entry.variants:
@@ -219,13 +63,6 @@ def test_a_variant_is_found_by_any_spelling_of_its_style_else_neutral(shipped):
     assert wave.variant("elderly").style == "old" and wave.variant("Exhausted").style == "tired"
     assert wave.variant("normal").style == wave.variant().style == wave.variant("happy").style == "neutral"
     assert wave.variant("a calm speaker").style == "neutral"  # a free-text prompt names no clip
-
-
-def test_the_shipped_clips_start_and_end_with_the_arms_down(shipped):
-    for entry in shipped:
-        for variant in entry.variants:
-            body = gl.body_frame_positions(features_to_motion(variant.features.astype(np.float64)))
-            assert gl.at_rest(body, 0) and gl.at_rest(body, -1), f"{entry.name}/{variant.style}"
 
 
 # ---------------------------------------------------------------------------------------------------------------
@@ -259,8 +96,8 @@ def test_a_user_folder_is_read_with_the_same_retargeting(user_clip):
     assert np.abs(variant.features[:, 4:] - features[:, 4:]).max() < 0.01  # rotations come back through the BVH
     other = lexicon["wave-again"]
     assert other.parts == ("arms",) and other.styles == ("happy",) and lexicon.triggers()["yo"] == "wave-again"
-    body = gl.body_frame_positions(features_to_motion(features))
-    assert other.variant().stroke_frame == gl.stroke_frame(gl.pose_distance(body))  # the default stroke
+    body = body_frame_positions(features_to_motion(features))
+    assert other.variant().stroke_frame == stroke_frame(pose_distance(body))  # the default stroke
 
 
 @pytest.mark.parametrize(("mapping", "field"), [
@@ -298,7 +135,14 @@ def test_a_folder_without_a_lexicon_or_mapping_is_refused(tmp_path):
 
 
 def test_a_damaged_built_lexicon_is_a_one_line_error(shipped, tmp_path):
-    gl.save_lexicon(shipped, tmp_path)
+    build.save_lexicon(shipped, tmp_path)
     (tmp_path / gl.CLIPS_FILE).write_bytes(b"not a zip")
     with pytest.raises(UserError, match="damaged gesture lexicon"):
         gl.load_lexicon(tmp_path)
+
+
+def test_reading_a_lexicon_loads_neither_torch_nor_the_builder():
+    code = ("import sys; from gesturecast.models.runtime.gesture_lexicon import load_lexicon; load_lexicon(); "
+            "loaded = [m for m in sys.modules if m == 'torch' or m.startswith('gesturecast.models.dataset')]; "
+            "assert not loaded, loaded")
+    subprocess.run([sys.executable, "-c", code], check=True)

@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from gesturecast.errors import UserError
+from gesturecast.models.dataset.gesture_lexicon_build import save_lexicon
 from gesturecast.models.motion.joint_maps import load_joint_map
 from gesturecast.models.motion.motion_features import features_to_motion
 from gesturecast.models.motion.retarget import motion_to_bvh
@@ -25,7 +26,7 @@ def shipped() -> gl.Lexicon:
 
 @pytest.fixture
 def built(shipped, tmp_path) -> Path:
-    gl.save_lexicon(shipped, tmp_path)
+    save_lexicon(shipped, tmp_path)
     return tmp_path
 
 
