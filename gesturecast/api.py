@@ -17,7 +17,7 @@ from gesturecast.frames import PoseFrame
 from gesturecast.models.motion.motion import MOTION_FPS
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
 from gesturecast.realtime.audio.sources import ArraySource, AudioSource, FastFileSource
-from gesturecast.realtime.generation.word_cues import Word, read_transcript, words_from_list
+from gesturecast.realtime.gestures.words import Word, read_transcript, words_from_list
 from gesturecast.realtime.run.engine import run_offline
 from gesturecast.realtime.run.engine_setup import build_session
 from gesturecast.realtime.run.offline_generate import frame_writer

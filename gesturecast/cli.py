@@ -34,7 +34,7 @@ EPILOG = """examples:
 COMMANDS: dict[str, tuple[str, str]] = {
     "render": ("gesturecast.tools.render.cli", "draw a .bvh or SMPL-X .npz as a stick figure (front + side)"),
     "data": ("gesturecast.tools.data_cli", "training data: build the dataset cache"),
-    "gestures": ("gesturecast.tools.gestures_cli", "the gesture lexicon: build it from the Bandai takes, list it"),
+    "gestures": ("gesturecast.tools.gestures.cli", "the gesture lexicon: build it from the Bandai takes, list it"),
     "devices": ("gesturecast.realtime.audio.cli", "list audio input devices (microphones)"),
     "bench": ("gesturecast.tools.bench.cli", "speed benchmarks (print JSON)"),
     "train": ("gesturecast.tools.train_cli", "train the gesture generator from the dataset cache"),

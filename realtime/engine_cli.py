@@ -32,7 +32,7 @@ from gesturecast.realtime.cli_flags import (
     server_token,
     settings_from_args,
 )
-from gesturecast.realtime.generation.word_cues import Word
+from gesturecast.realtime.gestures.words import Word
 from gesturecast.realtime.jobs.batch_cli import add_batch_arguments, run_batch
 from gesturecast.realtime.pose.session import GestureSession
 from gesturecast.realtime.run.engine import EngineReport, LiveEngine

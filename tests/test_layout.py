@@ -26,11 +26,11 @@ FLOORS: tuple[tuple[str, tuple[str, ...]], ...] = (
                             "export", "evaluation")),
     ("gesturecast.bridges", ("",)),
     ("gesturecast.settings", ("",)),
-    ("gesturecast.realtime", ("timing", "audio", "generation", "pose", "run", "agents", "cli_flags", "jobs", "serve",
-                              "engine_cli")),
+    ("gesturecast.realtime", ("timing", "audio", "generation", "gestures", "pose", "run", "agents", "cli_flags", "jobs",
+                              "serve", "engine_cli")),
     ("gesturecast.api", ("",)),
     ("gesturecast.pipecat", ("",)),
-    ("gesturecast.tools", ("render", "", "eval", "bench")),
+    ("gesturecast.tools", ("render", "", "gestures", "eval", "bench")),
     ("gesturecast.cli", ("",)),
 )
 BASE_TYPES = ("gesturecast.errors", "gesturecast.controls", "gesturecast.frames")  # import nothing of the project

@@ -135,7 +135,7 @@ from gesturecast.bridges.avatar_file import resolve_avatar
 from gesturecast.cli import build_parser
 from gesturecast.models.evaluation.fgd_encoder import DEFAULT_FGD_ENCODER
 from gesturecast.models.runtime.bundle import ONNX_FILES, ModelBundle
-from gesturecast.models.runtime.gesture_lexicon import default_lexicon_dir, load_lexicon
+from gesturecast.realtime.gestures.lexicon import default_lexicon_dir, load_lexicon
 from gesturecast.tools import demo_cli
 
 model = build_parser().parse_args(["live", "--ws", "0"]).model  # the CLI's default --model

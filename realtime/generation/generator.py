@@ -302,7 +302,7 @@ class Generator:
         """Sample the next clean latent (C,) (normalised) from its (A', F) window of :attr:`audio_config` and
         commit it to the history. ``imposed`` = (target (C,), weights (C,) in [0, 1]): at every sampler step the
         prediction is pulled to x̂0 + w·(target − x̂0), inpainting a gesture clip's part channels
-        (:mod:`gesturecast.realtime.generation.gesture_cues`)."""
+        (:mod:`gesturecast.realtime.gestures.cues`)."""
         layout = self.layout
         audio_window = pad_visible_window(np.asarray(audio_window, np.float32), self.config)  # (A, F)
         condition = self._prepared_condition(audio_window, audio_present)

@@ -44,9 +44,9 @@ from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.models.style.params import DEFAULT_STYLE_PARAMS
 from gesturecast.realtime.audio.sources import AudioChunk
 from gesturecast.realtime.generation.generator import Generator
-from gesturecast.realtime.generation.gesture_cues import BLEND_LATENTS, Cue, CueOutcome, CuePlan, GestureClip
-from gesturecast.realtime.generation.phrase_cues import PhraseCues, PhraseListener
-from gesturecast.realtime.generation.word_cues import TriggerVocabulary, Word, WordListener
+from gesturecast.realtime.gestures.cues import BLEND_LATENTS, Cue, CueOutcome, CuePlan, GestureClip
+from gesturecast.realtime.gestures.phrases import PhraseCues, PhraseListener
+from gesturecast.realtime.gestures.words import TriggerVocabulary, Word, WordListener
 from gesturecast.realtime.pose.face import Expressions, FaceAnimator, text_embedder
 from gesturecast.realtime.pose.feature_buffer import FeatureBuffer
 from gesturecast.realtime.pose.hands import HandPose

@@ -23,8 +23,8 @@ from gesturecast.errors import UserError
 from gesturecast.models.generator.style_prompt import PartStyles, StylePrompt, parse_part_styles
 from gesturecast.models.motion.root_anchor import RootAnchor, RootMode
 from gesturecast.realtime.generation.generator import Generator
-from gesturecast.realtime.generation.gesture_cues import CONTROL_SOURCE, Cue, CuePlan, CueRefused
 from gesturecast.realtime.generation.style_mixture import align_mixtures, bound_blend_rows, drop_unused_rows
+from gesturecast.realtime.gestures.cues import CONTROL_SOURCE, Cue, CuePlan, CueRefused
 from gesturecast.realtime.pose.transitions import DEFAULT_RAMP_S, Ramp
 from gesturecast.settings import SINGLE_STYLE
 

@@ -27,15 +27,15 @@ from gesturecast.models.generator.diffusion import SamplerConfig
 from gesturecast.models.motion.root_anchor import RootMode
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
 from gesturecast.models.runtime.bundle import ModelBundle
-from gesturecast.models.runtime.gesture_lexicon import (
+from gesturecast.realtime.generation.generator import NEUTRAL_STYLE, Generator, GeneratorSettings
+from gesturecast.realtime.gestures.clips import ClipMotion, encode_clips, performances
+from gesturecast.realtime.gestures.lexicon import (
     DEFAULT_STYLE,
     LEXICON_FILE,
     GestureEntry,
     GestureVariant,
     load_lexicon,
 )
-from gesturecast.realtime.generation.generator import NEUTRAL_STYLE, Generator, GeneratorSettings
-from gesturecast.realtime.generation.gesture_clips import ClipMotion, encode_clips, performances
 from gesturecast.realtime.pose.seed_motion import load_seed_motion
 from gesturecast.realtime.pose.session import GestureSession, SessionConfig
 from gesturecast.realtime.timing.clock import Clock
@@ -91,7 +91,7 @@ def generator_settings(settings: Settings, bundle: ModelBundle, budget: LatencyB
 def gesture_setup(settings: Settings, bundle: ModelBundle) -> dict:
     """The session's gesture lexicon in this model's latent space: each gesture's clip in the style variant named
     like the settings' style label (:func:`performed_variant`), as performances drawn from the seed. A built
-    lexicon's gestures are cued by the speech acts of words (:mod:`gesturecast.models.runtime.speech_acts`);
+    lexicon's gestures are cued by the speech acts of words (:mod:`gesturecast.realtime.gestures.speech_acts`);
     a user's folder's trigger phrases cue their gestures wherever they are said."""
     if settings.gestures is None:
         return {}

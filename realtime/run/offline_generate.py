@@ -25,7 +25,7 @@ from gesturecast.models.motion.canonical_bvh import CanonicalBvhWriter
 from gesturecast.models.motion.motion import MOTION_FPS
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
 from gesturecast.realtime.audio.sources import FastFileSource
-from gesturecast.realtime.generation.word_cues import Word, read_transcript
+from gesturecast.realtime.gestures.words import Word, read_transcript
 from gesturecast.realtime.pose.session import GestureSession
 from gesturecast.realtime.run.engine import EngineReport, make_report, offline_batches
 from gesturecast.realtime.timing.scheduler import STAGE_SINK

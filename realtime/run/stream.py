@@ -37,7 +37,7 @@ from gesturecast.frames import PoseFrame
 from gesturecast.models.audio.files import SAMPLE_RATE
 from gesturecast.realtime.audio.pcm import AudioConverter
 from gesturecast.realtime.audio.sources import AudioChunk, SourceStats
-from gesturecast.realtime.generation.gesture_cues import played
+from gesturecast.realtime.gestures.cues import played
 from gesturecast.realtime.run.engine import EngineReport, FrameRelease, make_report, warm_up
 from gesturecast.realtime.run.engine_setup import build_outputs, build_session
 from gesturecast.realtime.run.paced import AsyncFrameFeed, FeedSet, FrameFeed

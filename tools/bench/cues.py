@@ -19,7 +19,7 @@ import numpy as np
 from gesturecast.models.audio.files import PACKAGED_SAMPLE, SAMPLE_RATE, load_audio
 from gesturecast.realtime.audio.sources import AudioChunk
 from gesturecast.realtime.cli_flags import add_generation_arguments, settings_from_args
-from gesturecast.realtime.generation.word_cues import Word
+from gesturecast.realtime.gestures.words import Word
 from gesturecast.realtime.run.engine_setup import build_session
 from gesturecast.realtime.timing.clock import MonotonicClock
 

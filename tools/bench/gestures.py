@@ -10,7 +10,7 @@ times (:mod:`gesturecast.tools.bench.gesture_set.stories`).
 floor of the variation measure).
 
 **Per intended cue**: the decision (the gesture the session cued at the word, if any), its outcome (on time, late,
-blended, merged, dropped: :class:`gesturecast.realtime.generation.gesture_cues.CueOutcome`), and whether the
+blended, merged, dropped: :class:`gesturecast.realtime.gestures.cues.CueOutcome`), and whether the
 kinematic detector (:mod:`gesturecast.tools.bench.gesture_set.detector`) sees the gesture within
 [word − 1.5 s, word + 2.5 s]: *hit* = played, detected, and the detected stroke within :data:`STROKE_TOLERANCE_S`
 of the word; a merged cue (the same gesture already playing) is a hit when the detection spans its word.
@@ -42,12 +42,12 @@ from gesturecast.models.evaluation.speech_following import speech_following
 from gesturecast.models.motion.body_parts import PART_JOINTS
 from gesturecast.models.motion.motion import MOTION_FPS
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
-from gesturecast.models.runtime.gesture_lexicon import load_lexicon
-from gesturecast.models.runtime.gesture_strokes import body_frame_positions
 from gesturecast.realtime.audio.sources import ArraySource
 from gesturecast.realtime.cli_flags import add_generation_arguments, settings_from_args
 from gesturecast.realtime.engine_cli import frames_to_motion
-from gesturecast.realtime.generation.gesture_cues import CueOutcome
+from gesturecast.realtime.gestures.cues import CueOutcome
+from gesturecast.realtime.gestures.lexicon import load_lexicon
+from gesturecast.realtime.gestures.strokes import body_frame_positions
 from gesturecast.realtime.run.engine import run_offline
 from gesturecast.realtime.run.engine_setup import build_session
 from gesturecast.realtime.timing.clock import MonotonicClock
@@ -96,7 +96,7 @@ def generate(settings: Settings, story: Story, cued: bool) -> Run:
     """One run of ``story``, with its words cued or not."""
     session = build_session(settings, MonotonicClock())
     lines = _Lines()
-    log = logging.getLogger("gesturecast.realtime.generation.gesture_cues")
+    log = logging.getLogger("gesturecast.realtime.gestures.cues")
     log.addHandler(lines)
     try:
         outcomes = session.cue_words(story.words) if cued else []

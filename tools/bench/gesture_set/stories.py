@@ -4,7 +4,7 @@ Each sentence of :mod:`gesturecast.tools.bench.gesture_set.texts` is spoken on i
 (:mod:`gesturecast.tools.bench.speech.espeak_words`: every word's start from the synthesiser's own word events);
 sentences are joined with :data:`PAUSE_S` of silence after :data:`LEAD_IN_S`. A word ends where the next begins
 (the last one at its sentence's end). ``[mark]`` marks become :class:`Intended` cues: the intent the mark stands
-for (:data:`~gesturecast.models.runtime.speech_acts.MARKS`) at the marked word's start.
+for (:data:`~gesturecast.realtime.gestures.speech_acts.MARKS`) at the marked word's start.
 """
 
 from __future__ import annotations
@@ -15,10 +15,10 @@ from pathlib import Path
 import numpy as np
 
 from gesturecast.models.audio.files import SAMPLE_RATE
-from gesturecast.models.runtime.speech_acts import MARKS
-from gesturecast.models.training.speech_acts import parse_marked
-from gesturecast.realtime.generation.word_cues import Word
+from gesturecast.realtime.gestures.speech_acts import MARKS
+from gesturecast.realtime.gestures.words import Word
 from gesturecast.tools.bench.speech.espeak_words import spoken
+from gesturecast.tools.gestures.speech_act_training import parse_marked
 
 CACHE = Path(".cache/bench/gestures")
 PAUSE_S = 0.5  # between sentences: cues in neighbouring sentences come close together

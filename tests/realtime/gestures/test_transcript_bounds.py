@@ -13,7 +13,7 @@ import soundfile
 
 from gesturecast.errors import UserError
 from gesturecast.models.audio.files import SAMPLE_RATE
-from gesturecast.realtime.generation.word_cues import MAX_WORDS, read_transcript, words_from_list
+from gesturecast.realtime.gestures.words import MAX_WORDS, read_transcript, words_from_list
 
 FIFO_BOUND_S = 120.0  # generate loads the model, then must refuse the FIFO instead of waiting for a writer
 

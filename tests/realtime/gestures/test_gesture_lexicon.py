@@ -11,12 +11,12 @@ import numpy as np
 import pytest
 
 from gesturecast.errors import UserError
-from gesturecast.models.dataset import gesture_lexicon_build as build
 from gesturecast.models.motion.body_parts import PART_NAMES
 from gesturecast.models.motion.motion_features import FEATURE_DIM, features_to_motion
 from gesturecast.models.motion.retarget import motion_to_bvh
-from gesturecast.models.runtime import gesture_lexicon as gl
-from gesturecast.models.runtime.gesture_strokes import body_frame_positions, pose_distance, stroke_frame
+from gesturecast.realtime.gestures import lexicon as gl
+from gesturecast.realtime.gestures.strokes import body_frame_positions, pose_distance, stroke_frame
+from gesturecast.tools.gestures import build
 
 SHIPPED_MAX_BYTES = 2_000_000
 FPS = 30
@@ -142,7 +142,8 @@ def test_a_damaged_built_lexicon_is_a_one_line_error(shipped, tmp_path):
 
 
 def test_reading_a_lexicon_loads_neither_torch_nor_the_builder():
-    code = ("import sys; from gesturecast.models.runtime.gesture_lexicon import load_lexicon; load_lexicon(); "
-            "loaded = [m for m in sys.modules if m == 'torch' or m.startswith('gesturecast.models.dataset')]; "
+    code = ("import sys; from gesturecast.realtime.gestures.lexicon import load_lexicon; load_lexicon(); "
+            "loaded = [m for m in sys.modules if m == 'torch' or m.startswith(('gesturecast.tools', "
+            "'gesturecast.models.dataset', 'gesturecast.models.training'))]; "
             "assert not loaded, loaded")
     subprocess.run([sys.executable, "-c", code], check=True)

@@ -1,4 +1,4 @@
-"""Words → the cues of their speech acts (:mod:`gesturecast.models.runtime.speech_acts`), for a transcript
+"""Words → the cues of their speech acts (:mod:`gesturecast.realtime.gestures.speech_acts`), for a transcript
 given at once (:meth:`PhraseCues.cues`) and for words reported one at a time (:class:`PhraseListener`).
 
 A cue's stroke is at the start of its phrase's first word, its source the phrase as spoken ("Bye-bye"). Only the
@@ -13,7 +13,8 @@ from collections.abc import Iterable
 from functools import cache
 from pathlib import Path
 
-from gesturecast.models.runtime.speech_acts import (
+from gesturecast.realtime.gestures.cues import Cue
+from gesturecast.realtime.gestures.speech_acts import (
     INTENT_GESTURES,
     SpeechActClassifier,
     SpeechActModel,
@@ -23,8 +24,7 @@ from gesturecast.models.runtime.speech_acts import (
     default_weights,
     tokenize,
 )
-from gesturecast.realtime.generation.gesture_cues import Cue
-from gesturecast.realtime.generation.word_cues import Word
+from gesturecast.realtime.gestures.words import Word
 
 MAX_HELD_WORDS = 24  # a sentence longer than this is read from its last 24 words
 

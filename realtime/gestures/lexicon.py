@@ -3,7 +3,7 @@
 The generator imposes a lexicon clip's body-part latents while it denoises the window where a trigger
 word falls (inpainting), so the avatar waves at "hello". This module holds the lexicon in memory, reads a built
 one and reads a user's own folder of clips; the lexicon shipped with the package is built offline from the
-labelled Bandai Namco takes (:mod:`gesturecast.models.dataset.gesture_lexicon_build`, ``gesturecast gestures
+labelled Bandai Namco takes (:mod:`gesturecast.tools.gestures.build`, ``gesturecast gestures
 build``). Numpy only (no torch).
 
 **Files** (``models/weights/gestures/``): ``lexicon.json`` (entries, parts, strokes, trigger words, styles,
@@ -13,7 +13,7 @@ source takes, rules, licence) and ``clips.npz`` (one float16 (T, 136) array per 
 **A user's lexicon** (:func:`load_lexicon` on a folder with ``gestures.json``): name → ``clip`` (a BVH or
 SMPL-X file in the folder, read with the same retargeting), ``triggers`` (non-empty), optional ``parts``
 (default arms), optional ``stroke`` (seconds from the clip start; default: the frame where the wrists and head are
-farthest from the clip's first pose, at its arrival: :mod:`.gesture_strokes`), optional ``style`` (default
+farthest from the clip's first pose, at its arrival: :mod:`.strokes`), optional ``style`` (default
 neutral) and an optional folder-level ``joint_map`` for a skeleton that is not detected automatically. User clips
 are not trimmed. A bad entry raises a one-line :class:`UserError` naming the file and the field.
 """
@@ -34,8 +34,7 @@ from gesturecast.input_files import MIB
 from gesturecast.models.motion.body_parts import PART_NAMES
 from gesturecast.models.motion.motion import MOTION_FPS, Motion
 from gesturecast.models.motion.motion_features import FEATURE_DIM
-from gesturecast.models.runtime.gesture_strokes import body_frame_positions, pose_distance, stroke_frame
-from gesturecast.models.runtime.lexicon_checks import (
+from gesturecast.realtime.gestures.lexicon_checks import (
     MIN_CLIP_S,
     ClipArchive,
     built_fps,
@@ -44,6 +43,7 @@ from gesturecast.models.runtime.lexicon_checks import (
     read_json,
     user_clip_path,
 )
+from gesturecast.realtime.gestures.strokes import body_frame_positions, pose_distance, stroke_frame
 
 FORMAT_VERSION = 1
 LEXICON_FILE = "lexicon.json"
@@ -171,7 +171,7 @@ def _fail(path: Path, message: str) -> UserError:
 
 
 def read_built_lexicon(folder: Path) -> Lexicon:
-    """A lexicon written by ``gesturecast gestures build`` (:mod:`gesturecast.models.dataset.gesture_lexicon_build`;
+    """A lexicon written by ``gesturecast gestures build`` (:mod:`gesturecast.tools.gestures.build`;
     numpy + json only)."""
     folder = Path(folder)
     path = folder / LEXICON_FILE

@@ -1,7 +1,7 @@
 """Training the speech-act classifier: marked sentences → candidates with labels → softmax regression (numpy).
 
 A sentence marks intended gestures with ``[gesture]`` before a word (:func:`parse_marked`). Its candidate phrases
-(:func:`gesturecast.models.runtime.speech_acts.candidates`) take the intent of the gesture marked on their
+(:func:`gesturecast.realtime.gestures.speech_acts.candidates`) take the intent of the gesture marked on their
 first word, or "none". Candidates a rule already decides are left out (the rules answer for them at run time).
 The model is fitted by full-batch Adam on the class-balanced cross-entropy with an L2 penalty; a seeded fifth of
 the sentences is held back and its accuracy reported.
@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from gesturecast.models.runtime.speech_acts import (
+from gesturecast.realtime.gestures.speech_acts import (
     CLASSES,
     MARKS,
     Embedder,

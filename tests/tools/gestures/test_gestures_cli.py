@@ -12,10 +12,10 @@ import pytest
 
 from gesturecast.cli import main
 from gesturecast.errors import USER_ERROR_EXIT_CODE
-from gesturecast.models.dataset.gesture_lexicon_build import GESTURE_NAMES
 from gesturecast.models.motion.motion_features import features_to_motion
 from gesturecast.models.motion.retarget import motion_to_bvh
-from gesturecast.models.runtime import gesture_lexicon as gl
+from gesturecast.realtime.gestures import lexicon as gl
+from gesturecast.tools.gestures.build import GESTURE_NAMES
 
 RAW_CACHE = Path(__file__).resolve().parents[2] / ".cache" / "raw"  # where `gesturecast data build` unpacks
 NO_TORCH = "import sys; sys.modules['torch'] = None; from gesturecast.cli import main; sys.exit(main({argv!r}))"

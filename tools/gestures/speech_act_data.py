@@ -1,4 +1,4 @@
-"""Training sentences of the speech-act classifier (:mod:`gesturecast.models.runtime.speech_acts`).
+"""Training sentences of the speech-act classifier (:mod:`gesturecast.realtime.gestures.speech_acts`).
 
 Written for it, and kept apart from the benchmark's texts (``tools/bench/gesture_set/texts.py``), which nothing here
 reads. ``[gesture]`` marks the word that opens an intended gesture (the same convention as the benchmark); every

@@ -8,14 +8,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from gesturecast.models.dataset import gesture_lexicon_build as build
 from gesturecast.models.dataset.cache import read_take
 from gesturecast.models.dataset.sources import TakeSource, bandai_takes, unpack_archive
 from gesturecast.models.motion.motion import Motion
 from gesturecast.models.motion.motion_features import FEATURE_DIM, features_to_motion
 from gesturecast.models.motion.skeleton import CANONICAL
-from gesturecast.models.runtime import gesture_lexicon as gl
-from gesturecast.models.runtime.gesture_strokes import body_frame_positions
+from gesturecast.realtime.gestures import lexicon as gl
+from gesturecast.realtime.gestures.strokes import body_frame_positions
+from gesturecast.tools.gestures import build
 
 RAW_CACHE = Path(__file__).resolve().parents[3] / ".cache" / "raw"  # where `gesturecast data build` unpacks
 ARCHIVES = ("dataset-1.tar.xz", "dataset-2-gestures.tar.xz")

@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from gesturecast.realtime.generation.gesture_clips import (
+from gesturecast.realtime.gestures.clips import (
     AMPLITUDE_RANGE,
     PERFORMANCES,
     TEMPO_RANGE,

@@ -5,8 +5,8 @@ import numpy as np
 from gesturecast.models.motion.body_parts import joint_columns
 from gesturecast.models.motion.motion_features import FEATURE_DIM
 from gesturecast.models.motion.rotations import quat_from_6d, quat_from_axis_angle, quat_mul, quat_to_6d
-from gesturecast.realtime.generation.arm_reattach import body_frame_shoulders, chain_rotation, reattach
-from gesturecast.realtime.generation.gesture_clips import rotation_columns
+from gesturecast.realtime.gestures.arm_reattach import body_frame_shoulders, chain_rotation, reattach
+from gesturecast.realtime.gestures.clips import rotation_columns
 
 
 def features_with(rotations: dict[str, np.ndarray], frames: int = 4) -> np.ndarray:

@@ -20,8 +20,8 @@ import numpy as np
 from gesturecast.errors import UserError
 from gesturecast.models.motion.body_parts import PART_JOINTS, joint_columns
 from gesturecast.models.runtime.bundle import ModelBundle, VQEncoderRuntime
-from gesturecast.realtime.generation.arm_reattach import body_frame_shoulders
-from gesturecast.realtime.generation.gesture_cues import GestureClip
+from gesturecast.realtime.gestures.arm_reattach import body_frame_shoulders
+from gesturecast.realtime.gestures.cues import GestureClip
 
 PERFORMANCES = 4  # versions of each gesture per stream, played in turn
 TEMPO_RANGE = (0.88, 1.12)  # a performance's speed, relative to the recorded clip

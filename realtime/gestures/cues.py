@@ -25,7 +25,7 @@ than recorded), and the blend keeps their shape while the latents keep the neigh
 - ``merged``: the same gesture is already playing over the word (a "hello" right after a "hi");
 - ``dropped``: none of these fits (logged, counted).
 
-A gesture may have several performances (:mod:`gesturecast.realtime.generation.gesture_clips`, tempo and amplitude
+A gesture may have several performances (:mod:`gesturecast.realtime.gestures.clips`, tempo and amplitude
 drawn from the seed); the plan plays them in turn. The plan is deterministic in stream time, so streaming and
 offline runs with the same cues give the same poses.
 
@@ -47,7 +47,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from gesturecast.errors import UserError
-from gesturecast.realtime.generation.arm_reattach import reattach
+from gesturecast.realtime.gestures.arm_reattach import reattach
 
 logger = logging.getLogger(__name__)
 
@@ -229,7 +229,7 @@ class Imposition:
 
     def blend(self, features: np.ndarray) -> np.ndarray:
         """(d, D) decoded features pulled toward the clip's joint rotations, an arms-only clip's shoulders
-        re-attached under the decoded torso (:mod:`gesturecast.realtime.generation.arm_reattach`)."""
+        re-attached under the decoded torso (:mod:`gesturecast.realtime.gestures.arm_reattach`)."""
         pose = reattach(self.pose, features, self.shoulders)
         return features + self.pose_weights * (pose - features)
 

@@ -5,8 +5,8 @@ import json
 import pytest
 
 from gesturecast.errors import UserError
-from gesturecast.realtime.generation.gesture_cues import Cue
-from gesturecast.realtime.generation.word_cues import (
+from gesturecast.realtime.gestures.cues import Cue
+from gesturecast.realtime.gestures.words import (
     TriggerVocabulary,
     Word,
     WordListener,

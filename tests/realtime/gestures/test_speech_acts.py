@@ -3,9 +3,9 @@ the phrasings users write, and words heard one at a time deciding the same as a 
 
 import pytest
 
-from gesturecast.models.runtime.speech_acts import candidates, rule, tokenize
-from gesturecast.realtime.generation.phrase_cues import PhraseCues, PhraseListener
-from gesturecast.realtime.generation.word_cues import Word
+from gesturecast.realtime.gestures.phrases import PhraseCues, PhraseListener
+from gesturecast.realtime.gestures.speech_acts import candidates, rule, tokenize
+from gesturecast.realtime.gestures.words import Word
 
 GESTURES = ("wave", "wave-right", "bye", "bow", "raise-both", "guide", "call")
 

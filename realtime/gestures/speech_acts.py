@@ -16,7 +16,7 @@ from the sentence around it:
 2. **A small classifier** for the rest (:class:`SpeechActClassifier`): softmax regression over the packaged
    wordllama text embedding (numpy only) of the phrase's window, the words before and after it and the single
    words next to it, plus where it stands (opening the sentence or a clause, punctuation after it). It is trained
-   on sentences written for it (:mod:`gesturecast.models.training.speech_act_data`, ``gesturecast gestures
+   on sentences written for it (:mod:`gesturecast.tools.gestures.speech_act_data`, ``gesturecast gestures
    train-acts``), never on the benchmark's texts; its weights ship in ``models/weights/speech_acts.npz``.
 
 The decision needs :data:`AFTER_TOKENS` words after the phrase, or the end of its sentence: what follows decides

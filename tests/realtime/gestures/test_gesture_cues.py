@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from gesturecast.errors import UserError
-from gesturecast.realtime.generation.gesture_cues import (
+from gesturecast.realtime.gestures.cues import (
     BLEND_LATENTS,
     HOLD_LATENTS,
     RAMP_LATENTS,

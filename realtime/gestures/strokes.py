@@ -8,7 +8,7 @@ gesturing.
 comes within ``STROKE_TOLERANCE`` (5 %) of the signal's range below the peak, so a held pose gives the moment it is
 reached rather than a frame picked by tremor inside the hold. A user clip without a ``stroke`` takes it on
 :func:`pose_distance`, how far the wrists and head are from the clip's first pose; the lexicon's builder takes it on
-its gesture rules (:mod:`gesturecast.models.dataset.gesture_lexicon_build`). Numpy only (no torch).
+its gesture rules (:mod:`gesturecast.tools.gestures.build`). Numpy only (no torch).
 """
 
 from __future__ import annotations

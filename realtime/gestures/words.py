@@ -18,7 +18,7 @@ from pathlib import Path
 from gesturecast.controls import Word  # the words of transcripts and of ``words`` controls are one type
 from gesturecast.errors import UserError
 from gesturecast.input_files import read_bounded
-from gesturecast.realtime.generation.gesture_cues import Cue
+from gesturecast.realtime.gestures.cues import Cue
 
 MAX_TRANSCRIPT_BYTES = 16 << 20  # a day of speech is a few MB of word JSON
 MAX_WORDS = 200_000  # of a transcript (JSON or subtitles) or a word list

@@ -57,10 +57,10 @@ def run_build(args: argparse.Namespace) -> int:
     from tqdm import tqdm
 
     from gesturecast.errors import UserError
-    from gesturecast.models.dataset import gesture_lexicon_build as lexicon_module
     from gesturecast.models.dataset.cache import read_take
     from gesturecast.models.dataset.sources import TakeSource, bandai_takes, unpack_archive
     from gesturecast.tools.data_cli import BANDAI_ARCHIVES, DEFAULT_SHARED
+    from gesturecast.tools.gestures import build as lexicon_module
 
     _positive(args.per_style, "--per-style")
     _positive(args.styles, "--styles")
@@ -108,7 +108,7 @@ def format_table(lexicon) -> str:
 
 
 def run_list(args: argparse.Namespace) -> int:
-    from gesturecast.models.runtime.gesture_lexicon import load_lexicon
+    from gesturecast.realtime.gestures.lexicon import load_lexicon
 
     lexicon = load_lexicon(args.lexicon)
     if args.json:
@@ -122,8 +122,8 @@ def run_list(args: argparse.Namespace) -> int:
 
 
 def run_train_acts(args: argparse.Namespace) -> int:
-    from gesturecast.models.training.speech_act_data import training_sentences
-    from gesturecast.models.training.speech_acts import train
+    from gesturecast.tools.gestures.speech_act_data import training_sentences
+    from gesturecast.tools.gestures.speech_act_training import train
 
     started = time.perf_counter()
     model, info = train(training_sentences())

@@ -1,4 +1,4 @@
-"""The checks a gesture lexicon's files pass before anything is built from them (:mod:`.gesture_lexicon`).
+"""The checks a gesture lexicon's files pass before anything is built from them (:mod:`.lexicon`).
 
 A built lexicon (``lexicon.json`` + ``clips.npz``) and a user's folder (``gestures.json`` + clip files) come from
 anywhere, so every field is checked for its type and range (a one-line :class:`UserError` naming the file and the

@@ -1,6 +1,6 @@
 """Building the gesture lexicon from the labelled Bandai Namco takes (offline: ``gesturecast gestures build``).
 
-The live runtime reads what this writes (:mod:`gesturecast.models.runtime.gesture_lexicon`: the data types,
+The live runtime reads what this writes (:mod:`gesturecast.realtime.gestures.lexicon`: the data types,
 ``load_lexicon``); nothing live imports this module. Numpy only (no torch).
 
 **Sources** (:data:`GESTURES`): Bandai Namco Research Motion Dataset 1 (``bow``, ``bye`` and ``byebye``, ``guide``,
@@ -10,7 +10,7 @@ and retargeted exactly as ``gesturecast data build`` reads it (:func:`read_take`
 ``face_forward``), and the shipped clips are its motion features (:func:`motion_to_features`, D = 136, 30 fps).
 
 **Body frame.** Every rule reads joint positions in the hips' facing frame (:func:`body_frame_positions`,
-:mod:`gesturecast.models.runtime.gesture_strokes`), so walking or turning does not count as gesturing.
+:mod:`gesturecast.realtime.gestures.strokes`), so walking or turning does not count as gesturing.
 
 **Trimming** (:func:`active_segment`). The activity is the summed speed (m/s) of both wrists and the head in the
 body frame, smoothed by a centred 5-frame mean. The gesture starts at the first frame where the activity rises
@@ -64,7 +64,7 @@ import numpy as np
 from gesturecast.models.motion.motion import MOTION_FPS, Motion
 from gesturecast.models.motion.motion_features import FEATURE_DIM
 from gesturecast.models.motion.skeleton import CANONICAL
-from gesturecast.models.runtime.gesture_lexicon import (
+from gesturecast.realtime.gestures.lexicon import (
     CLIPS_FILE,
     FORMAT_VERSION,
     LEXICON_FILE,
@@ -72,7 +72,7 @@ from gesturecast.models.runtime.gesture_lexicon import (
     GestureVariant,
     Lexicon,
 )
-from gesturecast.models.runtime.gesture_strokes import (
+from gesturecast.realtime.gestures.strokes import (
     ACTIVITY_JOINTS,
     STROKE_TOLERANCE,
     body_frame_positions,

@@ -4,7 +4,7 @@ can overlap a cue or a latent, whatever order the cues came in."""
 import numpy as np
 import pytest
 
-from gesturecast.realtime.generation.gesture_cues import MAX_AHEAD_S, Cue, CuePlan, CueRefused, GestureClip
+from gesturecast.realtime.gestures.cues import MAX_AHEAD_S, Cue, CuePlan, CueRefused, GestureClip
 
 C, D = 8, 10
 SECONDS_PER_LATENT = 4 / 30

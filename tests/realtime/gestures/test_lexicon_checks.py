@@ -11,12 +11,12 @@ import numpy as np
 import pytest
 
 from gesturecast.errors import UserError
-from gesturecast.models.dataset.gesture_lexicon_build import save_lexicon
 from gesturecast.models.motion.joint_maps import load_joint_map
 from gesturecast.models.motion.motion_features import features_to_motion
 from gesturecast.models.motion.retarget import motion_to_bvh
-from gesturecast.models.runtime import gesture_lexicon as gl
-from gesturecast.models.runtime.lexicon_checks import MAX_CLIP_FILE_BYTES
+from gesturecast.realtime.gestures import lexicon as gl
+from gesturecast.realtime.gestures.lexicon_checks import MAX_CLIP_FILE_BYTES
+from gesturecast.tools.gestures.build import save_lexicon
 
 
 @pytest.fixture(scope="module")

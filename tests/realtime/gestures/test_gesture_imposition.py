@@ -10,7 +10,7 @@ import pytest
 from gesturecast.controls import parse_controls
 from gesturecast.models.audio.files import PACKAGED_SAMPLE, SAMPLE_RATE, load_audio
 from gesturecast.realtime.audio.sources import AudioChunk
-from gesturecast.realtime.generation.gesture_cues import RAMP_LATENTS, Cue, GestureClip
+from gesturecast.realtime.gestures.cues import RAMP_LATENTS, Cue, GestureClip
 from gesturecast.realtime.run.engine_setup import build_session
 from gesturecast.realtime.timing.clock import MonotonicClock
 from gesturecast.settings import Settings
