@@ -32,6 +32,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--contents", nargs="+", metavar="ACTION",
                         help="fit the styles from these actions only (e.g. bye byebye guide bow; default: every "
                              "action with a neutral take); the judge always uses every action")
+    parser.add_argument("--compare-learned", action="store_true",
+                        help="also measure the fitted stylizer against a small learned one on held-out actions "
+                             "(torch; about 8 minutes on 2 cores)")
     parser.set_defaults(func=run)
 
 
@@ -50,7 +53,12 @@ def run(args: argparse.Namespace) -> int:
     judge, judge_report = fit_judge(takes)
     fk = real_style_distances(takes)
     judge.save(args.out / "judge.json", {"license": LICENSE_NOTE, "held_out_content_accuracy": judge_report["mean"]})
-    print(json.dumps({"styles": report, "judge_held_out_content": judge_report, "fk_real_takes": fk}, indent=1))
+    result = {"styles": report, "judge_held_out_content": judge_report, "fk_real_takes": fk}
+    if args.compare_learned:
+        from gesturecast.tools.style.compare import compare_stylizers
+
+        result["learned_vs_fitted"] = compare_stylizers(takes)
+    print(json.dumps(result, indent=1))
     return 0
 
 

@@ -91,3 +91,13 @@ def test_style_fit_writes_the_styles_and_the_judge_it_reports(takes_folder, tmp_
     assert printed["styles"]["sad"]["arms"]["contents"] == 2
     judge = StyleJudge.load(tmp_path / "judge.json")
     assert judge.weights.shape == (len(judge.mean), len(judge.labels))
+
+
+def test_the_learned_and_the_fitted_stylizer_are_measured_on_actions_neither_saw(takes):
+    pytest.importorskip("torch")
+    from gesturecast.tools.style.compare import compare_stylizers
+
+    report = compare_stylizers(takes, seeds=(0,), steps=20)
+    assert report["cases"] == len(CONTENTS) * (len(STYLES) - 1)
+    assert set(report["held_out_fk_distance"]) == {"unchanged", "fitted", "learned_seed0"}
+    assert all(np.isfinite(value) and value > 0.0 for value in report["held_out_fk_distance"].values())
