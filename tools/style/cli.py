@@ -40,12 +40,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from gesturecast.models.style.params import StyleBook
-    from gesturecast.tools.style.fit import fit_styles
+    from gesturecast.tools.style.calibrate import fit_calibrated
+    from gesturecast.tools.style.held_out import held_out_actions
     from gesturecast.tools.style.judge_fit import fit_judge
     from gesturecast.tools.style.takes import load_paired_takes, take_folder
 
     takes = load_paired_takes(take_folder(args.takes, args.raw_cache))
-    styles, report = fit_styles(takes if not args.contents else [take for take in takes
+    styles, report = fit_calibrated(takes if not args.contents else [take for take in takes
                                                                   if take.content in args.contents])
     args.out.mkdir(parents=True, exist_ok=True)
     StyleBook(styles, {"license": LICENSE_NOTE, "fitted_from": "Bandai Namco Research Motion Dataset, dataset-1",
@@ -53,7 +54,8 @@ def run(args: argparse.Namespace) -> int:
     judge, judge_report = fit_judge(takes)
     fk = real_style_distances(takes)
     judge.save(args.out / "judge.json", {"license": LICENSE_NOTE, "held_out_content_accuracy": judge_report["mean"]})
-    result = {"styles": report, "judge_held_out_content": judge_report, "fk_real_takes": fk}
+    result = {"styles": report, "judge_held_out_content": judge_report, "fk_real_takes": fk,
+              "held_out_actions": held_out_actions(takes)}
     if args.compare_learned:
         from gesturecast.tools.style.compare import compare_stylizers
 

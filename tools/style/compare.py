@@ -14,18 +14,15 @@ import time
 
 import numpy as np
 
-from gesturecast.models.motion.rotations import quat_from_axis_angle
 from gesturecast.models.style.descriptors import clip_descriptor, style_distance
-from gesturecast.models.style.params import STYLED_INDEX, StyleFilter, rotation_vectors
-from gesturecast.tools.style.fit import REST, fit_styles
+from gesturecast.models.style.params import STYLED_INDEX, rotation_vectors, with_rotation_vectors
+from gesturecast.tools.style.fit import fit_styles, restyled_rotations
 from gesturecast.tools.style.takes import NEUTRAL, Take
 
 
 def _with_styled(take: Take, vectors: np.ndarray) -> np.ndarray:
     """The take's rotations (T, J, 4) with its styled joints set to rotation vectors (T, S, 3)."""
-    rotations = take.motion.rotations.copy()
-    rotations[:, STYLED_INDEX] = quat_from_axis_angle(vectors)
-    return rotations
+    return with_rotation_vectors(take.motion.rotations, vectors)
 
 
 def _distance(take: Take, rotations: np.ndarray, real: Take) -> float:
@@ -44,10 +41,7 @@ def _fitted(train: list[Take], cases: list[tuple[Take, Take]]) -> list[float]:
     styles, _ = fit_styles(train)
     out = []
     for neutral, real in cases:
-        v = rotation_vectors(neutral.motion.rotations)  # (T, S, 3)
-        values = np.broadcast_to(styles[real.style].values, (len(v), *styles[real.style].values.shape))
-        styled = StyleFilter(neutral.motion.fps, REST).run(v, values, np.arange(len(v)) / neutral.motion.fps)
-        out.append(_distance(neutral, _with_styled(neutral, styled), real))
+        out.append(_distance(neutral, restyled_rotations(neutral, styles[real.style].values), real))
     return out
 
 

@@ -30,6 +30,7 @@ from gesturecast.models.style.params import (
     StyleParams,
     ema_weight,
     rotation_vectors,
+    with_rotation_vectors,
 )
 from gesturecast.realtime.pose.idle import IdleConfig, relaxed_pose
 from gesturecast.tools.style.takes import NEUTRAL, Take
@@ -56,6 +57,15 @@ def split(take: Take, values: np.ndarray | None = None) -> tuple[np.ndarray, np.
     values = np.broadcast_to(values, (len(v), *values.shape))  # (T, S, CHANNELS)
     styled = StyleFilter(take.motion.fps, REST).run(v, values, np.zeros(len(v)))  # (T, S, 3)
     return v, styled - _centres(v, take.motion.fps) - values[..., OFFSET]
+
+
+def restyled_rotations(take: Take, values: np.ndarray) -> np.ndarray:
+    """The take's rotations (T, J, 4) re-performed by the stylizer's filter with parameters ``values`` (S, CHANNELS)
+    held over the take (stream time from 0)."""
+    v = rotation_vectors(take.motion.rotations)  # (T, S, 3)
+    held = np.broadcast_to(values, (len(v), *values.shape))  # (T, S, CHANNELS)
+    styled = StyleFilter(take.motion.fps, REST).run(v, held, np.arange(len(v)) / take.motion.fps)  # (T, S, 3)
+    return with_rotation_vectors(take.motion.rotations, styled)
 
 
 def _centres(v: np.ndarray, fps: float) -> np.ndarray:
