@@ -3,8 +3,9 @@
 Reads ``dataset-1.tar.xz`` (or its unpacked folder), unpacked once under ``--raw-cache``; writes the stylizer's
 parameters (``styles.json``) and the style judge (``judge.json``) into ``--out`` (default: the folder that ships,
 ``models/weights/stylizer``) and prints what it measured as JSON: per style and body part the amplitude and tempo
-ratios against neutral, the judge's held-out-content accuracy, and per action the closest pair of the judged styles'
-real takes on the FK measure of ``bench styles``. numpy only; about half a minute.
+ratios against neutral and the posture's calibration (``calibrate``), the judge's held-out-content accuracy, per
+action the closest pair of the judged styles' real takes on the FK measure of ``bench styles``, and the stylizer
+judged on actions neither it nor the judge saw (``held_out``). numpy only; well under a minute.
 """
 
 from __future__ import annotations
