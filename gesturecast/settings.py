@@ -90,7 +90,7 @@ class Settings:
         ``style`` (GestureDiffuCLIP §6.3).
     style2, gamma: second style of x̂0 = γ·D(style) + (1 − γ)·D(style2) (DiffuseStyleGesture); γ = 1: one style.
     style_strength: how strongly the style shows, 0 .. 2: the stylizer after the generator changes the motion by k
-        times the fitted style (0: the generator's own motion, 1: as fitted; docs/style-study.md).
+        times the fitted style (0: the generator's own motion, 1: as fitted; docs/stylizer.md).
     guidance: classifier-free guidance s (None: the model's); audio_guidance: s_a (1: off).
     sampler, steps: "ddim" with K steps per latent, or "ddpm" over all the model's steps (offline quality).
     seed: noise seed (the same seed and audio give the same motion).

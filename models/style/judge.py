@@ -1,11 +1,14 @@
 """The style judge: which style a motion window shows, read from what any speech gesture shares with any action.
 
-It judges a *set* of clips of the same content (one action, or one speech) in several styles, and reads how each
-clip differs from the others: every window's features (``descriptors.window_features``: upper body, posture, tempo;
-no legs, no root travel) less the content's reference, the mean over the set's clips of each clip's mean features
-(no labels used). A bow and a speech gesture differ far more than two styles of either; centred on its content, a
-style is what is left. A multinomial logistic regression on the centred features, standardised with the training
-windows' mean and deviation, labels each window. It is trained by
+It judges a *set* of clips of the same content (one action, or one speech) in at least :data:`MIN_STYLES` styles,
+and reads how each clip differs from the others: every window's features (``descriptors.window_features``: upper
+body, posture, tempo; no legs, no root travel; speeds, tempo, sharpness and spreads as logarithms, so that a style
+that doubles a speed moves it as far in a slow action as in a quick one) less the content's reference, the mean over
+the set's clips of each clip's mean features, and divided by the content's own spread, the deviation of all the set's
+windows, per feature (no labels used). A bow and a speech gesture differ far more than two
+styles of either, and a run's styles differ more than a bow's; centred and scaled on its content, a style is what is
+left. A multinomial logistic regression on these features, standardised with the training windows' mean and
+deviation, labels each window. It is trained by
 ``gesturecast style-fit`` so that it must generalise across content: its accuracy is measured with whole actions
 held out (leave-one-content-out over the Bandai dataset-1 actions), and the shipped judge is then fitted on all of
 them. numpy only.
@@ -22,8 +25,12 @@ import numpy as np
 from gesturecast.errors import UserError
 from gesturecast.models.style.descriptors import JUDGE_FEATURES, window_features
 
-JUDGE_FORMAT = "gesturecast-style-judge-1"
+JUDGE_FORMAT = "gesturecast-style-judge-2"
 JUDGED_STYLES = ("neutral", "happy", "angry", "sad", "old", "tired", "proud")
+MIN_STYLES = 3  # a content's reference and spread need this many styles of it
+LOGGED = np.array([JUDGE_FEATURES.index(name) for name in ("wrist_speed", "wrist_speed_sd", "tempo", "wrist_height_sd",
+                                                           "head_pitch_sd", "head_speed", "sharpness")])
+LOG_FLOOR = 1e-4  # below any real speed, tempo or spread
 
 
 @dataclass(frozen=True)
@@ -68,10 +75,23 @@ class StyleJudge:
                                                                                      "bias")))
 
 
+def logged_features(features: np.ndarray) -> np.ndarray:
+    """A copy of window features (W, F) with the :data:`LOGGED` ones as logarithms."""
+    out = features.copy()
+    out[:, LOGGED] = np.log(np.maximum(out[:, LOGGED], LOG_FLOOR))
+    return out
+
+
 def centred(clips: list[np.ndarray]) -> list[np.ndarray]:
-    """Window features (W_i, F) of one content's clips less the content reference (module docstring)."""
-    reference = np.mean([features.mean(axis=0) for features in clips], axis=0)  # (F,)
-    return [features - reference for features in clips]
+    """Window features (W_i, F) of one content's clips (at least :data:`MIN_STYLES`, one per style) as the judge
+    reads them: logged where :data:`LOGGED`, less the content reference, over the content's spread (module
+    docstring)."""
+    if len(clips) < MIN_STYLES:
+        raise ValueError(f"the style judge reads a set of at least {MIN_STYLES} clips of one content, got {len(clips)}")
+    logged = [logged_features(features) for features in clips]
+    reference = np.mean([features.mean(axis=0) for features in logged], axis=0)  # (F,)
+    spread = np.concatenate(logged).std(axis=0) + 1e-6  # (F,) the deviation of all the set's windows
+    return [(features - reference) / spread for features in logged]
 
 
 def train_judge(features: np.ndarray, labels: np.ndarray, names: tuple[str, ...], l2: float = 1e-2,

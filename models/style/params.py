@@ -5,8 +5,11 @@ generator has decided *what* to do and *when*. It works on each styled joint's l
 vector v = log(q) (identity = T-pose). A style changes, per joint (the idea of EMOTE, Chi et al. 2000: effort and
 shape as parameters on top of a motion):
 
-- **amplitude** ``log_gain``: v is scaled about the rest pose r (arms relaxed at the sides) by exp(log_gain):
-  bigger, more expansive gestures or smaller ones held closer to the body, with no delay;
+- **amplitude** ``log_gain``: v is scaled by exp(log_gain) about a pivot p, with no delay: for the arms the rest
+  pose r (arms relaxed at the sides): bigger, more expansive gestures or smaller ones held closer to the body; for
+  the torso and head the slow centre m (below): their movement about it, so that their posture is the offset's
+  alone, whatever posture the motion comes in (a speaker's spine and neck are bent otherwise than an actor's, and a
+  gain about r would bend them the other way);
 - **posture** ``offset`` (3, radians): added after (lean, head pitch, shoulders, arm carriage);
 - **tempo and tension** ``tension`` α on the gesture d = v − m about a slow centre m (an exponential moving
   average, time constant :data:`CENTRE_S`), with one-pole low-passes L (:data:`TENSION_S`) and L'
@@ -37,6 +40,7 @@ from gesturecast.models.motion.skeleton import CANONICAL
 
 STYLED_JOINTS = TORSO_JOINTS + ARM_JOINTS  # the legs and hips stay as generated (feet stay planted)
 STYLED_INDEX = np.array([CANONICAL.index(name) for name in STYLED_JOINTS])  # (S,) canonical joint indices
+ABOUT_CENTRE = np.array([name in TORSO_JOINTS for name in STYLED_JOINTS])  # (S,) scaled about m, the rest about r
 OFFSET, LOG_GAIN, TENSION, TREMOR = slice(0, 3), 3, 4, 5
 CHANNELS = 6  # offset xyz, log gain, tension, tremor per styled joint
 CENTRE_S = 1.0  # time constant of the posture centre m
@@ -121,7 +125,7 @@ class StyleFilter:
     the styled rotation vectors. The state follows the *input* only (first-order recursions along time, run by
     ``scipy.signal.lfilter`` with its state carried from call to call, so any split of a stream into runs gives the
     same bits), and changing the parameters never disturbs it. ``rest`` (S, 3) are the rest pose's rotation
-    vectors, the centre of the amplitude change."""
+    vectors, the arms' pivot of the amplitude change (:func:`pivots`)."""
 
     def __init__(self, fps: float, rest: np.ndarray) -> None:
         self.fps = fps
@@ -146,13 +150,21 @@ class StyleFilter:
         if self._state is None:  # the first frame starts every filter settled: centre = v_0, gesture 0
             self._state = {"centre": (1.0 - self._weights["centre"]) * v[:1], "low": np.zeros_like(v[:1]),
                            "band": np.zeros_like(v[:1])}
-        deviation = v - self._smooth("centre", v)  # (n, S, 3) the gesture d about the centre
+        centre = self._smooth("centre", v)  # (n, S, 3) the slow centre m
+        deviation = v - centre  # (n, S, 3) the gesture d about it
         low, band = self._smooth("low", deviation), self._smooth("band", deviation)
         alpha = values[..., TENSION, None]  # (n, S, 1)
         tense = alpha * (np.where(alpha > 0.0, band, deviation) - low)  # (n, S, 3) the tension's change
         tremor = values[..., TREMOR, None] * np.sin(2.0 * np.pi * TREMOR_HZ * times[:, None, None])  # (n, S, 3)
         gain = np.exp(values[..., LOG_GAIN, None])  # (n, S, 1)
-        return self.rest + gain * (v + tense - self.rest) + values[..., OFFSET] + tremor
+        pivot = pivots(self.rest, centre)  # (n, S, 3)
+        return pivot + gain * (v + tense - pivot) + values[..., OFFSET] + tremor
+
+
+def pivots(rest: np.ndarray, centre: np.ndarray) -> np.ndarray:
+    """(n, S, 3) the amplitude's pivot per frame: the centre m (n, S, 3) for the torso and head, ``rest`` (S, 3) for
+    the arms (module docstring)."""
+    return np.where(ABOUT_CENTRE[:, None], centre, rest)
 
 
 def rotation_vectors(rotations: np.ndarray) -> np.ndarray:

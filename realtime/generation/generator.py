@@ -76,7 +76,7 @@ class GeneratorSettings:
     part_styles: PartStyles = ()  # (body part, prompt) pairs; parts not named follow ``style``
     style_strength: float = DEFAULT_STYLE_STRENGTH  # k: the sampler's guidance is k·s (0: the null style's motion)
     # the style the denoiser hears whatever style is asked, with guidance s (k then drives only the stylizer after the
-    # generator, realtime/pose/stylizer.py; docs/style-study.md "Stylizer"); None: the style asked, at k·s
+    # generator, realtime/pose/stylizer.py; docs/stylizer.md); None: the style asked, at k·s
     generator_style: StylePrompt | None = None
 
 

@@ -5,7 +5,8 @@ Data flow (docs/architecture.md, "Data flow"): pushed chunks wait in a short pen
 arrived; then, in one burst, streaming features of
 the pending audio → normalised feature buffer → one generator step for latent ``i`` (K-step DDIM or
 DDPM, KV cache, CFG) → d motion-feature frames → root integration + 6D → quaternions → idle
-cross-fade in silence → procedural fingers (:mod:`gesturecast.realtime.pose.hands`) → :class:`PoseFrame` with
+cross-fade in silence → the stylizer (the style's posture, amplitude, tempo: :mod:`gesturecast.realtime.pose.stylizer`)
+→ procedural fingers (:mod:`gesturecast.realtime.pose.hands`) → :class:`PoseFrame` with
 capture and presentation times, and the speaking flag and viseme weights of the frame's own audio instant
 (:mod:`gesturecast.models.audio.vad`, :mod:`gesturecast.models.audio.lipsync`, computed by the feature extractor
 in the same burst). The idle cross-fade decides per latent with look-ahead and a silence hold

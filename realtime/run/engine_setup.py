@@ -84,7 +84,7 @@ def generator_settings(settings: Settings, bundle: ModelBundle, budget: LatencyB
         audio_guidance=settings.audio_guidance,
         lookahead=budget.lookahead_frames,
         part_styles=settings.part_styles,
-        generator_style=NEUTRAL_STYLE,  # the stylizer after the generator gives the style (docs/style-study.md)
+        generator_style=NEUTRAL_STYLE,  # the stylizer after the generator gives the style (docs/stylizer.md)
     )
 
 

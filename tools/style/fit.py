@@ -7,7 +7,8 @@ ratios s / neutral. Each is summarised over the contents by the median (the acti
 tension α of a part is the value whose filter, run on the neutral takes, changes their tempo by the part's tempo
 ratio (grid search); the amplitude gain g is the amplitude ratio over what that filter already does to the
 amplitude. The posture offset of each joint is then what is left of the mean pose: the median over contents of
-mean(v_s) − r − g·(mean(v_neutral) − r), with r the rest pose the gain scales about. Tremor is the
+mean(v_s) − p − g·(mean(v_neutral) − p), with p the mean pivot the gain scales about on the neutral take (the rest
+pose for the arms, the centre for the torso and head). Tremor is the
 high-frequency (above ~3 Hz) motion the style adds over neutral, if any. Everything is clipped to
 :data:`LIMITS` so that no style bends a body further than the takes do.
 """
@@ -29,7 +30,9 @@ from gesturecast.models.style.params import (
     StyleFilter,
     StyleParams,
     ema_weight,
+    pivots,
     rotation_vectors,
+    with_rotation_vectors,
 )
 from gesturecast.realtime.pose.idle import IdleConfig, relaxed_pose
 from gesturecast.tools.style.takes import NEUTRAL, Take
@@ -56,6 +59,15 @@ def split(take: Take, values: np.ndarray | None = None) -> tuple[np.ndarray, np.
     values = np.broadcast_to(values, (len(v), *values.shape))  # (T, S, CHANNELS)
     styled = StyleFilter(take.motion.fps, REST).run(v, values, np.zeros(len(v)))  # (T, S, 3)
     return v, styled - _centres(v, take.motion.fps) - values[..., OFFSET]
+
+
+def restyled_rotations(take: Take, values: np.ndarray) -> np.ndarray:
+    """The take's rotations (T, J, 4) re-performed by the stylizer's filter with parameters ``values`` (S, CHANNELS)
+    held over the take (stream time from 0)."""
+    v = rotation_vectors(take.motion.rotations)  # (T, S, 3)
+    held = np.broadcast_to(values, (len(v), *values.shape))  # (T, S, CHANNELS)
+    styled = StyleFilter(take.motion.fps, REST).run(v, held, np.arange(len(v)) / take.motion.fps)  # (T, S, 3)
+    return with_rotation_vectors(take.motion.rotations, styled)
 
 
 def _centres(v: np.ndarray, fps: float) -> np.ndarray:
@@ -130,9 +142,16 @@ def fit_style(pairs: list[tuple[Take, Take]], effects: dict[str, np.ndarray]) ->
         report[part] = {"amplitude_ratio": float(np.exp(log_amp)), "tempo_ratio": float(np.exp(log_tempo)),
                         "contents": len(splits)}
     gain = np.exp(values[:, LOG_GAIN, None])  # (S, 1)
-    offsets = [s_v.mean(axis=0) - REST - gain * (n_v.mean(axis=0) - REST) for (n_v, _), (s_v, _), _ in splits]
+    offsets = [_offset(n_v, s_v, f, gain) for (n_v, _), (s_v, _), f in splits]
     values[:, OFFSET] = _clip_norm(np.median(np.array(offsets), axis=0), LIMITS["offset_rad"])  # (S, 3)
     return StyleParams(values), report
+
+
+def _offset(neutral: np.ndarray, styled: np.ndarray, fps: float, gain: np.ndarray) -> np.ndarray:
+    """(S, 3) what the gain (S, 1) leaves of the styled take's mean pose, from both takes' rotation vectors
+    (T, S, 3): mean(v_s) − p − g·(mean(v_n) − p), p the mean pivot on the neutral take."""
+    pivot = pivots(REST, _centres(neutral, fps)).mean(axis=0)  # (S, 3)
+    return styled.mean(axis=0) - pivot - gain * (neutral.mean(axis=0) - pivot)
 
 
 def _clip_norm(vectors: np.ndarray, limit: float) -> np.ndarray:

@@ -1,7 +1,8 @@
 """Train the style judge (``gesturecast.models.style.judge``) so that it must generalise across content.
 
-Every take of a judged style gives its windows' features, centred on its action's reference (the judge reads how
-the styles of one action differ: ``judge.centred``). Accuracy is measured leave-one-content-out: for each
+Every take of a judged style gives its windows' features, centred and scaled on its action (the judge reads how
+the styles of one action differ: ``judge.centred``; actions with takes in fewer than three of the judged styles
+are left out). Accuracy is measured leave-one-content-out: for each
 action (bow, bye, walk …) a judge trained on the other actions labels the held-out action's windows; the
 per-style accuracy is the share of a style's held-out windows labelled with it. The shipped judge is then trained
 on every action.
@@ -12,19 +13,22 @@ from __future__ import annotations
 import numpy as np
 
 from gesturecast.models.style.descriptors import window_features
-from gesturecast.models.style.judge import JUDGED_STYLES, StyleJudge, centred, train_judge
+from gesturecast.models.style.judge import JUDGED_STYLES, MIN_STYLES, StyleJudge, centred, train_judge
 from gesturecast.tools.style.takes import Take
 
 Rows = list[tuple[str, int, np.ndarray]]  # (content, style index, window features (W, F))
 
 
 def judge_rows(takes: list[Take], styles: tuple[str, ...] = JUDGED_STYLES) -> Rows:
-    """The centred window features of every take of a judged style, with its content and style index."""
+    """The centred window features of every take of a judged style, with its content and style index; contents with
+    takes in fewer than ``MIN_STYLES`` of the styles have no reference and are left out."""
     judged = [take for take in takes if take.style in styles]
     features = [window_features(take.motion.rotations, take.motion.root_position, take.motion.fps) for take in judged]
     rows: Rows = []
     for content in sorted({take.content for take in judged}):
         mine = [k for k, take in enumerate(judged) if take.content == content]
+        if len({judged[k].style for k in mine}) < MIN_STYLES:
+            continue
         for k, centred_features in zip(mine, centred([features[k] for k in mine]), strict=True):
             rows.append((content, styles.index(judged[k].style), centred_features))
     return rows

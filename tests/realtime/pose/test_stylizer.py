@@ -10,6 +10,7 @@ from gesturecast.errors import UserError
 from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
 from gesturecast.models.generator.diffusion import SamplerConfig
 from gesturecast.models.generator.style_prompt import StylePrompt
+from gesturecast.models.motion.skeleton import NUM_JOINTS
 from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.models.style.descriptors import clip_descriptor
 from gesturecast.models.style.params import DEFAULT_STYLE_PARAMS, STYLED_JOINTS, TENSION, StyleBook, part_rows
@@ -149,3 +150,25 @@ def test_a_broken_style_file_is_a_one_line_error(tmp_path):
         StyleBook.load(path)
     with pytest.raises(UserError, match="not a readable"):
         StyleBook.load(tmp_path / "missing.json")
+
+
+def test_the_products_generator_hears_neutral_and_a_live_strength_of_zero_gives_its_motion(speech):
+    """build_session (every command's path): the denoiser hears ``neutral`` whatever the style, so once a live
+    ``style_strength`` 0 has ramped in, "old" gives the neutral style's body bit for bit (the procedural fingers
+    follow the body's motion with a fading memory, so they only converge)."""
+    from gesturecast.realtime.run.engine_setup import build_session
+    from gesturecast.realtime.timing.clock import MonotonicClock
+    from gesturecast.settings import Settings
+
+    old = build_session(Settings(style="old"), MonotonicClock())
+    neutral = build_session(Settings(style="neutral"), MonotonicClock())
+    np.testing.assert_array_equal(old.generator.style_embedding, neutral.generator.style_embedding)
+    calmed = run(old, speech, 1600, [(SAMPLE_RATE, {"style_strength": 0.0})])
+    plain = run(neutral, speech, 1600)
+    settled = 2 * 30  # the control lands at 1 s and ramps over 0.5 s
+
+    def bodies(frames) -> np.ndarray:
+        return np.stack([np.concatenate([f.rotations[:NUM_JOINTS].ravel(), f.root_position]) for f in frames])
+
+    assert not np.array_equal(bodies(calmed[:30]), bodies(plain[:30]))
+    np.testing.assert_array_equal(bodies(calmed[settled:]), bodies(plain[settled:]))

@@ -12,7 +12,8 @@ import pytest
 
 from gesturecast.cli import main
 from gesturecast.models.motion.rotations import quat_from_axis_angle
-from gesturecast.models.style.judge import StyleJudge
+from gesturecast.models.style.descriptors import window_features
+from gesturecast.models.style.judge import LOGGED, StyleJudge, centred, logged_features
 from gesturecast.models.style.params import (
     LOG_GAIN,
     OFFSET,
@@ -24,7 +25,9 @@ from gesturecast.models.style.params import (
     StyleParams,
     rotation_vectors,
 )
+from gesturecast.tools.style.calibrate import calibrate, scaled
 from gesturecast.tools.style.fit import REST, fit_styles
+from gesturecast.tools.style.held_out import held_out_actions
 from gesturecast.tools.style.judge_fit import fit_judge
 from gesturecast.tools.style.takes import Take, load_paired_takes
 
@@ -91,3 +94,52 @@ def test_style_fit_writes_the_styles_and_the_judge_it_reports(takes_folder, tmp_
     assert printed["styles"]["sad"]["arms"]["contents"] == 2
     judge = StyleJudge.load(tmp_path / "judge.json")
     assert judge.weights.shape == (len(judge.mean), len(judge.labels))
+
+
+def test_the_learned_and_the_fitted_stylizer_are_measured_on_actions_neither_saw(takes):
+    pytest.importorskip("torch")
+    from gesturecast.tools.style.compare import compare_stylizers
+
+    report = compare_stylizers(takes, seeds=(0,), steps=20)
+    assert report["cases"] == len(CONTENTS) * (len(STYLES) - 1)
+    assert set(report["held_out_fk_distance"]) == {"unchanged", "fitted", "learned_seed0"}
+    assert all(np.isfinite(value) and value > 0.0 for value in report["held_out_fk_distance"].values())
+
+
+def test_the_calibration_restores_a_posture_the_fit_made_too_small(takes):
+    known = StyleParams.identity().values.copy()
+    known[STYLED_JOINTS.index("Chest"), OFFSET] = (0.25, 0.0, 0.0)  # bent forward
+    known[STYLED_JOINTS.index("Head"), OFFSET] = (0.3, 0.0, 0.0)
+    neutral = [take for take in takes if take.style == "neutral"]
+    pairs = neutral + [restyled(take, known) for take in neutral]
+    halved = StyleParams(scaled(known, 0.5))
+    styles, chosen = calibrate({"neutral": StyleParams.identity(), "sad": halved}, pairs)
+    assert chosen["sad"]["offset_scale"] == 2.0 and chosen["sad"]["error"] < chosen["sad"]["error_unscaled"]
+    np.testing.assert_allclose(styles["sad"].values, known, atol=1e-9)
+    assert "neutral" not in chosen and styles["neutral"].is_identity
+
+
+def test_the_stylizer_is_judged_on_actions_neither_it_nor_the_judge_saw(takes):
+    report = held_out_actions(takes, ("neutral", "sad", "old", "happy"))
+    assert report["actions"] == sorted(CONTENTS)
+    for variant in ("median", "calibrated"):
+        assert 0.0 <= report[variant]["judge"]["mean"] <= 1.0
+        assert set(report[variant]["judge"]["per_style"]) == {"neutral", "sad", "old", "happy"}
+        assert np.isfinite(report[variant]["fk_distance_to_real"]) and report[variant]["fk_distance_to_real"] > 0.0
+    assert "skipped" in held_out_actions(takes, ("neutral", "sad", "old", "happy", "angry"))
+
+
+def test_the_judge_reads_a_set_the_same_whatever_the_size_of_its_style_differences(takes):
+    features = [window_features(take.motion.rotations, take.motion.root_position, take.motion.fps)
+                for take in takes if take.content == "bye"]
+    logged = [logged_features(f) for f in features]
+    reference = np.mean([f.mean(axis=0) for f in logged], axis=0)
+    doubled = [f.copy() for f in features]  # every style's difference twice as large
+    for f, log_f in zip(doubled, logged, strict=True):
+        plain = np.setdiff1d(np.arange(f.shape[1]), LOGGED)
+        f[:, plain] = reference[plain] + 2.0 * (log_f[:, plain] - reference[plain])
+        f[:, LOGGED] = np.exp(reference[LOGGED] + 2.0 * (log_f[:, LOGGED] - reference[LOGGED]))
+    for a, b in zip(centred(features), centred(doubled), strict=True):
+        np.testing.assert_allclose(a, b, atol=1e-3)  # up to the spread's 1e-6 guard
+    with pytest.raises(ValueError, match="at least 3 clips"):
+        centred(features[:2])
