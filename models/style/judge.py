@@ -16,14 +16,13 @@ them. numpy only.
 
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from gesturecast.errors import UserError
 from gesturecast.models.style.descriptors import JUDGE_FEATURES, window_features
+from gesturecast.models.style.fitted_file import read_fitted, write_fitted
 
 JUDGE_FORMAT = "gesturecast-style-judge-2"
 JUDGED_STYLES = ("neutral", "happy", "angry", "sad", "old", "tired", "proud")
@@ -61,16 +60,11 @@ class StyleJudge:
         data = {"format": JUDGE_FORMAT, "features": list(JUDGE_FEATURES), "labels": list(self.labels), **meta,
                 "mean": self.mean.tolist(), "scale": self.scale.tolist(), "weights": self.weights.tolist(),
                 "bias": self.bias.tolist()}
-        path.write_text(json.dumps(data, indent=1) + "\n", encoding="utf-8")
+        write_fitted(path, data)
 
     @staticmethod
     def load(path: Path) -> StyleJudge:
-        try:
-            data = json.loads(Path(path).read_text(encoding="utf-8"))
-        except (OSError, ValueError) as error:
-            raise UserError(f"{path}: not a readable style judge ({error})") from None
-        if data.get("format") != JUDGE_FORMAT or data.get("features") != list(JUDGE_FEATURES):
-            raise UserError(f"{path}: not a {JUDGE_FORMAT} file with features {', '.join(JUDGE_FEATURES)}")
+        data = read_fitted(path, "style judge", JUDGE_FORMAT, "features", JUDGE_FEATURES)
         return StyleJudge(tuple(data["labels"]), *(np.asarray(data[key]) for key in ("mean", "scale", "weights",
                                                                                      "bias")))
 

@@ -26,17 +26,16 @@ and a strength k scales a style from the identity (k = 0: the input motion) to t
 
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
 
 import numpy as np
 
-from gesturecast.errors import UserError
 from gesturecast.models.motion.body_parts import ARM_JOINTS, PART_JOINTS, TORSO_JOINTS
 from gesturecast.models.motion.rotations import quat_from_axis_angle, quat_to_axis_angle
 from gesturecast.models.motion.skeleton import CANONICAL
+from gesturecast.models.style.fitted_file import read_fitted, write_fitted
 
 STYLED_JOINTS = TORSO_JOINTS + ARM_JOINTS  # the legs and hips stay as generated (feet stay planted)
 STYLED_INDEX = np.array([CANONICAL.index(name) for name in STYLED_JOINTS])  # (S,) canonical joint indices
@@ -103,16 +102,11 @@ class StyleBook:
     def save(self, path: Path) -> None:
         data = {"format": FORMAT, "joints": list(STYLED_JOINTS), **self.meta,
                 "styles": {name: np.round(p.values, 5).tolist() for name, p in sorted(self.styles.items())}}
-        path.write_text(json.dumps(data, indent=1) + "\n", encoding="utf-8")
+        write_fitted(path, data)
 
     @staticmethod
     def load(path: Path) -> StyleBook:
-        try:
-            data = json.loads(Path(path).read_text(encoding="utf-8"))
-        except (OSError, ValueError) as error:
-            raise UserError(f"{path}: not a readable style-parameter file ({error})") from None
-        if data.get("format") != FORMAT or data.get("joints") != list(STYLED_JOINTS):
-            raise UserError(f"{path}: not a {FORMAT} file for joints {', '.join(STYLED_JOINTS)}")
+        data = read_fitted(path, "style-parameter file", FORMAT, "joints", STYLED_JOINTS)
         styles = {name: StyleParams(np.asarray(rows, dtype=np.float64)) for name, rows in data["styles"].items()}
         meta = {key: value for key, value in data.items() if key not in ("format", "joints", "styles")}
         return StyleBook(styles, meta)
