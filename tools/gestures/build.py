@@ -44,11 +44,14 @@ stay longer than 4 s. ``lexicon.json`` records the source frames removed.
 **Variants** (:func:`build_lexicon`): per gesture the first ``MAX_VARIANTS`` (5) styles of ``STYLE_PREFERENCE``
 (neutral, i.e. Bandai's "normal", then happy, sad, old, proud, tired, active) that have a take whose clip starts
 and ends with both arms down (:func:`at_rest`: the wrists at least ``REST_DROP``, 25 cm, below the shoulders;
-some dataset-1 takes start or end mid-gesture); per style the one of those takes whose clip length is the median
-(a typical performance, not the longest or the shortest).
+some dataset-1 takes start or end mid-gesture); per style up to ``MAX_TAKES`` (3) of those takes, spread over
+their trimmed lengths (:func:`spread_takes`: the median first, a typical performance and the style's default, then
+the lower and upper quartiles, ``TAKE_QUANTILES``), so a stream's performances play different recordings where
+the data has several (dataset 2: 50 to 200 per style; dataset 1: one or two).
 
 **Files** (:func:`save_lexicon`): ``lexicon.json`` (entries, parts, strokes, trigger words, styles, source takes,
-rules, licence) and ``clips.npz`` (one float16 (T, 136) array per gesture and style, key ``"<name>.<style>"``).
+rules, licence) and ``clips.npz`` (one float16 (T, 136) array per gesture, style and take, key
+``"<name>.<style>.<take>"``).
 """
 
 from __future__ import annotations
@@ -99,6 +102,8 @@ _SIDE = {"left": "Left", "right": "Right"}
 
 # variants kept per gesture (build_lexicon)
 MAX_VARIANTS = 5
+MAX_TAKES = 3  # takes kept per gesture and style
+TAKE_QUANTILES = (0.5, 0.25, 0.75)  # where they fall among the style's resting takes ordered by trimmed length
 STYLE_PREFERENCE = ("neutral", "happy", "sad", "old", "proud", "tired", "active")
 
 
@@ -356,30 +361,37 @@ def select_candidates(candidates: Sequence[CandidateTake], per_style: int | None
     return chosen
 
 
-def median_take(cuts: Sequence[tuple[CandidateTake, GestureCut]]) -> tuple[CandidateTake, GestureCut]:
-    """The take whose trimmed length is the median (the lower of the two middle ones; ties by name)."""
+def spread_takes(cuts: Sequence[tuple[CandidateTake, GestureCut]], count: int = MAX_TAKES
+                 ) -> list[tuple[CandidateTake, GestureCut]]:
+    """Up to ``count`` of the takes, ordered by trimmed length (ties by name), at the quantiles of
+    ``TAKE_QUANTILES`` in turn: the median first (the lower of the two middle ones), then the quartiles. With no
+    more takes than ``count`` every take is kept, the median first, then the others shortest first."""
     ordered = sorted(cuts, key=lambda item: (item[1].num_frames, item[0].name))
-    return ordered[(len(ordered) - 1) // 2]
+    last = len(ordered) - 1
+    indices = [int(q * last) for q in TAKE_QUANTILES[:count]] if len(ordered) > count else [last // 2]
+    indices = list(dict.fromkeys([*indices, *range(len(ordered))]))[:count]
+    return [ordered[i] for i in indices]
 
 
-def trimmed_variant(motion: Motion, cut: GestureCut, style: str, source: str) -> GestureVariant:
-    """The cut clip as a variant: faced forward from its own first frame, the removed part of a long hold spliced
-    out, motion features in float16."""
+def trimmed_variant(motion: Motion, cut: GestureCut, style: str, source: str, take: int = 0) -> GestureVariant:
+    """The cut clip as take ``take`` of ``style``: faced forward from its own first frame, the removed part of a long
+    hold spliced out, motion features in float16."""
     from gesturecast.models.motion.motion_features import face_forward, motion_to_features
 
     features = motion_to_features(face_forward(motion.slice(cut.start, cut.stop)))
     if cut.removed is not None:
         features = splice_features(features, cut.removed[0] - cut.start, cut.removed[1] - cut.start)
     return GestureVariant(style, features.astype(np.float16), cut.stroke_in_clip, source, motion.fps, cut.start,
-                          cut.hand, cut.removed)
+                          cut.hand, cut.removed, take)
 
 
 def build_lexicon(candidates: Sequence[CandidateTake], read: Callable[[Path], Motion],
                   progress: Callable[[Iterable], Iterable] | None = None,
-                  max_variants: int = MAX_VARIANTS) -> Lexicon:
+                  max_variants: int = MAX_VARIANTS, max_takes: int = MAX_TAKES) -> Lexicon:
     """Read every candidate take, cut it, and keep per gesture the first ``max_variants`` styles of
-    ``STYLE_PREFERENCE`` that have a take starting and ending at rest; per style the median-length one of those
-    (module docstring). Styles left out for want of such a take are listed in ``metadata["skipped"]``.
+    ``STYLE_PREFERENCE`` that have a take starting and ending at rest; per style up to ``max_takes`` of those,
+    spread over their lengths (:func:`spread_takes`). Styles left out for want of such a take are listed in
+    ``metadata["skipped"]``.
 
     ``read``: path → canonical motion faced forward (``gesturecast data build``'s reader); ``progress`` wraps the
     iteration over the candidates (e.g. tqdm)."""
@@ -392,15 +404,15 @@ def build_lexicon(candidates: Sequence[CandidateTake], read: Callable[[Path], Mo
     for spec in GESTURES:
         variants: list[GestureVariant] = []
         for style in STYLE_PREFERENCE:
-            if (spec.name, style) not in cuts or len(variants) >= max_variants:
+            if (spec.name, style) not in cuts or len({v.style for v in variants}) >= max_variants:
                 continue
             resting = [item for item in cuts[(spec.name, style)] if item[1].rests]
             if not resting:
                 skipped.append(f"{spec.name}/{style}")
                 continue
-            candidate, cut = median_take(resting)
-            variants.append(trimmed_variant(read(candidate.path), cut, style, candidate.name))  # read again: the
-            # candidates' motions are not all kept in memory (a full build reads over a thousand takes)
+            variants += [trimmed_variant(read(candidate.path), cut, style, candidate.name, take)  # read again: the
+                         # candidates' motions are not all kept in memory (a full build reads over a thousand takes)
+                         for take, (candidate, cut) in enumerate(spread_takes(resting, max_takes))]
         if variants:
             entries[spec.name] = GestureEntry(spec.name, spec.parts, spec.triggers, tuple(variants), spec.description)
     return Lexicon(entries, source="Bandai Namco Research Motion Dataset", license=LICENSE_NOTE,
@@ -411,8 +423,8 @@ def build_lexicon(candidates: Sequence[CandidateTake], read: Callable[[Path], Mo
 # files
 
 
-def _clip_key(name: str, style: str) -> str:
-    return f"{name}.{style}"
+def _clip_key(name: str, variant: GestureVariant) -> str:
+    return f"{name}.{variant.style}.{variant.take}"
 
 
 def lexicon_json(lexicon: Lexicon) -> dict:
@@ -429,13 +441,15 @@ def lexicon_json(lexicon: Lexicon) -> dict:
                   "stroke_tolerance": STROKE_TOLERANCE, "max_seconds": MAX_SECONDS, "keep_seconds": KEEP_SECONDS,
                   "release_fraction": RELEASE_FRACTION, "splice_tolerance": SPLICE_TOLERANCE,
                   "blend_frames": BLEND_FRAMES, "rest_drop": REST_DROP, "style_preference": list(STYLE_PREFERENCE),
-                  "variant": "per style, the median clip length among takes starting and ending at rest",
+                  "max_takes": MAX_TAKES, "take_quantiles": list(TAKE_QUANTILES),
+                  "variant": "per style, the takes starting and ending at rest at these quantiles of clip length "
+                             "(the median first)",
                   "docs": "docs/gestures.md"},
         "gestures": [
             {"name": e.name, "description": e.description, "parts": list(e.parts), "triggers": list(e.triggers),
              "duration": round(e.duration, 4), "stroke": round(e.stroke_time, 4), "styles": list(e.styles),
              "rule": _spec_rule(e.name),
-             "variants": [{"style": v.style, "clip": _clip_key(e.name, v.style), "frames": v.num_frames,
+             "variants": [{"style": v.style, "take": v.take, "clip": _clip_key(e.name, v), "frames": v.num_frames,
                            "duration": round(v.duration, 4), "stroke_frame": v.stroke_frame,
                            "stroke": round(v.stroke_time, 4), "hand": v.hand, "source": v.source,
                            "source_start": v.source_start,
@@ -456,7 +470,7 @@ def save_lexicon(lexicon: Lexicon, folder: Path) -> tuple[Path, Path]:
     from gesturecast.files import atomic_file, write_text_atomic
 
     folder = Path(folder)
-    arrays = {_clip_key(e.name, v.style): np.ascontiguousarray(v.features, dtype=np.float16)
+    arrays = {_clip_key(e.name, v): np.ascontiguousarray(v.features, dtype=np.float16)
               for e in lexicon.entries.values() for v in e.variants}
     with atomic_file(folder / CLIPS_FILE, binary=True) as handle:
         np.savez_compressed(handle, **arrays)

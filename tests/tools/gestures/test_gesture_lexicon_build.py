@@ -160,15 +160,18 @@ def test_a_small_build_keeps_resting_takes_and_reads_back_the_same(bandai, tmp_p
     assert lexicon["wave"].styles == ("neutral", "old") and lexicon["guide"].styles == ("neutral",)
     assert lexicon["bow"].styles == ("neutral",) and lexicon.metadata["skipped"] == ["bow/happy"]  # ends mid-bow
     assert lexicon["wave"].variant("old").source == "dataset-2_wave-both-hands_elderly_002"  # _001 starts mid-wave
+    assert [t.source for t in lexicon["wave"].takes("old")] == ["dataset-2_wave-both-hands_elderly_002"]
     lengths = {name: build.find_gesture(read(bandai[name].motion_path), build.gesture_spec("wave")).num_frames
                for name in names[:3]}
-    assert lengths[lexicon["wave"].variant().source] == sorted(lengths.values())[1]  # the median length
+    takes = lexicon["wave"].takes("neutral")
+    assert [lengths[t.source] for t in takes] == [sorted(lengths.values())[i] for i in (1, 0, 2)]  # median first
+    assert [t.take for t in takes] == [0, 1, 2] and lexicon["wave"].variant() is takes[0]
     assert lexicon["bow"].parts == ("arms", "torso", "legs") and lexicon.triggers()["hello"] == "wave"
     build.save_lexicon(lexicon, tmp_path)
     again = gl.load_lexicon(tmp_path)
     for entry in lexicon:
-        for variant in entry.variants:
-            loaded = again[entry.name].variant(variant.style)
+        for variant, loaded in zip(entry.variants, again[entry.name].variants, strict=True):
+            assert (loaded.style, loaded.take) == (variant.style, variant.take)
             assert np.array_equal(loaded.features, variant.features) and loaded.features.dtype == np.float16
             assert (loaded.stroke_frame, loaded.source, loaded.removed) == (variant.stroke_frame, variant.source,
                                                                            variant.removed)
@@ -180,4 +183,23 @@ def test_the_shipped_clips_start_and_end_with_the_arms_down():
     for entry in gl.load_lexicon():
         for variant in entry.variants:
             body = body_frame_positions(features_to_motion(variant.features.astype(np.float64)))
-            assert build.at_rest(body, 0) and build.at_rest(body, -1), f"{entry.name}/{variant.style}"
+            assert build.at_rest(body, 0) and build.at_rest(body, -1), f"{entry.name}/{variant.style}/{variant.take}"
+
+
+def cuts_of_lengths(*lengths: int) -> list[tuple[build.CandidateTake, build.GestureCut]]:
+    """Takes named t0, t1, ... whose clips are ``lengths`` frames long."""
+    return [(build.CandidateTake("wave", "neutral", f"t{i}", Path(f"t{i}.bvh")), build.GestureCut(0, n, n // 2, "both"))
+            for i, n in enumerate(lengths)]
+
+
+def test_the_kept_takes_are_the_median_then_the_quartiles_of_trimmed_length():
+    def names(*lengths: int, count: int = build.MAX_TAKES) -> list[str]:
+        return [take.name for take, _ in build.spread_takes(cuts_of_lengths(*lengths), count)]
+
+    many = (50, 10, 90, 30, 70, 20, 80, 40, 60)  # t1 the shortest, t2 the longest
+    assert names(*many) == ["t0", "t3", "t4"]  # 50 (median), 30 and 70 (quartiles): neither extreme
+    assert names(*many, count=1) == ["t0"]
+    assert names(40, 20, 30, 10) == ["t1", "t3", "t2"]  # four: 20 (the lower middle), 10, 30
+    assert names(40, 20, 30) == ["t2", "t1", "t0"]  # three: all, the median first, then shortest first
+    assert names(40, 20) == ["t1", "t0"] and names(40) == ["t0"]
+    assert names(30, 30, 30, 30, 30) == ["t2", "t1", "t3"]  # equal lengths: by name
