@@ -164,7 +164,7 @@ def test_a_small_build_keeps_resting_takes_and_reads_back_the_same(bandai, tmp_p
     lengths = {name: build.find_gesture(read(bandai[name].motion_path), build.gesture_spec("wave")).num_frames
                for name in names[:3]}
     takes = lexicon["wave"].takes("neutral")
-    assert [lengths[t.source] for t in takes] == [sorted(lengths.values())[i] for i in (1, 0, 2)]  # median first
+    assert lengths[takes[0].source] == sorted(lengths.values())[1] and {t.source for t in takes} == set(names[:3])
     assert [t.take for t in takes] == [0, 1, 2] and lexicon["wave"].variant() is takes[0]
     assert lexicon["bow"].parts == ("arms", "torso", "legs") and lexicon.triggers()["hello"] == "wave"
     build.save_lexicon(lexicon, tmp_path)
@@ -186,20 +186,29 @@ def test_the_shipped_clips_start_and_end_with_the_arms_down():
             assert build.at_rest(body, 0) and build.at_rest(body, -1), f"{entry.name}/{variant.style}/{variant.take}"
 
 
-def cuts_of_lengths(*lengths: int) -> list[tuple[build.CandidateTake, build.GestureCut]]:
-    """Takes named t0, t1, ... whose clips are ``lengths`` frames long."""
-    return [(build.CandidateTake("wave", "neutral", f"t{i}", Path(f"t{i}.bvh")), build.GestureCut(0, n, n // 2, "both"))
-            for i, n in enumerate(lengths)]
+def cuts(*takes: tuple[int, float]) -> list[tuple[build.CandidateTake, build.GestureCut]]:
+    """Takes named t0, t1, ... of (clip length in frames, sideways offset of every joint around the stroke, m)."""
+    return [(build.CandidateTake("wave", "neutral", f"t{i}", Path(f"t{i}.bvh")),
+             build.GestureCut(0, n, n // 2, "both", around_stroke=np.full((60, 13, 3), [x, 0.0, 0.0])))
+            for i, (n, x) in enumerate(takes)]
 
 
-def test_the_kept_takes_are_the_median_then_the_quartiles_of_trimmed_length():
-    def names(*lengths: int, count: int = build.MAX_TAKES) -> list[str]:
-        return [take.name for take, _ in build.spread_takes(cuts_of_lengths(*lengths), count)]
+def kept(*takes: tuple[int, float], count: int = build.MAX_TAKES) -> list[str]:
+    return [take.name for take, _ in build.spread_takes(cuts(*takes), count)]
 
-    many = (50, 10, 90, 30, 70, 20, 80, 40, 60)  # t1 the shortest, t2 the longest
-    assert names(*many) == ["t0", "t3", "t4"]  # 50 (median), 30 and 70 (quartiles): neither extreme
-    assert names(*many, count=1) == ["t0"]
-    assert names(40, 20, 30, 10) == ["t1", "t3", "t2"]  # four: 20 (the lower middle), 10, 30
-    assert names(40, 20, 30) == ["t2", "t1", "t0"]  # three: all, the median first, then shortest first
-    assert names(40, 20) == ["t1", "t0"] and names(40) == ["t0"]
-    assert names(30, 30, 30, 30, 30) == ["t2", "t1", "t3"]  # equal lengths: by name
+
+def test_the_kept_takes_are_the_median_then_the_typical_ones_that_look_most_different():
+    many = ((50, 0.0), (10, 1.0), (90, -1.0), (30, 0.10), (70, -0.08), (20, 0.5), (80, 0.3), (40, 0.02), (60, 0.05))
+    # by length t1 t5 t3 t7 t0 t8 t4 t6 t2: t0 the median, t3 to t4 the interquartile range; t1, t2 look most
+    # different but are the shortest and the longest
+    assert kept(*many) == ["t0", "t3", "t4"]  # t3 is 10 cm from t0; then t4, 8 cm from t0 (t8: 5 cm from both)
+    assert kept(*many, count=1) == ["t0"] and kept(*many, count=2) == ["t0", "t3"]
+    assert kept((40, 0.0), (20, 0.0), (30, 0.0)) == ["t2", "t1", "t0"]  # no more than three: all, ties the shorter
+    assert kept((40, 0.3), (20, 0.0)) == ["t1", "t0"] and kept((40, 0.0),) == ["t0"]
+
+
+def test_takes_compare_their_poses_around_the_stroke(bandai):
+    names = ["dataset-2_wave-both-hands_normal_002", "dataset-2_wave-both-hands_normal_003"]
+    first, second = (build.find_gesture(motion_of(bandai, name), build.gesture_spec("wave")) for name in names)
+    assert first.around_stroke.shape == (2 * 30, len(build.SPLICE_JOINTS), 3)
+    assert build.pose_difference(first, first) == 0.0 < build.pose_difference(first, second) < 0.2
