@@ -5,11 +5,12 @@ The whole clip is encoded (the encoder sees its approach and return); only the m
 so the clip's legs, root and facing never reach the stream.
 
 **Performances.** A gesture is not played as one canned clip: :func:`performances` makes :data:`PERFORMANCES`
-versions of it, each a recorded take of the style (the lexicon keeps up to three per style where the data has
-several; the takes in turn, in an order drawn from the seed) at its own tempo (:data:`TEMPO_RANGE`, resampled in
-time) and amplitude (:data:`AMPLITUDE_RANGE`, the moving joints' 6D rotation features scaled about the clip's first
-pose), drawn from the stream's seed. The cue plan plays them in turn, so two plays of a gesture in one stream differ
-(another take, where there are two or more), and another seed plays others.
+versions of it (or the next multiple of its number of takes), each a recorded take of the style (the lexicon keeps
+up to three per style where the data has several; the takes in turn, in an order drawn from the seed) at its own
+tempo (:data:`TEMPO_RANGE`, resampled in time) and amplitude (:data:`AMPLITUDE_RANGE`, the moving joints' 6D
+rotation features scaled about the clip's first pose), drawn from the stream's seed. The cue plan plays them in turn
+(and again from the first), so two plays of a gesture in a row are different takes where there are two or more, at
+other tempos and amplitudes, and another seed plays others.
 """
 
 from __future__ import annotations
@@ -99,13 +100,15 @@ def performance(motion: ClipMotion, tempo: float, amplitude: float) -> ClipMotio
 
 
 def performances(takes: Sequence[ClipMotion], seed: int, count: int = PERFORMANCES) -> list[ClipMotion]:
-    """``count`` performances of one gesture from its recorded ``takes`` (one or more, the same name): the takes in
-    turn, in an order drawn from ``seed`` and the gesture's name, each at its own tempo and amplitude drawn from
-    them too (the same seed gives the same performances; consecutive ones are different takes when there are two
-    or more)."""
+    """At least ``count`` performances of one gesture from its recorded ``takes`` (one or more, the same name), as
+    many as the next multiple of the number of takes: the takes in turn, in an order drawn from ``seed`` and the
+    gesture's name, each at its own tempo and amplitude drawn from them too (the same seed gives the same
+    performances). Played in turn and again from the first, consecutive ones are different takes when there are two
+    or more."""
     if not takes:
         raise ValueError("a gesture's performances need at least one take")
     rng = np.random.default_rng([seed, *takes[0].name.encode()])
     order = rng.permutation(len(takes))
+    total = -(-count // len(takes)) * len(takes)
     return [performance(takes[order[k % len(takes)]], float(rng.uniform(*TEMPO_RANGE)),
-                        float(rng.uniform(*AMPLITUDE_RANGE))) for k in range(count)]
+                        float(rng.uniform(*AMPLITUDE_RANGE))) for k in range(total)]
