@@ -5,14 +5,17 @@ The whole clip is encoded (the encoder sees its approach and return); only the m
 so the clip's legs, root and facing never reach the stream.
 
 **Performances.** A gesture is not played as one canned clip: :func:`performances` makes :data:`PERFORMANCES`
-versions of it, each at its own tempo (:data:`TEMPO_RANGE`, resampled in time) and amplitude (:data:`AMPLITUDE_RANGE`,
-the moving joints' 6D rotation features scaled about the clip's first pose), drawn from the stream's seed. The cue
-plan plays them in turn, so two plays of a gesture in one stream differ, and another seed plays others.
+versions of it (or the next multiple of its number of takes), each a recorded take of the style (the lexicon keeps
+up to three per style where the data has several; the takes in turn, in an order drawn from the seed) at its own
+tempo (:data:`TEMPO_RANGE`, resampled in time) and amplitude (:data:`AMPLITUDE_RANGE`, the moving joints' 6D
+rotation features scaled about the clip's first pose), drawn from the stream's seed. The cue plan plays them in turn
+(and again from the first), so two plays of a gesture in a row are different takes where there are two or more, at
+other tempos and amplitudes, and another seed plays others.
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -31,12 +34,13 @@ AMPLITUDE_RANGE = (0.9, 1.15)  # how far its moving joints turn, relative to the
 @dataclass(frozen=True)
 class ClipMotion:
     """A lexicon clip as motion: (T, D) canonical motion features at the model's fps, its stroke frame, the
-    body parts it moves (names of the model's ``body_parts``)."""
+    body parts it moves (names of the model's ``body_parts``) and the recorded take it comes from."""
 
     name: str
     features: np.ndarray
     stroke_frame: int
     parts: tuple[str, ...]
+    source: str = ""
 
 
 def part_mask(bundle: ModelBundle, parts: Iterable[str], name: str) -> np.ndarray:
@@ -95,9 +99,16 @@ def performance(motion: ClipMotion, tempo: float, amplitude: float) -> ClipMotio
     return replace(motion, features=features.astype(np.float32), stroke_frame=stroke)
 
 
-def performances(motion: ClipMotion, seed: int, count: int = PERFORMANCES) -> list[ClipMotion]:
-    """``count`` performances of ``motion`` at tempos and amplitudes drawn from ``seed`` and the gesture's name (the
-    same seed gives the same performances)."""
-    rng = np.random.default_rng([seed, *motion.name.encode()])
-    return [performance(motion, float(rng.uniform(*TEMPO_RANGE)), float(rng.uniform(*AMPLITUDE_RANGE)))
-            for _ in range(count)]
+def performances(takes: Sequence[ClipMotion], seed: int, count: int = PERFORMANCES) -> list[ClipMotion]:
+    """At least ``count`` performances of one gesture from its recorded ``takes`` (one or more, the same name), as
+    many as the next multiple of the number of takes: the takes in turn, in an order drawn from ``seed`` and the
+    gesture's name, each at its own tempo and amplitude drawn from them too (the same seed gives the same
+    performances). Played in turn and again from the first, consecutive ones are different takes when there are two
+    or more."""
+    if not takes:
+        raise ValueError("a gesture's performances need at least one take")
+    rng = np.random.default_rng([seed, *takes[0].name.encode()])
+    order = rng.permutation(len(takes))
+    total = -(-count // len(takes)) * len(takes)
+    return [performance(takes[order[k % len(takes)]], float(rng.uniform(*TEMPO_RANGE)),
+                        float(rng.uniform(*AMPLITUDE_RANGE))) for k in range(total)]

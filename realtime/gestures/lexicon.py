@@ -7,8 +7,9 @@ labelled Bandai Namco takes (:mod:`gesturecast.tools.gestures.build`, ``gesturec
 build``). Numpy only (no torch).
 
 **Files** (``models/weights/gestures/``): ``lexicon.json`` (entries, parts, strokes, trigger words, styles,
-source takes, rules, licence) and ``clips.npz`` (one float16 (T, 136) array per gesture and style, key
-``"<name>.<style>"``). Reading them needs numpy and json only.
+source takes, rules, licence) and ``clips.npz`` (one float16 (T, 136) array per gesture, style and take, key
+``"<name>.<style>.<take>"``). A style may hold several takes (different recordings of the gesture, take 0 the
+default); the performances of a stream play them in turn. Reading them needs numpy and json only.
 
 **A user's lexicon** (:func:`load_lexicon` on a folder with ``gestures.json``): name → ``clip`` (a BVH or
 SMPL-X file in the folder, read with the same retargeting), ``triggers`` (non-empty), optional ``parts``
@@ -45,7 +46,7 @@ from gesturecast.realtime.gestures.lexicon_checks import (
 )
 from gesturecast.realtime.gestures.strokes import body_frame_positions, pose_distance, stroke_frame
 
-FORMAT_VERSION = 1
+FORMAT_VERSION = 2  # 2: several takes per style (``take``); 1 held one clip per style
 LEXICON_FILE = "lexicon.json"
 CLIPS_FILE = "clips.npz"
 USER_MAPPING_FILE = "gestures.json"
@@ -62,7 +63,7 @@ _NAME = re.compile(r"^[a-z0-9][a-z0-9-]*$")
 
 @dataclass(frozen=True)
 class GestureVariant:
-    """One style of a gesture: its motion features (T, D) and stroke frame, and where it came from."""
+    """One take of a gesture in one style: its motion features (T, D) and stroke frame, and where it came from."""
 
     style: str
     features: np.ndarray  # (T, FEATURE_DIM), float16 as shipped, float32 for a user clip
@@ -72,6 +73,7 @@ class GestureVariant:
     source_start: int = 0  # first frame of the clip in the source take
     hand: str = ""
     removed: tuple[int, int] | None = None  # source take frames [a, b) cut out of a long hold
+    take: int = 0  # which recording of this style (0: the default)
 
     @property
     def num_frames(self) -> int:
@@ -88,7 +90,8 @@ class GestureVariant:
 
 @dataclass(frozen=True)
 class GestureEntry:
-    """A named gesture: the body parts it moves, its trigger words and one clip per style."""
+    """A named gesture: the body parts it moves, its trigger words and one or more takes per style (take 0 of
+    each style first)."""
 
     name: str
     parts: tuple[str, ...]
@@ -98,14 +101,16 @@ class GestureEntry:
 
     @property
     def styles(self) -> tuple[str, ...]:
-        return tuple(v.style for v in self.variants)
+        return tuple(dict.fromkeys(v.style for v in self.variants))
 
     def variant(self, style: str | None = None) -> GestureVariant:
-        """The clip of ``style`` (any spelling of a style: "normal", "elderly"); the default (neutral, else the
-        first) when the gesture has no such clip or ``style`` is None."""
+        """The first take of ``style`` (any spelling of a style: "normal", "elderly"); the default (neutral, else
+        the first) when the gesture has no such clip or ``style`` is None."""
         from gesturecast.models.generator.styles import canonical_style
 
-        by_style = {v.style: v for v in self.variants}
+        by_style: dict[str, GestureVariant] = {}
+        for v in self.variants:
+            by_style.setdefault(v.style, v)
         if style is not None:
             try:
                 style = canonical_style(style)
@@ -114,6 +119,10 @@ class GestureEntry:
         if style in by_style:
             return by_style[style]
         return by_style.get(DEFAULT_STYLE, self.variants[0])
+
+    def takes(self, style: str) -> tuple[GestureVariant, ...]:
+        """Every take of ``style`` (a canonical style this gesture has), in lexicon order."""
+        return tuple(v for v in self.variants if v.style == style)
 
     @property
     def duration(self) -> float:
@@ -157,8 +166,8 @@ class Lexicon:
         """One JSON-ready row per gesture (what ``gesturecast gestures list`` prints)."""
         return [{"name": e.name, "parts": list(e.parts), "duration": round(e.duration, 3),
                  "stroke": round(e.stroke_time, 3), "styles": list(e.styles), "triggers": list(e.triggers),
-                 "variants": [{"style": v.style, "duration": round(v.duration, 3), "stroke": round(v.stroke_time, 3),
-                               "source": v.source} for v in e.variants]}
+                 "variants": [{"style": v.style, "take": v.take, "duration": round(v.duration, 3),
+                               "stroke": round(v.stroke_time, 3), "source": v.source} for v in e.variants]}
                 for e in self.entries.values()]
 
 
@@ -200,7 +209,8 @@ def read_built_lexicon(folder: Path) -> Lexicon:
                                                 f"{FEATURE_DIM})")
                     variants.append(GestureVariant(v["style"], features, int(v["stroke_frame"]), v.get("source", ""),
                                                    fps, int(v.get("source_start", 0)), v.get("hand", ""),
-                                                   tuple(v["removed"]) if v.get("removed") else None))
+                                                   tuple(v["removed"]) if v.get("removed") else None,
+                                                   int(v.get("take", 0))))
                 entries[item["name"]] = GestureEntry(item["name"], tuple(item["parts"]), tuple(item["triggers"]),
                                                      tuple(variants), item.get("description", ""))
     except (KeyError, TypeError, ValueError, zipfile.BadZipFile, OSError) as error:

@@ -52,7 +52,8 @@ def built_fps(value: object, path: Path) -> float:
 
 def check_built_item(item: object, index: int, path: Path) -> None:
     """One entry of a built lexicon's ``gestures`` list: a name, a non-empty list of part strings, a list of trigger
-    strings and a non-empty list of variant objects, each naming its clip and style with a whole stroke frame."""
+    strings and a non-empty list of variant objects, each naming its clip and style with a whole stroke frame (and
+    take number, when it gives one)."""
     where = f"{path}: gestures[{index}]"
     if not isinstance(item, dict) or not isinstance(item.get("name"), str):
         raise UserError(f"{where} must be an object with a string 'name'")
@@ -66,9 +67,10 @@ def check_built_item(item: object, index: int, path: Path) -> None:
         raise UserError(f"{where} ({item['name']}): 'variants' must be a non-empty list")
     for number, variant in enumerate(variants):
         if (not isinstance(variant, dict) or not isinstance(variant.get("clip"), str)
-                or not isinstance(variant.get("style"), str) or not _whole(variant.get("stroke_frame"))):
-            raise UserError(f"{where} ({item['name']}): variants[{number}] needs a string 'clip' and 'style' and a "
-                            "whole 'stroke_frame' ≥ 0")
+                or not isinstance(variant.get("style"), str) or not _whole(variant.get("stroke_frame"))
+                or not _whole(variant.get("take", 0))):
+            raise UserError(f"{where} ({item['name']}): variants[{number}] needs a string 'clip' and 'style', a "
+                            "whole 'stroke_frame' ≥ 0 and, if given, a whole 'take' ≥ 0")
 
 
 def _strings(values: object) -> bool:

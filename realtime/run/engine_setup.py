@@ -34,6 +34,7 @@ from gesturecast.realtime.gestures.lexicon import (
     LEXICON_FILE,
     GestureEntry,
     GestureVariant,
+    Lexicon,
     load_lexicon,
 )
 from gesturecast.realtime.pose.seed_motion import load_seed_motion
@@ -89,7 +90,7 @@ def generator_settings(settings: Settings, bundle: ModelBundle, budget: LatencyB
 
 
 def gesture_setup(settings: Settings, bundle: ModelBundle) -> dict:
-    """The session's gesture lexicon in this model's latent space: each gesture's clip in the style variant named
+    """The session's gesture lexicon in this model's latent space: each gesture's takes in the style variant named
     like the settings' style label (:func:`performed_variant`), as performances drawn from the seed. A built
     lexicon's gestures are cued by the speech acts of words (:mod:`gesturecast.realtime.gestures.speech_acts`);
     a user's folder's trigger phrases cue their gestures wherever they are said."""
@@ -98,12 +99,21 @@ def gesture_setup(settings: Settings, bundle: ModelBundle) -> dict:
     lexicon = load_lexicon(settings.gestures)
     prompt = settings.style_prompt()
     style = prompt.value if prompt.kind == "label" else None
-    recorded = [ClipMotion(entry.name, np.asarray(variant.features, np.float32), variant.stroke_frame, entry.parts)
-                for entry in lexicon for variant in [performed_variant(entry, style)]]
-    motions = [played for motion in recorded for played in performances(motion, settings.seed)]
+    motions = performed_motions(lexicon, style, settings.seed)
     built = (Path(settings.gestures) / LEXICON_FILE).is_file()  # the Bandai lexicon: cued by speech acts
     return {"gesture_clips": encode_clips(bundle, motions, settings.threads), "speech_acts": built,
             "gesture_triggers": () if built else tuple((entry.name, entry.triggers) for entry in lexicon)}
+
+
+def performed_motions(lexicon: Lexicon, style: str | None, seed: int) -> list[ClipMotion]:
+    """Every gesture's performances for a stream in ``style`` at ``seed``: the recorded takes of its performed
+    variant (:func:`performed_variant`) in turn, each at a tempo and amplitude drawn from the seed."""
+    motions: list[ClipMotion] = []
+    for entry in lexicon:
+        takes = [ClipMotion(entry.name, np.asarray(take.features, np.float32), take.stroke_frame, entry.parts,
+                            take.source) for take in entry.takes(performed_variant(entry, style).style)]
+        motions += performances(takes, seed)
+    return motions
 
 
 def performed_variant(entry: GestureEntry, style: str | None) -> GestureVariant:

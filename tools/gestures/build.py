@@ -44,11 +44,17 @@ stay longer than 4 s. ``lexicon.json`` records the source frames removed.
 **Variants** (:func:`build_lexicon`): per gesture the first ``MAX_VARIANTS`` (5) styles of ``STYLE_PREFERENCE``
 (neutral, i.e. Bandai's "normal", then happy, sad, old, proud, tired, active) that have a take whose clip starts
 and ends with both arms down (:func:`at_rest`: the wrists at least ``REST_DROP``, 25 cm, below the shoulders;
-some dataset-1 takes start or end mid-gesture); per style the one of those takes whose clip length is the median
-(a typical performance, not the longest or the shortest).
+some dataset-1 takes start or end mid-gesture); per style up to ``MAX_TAKES`` (3) of those takes
+(:func:`spread_takes`): first the one whose trimmed length is the median (a typical performance, the style's
+default), then, among the typical ones (trimmed length within the interquartile range, ``TYPICAL_QUANTILES``), in
+turn the take whose pose around its stroke (the torso, arm and head joints over ``SPREAD_SECONDS``, 1 s, on each
+side of the stroke, in the body frame) is farthest from the nearest take already kept. So a stream's performances
+play recordings that look different where the data has several (dataset 2: 30 to 200 per style; dataset 1: one or
+two), none of them the shortest or the longest.
 
 **Files** (:func:`save_lexicon`): ``lexicon.json`` (entries, parts, strokes, trigger words, styles, source takes,
-rules, licence) and ``clips.npz`` (one float16 (T, 136) array per gesture and style, key ``"<name>.<style>"``).
+rules, licence) and ``clips.npz`` (one float16 (T, 136) array per gesture, style and take, key
+``"<name>.<style>.<take>"``).
 """
 
 from __future__ import annotations
@@ -56,7 +62,7 @@ from __future__ import annotations
 import json
 import re
 from collections.abc import Callable, Iterable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -99,6 +105,9 @@ _SIDE = {"left": "Left", "right": "Right"}
 
 # variants kept per gesture (build_lexicon)
 MAX_VARIANTS = 5
+MAX_TAKES = 3  # takes kept per gesture and style
+TYPICAL_QUANTILES = (0.25, 0.75)  # the takes after the first come from this range of trimmed lengths
+SPREAD_SECONDS = 1.0  # takes are compared over this long on each side of their strokes
 STYLE_PREFERENCE = ("neutral", "happy", "sad", "old", "proud", "tired", "active")
 
 
@@ -220,6 +229,7 @@ class GestureCut:
     hand: str
     rests: bool = True  # the clip's first and last frames have both hands down (:func:`at_rest`)
     removed: tuple[int, int] | None = None  # take frames [a, b) cut out of a long hold (:func:`shorten_hold`)
+    around_stroke: np.ndarray | None = field(default=None, compare=False, repr=False)  # (F, K, 3): :func:`stroke_pose`
 
     @property
     def num_frames(self) -> int:
@@ -287,9 +297,19 @@ def shorten_hold(body: np.ndarray, signal: np.ndarray, start: int, stop: int, st
     return int(cut_from[i]), int(resume_at[j])
 
 
+def stroke_pose(body: np.ndarray, start: int, stop: int, stroke: int, fps: float = MOTION_FPS,
+                seconds: float = SPREAD_SECONDS) -> np.ndarray:
+    """(F, K, 3) body-frame positions of the torso, arm and head joints (``SPLICE_JOINTS``) from ``seconds`` before
+    to ``seconds`` after the stroke, F = 2 * seconds * fps frames, the clip's first or last frame repeated where it
+    ends sooner (takes of one gesture compare frame by frame, aligned at their strokes)."""
+    half = int(round(seconds * fps))
+    frames = np.clip(np.arange(stroke - half, stroke + half), start, stop - 1)  # (F,)
+    return body[frames][:, [CANONICAL.index(name) for name in SPLICE_JOINTS]]
+
+
 def find_gesture(motion: Motion, spec: GestureSpec, max_seconds: float | None = MAX_SECONDS) -> GestureCut:
     """Trim a take to its gesture, mark the stroke and, for a clip longer than ``max_seconds`` (None: never), find
-    the part of its hold to cut out (rules: module docstring)."""
+    the part of its hold to cut out; keep its pose around the stroke (rules: module docstring)."""
     body = body_frame_positions(motion)
     start, stop = active_segment(activity(body, motion.fps), motion.fps)
     signal, hand = stroke_signal(body, spec.rule, spec.hand, (start, stop))
@@ -297,7 +317,7 @@ def find_gesture(motion: Motion, spec: GestureSpec, max_seconds: float | None = 
     stroke = stroke_frame(signal, start, stop)
     removed = None if max_seconds is None else shorten_hold(body, signal, start, stop, stroke, motion.fps,
                                                              max_seconds)
-    return GestureCut(start, stop, stroke, hand, rests, removed)
+    return GestureCut(start, stop, stroke, hand, rests, removed, stroke_pose(body, start, stop, stroke, motion.fps))
 
 
 def splice_features(features: np.ndarray, cut_from: int, resume_at: int, blend: int = BLEND_FRAMES) -> np.ndarray:
@@ -356,30 +376,48 @@ def select_candidates(candidates: Sequence[CandidateTake], per_style: int | None
     return chosen
 
 
-def median_take(cuts: Sequence[tuple[CandidateTake, GestureCut]]) -> tuple[CandidateTake, GestureCut]:
-    """The take whose trimmed length is the median (the lower of the two middle ones; ties by name)."""
+def pose_difference(first: GestureCut, second: GestureCut) -> float:
+    """Mean joint distance (m) between two takes' poses around their strokes (:func:`stroke_pose`)."""
+    return float(np.linalg.norm(first.around_stroke - second.around_stroke, axis=-1).mean())
+
+
+def spread_takes(cuts: Sequence[tuple[CandidateTake, GestureCut]], count: int = MAX_TAKES
+                 ) -> list[tuple[CandidateTake, GestureCut]]:
+    """Up to ``count`` of the takes: the one whose trimmed length is the median (the lower of the two middle ones;
+    lengths tied by name), then in turn the typical take (trimmed length within the ``TYPICAL_QUANTILES`` of the
+    lengths; every take when there are no more than ``count``) whose pose around its stroke is farthest from the
+    nearest take kept (:func:`pose_difference`; ties: the shorter)."""
     ordered = sorted(cuts, key=lambda item: (item[1].num_frames, item[0].name))
-    return ordered[(len(ordered) - 1) // 2]
+    last = len(ordered) - 1
+    low, high = (int(q * last) for q in TYPICAL_QUANTILES) if len(ordered) > count else (0, last)
+    kept = [last // 2]
+    typical = [i for i in range(low, high + 1) if i != last // 2]
+    while typical and len(kept) < count:
+        farthest = max(typical, key=lambda i: min(pose_difference(ordered[i][1], ordered[k][1]) for k in kept))
+        kept.append(farthest)
+        typical.remove(farthest)
+    return [ordered[i] for i in kept]
 
 
-def trimmed_variant(motion: Motion, cut: GestureCut, style: str, source: str) -> GestureVariant:
-    """The cut clip as a variant: faced forward from its own first frame, the removed part of a long hold spliced
-    out, motion features in float16."""
+def trimmed_variant(motion: Motion, cut: GestureCut, style: str, source: str, take: int = 0) -> GestureVariant:
+    """The cut clip as take ``take`` of ``style``: faced forward from its own first frame, the removed part of a long
+    hold spliced out, motion features in float16."""
     from gesturecast.models.motion.motion_features import face_forward, motion_to_features
 
     features = motion_to_features(face_forward(motion.slice(cut.start, cut.stop)))
     if cut.removed is not None:
         features = splice_features(features, cut.removed[0] - cut.start, cut.removed[1] - cut.start)
     return GestureVariant(style, features.astype(np.float16), cut.stroke_in_clip, source, motion.fps, cut.start,
-                          cut.hand, cut.removed)
+                          cut.hand, cut.removed, take)
 
 
 def build_lexicon(candidates: Sequence[CandidateTake], read: Callable[[Path], Motion],
                   progress: Callable[[Iterable], Iterable] | None = None,
-                  max_variants: int = MAX_VARIANTS) -> Lexicon:
+                  max_variants: int = MAX_VARIANTS, max_takes: int = MAX_TAKES) -> Lexicon:
     """Read every candidate take, cut it, and keep per gesture the first ``max_variants`` styles of
-    ``STYLE_PREFERENCE`` that have a take starting and ending at rest; per style the median-length one of those
-    (module docstring). Styles left out for want of such a take are listed in ``metadata["skipped"]``.
+    ``STYLE_PREFERENCE`` that have a take starting and ending at rest; per style up to ``max_takes`` of those,
+    spread over their lengths (:func:`spread_takes`). Styles left out for want of such a take are listed in
+    ``metadata["skipped"]``.
 
     ``read``: path → canonical motion faced forward (``gesturecast data build``'s reader); ``progress`` wraps the
     iteration over the candidates (e.g. tqdm)."""
@@ -392,15 +430,15 @@ def build_lexicon(candidates: Sequence[CandidateTake], read: Callable[[Path], Mo
     for spec in GESTURES:
         variants: list[GestureVariant] = []
         for style in STYLE_PREFERENCE:
-            if (spec.name, style) not in cuts or len(variants) >= max_variants:
+            if (spec.name, style) not in cuts or len({v.style for v in variants}) >= max_variants:
                 continue
             resting = [item for item in cuts[(spec.name, style)] if item[1].rests]
             if not resting:
                 skipped.append(f"{spec.name}/{style}")
                 continue
-            candidate, cut = median_take(resting)
-            variants.append(trimmed_variant(read(candidate.path), cut, style, candidate.name))  # read again: the
-            # candidates' motions are not all kept in memory (a full build reads over a thousand takes)
+            variants += [trimmed_variant(read(candidate.path), cut, style, candidate.name, take)  # read again: the
+                         # candidates' motions are not all kept in memory (a full build reads over a thousand takes)
+                         for take, (candidate, cut) in enumerate(spread_takes(resting, max_takes))]
         if variants:
             entries[spec.name] = GestureEntry(spec.name, spec.parts, spec.triggers, tuple(variants), spec.description)
     return Lexicon(entries, source="Bandai Namco Research Motion Dataset", license=LICENSE_NOTE,
@@ -411,8 +449,8 @@ def build_lexicon(candidates: Sequence[CandidateTake], read: Callable[[Path], Mo
 # files
 
 
-def _clip_key(name: str, style: str) -> str:
-    return f"{name}.{style}"
+def _clip_key(name: str, variant: GestureVariant) -> str:
+    return f"{name}.{variant.style}.{variant.take}"
 
 
 def lexicon_json(lexicon: Lexicon) -> dict:
@@ -429,13 +467,16 @@ def lexicon_json(lexicon: Lexicon) -> dict:
                   "stroke_tolerance": STROKE_TOLERANCE, "max_seconds": MAX_SECONDS, "keep_seconds": KEEP_SECONDS,
                   "release_fraction": RELEASE_FRACTION, "splice_tolerance": SPLICE_TOLERANCE,
                   "blend_frames": BLEND_FRAMES, "rest_drop": REST_DROP, "style_preference": list(STYLE_PREFERENCE),
-                  "variant": "per style, the median clip length among takes starting and ending at rest",
+                  "max_takes": MAX_TAKES, "typical_quantiles": list(TYPICAL_QUANTILES),
+                  "spread_seconds": SPREAD_SECONDS,
+                  "variant": "per style, among the takes starting and ending at rest: the median clip length, then "
+                             "the typical-length take whose pose around the stroke is farthest from those kept",
                   "docs": "docs/gestures.md"},
         "gestures": [
             {"name": e.name, "description": e.description, "parts": list(e.parts), "triggers": list(e.triggers),
              "duration": round(e.duration, 4), "stroke": round(e.stroke_time, 4), "styles": list(e.styles),
              "rule": _spec_rule(e.name),
-             "variants": [{"style": v.style, "clip": _clip_key(e.name, v.style), "frames": v.num_frames,
+             "variants": [{"style": v.style, "take": v.take, "clip": _clip_key(e.name, v), "frames": v.num_frames,
                            "duration": round(v.duration, 4), "stroke_frame": v.stroke_frame,
                            "stroke": round(v.stroke_time, 4), "hand": v.hand, "source": v.source,
                            "source_start": v.source_start,
@@ -456,7 +497,7 @@ def save_lexicon(lexicon: Lexicon, folder: Path) -> tuple[Path, Path]:
     from gesturecast.files import atomic_file, write_text_atomic
 
     folder = Path(folder)
-    arrays = {_clip_key(e.name, v.style): np.ascontiguousarray(v.features, dtype=np.float16)
+    arrays = {_clip_key(e.name, v): np.ascontiguousarray(v.features, dtype=np.float16)
               for e in lexicon.entries.values() for v in e.variants}
     with atomic_file(folder / CLIPS_FILE, binary=True) as handle:
         np.savez_compressed(handle, **arrays)

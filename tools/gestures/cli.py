@@ -34,6 +34,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                        help="read at most N takes per gesture and style (default: all; a quick build: 3)")
     build.add_argument("--styles", type=int, default=None, metavar="N",
                        help="keep at most N styles per gesture (default 5)")
+    build.add_argument("--takes", type=int, default=None, metavar="N",
+                       help="keep at most N takes per gesture and style (default 3)")
     build.set_defaults(func=run_build)
     listing = commands.add_parser("list", help="print a lexicon: name, parts, duration, stroke, styles, triggers")
     listing.add_argument("--lexicon", type=Path, default=None, metavar="DIR",
@@ -64,6 +66,7 @@ def run_build(args: argparse.Namespace) -> int:
 
     _positive(args.per_style, "--per-style")
     _positive(args.styles, "--styles")
+    _positive(args.takes, "--takes")
     shared = DEFAULT_SHARED if args.shared is None else args.shared
     bandai = shared / "bandai"
     if not bandai.is_dir():
@@ -82,7 +85,7 @@ def run_build(args: argparse.Namespace) -> int:
 
     lexicon = lexicon_module.build_lexicon(
         candidates, read, progress=lambda items: tqdm(items, desc="gesture takes", unit="take"),
-        max_variants=args.styles or lexicon_module.MAX_VARIANTS)
+        max_variants=args.styles or lexicon_module.MAX_VARIANTS, max_takes=args.takes or lexicon_module.MAX_TAKES)
     missing = [name for name in lexicon_module.GESTURE_NAMES if name not in lexicon]
     if missing:
         raise UserError(f"no usable take (starting and ending with the arms down) for: {', '.join(missing)}")

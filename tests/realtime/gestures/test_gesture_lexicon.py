@@ -18,7 +18,7 @@ from gesturecast.realtime.gestures import lexicon as gl
 from gesturecast.realtime.gestures.strokes import body_frame_positions, pose_distance, stroke_frame
 from gesturecast.tools.gestures import build
 
-SHIPPED_MAX_BYTES = 2_000_000
+SHIPPED_MAX_BYTES = 3_000_000
 FPS = 30
 
 
@@ -58,6 +58,17 @@ def test_the_shipped_triggers_name_the_gestures(shipped):
     assert {word: triggers.get(word) for word in expected} == expected
 
 
+def test_a_style_holds_up_to_three_distinct_takes_where_the_data_has_several(shipped):
+    for entry in shipped:
+        for style in entry.styles:
+            takes = entry.takes(style)
+            assert 1 <= len(takes) <= build.MAX_TAKES and [t.take for t in takes] == list(range(len(takes)))
+            assert takes[0] is entry.variant(style) and len({t.source for t in takes}) == len(takes)
+    for name in ("wave", "wave-left", "wave-right", "raise-both", "raise-left", "raise-right"):  # dataset 2
+        assert all(len(shipped[name].takes(style)) == 3 for style in shipped[name].styles), name
+    assert len(shipped["call"].takes("neutral")) == 2 and len(shipped["bow"].takes("neutral")) == 1  # dataset 1
+
+
 def test_a_variant_is_found_by_any_spelling_of_its_style_else_neutral(shipped):
     wave = shipped["wave"]
     assert wave.variant("elderly").style == "old" and wave.variant("Exhausted").style == "tired"
@@ -91,6 +102,7 @@ def test_a_user_folder_is_read_with_the_same_retargeting(user_clip):
         "wave-again": {"clip": "my_wave.bvh", "triggers": "yo", "style": "happy"}}))
     entry = lexicon["hiya"]
     assert entry.parts == ("arms", "torso") and entry.triggers == ("hiya", "howdy") and entry.styles == ("neutral",)
+    assert entry.takes("neutral") == (entry.variant(),)  # one clip per gesture: one take
     variant = entry.variant()
     assert variant.stroke_frame == 15 and variant.features.shape == features.shape
     assert np.abs(variant.features[:, 4:] - features[:, 4:]).max() < 0.01  # rotations come back through the BVH

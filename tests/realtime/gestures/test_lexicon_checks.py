@@ -44,6 +44,8 @@ def edit_built(folder: Path, change) -> None:
     (lambda raw: raw["gestures"][0].update(variants=[]), "'variants' must be a non-empty list"),
     (lambda raw: raw["gestures"][0]["variants"][0].update(stroke_frame="x"), "whole 'stroke_frame'"),
     (lambda raw: raw.update(clips="../clips.npz"), "is not a file in"),
+    (lambda raw: raw["gestures"][0]["variants"][1].update(take=-1), "whole 'take'"),
+    (lambda raw: raw.update(format_version=1), "format_version 1 is not 2; rebuild it with `gesturecast gestures"),
 ])
 def test_bad_built_lexicon_fields_are_one_line(built, change, error):
     edit_built(built, change)

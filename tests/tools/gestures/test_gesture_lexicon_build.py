@@ -160,15 +160,18 @@ def test_a_small_build_keeps_resting_takes_and_reads_back_the_same(bandai, tmp_p
     assert lexicon["wave"].styles == ("neutral", "old") and lexicon["guide"].styles == ("neutral",)
     assert lexicon["bow"].styles == ("neutral",) and lexicon.metadata["skipped"] == ["bow/happy"]  # ends mid-bow
     assert lexicon["wave"].variant("old").source == "dataset-2_wave-both-hands_elderly_002"  # _001 starts mid-wave
+    assert [t.source for t in lexicon["wave"].takes("old")] == ["dataset-2_wave-both-hands_elderly_002"]
     lengths = {name: build.find_gesture(read(bandai[name].motion_path), build.gesture_spec("wave")).num_frames
                for name in names[:3]}
-    assert lengths[lexicon["wave"].variant().source] == sorted(lengths.values())[1]  # the median length
+    takes = lexicon["wave"].takes("neutral")
+    assert lengths[takes[0].source] == sorted(lengths.values())[1] and {t.source for t in takes} == set(names[:3])
+    assert [t.take for t in takes] == [0, 1, 2] and lexicon["wave"].variant() is takes[0]
     assert lexicon["bow"].parts == ("arms", "torso", "legs") and lexicon.triggers()["hello"] == "wave"
     build.save_lexicon(lexicon, tmp_path)
     again = gl.load_lexicon(tmp_path)
     for entry in lexicon:
-        for variant in entry.variants:
-            loaded = again[entry.name].variant(variant.style)
+        for variant, loaded in zip(entry.variants, again[entry.name].variants, strict=True):
+            assert (loaded.style, loaded.take) == (variant.style, variant.take)
             assert np.array_equal(loaded.features, variant.features) and loaded.features.dtype == np.float16
             assert (loaded.stroke_frame, loaded.source, loaded.removed) == (variant.stroke_frame, variant.source,
                                                                            variant.removed)
@@ -180,4 +183,32 @@ def test_the_shipped_clips_start_and_end_with_the_arms_down():
     for entry in gl.load_lexicon():
         for variant in entry.variants:
             body = body_frame_positions(features_to_motion(variant.features.astype(np.float64)))
-            assert build.at_rest(body, 0) and build.at_rest(body, -1), f"{entry.name}/{variant.style}"
+            assert build.at_rest(body, 0) and build.at_rest(body, -1), f"{entry.name}/{variant.style}/{variant.take}"
+
+
+def cuts(*takes: tuple[int, float]) -> list[tuple[build.CandidateTake, build.GestureCut]]:
+    """Takes named t0, t1, ... of (clip length in frames, sideways offset of every joint around the stroke, m)."""
+    return [(build.CandidateTake("wave", "neutral", f"t{i}", Path(f"t{i}.bvh")),
+             build.GestureCut(0, n, n // 2, "both", around_stroke=np.full((60, 13, 3), [x, 0.0, 0.0])))
+            for i, (n, x) in enumerate(takes)]
+
+
+def kept(*takes: tuple[int, float], count: int = build.MAX_TAKES) -> list[str]:
+    return [take.name for take, _ in build.spread_takes(cuts(*takes), count)]
+
+
+def test_the_kept_takes_are_the_median_then_the_typical_ones_that_look_most_different():
+    many = ((50, 0.0), (10, 1.0), (90, -1.0), (30, 0.10), (70, -0.08), (20, 0.5), (80, 0.3), (40, 0.02), (60, 0.05))
+    # by length t1 t5 t3 t7 t0 t8 t4 t6 t2: t0 the median, t3 to t4 the interquartile range; t1, t2 look most
+    # different but are the shortest and the longest
+    assert kept(*many) == ["t0", "t3", "t4"]  # t3 is 10 cm from t0; then t4, 8 cm from t0 (t8: 5 cm from both)
+    assert kept(*many, count=1) == ["t0"] and kept(*many, count=2) == ["t0", "t3"]
+    assert kept((40, 0.0), (20, 0.0), (30, 0.0)) == ["t2", "t1", "t0"]  # no more than three: all, ties the shorter
+    assert kept((40, 0.3), (20, 0.0)) == ["t1", "t0"] and kept((40, 0.0),) == ["t0"]
+
+
+def test_takes_compare_their_poses_around_the_stroke(bandai):
+    names = ["dataset-2_wave-both-hands_normal_002", "dataset-2_wave-both-hands_normal_003"]
+    first, second = (build.find_gesture(motion_of(bandai, name), build.gesture_spec("wave")) for name in names)
+    assert first.around_stroke.shape == (2 * 30, len(build.SPLICE_JOINTS), 3)
+    assert build.pose_difference(first, first) == 0.0 < build.pose_difference(first, second) < 0.2

@@ -86,6 +86,7 @@ def test_a_quick_build_writes_a_lexicon_without_torch(shared_data, tmp_path):
 @pytest.mark.parametrize(("argv", "expected"), [
     (["gestures", "build", "--shared", "{tmp}", "--out", "{tmp}/out"], "no bandai/ folder"),
     (["gestures", "build", "--shared", "{tmp}", "--per-style", "0"], "--per-style must be at least 1"),
+    (["gestures", "build", "--shared", "{tmp}", "--takes", "0"], "--takes must be at least 1"),
     (["gestures", "list", "--lexicon", "{tmp}"], "holds neither lexicon.json"),
 ])
 def test_bad_input_is_one_line(argv, expected, tmp_path, capsys):
