@@ -39,6 +39,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                              "--latency setting (default: the preset's)")
     parser.add_argument("--speaker-norm", action=argparse.BooleanOptionalAction, default=None,
                         help="listen to speaker-normalised log-mel / energy (docs/voices.md; default: the preset's)")
+    parser.add_argument("--warm-start", action=argparse.BooleanOptionalAction, default=None,
+                        help="with --speaker-norm: the voice's mean starts from the speech heard so far, not a fixed "
+                             "prior (docs/unseen-voices.md; default: the preset's)")
     parser.add_argument("--front-end", choices=("mel", "prosody"), default=None,
                         help="speech features: log-mel or prosody (default: the preset's; docs/voices.md)")
     parser.add_argument("--speech-embedding", action=argparse.BooleanOptionalAction, default=None,
@@ -79,7 +82,7 @@ def run_train(args: argparse.Namespace) -> int:
 
     preset = get_preset(args.preset, seed=args.seed, audio_lookahead=args.lookahead, threads=args.threads,
                         audio_augmentation=args.audio_augmentation, voice_copies=args.voice_copies,
-                        front_end=args.front_end, speaker_norm=args.speaker_norm,
+                        front_end=args.front_end, speaker_norm=args.speaker_norm, warm_start=args.warm_start,
                         speech_embedding=args.speech_embedding,
                         lookahead_truncation=args.lookahead_truncation, partial_takes=args.partial_takes,
                         style_loss_weight=args.style_loss_weight, style_swap_prob=args.style_swap,
@@ -89,7 +92,8 @@ def run_train(args: argparse.Namespace) -> int:
                         denoiser_steps=args.denoiser_steps, prompt_steps=args.prompt_steps)
     work_dir = args.work_dir or DEFAULT_WORK_ROOT / preset.name
     started = time.perf_counter()
-    features = FeatureConfig(speaker_norm=SpeakerNormConfig(enabled=preset.speaker_norm), kind=preset.front_end,
+    features = FeatureConfig(speaker_norm=SpeakerNormConfig(enabled=preset.speaker_norm, warm_start=preset.warm_start),
+                             kind=preset.front_end,
                              speech_embedding=preset.speech_embedding)
     checkpoint = run_training(preset, args.data, work_dir, resume=args.resume, progress=not args.no_progress,
                               feature_config=features, vq_from=args.vq_from)

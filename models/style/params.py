@@ -105,6 +105,11 @@ class StyleBook:
         write_fitted(path, data)
 
     @staticmethod
+    def labels_in(path: Path) -> frozenset[str]:
+        """The labels a style-parameter file gives."""
+        return frozenset(StyleBook.load(path).styles)
+
+    @staticmethod
     def load(path: Path) -> StyleBook:
         data = read_fitted(path, "style-parameter file", FORMAT, "joints", STYLED_JOINTS)
         styles = {name: StyleParams(np.asarray(rows, dtype=np.float64)) for name, rows in data["styles"].items()}

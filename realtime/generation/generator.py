@@ -43,6 +43,7 @@ from gesturecast.models.generator.diffusion import (
     sampling_plan,
 )
 from gesturecast.models.generator.style_prompt import PartStyles, StylePrompt
+from gesturecast.models.generator.styles import canonical_style
 from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.models.runtime.denoiser_runtime import FrameInputs, roll_cache
 from gesturecast.models.runtime.ort_session import DEFAULT_THREADS
@@ -75,9 +76,12 @@ class GeneratorSettings:
     lookahead: int | None = None  # δ: audio look-ahead frames heard (None = the model's δa; docs/latency.md)
     part_styles: PartStyles = ()  # (body part, prompt) pairs; parts not named follow ``style``
     style_strength: float = DEFAULT_STYLE_STRENGTH  # k: the sampler's guidance is k·s (0: the null style's motion)
-    # the style the denoiser hears whatever style is asked, with guidance s (k then drives only the stylizer after the
-    # generator, realtime/pose/stylizer.py; docs/stylizer.md); None: the style asked, at k·s
+    # the style the denoiser hears for the styles the stylizer after it gives (realtime/pose/stylizer.py;
+    # docs/stylizer.md), with guidance s; None: every style asked, at k·s
     generator_style: StylePrompt | None = None
+    # the labels the stylizer gives; any other label (the paired speech takes' styles: speech, flirty …) the denoiser
+    # hears as asked, at k·s when it is the main style
+    stylizer_labels: frozenset[str] = frozenset()
 
 
 @dataclass(frozen=True)
@@ -148,16 +152,24 @@ class Generator:
 
     @property
     def guidance(self) -> float:
-        """The sampler's classifier-free guidance scale: style strength k times s (s with a fixed generator style)."""
-        if self.settings.generator_style is not None:
+        """The sampler's classifier-free guidance scale: style strength k times s (s when the stylizer gives the
+        main style)."""
+        if not self.hears_as_asked(self.settings.style):
             return self.base_guidance
         return self.settings.style_strength * self.base_guidance
+
+    def hears_as_asked(self, prompt: StylePrompt) -> bool:
+        """Whether the denoiser hears this style itself: always without a generator style, else for a label the
+        stylizer does not give."""
+        if self.settings.generator_style is None:
+            return True
+        return prompt.kind == "label" and canonical_style(prompt.value) not in self.settings.stylizer_labels
 
     def _heard(self, prompt: StylePrompt) -> np.ndarray:
         """(S,) the embedding the denoiser hears for a style asked: its own, or the fixed generator style's (the style
         asked is embedded either way, so one the model cannot use is refused here)."""
         own = self.styles.embed(prompt)
-        return own if self.settings.generator_style is None else self.styles.embed(self.settings.generator_style)
+        return own if self.hears_as_asked(prompt) else self.styles.embed(self.settings.generator_style)
 
     @property
     def style_embedding(self) -> np.ndarray:

@@ -7,10 +7,14 @@ silence. The legs and hips are never touched.
 
 Every way to give a style reaches it:
 
-- a label of the fitted book (``neutral``, ``happy``, ``old`` …) takes its fitted parameters (``neutral``: none);
-- any other prompt (a label only the generator knows, free text, a motion clip) is placed in the style space the
-  generator's style resolver embeds it in, and takes the book's styles weighted by a softmax (temperature
-  :data:`SIMILARITY_TEMPERATURE`) of its cosine similarity to each book label's embedding;
+- a label of the fitted book (``neutral``, ``happy``, ``old`` …, or a synonym) takes its fitted parameters
+  (``neutral``: none);
+- a label only the generator knows (the paired speech takes' styles: ``speech``, ``flirty``, ``sarcastic`` …) is
+  left to the generator, which learned it with speech and hears it itself (``GeneratorSettings.stylizer_labels``):
+  no change here;
+- any other prompt (free text, a motion clip) is placed in the style space the generator's style resolver embeds it
+  in, and takes the book's styles weighted by a softmax (temperature :data:`SIMILARITY_TEMPERATURE`) of its cosine
+  similarity to each book label's embedding;
 - a γ mix of two styles mixes their parameters the same way (γ·P₁ + (1 − γ)·P₂, γ > 1 extrapolates);
 - per-part styles give each body part's joints the parameters of its own prompt;
 - the strength k (``style_strength``, 0..2) scales the change; at k = 0 the frames leave bit for bit as they came.
@@ -28,6 +32,7 @@ from pathlib import Path
 import numpy as np
 
 from gesturecast.models.generator.style_prompt import PartStyles, StylePrompt
+from gesturecast.models.generator.styles import canonical_style
 from gesturecast.models.style.params import (
     StyleBook,
     StyleFilter,
@@ -67,8 +72,10 @@ class StyleCodes:
         return scores / scores.sum()
 
     def _resolve(self, prompt: StylePrompt) -> StyleParams:
-        if prompt.kind == "label" and self.book.get(prompt.value) is not None:
-            return self.book.get(prompt.value)
+        if prompt.kind == "label":
+            self._embed(prompt)  # refuses a label the generator does not know
+            fitted = self.book.get(canonical_style(prompt.value))
+            return StyleParams.identity() if fitted is None else fitted
         weights = self.weights(prompt)
         return mix([self.book.styles[label] for label in self.book.labels], weights.tolist())
 

@@ -27,6 +27,7 @@ from gesturecast.models.generator.diffusion import SamplerConfig
 from gesturecast.models.motion.root_anchor import RootMode
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
 from gesturecast.models.runtime.bundle import ModelBundle
+from gesturecast.models.style.params import DEFAULT_STYLE_PARAMS, StyleBook
 from gesturecast.realtime.generation.generator import NEUTRAL_STYLE, Generator, GeneratorSettings
 from gesturecast.realtime.gestures.clips import ClipMotion, encode_clips, performances
 from gesturecast.realtime.gestures.lexicon import (
@@ -86,6 +87,7 @@ def generator_settings(settings: Settings, bundle: ModelBundle, budget: LatencyB
         lookahead=budget.lookahead_frames,
         part_styles=settings.part_styles,
         generator_style=NEUTRAL_STYLE,  # the stylizer after the generator gives the style (docs/stylizer.md)
+        stylizer_labels=StyleBook.labels_in(DEFAULT_STYLE_PARAMS),
     )
 
 

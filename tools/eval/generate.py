@@ -21,6 +21,7 @@ from gesturecast.models.generator.diffusion import SamplerConfig
 from gesturecast.models.generator.style_prompt import PartStyles, StylePrompt
 from gesturecast.models.motion.skeleton import NUM_JOINTS
 from gesturecast.models.runtime.bundle import ModelBundle
+from gesturecast.models.style.params import DEFAULT_STYLE_PARAMS, StyleBook
 from gesturecast.realtime.audio.sources import FastFileSource, PacedFileSource
 from gesturecast.realtime.engine_cli import frames_to_motion
 from gesturecast.realtime.generation.generator import NEUTRAL_STYLE, Generator, GeneratorSettings
@@ -58,7 +59,8 @@ def _session(bundle: ModelBundle, sampler: SamplerConfig, style: str | StyleProm
     prompt = style if isinstance(style, StylePrompt) else StylePrompt("label", style)
     settings = GeneratorSettings(sampler=sampler, style=prompt, seed=seed, threads=1,
                                  audio_guidance=audio_guidance, lookahead=lookahead, guidance=guidance,
-                                 part_styles=part_styles, generator_style=NEUTRAL_STYLE if stylize else None)
+                                 part_styles=part_styles, generator_style=NEUTRAL_STYLE if stylize else None,
+                                 stylizer_labels=StyleBook.labels_in(DEFAULT_STYLE_PARAMS) if stylize else frozenset())
     generator = Generator(bundle, settings)
     budget = LatencyBudget(bundle.frames_per_latent, generator.lookahead, LATENCY_MARGIN_MS,
                            smoothing_frames=DEFAULT_SMOOTHING_FRAMES)

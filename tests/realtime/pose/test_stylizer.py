@@ -117,14 +117,35 @@ def codes(bundle):
     return StyleCodes(StyleBook.load(DEFAULT_STYLE_PARAMS), generator.styles.embed)
 
 
-def test_free_text_and_labels_the_book_lacks_take_the_nearest_styles(codes):
+def test_free_text_takes_the_nearest_styles_and_labels_the_book_lacks_are_left_to_the_generator(codes):
     labels = codes.book.labels
     assert labels[int(np.argmax(codes.weights(StylePrompt("text", "exhausted"))))] == "tired"
     assert labels[int(np.argmax(codes.weights(StylePrompt("text", "an elderly man"))))] == "old"
-    weights = codes.weights(StylePrompt("label", "laughing"))
-    np.testing.assert_allclose(codes.params(StylePrompt("label", "laughing")).values,
-                               sum(w * codes.book.styles[label].values
-                                   for w, label in zip(weights, labels, strict=True)))
+    text = StylePrompt("text", "furious")
+    np.testing.assert_allclose(codes.params(text).values, sum(w * codes.book.styles[label].values
+                                                              for w, label in zip(codes.weights(text), labels,
+                                                                                  strict=True)))
+    assert codes.params(StylePrompt("label", "laughing")).is_identity  # a paired speech style: the generator's
+    np.testing.assert_array_equal(codes.params(StylePrompt("label", "elderly")).values, codes.book.styles["old"].values)
+    with pytest.raises(UserError, match="unknown style 'grumpy'"):
+        codes.params(StylePrompt("label", "grumpy"))
+
+
+def test_the_generator_hears_its_own_speech_styles_and_neutral_for_the_stylizers(bundle):
+    """build_session: a label the stylizer gives is heard as neutral at s; a paired speech style (speech, flirty),
+    which only the generator learned, is heard as asked, at k·s."""
+    from gesturecast.realtime.run.engine_setup import build_session
+    from gesturecast.realtime.timing.clock import MonotonicClock
+    from gesturecast.settings import Settings
+
+    sessions = {style: build_session(Settings(style=style, style_strength=1.5), MonotonicClock())
+                for style in ("neutral", "old", "speech", "flirty")}
+    heard = {style: session.generator.style_embedding for style, session in sessions.items()}
+    np.testing.assert_array_equal(heard["old"], heard["neutral"])
+    for style in ("speech", "flirty"):
+        np.testing.assert_array_equal(heard[style], bundle.styles.embedding(style))
+        assert sessions[style].generator.guidance == pytest.approx(1.5 * bundle.default_guidance)
+    assert sessions["old"].generator.guidance == pytest.approx(bundle.default_guidance)
 
 
 def test_mixes_parts_and_strength_combine_the_fitted_styles(bundle, codes):
