@@ -41,7 +41,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="listen to speaker-normalised log-mel / energy (docs/voices.md; default: the preset's)")
     parser.add_argument("--warm-start", action=argparse.BooleanOptionalAction, default=None,
                         help="with --speaker-norm: the voice's mean starts from the speech heard so far, not a fixed "
-                             "prior (docs/unseen-voices.md; default: the preset's)")
+                             "prior (docs/unseen-voices-study.md; default: the preset's)")
     parser.add_argument("--front-end", choices=("mel", "prosody"), default=None,
                         help="speech features: log-mel or prosody (default: the preset's; docs/voices.md)")
     parser.add_argument("--speech-embedding", action=argparse.BooleanOptionalAction, default=None,

@@ -105,9 +105,9 @@ class StyleBook:
         write_fitted(path, data)
 
     @staticmethod
-    def labels_in(path: Path) -> frozenset[str]:
-        """The labels a style-parameter file gives."""
-        return frozenset(StyleBook.load(path).styles)
+    def labels_left(path: Path, labels: tuple[str, ...]) -> frozenset[str]:
+        """Those of ``labels`` that the style-parameter file does not give."""
+        return frozenset(labels) - set(StyleBook.load(path).styles)
 
     @staticmethod
     def load(path: Path) -> StyleBook:

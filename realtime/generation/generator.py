@@ -79,9 +79,9 @@ class GeneratorSettings:
     # the style the denoiser hears for the styles the stylizer after it gives (realtime/pose/stylizer.py;
     # docs/stylizer.md), with guidance s; None: every style asked, at k·s
     generator_style: StylePrompt | None = None
-    # the labels the stylizer gives; any other label (the paired speech takes' styles: speech, flirty …) the denoiser
-    # hears as asked, at k·s when it is the main style
-    stylizer_labels: frozenset[str] = frozenset()
+    # labels the denoiser hears as asked even so, at k·s when one is the main style: the paired speech takes' styles
+    # (speech, flirty …), which the stylizer does not give
+    own_labels: frozenset[str] = frozenset()
 
 
 @dataclass(frozen=True)
@@ -159,11 +159,11 @@ class Generator:
         return self.settings.style_strength * self.base_guidance
 
     def hears_as_asked(self, prompt: StylePrompt) -> bool:
-        """Whether the denoiser hears this style itself: always without a generator style, else for a label the
-        stylizer does not give."""
+        """Whether the denoiser hears this style itself: always without a generator style, else for one of its
+        own labels."""
         if self.settings.generator_style is None:
             return True
-        return prompt.kind == "label" and canonical_style(prompt.value) not in self.settings.stylizer_labels
+        return prompt.kind == "label" and canonical_style(prompt.value) in self.settings.own_labels
 
     def _heard(self, prompt: StylePrompt) -> np.ndarray:
         """(S,) the embedding the denoiser hears for a style asked: its own, or the fixed generator style's (the style

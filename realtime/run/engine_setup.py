@@ -87,7 +87,7 @@ def generator_settings(settings: Settings, bundle: ModelBundle, budget: LatencyB
         lookahead=budget.lookahead_frames,
         part_styles=settings.part_styles,
         generator_style=NEUTRAL_STYLE,  # the stylizer after the generator gives the style (docs/stylizer.md)
-        stylizer_labels=StyleBook.labels_in(DEFAULT_STYLE_PARAMS),
+        own_labels=StyleBook.labels_left(DEFAULT_STYLE_PARAMS, bundle.styles.labels),
     )
 
 

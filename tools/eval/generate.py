@@ -60,7 +60,7 @@ def _session(bundle: ModelBundle, sampler: SamplerConfig, style: str | StyleProm
     settings = GeneratorSettings(sampler=sampler, style=prompt, seed=seed, threads=1,
                                  audio_guidance=audio_guidance, lookahead=lookahead, guidance=guidance,
                                  part_styles=part_styles, generator_style=NEUTRAL_STYLE if stylize else None,
-                                 stylizer_labels=StyleBook.labels_in(DEFAULT_STYLE_PARAMS) if stylize else frozenset())
+                                 own_labels=StyleBook.labels_left(DEFAULT_STYLE_PARAMS, bundle.styles.labels))
     generator = Generator(bundle, settings)
     budget = LatencyBudget(bundle.frames_per_latent, generator.lookahead, LATENCY_MARGIN_MS,
                            smoothing_frames=DEFAULT_SMOOTHING_FRAMES)
