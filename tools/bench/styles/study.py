@@ -161,7 +161,8 @@ def study_report(model: Path, cache: Path, config: StudyConfig, prompt_dir: Path
 def run_bench(args: argparse.Namespace) -> int:
     config = study_config(args)
     seconds = args.stylizer_seconds or (QUICK_STYLIZER_S if args.quick else STYLIZER_S)
-    stylizer = stylizer_report(load_bundle(args.model), args.data, seconds, tuple(args.seeds or (0, 1)), args.grid)
+    stylizer = stylizer_report(load_bundle(args.model), args.data, seconds, tuple(args.seeds or (0, 1)), args.grid,
+                               voices=not args.quick)
     if args.stylizer_only:
         return _print_report({"model": str(args.model), "stylizer": stylizer}, args)
     if args.prompt_dir is not None:

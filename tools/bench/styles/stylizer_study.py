@@ -19,6 +19,9 @@ stylizer existed). Per variant:
 - ``face``: per style, the expression weight's correlation with speech energy (dB, per frame), its standard
   deviation over time, and blinks per minute.
 
+``judge_voices`` (:mod:`.judge_voices`; left out with ``--quick``): the judge on the held-out voices of ``bench
+voices`` as well, per group and pooled.
+
 ``--grid OUT.png`` draws the styled clips of the first seed, a row per style, at :data:`GRID_TIMES` (front and side
 of each frame), and ``OUT_generator.png`` the same without the stylizer.
 
@@ -50,6 +53,7 @@ from gesturecast.models.style.judge import JUDGED_STYLES, StyleJudge
 from gesturecast.models.style.params import DEFAULT_STYLE_PARAMS
 from gesturecast.realtime.pose.face import BLINK_SHAPES
 from gesturecast.realtime.pose.stylizer import Stylizer
+from gesturecast.tools.bench.styles.judge_voices import accuracy, judge_on_voices, judged_windows, scores
 from gesturecast.tools.eval.clips import EvalClip
 from gesturecast.tools.eval.generate import Generated, generate_offline
 
@@ -93,23 +97,13 @@ def fk_section(clips: Clips, seeds: tuple[int, ...]) -> dict:
 
 
 def judge_section(clips: Clips, seeds: tuple[int, ...], judge: StyleJudge) -> dict:
-    hits: dict[str, list[bool]] = {style: [] for style in JUDGED_STYLES}
-    for seed in seeds:
-        sets = [(clips[(style, seed)].rotations, clips[(style, seed)].positions[:, 0]) for style in JUDGED_STYLES]
-        for style, labels in zip(JUDGED_STYLES, judge.judge_set(sets, MOTION_FPS), strict=True):
-            hits[style].extend(label == style for label in labels)
-    return _accuracy({style: float(np.mean(values)) for style, values in hits.items()})
+    return accuracy(judged_windows(clips, seeds, judge))
 
 
 def classifier_section(clips: Clips, seeds: tuple[int, ...], classifier: StyleClassifier) -> dict:
     per_style = {style: float(np.mean([classifier.accuracy([clips[(style, seed)].positions], style)
                                        for seed in seeds])) for style in JUDGED_STYLES}
-    return {**_accuracy(per_style), "labels": len(classifier.labels)}
-
-
-def _accuracy(per_style: dict[str, float]) -> dict:
-    return {"per_style": _rounded(per_style), "mean": round(float(np.mean(list(per_style.values()))), 3),
-            "min": round(min(per_style.values()), 3)}
+    return {**scores(per_style), "labels": len(classifier.labels)}
 
 
 def following_section(clips: Clips, seeds: tuple[int, ...], audio: np.ndarray) -> dict:
@@ -187,8 +181,9 @@ def style_grid(clips: Clips, seed: int, out_path: Path) -> Path:
 
 
 def stylizer_report(bundle: ModelBundle, data: Path, seconds: float, seeds: tuple[int, ...],
-                    grid: Path | None = None) -> dict:
-    """The whole section (module docstring)."""
+                    grid: Path | None = None, voices: bool = True) -> dict:
+    """The whole section (module docstring); ``voices``: also the judge on the held-out voices
+    (:mod:`.judge_voices`)."""
     clip = held_out_speech(data, seconds)
     judge, classifier, real = StyleJudge.load(DEFAULT_JUDGE), StyleClassifier.load(), real_jerk(data)
     report = {"speech": {"clip": clip.name, "seconds": round(clip.seconds, 2), "seeds": list(seeds)},
@@ -202,6 +197,9 @@ def stylizer_report(bundle: ModelBundle, data: Path, seconds: float, seeds: tupl
                            "classifier": classifier_section(clips, seeds, classifier),
                            "following": following_section(clips, seeds, clip.audio),
                            "jerk": jerk_section(clips, seeds, real)}
+    if voices:
+        report["judge_voices"] = judge_on_voices(bundle, data, seeds, judge, lambda *a: _generate(*a, stylize=True),
+                                                 judged_windows(clips, seeds, judge))
     report["face"] = face_section(clips, seeds, clip.audio)
     report["cost"] = stylizer_cost(bundle, clips[("angry", seeds[0])], "angry")
     return report
