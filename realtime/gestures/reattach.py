@@ -1,0 +1,70 @@
+"""A gesture's imposed joints kept in the body's frame when the joints they hang from are generated.
+
+A clip imposes the local rotations of the parts it moves; the parts above them stay generated. When the generated
+parent leans another way than the recorded one, the same local rotations point the imposed limbs elsewhere:
+
+- an arms-only clip (a wave, a cheer) on a generated chest: a wave's hands came out 8 cm lower than recorded and
+  crept up instead of arriving;
+- a clip of the arms and torso (a guide) on generated hips: the generator's hips lean about 28° further back than
+  the proud guide take's, so the whole upper body leaned back, the arm came out 23 cm higher against the shoulder
+  than recorded and reached its held-out pose 200 to 270 ms before the clip's stroke.
+
+So the first imposed joint of each chain (a :data:`ROOTS` joint whose parents are generated) is re-attached: the
+clip's rotation of it in the body frame (hips, facing removed, through the joints above it) is kept, and its local
+rotation recomputed under the generated parents, ``local = parents_generated⁻¹ · parents_clip · local_clip``. The
+joints below it keep the clip's local rotations. A clip that imposes the hips too (a bow) keeps its own.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from gesturecast.models.motion.body_parts import joint_columns
+from gesturecast.models.motion.motion_features import FEATURE_DIM, ROOT_DIM, ROTATION_6D_DIM
+from gesturecast.models.motion.rotations import quat_conj, quat_from_6d, quat_mul, quat_to_6d
+
+CHAIN = ("Spine", "Chest", "UpperChest")  # under the shoulders, after the hips
+HIPS_COLUMNS = np.arange(ROOT_DIM, ROOT_DIM + ROTATION_6D_DIM)  # the hips' rotation, facing removed
+ROOTS = {"Spine": (), "LeftShoulder": CHAIN, "RightShoulder": CHAIN}  # joint -> the joints between it and the hips
+
+
+def parent_rotation(features: np.ndarray, above: tuple[str, ...] = CHAIN) -> np.ndarray:
+    """(n, D) motion features → (n, 4) the rotation in the body frame of the last of ``above`` (the hips and the
+    joints ``above`` composed; the hips alone when ``above`` is empty)."""
+    rotation = quat_from_6d(features[:, HIPS_COLUMNS].astype(np.float64))  # (n, 4)
+    for joint in above:
+        rotation = quat_mul(rotation, quat_from_6d(features[:, joint_columns(joint)].astype(np.float64)))
+    return rotation
+
+
+def body_frame_roots(features: np.ndarray, columns: np.ndarray) -> list[tuple[list[int], tuple[str, ...], np.ndarray]]:
+    """The chains' first joints a clip imposes (its ``columns``) under generated parents, each as (its feature
+    columns, the joints between it and the hips, (n, 4) its rotation in the body frame) from the clip's (n, D)
+    ``features``; [] when the clip imposes the hips too, or its features are not the canonical layout."""
+    if columns.shape[0] != FEATURE_DIM or columns[HIPS_COLUMNS].any():
+        return []
+    found = []
+    for joint, above in ROOTS.items():
+        cols = joint_columns(joint)
+        if columns[cols].all() and not any(columns[joint_columns(parent)].any() for parent in above):
+            local = quat_from_6d(features[:, cols].astype(np.float64))  # (n, 4)
+            found.append((cols, above, quat_mul(parent_rotation(features, above), local)))
+    return found
+
+
+def root_local(parents: np.ndarray, above: tuple[str, ...], body_frame: np.ndarray) -> np.ndarray:
+    """(d, 6) a root's local rotation (6D) under the joints ``above`` of the (d, D) ``parents`` features, so that
+    its rotation in the body frame is ``body_frame`` (d, 4)."""
+    return quat_to_6d(quat_mul(quat_conj(parent_rotation(parents, above)), body_frame))
+
+
+def reattach(features: np.ndarray, target: np.ndarray, weights: np.ndarray,
+             roots: list[tuple[list[int], tuple[str, ...], np.ndarray]]) -> np.ndarray:
+    """(d, D) decoded ``features`` blended toward the (d, D) ``target`` by the (d, D) ``weights``, each root's
+    target recomputed under its parents as blended (generated, or another clip's: a bow's torso under a wave's
+    arms), the spine before the shoulders, so that its body-frame rotation is the clip's."""
+    blended = features + weights * (target - features)
+    for cols, above, body_frame in sorted(roots, key=lambda root: len(root[1])):
+        local = root_local(blended, above, body_frame)  # (d, 6)
+        blended[:, cols] = features[:, cols] + weights[:, cols] * (local - features[:, cols])
+    return blended
