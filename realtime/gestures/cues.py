@@ -47,7 +47,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from gesturecast.errors import UserError
-from gesturecast.realtime.gestures.reattach import body_frame_roots, reattach
+from gesturecast.realtime.gestures.reattach import body_frame_roots, placed_roots, reattach
 
 logger = logging.getLogger(__name__)
 
@@ -204,7 +204,7 @@ class Imposition:
     pose: np.ndarray
     pose_weights: np.ndarray
     names: str
-    roots: list = field(default_factory=list)  # (columns, joints above, (d, 4) body-frame rotation): reattach
+    roots: list = field(default_factory=list)  # PlacedRoot of each playing clip's re-attached joints (reattach)
 
     @classmethod
     def of(cls, placements: list[Placement], latent: int) -> Imposition:
@@ -224,13 +224,11 @@ class Imposition:
             pose_weights[:, c.columns] += frame_w
         target /= np.maximum(weights, 1e-6)
         pose /= np.maximum(pose_weights, 1e-6)
-        roots = {}  # per re-attached joint, the strongest clip's (the earlier one at equal weights)
-        for placement in sorted(reversed(placements), key=lambda p: p.weight(latent)):
-            k = latent - placement.first
-            for cols, above, rotations in placement.clip.roots:
-                roots[cols[0]] = (cols, above, rotations[k * d:(k + 1) * d])
+        roots = [root for p in placements for root in placed_roots(
+            p.clip.roots, p.clip.features, slice((latent - p.first) * d, (latent - p.first + 1) * d),
+            p.frame_weights(latent)[:, None], pose_weights)]
         return cls(target, np.minimum(weights, 1.0), pose, np.minimum(pose_weights, 1.0),
-                   "+".join(dict.fromkeys(p.cue.gesture for p in placements)), list(roots.values()))
+                   "+".join(dict.fromkeys(p.cue.gesture for p in placements)), roots)
 
     def blend(self, features: np.ndarray) -> np.ndarray:
         """(d, D) decoded features pulled toward the clips' joint rotations, the first imposed joint of each chain

@@ -11,11 +11,15 @@ parent leans another way than the recorded one, the same local rotations point t
 
 So the first imposed joint of each chain (a :data:`ROOTS` joint whose parents are generated) is re-attached: the
 clip's rotation of it in the body frame (hips, facing removed, through the joints above it) is kept, and its local
-rotation recomputed under the generated parents, ``local = parents_generated⁻¹ · parents_clip · local_clip``. The
-joints below it keep the clip's local rotations. A clip that imposes the hips too (a bow) keeps its own.
+rotation recomputed under the parents as blended (generated, or another playing clip's), ``local = parents⁻¹ ·
+parents_clip · local_clip``, in proportion to the clip's share of the pose target (two clips cross-fading hand the
+joint over smoothly). The joints below it keep the clip's local rotations. A clip that imposes the hips too (a bow)
+keeps its own.
 """
 
 from __future__ import annotations
+
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -52,19 +56,41 @@ def body_frame_roots(features: np.ndarray, columns: np.ndarray) -> list[tuple[li
     return found
 
 
+@dataclass(frozen=True)
+class PlacedRoot:
+    """One playing clip's re-attached joint over one latent's d frames: its feature columns, the joints between it
+    and the hips, its (d, 4) rotation in the body frame, its (d, 6) local rotation in the clip, and the clip's (d, 1)
+    share of the pose target on those columns (its weight over the summed weights of the clips imposing them)."""
+
+    columns: list[int]
+    above: tuple[str, ...]
+    body_frame: np.ndarray
+    local: np.ndarray
+    share: np.ndarray
+
+
+def placed_roots(roots: list[tuple[list[int], tuple[str, ...], np.ndarray]], features: np.ndarray, frames: slice,
+                 weight: np.ndarray, total: np.ndarray) -> list[PlacedRoot]:
+    """A clip's ``roots`` (:func:`body_frame_roots` of its (N·d, D) ``features``) over its ``frames``, its share of
+    the pose target being its (d, 1) ``weight`` over the (d, D) ``total`` of the playing clips' weights."""
+    return [PlacedRoot(cols, above, body_frame[frames], features[frames][:, cols],
+                       weight / np.maximum(total[:, cols[:1]], 1e-6)) for cols, above, body_frame in roots]
+
+
 def root_local(parents: np.ndarray, above: tuple[str, ...], body_frame: np.ndarray) -> np.ndarray:
     """(d, 6) a root's local rotation (6D) under the joints ``above`` of the (d, D) ``parents`` features, so that
     its rotation in the body frame is ``body_frame`` (d, 4)."""
     return quat_to_6d(quat_mul(quat_conj(parent_rotation(parents, above)), body_frame))
 
 
-def reattach(features: np.ndarray, target: np.ndarray, weights: np.ndarray,
-             roots: list[tuple[list[int], tuple[str, ...], np.ndarray]]) -> np.ndarray:
-    """(d, D) decoded ``features`` blended toward the (d, D) ``target`` by the (d, D) ``weights``, each root's
-    target recomputed under its parents as blended (generated, or another clip's: a bow's torso under a wave's
-    arms), the spine before the shoulders, so that its body-frame rotation is the clip's."""
+def reattach(features: np.ndarray, target: np.ndarray, weights: np.ndarray, roots: list[PlacedRoot]) -> np.ndarray:
+    """(d, D) decoded ``features`` blended toward the (d, D) ``target`` by the (d, D) ``weights``, each root's part
+    of the target (its clip's share) recomputed under its parents as blended (generated, or another clip's: a bow's
+    torso under a wave's arms), the spine before the shoulders, so that its body-frame rotation is the clip's."""
+    target = target.copy()
     blended = features + weights * (target - features)
-    for cols, above, body_frame in sorted(roots, key=lambda root: len(root[1])):
-        local = root_local(blended, above, body_frame)  # (d, 6)
-        blended[:, cols] = features[:, cols] + weights[:, cols] * (local - features[:, cols])
+    for root in sorted(roots, key=lambda root: len(root.above)):
+        cols = root.columns
+        target[:, cols] += root.share * (root_local(blended, root.above, root.body_frame) - root.local)
+        blended[:, cols] = features[:, cols] + weights[:, cols] * (target[:, cols] - features[:, cols])
     return blended

@@ -7,7 +7,7 @@ from gesturecast.models.motion.motion_features import FEATURE_DIM
 from gesturecast.models.motion.rotations import quat_from_6d, quat_from_axis_angle, quat_mul, quat_to_6d
 from gesturecast.realtime.gestures.clips import rotation_columns
 from gesturecast.realtime.gestures.cues import GestureClip, part_clip
-from gesturecast.realtime.gestures.reattach import CHAIN, body_frame_roots, parent_rotation, reattach
+from gesturecast.realtime.gestures.reattach import CHAIN, body_frame_roots, parent_rotation, placed_roots, reattach
 
 RAISED = quat_from_axis_angle(np.array([0.0, 0.0, 1.2]))  # a recorded arm raised
 LEAN = quat_from_axis_angle(np.array([0.4, 0.0, 0.0]))  # a generated joint leaning forward
@@ -38,12 +38,19 @@ def imposed(columns: np.ndarray, frames: int = 4) -> np.ndarray:
     return np.tile(columns.astype(np.float32), (frames, 1))
 
 
+def placed(clip: np.ndarray, columns: np.ndarray, share: float = 1.0) -> list:
+    """The roots of ``clip`` imposing ``columns``, over all its frames, with ``share`` of the pose target."""
+    frames = clip.shape[0]
+    return placed_roots(body_frame_roots(clip, columns), clip, slice(0, frames), np.full((frames, 1), share),
+                        np.ones_like(clip))
+
+
 def test_a_leaning_generated_chest_does_not_turn_the_recorded_shoulders():
     clip = features_with({"LeftShoulder": RAISED, "RightShoulder": RAISED})
     arms = rotation_columns(("arms",), FEATURE_DIM)
     roots = body_frame_roots(clip, arms)
     assert [above for _, above, _ in roots] == [CHAIN, CHAIN]
-    blended = reattach(features_with({"Chest": LEAN}), clip, imposed(arms), roots)
+    blended = reattach(features_with({"Chest": LEAN}), clip, imposed(arms), placed(clip, arms))
     assert same_rotation(body_frame(blended, "LeftShoulder", CHAIN), RAISED)
     assert body_frame_roots(clip, rotation_columns(("arms", "torso", "legs"), FEATURE_DIM)) == []  # a bow's hips
 
@@ -53,7 +60,7 @@ def test_an_arms_and_torso_clip_keeps_its_spine_upright_on_generated_hips():
     moved = rotation_columns(("arms", "torso"), FEATURE_DIM)
     roots = body_frame_roots(clip, moved)
     assert [above for _, above, _ in roots] == [()]  # the spine; the shoulders hang from the clip's own chest
-    blended = reattach(features_with({"Hips": LEAN}), clip, imposed(moved), roots)
+    blended = reattach(features_with({"Hips": LEAN}), clip, imposed(moved), placed(clip, moved))
     assert same_rotation(body_frame(blended, "Spine", ()), RAISED)
     assert same_rotation(body_frame(blended, "LeftShoulder", CHAIN), RAISED)  # the whole upper body as recorded
 
@@ -64,7 +71,7 @@ def test_shoulders_follow_another_clips_imposed_chest_not_the_generated_one():
     arms, torso = rotation_columns(("arms",), FEATURE_DIM), rotation_columns(("torso",), FEATURE_DIM)
     target = np.where(arms, wave, bow)
     generated = features_with({"Chest": quat_from_axis_angle(np.array([-0.3, 0.0, 0.0]))})
-    blended = reattach(generated, target, imposed(arms | torso), body_frame_roots(wave, arms))
+    blended = reattach(generated, target, imposed(arms | torso), placed(wave, arms))
     assert same_rotation(body_frame(blended, "LeftShoulder", CHAIN), RAISED)
 
 
@@ -75,3 +82,15 @@ def test_a_guide_without_its_torso_reattaches_its_shoulders():
                         tuple(body_frame_roots(features, moved)))
     arms_only = part_clip(guide, np.ones(4, bool), rotation_columns(("arms",), FEATURE_DIM))
     assert [above for _, above, _ in arms_only.roots] == [CHAIN, CHAIN]
+
+
+def test_a_clip_fading_out_hands_its_shoulders_over_in_proportion():
+    wave = features_with({"LeftShoulder": RAISED, "RightShoulder": RAISED})
+    arms = rotation_columns(("arms",), FEATURE_DIM)
+    generated = features_with({"Chest": LEAN})
+    gone = reattach(generated, wave, imposed(arms), placed(wave, arms, share=0.0))
+    assert np.allclose(gone, np.where(arms, wave, generated), atol=1e-6)  # no share: its local rotations
+    half = reattach(generated, wave, imposed(arms), placed(wave, arms, share=0.5))
+    full = reattach(generated, wave, imposed(arms), placed(wave, arms))
+    cols = joint_columns("LeftShoulder")
+    assert np.allclose(half[:, cols], (gone[:, cols] + full[:, cols]) / 2, atol=1e-6)
