@@ -77,20 +77,17 @@ def placed_roots(roots: list[tuple[list[int], tuple[str, ...], np.ndarray]], fea
                        weight / np.maximum(total[:, cols[:1]], 1e-6)) for cols, above, body_frame in roots]
 
 
-def root_local(parents: np.ndarray, above: tuple[str, ...], body_frame: np.ndarray) -> np.ndarray:
-    """(d, 6) a root's local rotation (6D) under the joints ``above`` of the (d, D) ``parents`` features, so that
-    its rotation in the body frame is ``body_frame`` (d, 4)."""
-    return quat_to_6d(quat_mul(quat_conj(parent_rotation(parents, above)), body_frame))
-
-
 def reattach(features: np.ndarray, target: np.ndarray, weights: np.ndarray, roots: list[PlacedRoot]) -> np.ndarray:
     """(d, D) decoded ``features`` blended toward the (d, D) ``target`` by the (d, D) ``weights``, each root's part
     of the target (its clip's share) recomputed under its parents as blended (generated, or another clip's: a bow's
-    torso under a wave's arms), the spine before the shoulders, so that its body-frame rotation is the clip's."""
+    torso under a wave's arms), the spine before the shoulders, so that its body-frame rotation is the clip's. Roots
+    under the same parents (both shoulders, two clips' shoulder) share one parent rotation."""
     target = target.copy()
     blended = features + weights * (target - features)
-    for root in sorted(roots, key=lambda root: len(root.above)):
-        cols = root.columns
-        target[:, cols] += root.share * (root_local(blended, root.above, root.body_frame) - root.local)
-        blended[:, cols] = features[:, cols] + weights[:, cols] * (target[:, cols] - features[:, cols])
+    for above in sorted({root.above for root in roots}, key=len):
+        inverse = quat_conj(parent_rotation(blended, above))  # (d, 4)
+        for root in (root for root in roots if root.above == above):
+            cols = root.columns
+            target[:, cols] += root.share * (quat_to_6d(quat_mul(inverse, root.body_frame)) - root.local)
+            blended[:, cols] = features[:, cols] + weights[:, cols] * (target[:, cols] - features[:, cols])
     return blended
