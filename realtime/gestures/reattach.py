@@ -25,25 +25,32 @@ import numpy as np
 
 from gesturecast.models.motion.body_parts import joint_columns
 from gesturecast.models.motion.motion_features import FEATURE_DIM, ROOT_DIM, ROTATION_6D_DIM
-from gesturecast.models.motion.rotations import quat_conj, quat_from_6d, quat_mul, quat_to_6d
 
 CHAIN = ("Spine", "Chest", "UpperChest")  # under the shoulders, after the hips
 HIPS_COLUMNS = np.arange(ROOT_DIM, ROOT_DIM + ROTATION_6D_DIM)  # the hips' rotation, facing removed
 ROOTS = {"Spine": (), "LeftShoulder": CHAIN, "RightShoulder": CHAIN}  # joint -> the joints between it and the hips
 
 
+def matrix_from_6d(six_d: np.ndarray) -> np.ndarray:
+    """(..., 6) 6D rotations → (..., 3, 3) rotation matrices (Gram-Schmidt of the two columns, as decoding does)."""
+    a = six_d[..., :3] / np.linalg.norm(six_d[..., :3], axis=-1, keepdims=True)
+    b = six_d[..., 3:] - np.sum(a * six_d[..., 3:], axis=-1, keepdims=True) * a
+    b = b / np.linalg.norm(b, axis=-1, keepdims=True)
+    return np.stack([a, b, np.cross(a, b)], axis=-1)
+
+
 def parent_rotation(features: np.ndarray, above: tuple[str, ...] = CHAIN) -> np.ndarray:
-    """(n, D) motion features → (n, 4) the rotation in the body frame of the last of ``above`` (the hips and the
+    """(n, D) motion features → (n, 3, 3) the rotation in the body frame of the last of ``above`` (the hips and the
     joints ``above`` composed; the hips alone when ``above`` is empty)."""
-    rotation = quat_from_6d(features[:, HIPS_COLUMNS].astype(np.float64))  # (n, 4)
+    rotation = matrix_from_6d(features[:, HIPS_COLUMNS].astype(np.float64))  # (n, 3, 3)
     for joint in above:
-        rotation = quat_mul(rotation, quat_from_6d(features[:, joint_columns(joint)].astype(np.float64)))
+        rotation = rotation @ matrix_from_6d(features[:, joint_columns(joint)].astype(np.float64))
     return rotation
 
 
 def body_frame_roots(features: np.ndarray, columns: np.ndarray) -> list[tuple[list[int], tuple[str, ...], np.ndarray]]:
     """The chains' first joints a clip imposes (its ``columns``) under generated parents, each as (its feature
-    columns, the joints between it and the hips, (n, 4) its rotation in the body frame) from the clip's (n, D)
+    columns, the joints between it and the hips, (n, 3, 3) its rotation in the body frame) from the clip's (n, D)
     ``features``; [] when the clip imposes the hips too, or its features are not the canonical layout."""
     if columns.shape[0] != FEATURE_DIM or columns[HIPS_COLUMNS].any():
         return []
@@ -51,16 +58,17 @@ def body_frame_roots(features: np.ndarray, columns: np.ndarray) -> list[tuple[li
     for joint, above in ROOTS.items():
         cols = joint_columns(joint)
         if columns[cols].all() and not any(columns[joint_columns(parent)].any() for parent in above):
-            local = quat_from_6d(features[:, cols].astype(np.float64))  # (n, 4)
-            found.append((cols, above, quat_mul(parent_rotation(features, above), local)))
+            local = matrix_from_6d(features[:, cols].astype(np.float64))  # (n, 3, 3)
+            found.append((cols, above, parent_rotation(features, above) @ local))
     return found
 
 
 @dataclass(frozen=True)
 class PlacedRoot:
     """One playing clip's re-attached joint over one latent's d frames: its feature columns, the joints between it
-    and the hips, its (d, 4) rotation in the body frame, its (d, 6) local rotation in the clip, and the clip's (d, 1)
-    share of the pose target on those columns (its weight over the summed weights of the clips imposing them)."""
+    and the hips, its (d, 3, 3) rotation in the body frame, its (d, 6) local rotation in the clip, and the clip's
+    (d, 1) share of the pose target on those columns (its weight over the summed weights of the clips imposing
+    them)."""
 
     columns: list[int]
     above: tuple[str, ...]
@@ -85,9 +93,9 @@ def reattach(features: np.ndarray, target: np.ndarray, weights: np.ndarray, root
     target = target.copy()
     blended = features + weights * (target - features)
     for above in sorted({root.above for root in roots}, key=len):
-        inverse = quat_conj(parent_rotation(blended, above))  # (d, 4)
+        inverse = np.swapaxes(parent_rotation(blended, above), -1, -2)  # (d, 3, 3)
         for root in (root for root in roots if root.above == above):
-            cols = root.columns
-            target[:, cols] += root.share * (quat_to_6d(quat_mul(inverse, root.body_frame)) - root.local)
+            cols, local = root.columns, inverse @ root.body_frame  # (d, 3, 3)
+            target[:, cols] += root.share * (np.concatenate([local[..., 0], local[..., 1]], axis=-1) - root.local)
             blended[:, cols] = features[:, cols] + weights[:, cols] * (target[:, cols] - features[:, cols])
     return blended

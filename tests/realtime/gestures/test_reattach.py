@@ -4,10 +4,17 @@ import numpy as np
 
 from gesturecast.models.motion.body_parts import joint_columns
 from gesturecast.models.motion.motion_features import FEATURE_DIM
-from gesturecast.models.motion.rotations import quat_from_6d, quat_from_axis_angle, quat_mul, quat_to_6d
+from gesturecast.models.motion.rotations import quat_from_axis_angle, quat_to_6d, quat_to_matrix
 from gesturecast.realtime.gestures.clips import rotation_columns
 from gesturecast.realtime.gestures.cues import GestureClip, part_clip
-from gesturecast.realtime.gestures.reattach import CHAIN, body_frame_roots, parent_rotation, placed_roots, reattach
+from gesturecast.realtime.gestures.reattach import (
+    CHAIN,
+    body_frame_roots,
+    matrix_from_6d,
+    parent_rotation,
+    placed_roots,
+    reattach,
+)
 
 RAISED = quat_from_axis_angle(np.array([0.0, 0.0, 1.2]))  # a recorded arm raised
 LEAN = quat_from_axis_angle(np.array([0.4, 0.0, 0.0]))  # a generated joint leaning forward
@@ -25,12 +32,12 @@ def features_with(rotations: dict[str, np.ndarray], frames: int = 4) -> np.ndarr
 
 
 def body_frame(features: np.ndarray, joint: str, above: tuple[str, ...]) -> np.ndarray:
-    """(n, 4) ``joint``'s rotation in the body frame."""
-    return quat_mul(parent_rotation(features, above), quat_from_6d(features[:, joint_columns(joint)].astype(float)))
+    """(n, 3, 3) ``joint``'s rotation in the body frame."""
+    return parent_rotation(features, above) @ matrix_from_6d(features[:, joint_columns(joint)].astype(float))
 
 
-def same_rotation(a: np.ndarray, b: np.ndarray) -> bool:
-    return bool(np.allclose(np.abs(np.sum(a * b, axis=-1)), 1.0, atol=1e-5))
+def same_rotation(matrices: np.ndarray, quat: np.ndarray) -> bool:
+    return bool(np.allclose(matrices, quat_to_matrix(quat), atol=1e-5))
 
 
 def imposed(columns: np.ndarray, frames: int = 4) -> np.ndarray:
