@@ -23,8 +23,8 @@ import numpy as np
 from gesturecast.errors import UserError
 from gesturecast.models.motion.body_parts import PART_JOINTS, joint_columns
 from gesturecast.models.runtime.bundle import ModelBundle, VQEncoderRuntime
-from gesturecast.realtime.gestures.arm_reattach import body_frame_shoulders
 from gesturecast.realtime.gestures.cues import GestureClip
+from gesturecast.realtime.gestures.reattach import body_frame_roots
 
 PERFORMANCES = 4  # versions of each gesture per stream, played in turn
 TEMPO_RANGE = (0.88, 1.12)  # a performance's speed, relative to the recorded clip
@@ -66,7 +66,7 @@ def encode_clip(bundle: ModelBundle, motion: ClipMotion, encoder: VQEncoderRunti
     columns = rotation_columns(motion.parts, features.shape[1])
     return GestureClip(motion.name, bundle.latent_stats.normalize(latents).astype(np.float32),
                        part_mask(bundle, motion.parts, motion.name), motion.stroke_frame // d, features, columns,
-                       tuple(body_frame_shoulders(features, columns)))
+                       tuple(body_frame_roots(features, columns)))
 
 
 def rotation_columns(parts: Iterable[str], feature_dim: int) -> np.ndarray:

@@ -47,7 +47,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from gesturecast.errors import UserError
-from gesturecast.realtime.gestures.arm_reattach import reattach
+from gesturecast.realtime.gestures.reattach import body_frame_roots, placed_roots, reattach
 
 logger = logging.getLogger(__name__)
 
@@ -86,7 +86,9 @@ class GestureClip:
     stroke_latent: index of the latent that holds the stroke.
     features: (N·d, D) the clip's motion features (denormalised), d frames per latent.
     columns: (D,) bool, the feature columns of the moving parts' joint rotations (never the root's travel).
-    shoulders: for a clip of arms only, each shoulder's feature columns and (N·d, 4) rotation in the body frame.
+    roots: the first imposed joint of each chain under generated parents (an arms-only clip's shoulders, an arms
+    and torso clip's spine): its feature columns, the joints between it and the hips, and its (N·d, 4) rotation in
+    the body frame (:mod:`gesturecast.realtime.gestures.reattach`).
     """
 
     name: str
@@ -95,7 +97,7 @@ class GestureClip:
     stroke_latent: int
     features: np.ndarray
     columns: np.ndarray
-    shoulders: tuple = ()  # (columns, (N·d, 4) body-frame rotation) per shoulder of an arms-only clip (arm_reattach)
+    roots: tuple = ()  # (columns, joints above, (N·d, 4) body-frame rotation) per re-attached joint (reattach)
 
     @property
     def num_latents(self) -> int:
@@ -154,10 +156,11 @@ class Placement:
 
 
 def part_clip(clip: GestureClip, channels: np.ndarray, columns: np.ndarray) -> GestureClip:
-    """``clip`` on the latent ``channels`` and feature ``columns`` it moves among those given (bool masks)."""
+    """``clip`` on the latent ``channels`` and feature ``columns`` it moves among those given (bool masks), its
+    chains re-attached where their parents are no longer its own (a guide's arms without its torso)."""
     kept = clip.columns & columns
     return replace(clip, channels=clip.channels & channels, columns=kept,
-                   shoulders=tuple(s for s in clip.shoulders if kept[s[0]].all()))
+                   roots=tuple(body_frame_roots(clip.features, kept)))
 
 
 def ramp_weight(k: int, length: int, ramp: int = RAMP_LATENTS) -> float:
@@ -201,7 +204,7 @@ class Imposition:
     pose: np.ndarray
     pose_weights: np.ndarray
     names: str
-    shoulders: list = field(default_factory=list)  # (columns, (d, 4) body-frame rotation) of arms-only clips
+    roots: list = field(default_factory=list)  # PlacedRoot of each playing clip's re-attached joints (reattach)
 
     @classmethod
     def of(cls, placements: list[Placement], latent: int) -> Imposition:
@@ -221,17 +224,16 @@ class Imposition:
             pose_weights[:, c.columns] += frame_w
         target /= np.maximum(weights, 1e-6)
         pose /= np.maximum(pose_weights, 1e-6)
-        strongest = max(placements, key=lambda p: p.weight(latent))  # its shoulders, when two cross-fade
-        k = latent - strongest.first
-        shoulders = [(cols, rotations[k * d:(k + 1) * d]) for cols, rotations in strongest.clip.shoulders]
+        roots = [root for p in placements for root in placed_roots(
+            p.clip.roots, p.clip.features, slice((latent - p.first) * d, (latent - p.first + 1) * d),
+            p.frame_weights(latent)[:, None], pose_weights)]
         return cls(target, np.minimum(weights, 1.0), pose, np.minimum(pose_weights, 1.0),
-                   "+".join(dict.fromkeys(p.cue.gesture for p in placements)), shoulders)
+                   "+".join(dict.fromkeys(p.cue.gesture for p in placements)), roots)
 
     def blend(self, features: np.ndarray) -> np.ndarray:
-        """(d, D) decoded features pulled toward the clip's joint rotations, an arms-only clip's shoulders
-        re-attached under the decoded torso (:mod:`gesturecast.realtime.gestures.arm_reattach`)."""
-        pose = reattach(self.pose, features, self.shoulders)
-        return features + self.pose_weights * (pose - features)
+        """(d, D) decoded features pulled toward the clips' joint rotations, the first imposed joint of each chain
+        re-attached under its parents as blended (:mod:`gesturecast.realtime.gestures.reattach`)."""
+        return reattach(features, self.pose, self.pose_weights, self.roots)
 
 
 class CuePlan:
