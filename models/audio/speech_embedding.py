@@ -54,20 +54,30 @@ class SpeechEmbeddingChannel:
     def reset(self) -> None:
         self._next_position = self.stride
         self._current = np.zeros(EMBEDDING_DIM, np.float32)
+        self._mel_frames: np.ndarray | None = None  # (76, 32) the last window's mel frames
 
     def update(self, history: SampleHistory, frame_ends: np.ndarray) -> np.ndarray:
         """frame_ends (T,) absolute sample indices → (T, 96) float32."""
         out = np.zeros((frame_ends.shape[0], EMBEDDING_DIM), np.float32)
         for index, frame_end in enumerate(frame_ends):
             while self._next_position <= frame_end:
-                audio = history.window(self._next_position - EMBEDDING_CONTEXT, self._next_position)
-                self._current = self._embedding(audio)
+                self._current = self._embedding(self._mel_window(history, self._next_position))
                 self._next_position += self.stride
             out[index] = self._current
         return out
 
-    def _embedding(self, audio: np.ndarray) -> np.ndarray:
-        mel = self._mel.run(None, {self._mel_input: audio[None, :]})[0]  # (1, 1, 76, 32)
-        mel = mel.reshape(MEL_FRAMES_PER_EMBEDDING, -1) / MEL_SCALE + MEL_OFFSET  # (76, 32)
+    def _mel_window(self, history: SampleHistory, end: int) -> np.ndarray:
+        """(76, 32) mel frames of the audio [end - 12512, end): the frames the previous window shares with this one
+        (its last 76 - stride / 160) are kept, only the new ones are computed."""
+        new = min(self.stride // MEL_HOP, MEL_FRAMES_PER_EMBEDDING) if self._mel_frames is not None \
+            else MEL_FRAMES_PER_EMBEDDING
+        audio = history.window(end - MEL_WINDOW - (new - 1) * MEL_HOP, end)  # (512 + 160 (new - 1),)
+        fresh = self._mel.run(None, {self._mel_input: audio[None, :]})[0].reshape(new, -1)  # (new, 32)
+        kept = self._mel_frames[new:] if new < MEL_FRAMES_PER_EMBEDDING else fresh[:0]
+        self._mel_frames = np.concatenate([kept, fresh])
+        return self._mel_frames
+
+    def _embedding(self, mel: np.ndarray) -> np.ndarray:
+        mel = mel / MEL_SCALE + MEL_OFFSET  # (76, 32)
         embedding = self._embed.run(None, {self._embed_input: mel[None, :, :, None]})[0]  # (1, 1, 1, 96)
         return embedding.reshape(EMBEDDING_DIM).astype(np.float32)

@@ -55,7 +55,9 @@ def test_a_sparser_embedding_keeps_parity_and_steps_every_n_times_80_ms(speech):
     assert np.abs(stream(audio, 533, sparse)[:, sparse.layout["embedding"]] - held).max() <= 1e-5
     changes = np.flatnonzero(np.abs(np.diff(held, axis=0)).max(axis=1) > 0) + 1  # (k,) frames a new one arrives
     assert len(changes) >= 8 and np.all(np.diff(changes) >= 9)  # 320 ms apart: 9 or 10 frames at 30 fps
-    np.testing.assert_array_equal(held[changes], dense[changes])  # the same embedding, computed less often
+    # the same embedding, computed less often (each reuses the mel frames it shares with its previous window, so the
+    # two differ by the float rounding of mel frames computed over other spans: ~1e-5 in mel, ~1e-3 of the range)
+    np.testing.assert_allclose(held[changes], dense[changes], rtol=0, atol=1e-2 * np.abs(dense).max())
 
 
 def test_causal_future_audio_does_not_change_past_frames(speech, offline):
