@@ -69,12 +69,11 @@ class SpeechEmbeddingChannel:
     def _mel_window(self, history: SampleHistory, end: int) -> np.ndarray:
         """(76, 32) mel frames of the audio [end - 12512, end): the frames the previous window shares with this one
         (its last 76 - stride / 160) are kept, only the new ones are computed."""
-        new = min(self.stride // MEL_HOP, MEL_FRAMES_PER_EMBEDDING) if self._mel_frames is not None \
-            else MEL_FRAMES_PER_EMBEDDING
+        first = self._mel_frames is None
+        new = MEL_FRAMES_PER_EMBEDDING if first else min(self.stride // MEL_HOP, MEL_FRAMES_PER_EMBEDDING)
         audio = history.window(end - MEL_WINDOW - (new - 1) * MEL_HOP, end)  # (512 + 160 (new - 1),)
         fresh = self._mel.run(None, {self._mel_input: audio[None, :]})[0].reshape(new, -1)  # (new, 32)
-        kept = self._mel_frames[new:] if new < MEL_FRAMES_PER_EMBEDDING else fresh[:0]
-        self._mel_frames = np.concatenate([kept, fresh])
+        self._mel_frames = fresh if first else np.concatenate([self._mel_frames[new:], fresh])
         return self._mel_frames
 
     def _embedding(self, mel: np.ndarray) -> np.ndarray:

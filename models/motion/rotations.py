@@ -136,18 +136,27 @@ def quat_from_matrix(m: np.ndarray) -> np.ndarray:
     return quat_normalize(q)
 
 
-def quat_to_6d(q: np.ndarray) -> np.ndarray:
-    """Continuous 6D representation (Zhou et al. 2019): first two matrix columns. (..., 4) -> (..., 6)."""
-    m = quat_to_matrix(q)
+def matrix_to_6d(m: np.ndarray) -> np.ndarray:
+    """Continuous 6D representation (Zhou et al. 2019): first two matrix columns. (..., 3, 3) -> (..., 6)."""
     return np.concatenate([m[..., :, 0], m[..., :, 1]], axis=-1)
 
 
-def quat_from_6d(d6: np.ndarray) -> np.ndarray:
-    """Gram-Schmidt the two columns back to a rotation. (..., 6) -> (..., 4)."""
+def matrix_from_6d(d6: np.ndarray) -> np.ndarray:
+    """Gram-Schmidt the two columns back to a rotation matrix. (..., 6) -> (..., 3, 3)."""
     a = d6[..., :3] / np.linalg.norm(d6[..., :3], axis=-1, keepdims=True)
     b = d6[..., 3:] - np.sum(a * d6[..., 3:], axis=-1, keepdims=True) * a
     b = b / np.linalg.norm(b, axis=-1, keepdims=True)
-    return quat_from_matrix(np.stack([a, b, np.cross(a, b)], axis=-1))
+    return np.stack([a, b, np.cross(a, b)], axis=-1)
+
+
+def quat_to_6d(q: np.ndarray) -> np.ndarray:
+    """(..., 4) -> (..., 6) (:func:`matrix_to_6d`)."""
+    return matrix_to_6d(quat_to_matrix(q))
+
+
+def quat_from_6d(d6: np.ndarray) -> np.ndarray:
+    """(..., 6) -> (..., 4) (:func:`matrix_from_6d`)."""
+    return quat_from_matrix(matrix_from_6d(d6))
 
 
 def quat_slerp(a: np.ndarray, b: np.ndarray, t: np.ndarray | float) -> np.ndarray:

@@ -25,18 +25,11 @@ import numpy as np
 
 from gesturecast.models.motion.body_parts import joint_columns
 from gesturecast.models.motion.motion_features import FEATURE_DIM, ROOT_DIM, ROTATION_6D_DIM
+from gesturecast.models.motion.rotations import matrix_from_6d, matrix_to_6d
 
 CHAIN = ("Spine", "Chest", "UpperChest")  # under the shoulders, after the hips
 HIPS_COLUMNS = np.arange(ROOT_DIM, ROOT_DIM + ROTATION_6D_DIM)  # the hips' rotation, facing removed
 ROOTS = {"Spine": (), "LeftShoulder": CHAIN, "RightShoulder": CHAIN}  # joint -> the joints between it and the hips
-
-
-def matrix_from_6d(six_d: np.ndarray) -> np.ndarray:
-    """(..., 6) 6D rotations → (..., 3, 3) rotation matrices (Gram-Schmidt of the two columns, as decoding does)."""
-    a = six_d[..., :3] / np.linalg.norm(six_d[..., :3], axis=-1, keepdims=True)
-    b = six_d[..., 3:] - np.sum(a * six_d[..., 3:], axis=-1, keepdims=True) * a
-    b = b / np.linalg.norm(b, axis=-1, keepdims=True)
-    return np.stack([a, b, np.cross(a, b)], axis=-1)
 
 
 def parent_rotation(features: np.ndarray, above: tuple[str, ...] = CHAIN) -> np.ndarray:
@@ -96,6 +89,6 @@ def reattach(features: np.ndarray, target: np.ndarray, weights: np.ndarray, root
         inverse = np.swapaxes(parent_rotation(blended, above), -1, -2)  # (d, 3, 3)
         for root in (root for root in roots if root.above == above):
             cols, local = root.columns, inverse @ root.body_frame  # (d, 3, 3)
-            target[:, cols] += root.share * (np.concatenate([local[..., 0], local[..., 1]], axis=-1) - root.local)
+            target[:, cols] += root.share * (matrix_to_6d(local) - root.local)
             blended[:, cols] = features[:, cols] + weights[:, cols] * (target[:, cols] - features[:, cols])
     return blended

@@ -4,13 +4,12 @@ import numpy as np
 
 from gesturecast.models.motion.body_parts import joint_columns
 from gesturecast.models.motion.motion_features import FEATURE_DIM
-from gesturecast.models.motion.rotations import quat_from_axis_angle, quat_to_6d, quat_to_matrix
+from gesturecast.models.motion.rotations import matrix_from_6d, quat_from_axis_angle, quat_to_6d, quat_to_matrix
 from gesturecast.realtime.gestures.clips import rotation_columns
 from gesturecast.realtime.gestures.cues import GestureClip, part_clip
 from gesturecast.realtime.gestures.reattach import (
     CHAIN,
     body_frame_roots,
-    matrix_from_6d,
     parent_rotation,
     placed_roots,
     reattach,
