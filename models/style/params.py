@@ -121,10 +121,10 @@ class StyleFilter:
     """The causal state of one stream's styled joints: the centre m and the tension low-passes (module docstring).
 
     :meth:`run` takes a run of frames' rotation vectors v (n, S, 3) and their (n, S, CHANNELS) parameters and returns
-    the styled rotation vectors. The state follows the *input* only (first-order recursions along time, run by
-    ``scipy.signal.lfilter`` with its state carried from call to call, so any split of a stream into runs gives the
-    same bits), and changing the parameters never disturbs it. ``rest`` (S, 3) are the rest pose's rotation
-    vectors, the arms' pivot of the amplitude change (:func:`pivots`)."""
+    the styled rotation vectors. The state follows the *input* only (first-order recursions along time, their last
+    outputs carried from call to call, so any split of a stream into runs gives the same bits), and changing the
+    parameters never disturbs it. ``rest`` (S, 3) are the rest pose's rotation vectors, the arms' pivot of the
+    amplitude change (:func:`pivots`)."""
 
     def __init__(self, fps: float, rest: np.ndarray) -> None:
         self.fps = fps
@@ -134,21 +134,25 @@ class StyleFilter:
         self.reset()
 
     def reset(self) -> None:
-        self._state: dict[str, np.ndarray] | None = None  # filter name -> (1, S, 3) lfilter state
+        self._state: dict[str, np.ndarray] | None = None  # filter name -> (S, 3) its last output
 
     def _smooth(self, name: str, x: np.ndarray) -> np.ndarray:
-        """x (n, S, 3) through the named one-pole low-pass m_t = m_{t-1} + a·(x_t − m_{t-1}), along time."""
-        from scipy.signal import lfilter  # imported on first use: scipy.signal costs a command's start-up
+        """x (n, S, 3) through the named one-pole low-pass m_t = m_{t-1} + a·(x_t − m_{t-1}), along time.
 
-        a = self._weights[name]
-        y, self._state[name] = lfilter([a], [1.0, a - 1.0], x, axis=0, zi=self._state[name])
+        A loop over frames: a stream's runs are a few frames long, and ``scipy.signal.lfilter`` would cost every
+        command half a second of start-up for the import."""
+        a, last = self._weights[name], self._state[name]  # last: (S, 3)
+        y = np.empty_like(x)  # (n, S, 3)
+        for t, frame in enumerate(x):
+            last = last + a * (frame - last)
+            y[t] = last
+        self._state[name] = last
         return y
 
     def run(self, v: np.ndarray, values: np.ndarray, times: np.ndarray) -> np.ndarray:
         """Styled rotation vectors (n, S, 3) of frames v (n, S, 3) with parameters (n, S, CHANNELS) at times (n,)."""
         if self._state is None:  # the first frame starts every filter settled: centre = v_0, gesture 0
-            self._state = {"centre": (1.0 - self._weights["centre"]) * v[:1], "low": np.zeros_like(v[:1]),
-                           "band": np.zeros_like(v[:1])}
+            self._state = {"centre": v[0], "low": np.zeros_like(v[0]), "band": np.zeros_like(v[0])}
         centre = self._smooth("centre", v)  # (n, S, 3) the slow centre m
         deviation = v - centre  # (n, S, 3) the gesture d about it
         low, band = self._smooth("low", deviation), self._smooth("band", deviation)

@@ -51,7 +51,7 @@ class PhraseCues:
 
     def warm(self) -> None:
         """Load the classifier now (a live stream's warm-up), not when the first words come."""
-        self.cues([])
+        self.classifier.decide([], [], [])
 
     def gesture_of(self, intent: str) -> str | None:
         """The gesture that performs ``intent`` in this lexicon (None for "none" or when it has none)."""
@@ -65,6 +65,8 @@ class PhraseCues:
         """(cue or None for "no speech act", the candidate's first token) of each candidate that ``ready(candidate)``
         accepts, in order."""
         found = [c for c in candidates(tokens) if ready(c)]
+        if not found:  # no speech act possible: a stream without words never loads wordllama
+            return []
         intents = self.classifier.decide(tokens, [w.text for w in words], found)
         out = []
         for candidate, intent in zip(found, intents, strict=True):

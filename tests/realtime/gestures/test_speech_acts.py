@@ -63,6 +63,13 @@ def test_the_lexicon_decides_which_gesture_performs_an_intent():
     assert PhraseCues(("wave",)).gesture_of("farewell") is None
 
 
+def test_words_without_a_candidate_never_load_the_classifier():
+    cues = PhraseCues(GESTURES)
+    words = [Word("the", 0.0, 0.2), Word("street", 0.2, 0.5)]
+    assert cues.cues([]) == [] and cues.cues(words) == []
+    assert cues._classifier is None  # wordllama is loaded by the first candidate (or a live stream's warm-up)
+
+
 def test_words_heard_one_at_a_time_cue_the_same_as_the_transcript(phrases):
     words = words_of("Hi, thanks for calling. Thanks to the rain we stayed in. Take care, and bye-bye for now.")
     listener = PhraseListener(phrases)
