@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import logging
 import sys
 import time
@@ -46,6 +47,7 @@ from gesturecast.realtime.run.offline_generate import (
 from gesturecast.realtime.timing.clock import MonotonicClock
 from gesturecast.realtime.timing.scheduler import STAGE_END_TO_END, SchedulerConfig
 from gesturecast.realtime.timing.status import StatusLine
+from gesturecast.settings import DEFAULT_GESTURES_DIR
 
 logger = logging.getLogger(__name__)
 
@@ -177,6 +179,8 @@ def run_generate(args: argparse.Namespace) -> int:
         motion_paths.append(args.vrma)
     settings = settings_from_args(args)
     words = transcript_words(args.transcript, settings)
+    if not words and settings.gestures == DEFAULT_GESTURES_DIR:  # no words, no gesture: the bundled lexicon is
+        settings = dataclasses.replace(settings, gestures=None)  # not encoded (0.1 s); a user's folder is still checked
     session = build_session(settings, MonotonicClock())
     session.cue_words(words)
     report = generate_to_files(session, args.audio, motion_paths, args.json, args.vrma_bones)
