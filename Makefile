@@ -26,11 +26,13 @@ $(STAMP_DEV): pyproject.toml setup.py | $(BIN)/python
 	touch $@ $(STAMP_RUN)
 
 # Debian packages the tests need: PortAudio for sounddevice, Chromium for the viewer test, PulseAudio and
-# ALSA's pulse plugin for the virtual microphone (tests/conftest.py, tools/bench/virtual_mic.py).
-SYSTEM_PACKAGES := libportaudio2 chromium chromium-driver pulseaudio pulseaudio-utils libasound2-plugins espeak-ng
+# ALSA's pulse plugin for the virtual microphone (tests/conftest.py, tools/bench/virtual_mic.py); espeak-ng and flite
+# speak the TTS voices of the benchmarks.
+SYSTEM_PACKAGES := libportaudio2 chromium chromium-driver pulseaudio pulseaudio-utils libasound2-plugins espeak-ng flite
 system-deps:
 	@if ! ldconfig -p | grep -q libportaudio.so.2 || ! command -v chromedriver >/dev/null \
 		|| ! command -v pulseaudio >/dev/null || ! command -v pactl >/dev/null || ! command -v espeak-ng >/dev/null \
+		|| ! command -v flite >/dev/null \
 		|| ! ls /usr/lib/*/alsa-lib/libasound_module_pcm_pulse.so >/dev/null 2>&1; then \
 		if [ "$$(id -u)" = 0 ]; then \
 			apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq \

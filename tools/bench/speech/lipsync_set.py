@@ -48,12 +48,18 @@ class Utterance:
     labels: np.ndarray  # (T,) class per frame: 0-4 vowel, 5 silence, -1 unlabelled
 
 
+def installed(program: str, package: str | None = None) -> str:
+    """Path of ``program``; UserError naming its Debian package when it is not installed."""
+    path = shutil.which(program)
+    if path is None:
+        raise UserError(f"{program} is not installed (apt-get install {package or program}; see the Makefile's "
+                        "SYSTEM_PACKAGES)")
+    return path
+
+
 def espeak() -> str:
     """Path of espeak-ng; UserError when it is not installed."""
-    path = shutil.which("espeak-ng")
-    if path is None:
-        raise UserError("espeak-ng is not installed (apt-get install espeak-ng; see the Makefile's SYSTEM_PACKAGES)")
-    return path
+    return installed("espeak-ng")
 
 
 def synthesize(voice: str, word: str, out_dir: Path = SET_DIR) -> Path:

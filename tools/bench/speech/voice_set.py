@@ -8,10 +8,12 @@ Every voice belongs to a **group** (the kind of voice) and a **split**:
 No bundled model was trained on any of these recordings (SHOW and the Flirty take are not in the default's
 training data; docs/voices.md). Sources:
 
-- **TTS** voices are made by espeak-ng at run time (``espeak-ng`` must be on the PATH), one sentence at a
-  time from :data:`TEXTS`, joined with the pauses of :data:`PAUSES_S` — the turns a voice agent speaks.
-  espeak-ng's variants (``+f4``, ``+klatt3``: its formant and Klatt synthesisers) at several rates and
-  pitches stand in for several engines; no other TTS engine is available offline here;
+- **TTS** voices are made at run time, one sentence at a time from :data:`TEXTS`, joined with the pauses of
+  :data:`PAUSES_S` — the turns a voice agent speaks. espeak-ng (formant and Klatt synthesis; its variants
+  ``+f4``, ``+klatt3`` at several rates and pitches) and, in a group of their own added on 2026-11-27 before any
+  model was scored on it, CMU Flite's built-in voices (``slt``, ``rms``, ``awb``: statistical parametric voices
+  trained on recorded speakers; ``kal16``: diphone concatenation) — two engines unlike each other. Both must be
+  on the PATH (the Makefile's SYSTEM_PACKAGES);
 - **files** of the shared data folder (SHOW clips, spans of the ZeroEGGS Flirty take, the espeak sentences
   of ``speech/`` joined);
 - **channel** variants: another voice's audio written at another sample rate and channel count and read
@@ -31,7 +33,7 @@ import soxr
 
 from gesturecast.errors import UserError
 from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
-from gesturecast.tools.bench.speech.lipsync_set import espeak
+from gesturecast.tools.bench.speech.lipsync_set import espeak, installed
 
 HELD_OUT = "held-out"
 DEV = "dev"
@@ -71,6 +73,13 @@ class Espeak:
 
 
 @dataclass(frozen=True)
+class Flite:
+    voice: str  # flite -voice (a built-in voice)
+    stretch: float  # duration_stretch: 1.1 speaks a tenth slower
+    text: str  # a key of TEXTS
+
+
+@dataclass(frozen=True)
 class Channel:
     of: str  # the name of the voice whose audio is re-recorded
     rate: int  # Hz of the written file
@@ -84,6 +93,7 @@ class Voice:
     group: str
     split: str
     espeak: Espeak | None = None
+    flite: Flite | None = None
     files: tuple[str, ...] = ()  # under the shared data folder; several are joined with PAUSES_S
     span_s: tuple[float, float] | None = None  # a part of a single file
     channel: Channel | None = None
@@ -93,8 +103,9 @@ def _tts(name: str, group: str, split: str, voice: str, speed: int, pitch: int, 
     return Voice(name, group, split, espeak=Espeak(voice, speed, pitch, text))
 
 
-TTS_EN, TTS_OTHER, SPONTANEOUS, READ, CHANNEL = (
-    "tts english", "tts other languages", "spontaneous", "acted read speech", "resampled / stereo")
+TTS_EN, TTS_OTHER, SPONTANEOUS, READ, CHANNEL, TTS_FLITE = (
+    "tts english", "tts other languages", "spontaneous", "acted read speech", "resampled / stereo",
+    "tts flite (another engine)")
 FLIRTY = "zeggs/037_Flirty_1_x_1_0.wav"
 VOICES: tuple[Voice, ...] = (
     _tts("tts en-us f4 160 wpm", TTS_EN, HELD_OUT, "en-us+f4", 160, 60, "agent_booking"),
@@ -116,6 +127,10 @@ VOICES: tuple[Voice, ...] = (
     Voice("tts en-us f4 at 48 kHz stereo, -12 dB", CHANNEL, HELD_OUT,
           channel=Channel("tts en-us f4 160 wpm", 48000, 2, -12.0)),
     Voice("flirty 30-60 s at 8 kHz", CHANNEL, HELD_OUT, channel=Channel("flirty 30-60 s", 8000, 1)),
+    Voice("tts flite slt", TTS_FLITE, HELD_OUT, flite=Flite("slt", 1.0, "agent_booking")),
+    Voice("tts flite rms, slower", TTS_FLITE, HELD_OUT, flite=Flite("rms", 1.15, "agent_museum")),
+    Voice("tts flite awb", TTS_FLITE, HELD_OUT, flite=Flite("awb", 1.0, "agent_plan")),
+    Voice("tts flite kal16 diphone, faster", TTS_FLITE, HELD_OUT, flite=Flite("kal16", 0.9, "agent_museum")),
     _tts("dev tts en-us m3 170 wpm", TTS_EN, DEV, "en-us+m3", 170, 50, "dev_class"),
     _tts("dev tts en-gb f5 150 wpm", TTS_EN, DEV, "en-gb+f5", 150, 65, "dev_parcel"),
     _tts("dev tts en-us klatt 180 wpm", TTS_EN, DEV, "en-us+klatt", 180, 50, "dev_class"),
@@ -155,6 +170,14 @@ def espeak_sentence(spec: Espeak, sentence: str, folder: Path) -> np.ndarray:
     return load_audio(path)
 
 
+def flite_sentence(spec: Flite, sentence: str, folder: Path) -> np.ndarray:
+    """One sentence spoken by CMU Flite, read back at 16 kHz: (N,)."""
+    path = folder / "sentence.wav"
+    subprocess.run([installed("flite"), "-voice", spec.voice, "--setf", f"duration_stretch={spec.stretch}",
+                    "-t", sentence, "-o", str(path)], check=True, capture_output=True)
+    return load_audio(path)
+
+
 def rerecorded(audio: np.ndarray, channel: Channel, folder: Path) -> np.ndarray:
     """``audio`` written at ``channel``'s rate, channel count and gain, read back through the file reader: (N,)."""
     scaled = soxr.resample(audio, SAMPLE_RATE, channel.rate) * np.float32(10.0 ** (channel.gain_db / 20.0))
@@ -176,6 +199,8 @@ def _file_audio(voice: Voice, shared: Path) -> np.ndarray:
 def _clean_audio(voice: Voice, shared: Path, folder: Path) -> np.ndarray:
     if voice.espeak is not None:
         return join_with_pauses([espeak_sentence(voice.espeak, s, folder) for s in TEXTS[voice.espeak.text]])
+    if voice.flite is not None:
+        return join_with_pauses([flite_sentence(voice.flite, s, folder) for s in TEXTS[voice.flite.text]])
     return _file_audio(voice, shared)
 
 

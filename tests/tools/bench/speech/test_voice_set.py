@@ -18,6 +18,8 @@ from gesturecast.tools.bench.speech.voice_set import (
     TEXTS,
     VOICES,
     Channel,
+    Flite,
+    flite_sentence,
     join_with_pauses,
     rerecorded,
     voice_audio,
@@ -26,16 +28,16 @@ from gesturecast.tools.bench.speech.voice_set import (
 
 def sources(split: str) -> set[str]:
     voices = [voice for voice in VOICES if voice.split == split]
-    return ({name for voice in voices for name in voice.files}
-            | {voice.espeak.text for voice in voices if voice.espeak is not None}
-            | {voice.espeak.voice for voice in voices if voice.espeak is not None})
+    engines = [spec for voice in voices for spec in (voice.espeak, voice.flite) if spec is not None]
+    return {name for voice in voices for name in voice.files} | {spec.text for spec in engines} | {
+        f"{type(spec).__name__} {spec.voice}" for spec in engines}
 
 
 def test_no_recording_text_or_tts_voice_is_in_both_splits():
     assert {voice.split for voice in VOICES} == set(SPLITS)
     assert len({voice.name for voice in VOICES}) == len(VOICES)
     assert not sources(HELD_OUT) & sources(DEV)
-    assert all(voice.espeak.text in TEXTS for voice in VOICES if voice.espeak is not None)
+    assert all(spec.text in TEXTS for voice in VOICES for spec in (voice.espeak, voice.flite) if spec is not None)
     by_name = {voice.name: voice for voice in VOICES}
     for voice in (v for v in VOICES if v.channel is not None):
         assert by_name[voice.channel.of].split == voice.split and by_name[voice.channel.of].channel is None
@@ -65,3 +67,12 @@ def test_a_missing_recording_or_split_is_a_clear_error(tmp_path):
         voice_audio(HELD_OUT, tmp_path)
     with pytest.raises(UserError, match="unknown voice split"):
         voice_audio("test", tmp_path)
+
+
+@pytest.mark.skipif(shutil.which("flite") is None, reason="flite is not installed")
+def test_a_flite_voice_speaks_a_sentence_at_16k_and_slower_when_stretched(tmp_path):
+    sentence = "The museum opens at ten and closes at six."
+    plain = flite_sentence(Flite("slt", 1.0, "agent_museum"), sentence, tmp_path)  # (N,)
+    slower = flite_sentence(Flite("slt", 1.2, "agent_museum"), sentence, tmp_path)
+    assert 1.5 < len(plain) / SAMPLE_RATE < 5.0 and np.abs(plain).max() > 0.05
+    assert len(slower) > 1.1 * len(plain)
