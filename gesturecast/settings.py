@@ -55,7 +55,6 @@ DEFAULT_STYLE_STRENGTH = 1.0
 SINGLE_STYLE = 1.0  # γ = 1: the first style only
 DEFAULT_AUDIO_GUIDANCE = 1.5  # docs/generator.md "Audio guidance": rests in pauses, follows the speech more
 DEFAULT_SMOOTHING_FRAMES = 1  # centred 3-frame window: jerk ≈ real motion's (docs/generator.md "Smoothing")
-DEFAULT_STEPS = 4
 
 # field -> its limits; the command-line flag ``--field-name`` uses the same limits (gesturecast.arguments); the style
 # settings' ranges and choices are those of the live controls (gesturecast.controls.StyleChange)
@@ -92,7 +91,8 @@ class Settings:
     style_strength: how strongly the style shows, 0 .. 2: the stylizer after the generator changes the motion by k
         times the fitted style (0: the generator's own motion, 1: as fitted; docs/stylizer.md).
     guidance: classifier-free guidance s (None: the model's); audio_guidance: s_a (1: off).
-    sampler, steps: "ddim" with K steps per latent, or "ddpm" over all the model's steps (offline quality).
+    sampler, steps: "ddim" with K steps per latent (None: the model's, 2 for the bundled one), or "ddpm" over all the
+        model's steps (offline quality).
     seed: noise seed (the same seed and audio give the same motion).
     latency: "quality", "balanced" or "low"; lookahead / margin_ms override the setting's δ and margin.
     smoothing: half-width k of the centred smoothing window in frames (adds k frames to L).
@@ -117,7 +117,7 @@ class Settings:
     guidance: float | None = None
     audio_guidance: float = DEFAULT_AUDIO_GUIDANCE
     sampler: str = "ddim"
-    steps: int = DEFAULT_STEPS
+    steps: int | None = None
     seed: int = 0
     latency: str = QUALITY.name
     lookahead: int | None = None

@@ -68,7 +68,7 @@ def add_generation_arguments(parser: argparse.ArgumentParser) -> None:
                             "offline quality, 250 times the work")
     group.add_argument("--steps", default=defaults.steps, **_limited("steps"),
                        help="denoising steps per 4 frames with ddim: more is smoother and slower "
-                            "(default %(default)s)")
+                            "(default: the model's, 2 for the bundled one)")
     group.add_argument("--seed", default=defaults.seed, **_limited("seed"),
                        help="random seed: the same speech and seed give the same motion, another seed other "
                             "gestures (default %(default)s)")

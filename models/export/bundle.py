@@ -21,7 +21,7 @@ from gesturecast.models.export.motion_prompt import export_motion_prompt
 from gesturecast.models.export.onnx_half import round_weights_to_half, store_weights_in_half
 from gesturecast.models.export.vq import export_vq_decoder_step
 from gesturecast.models.generator.denoiser_config import DenoiserConfig
-from gesturecast.models.generator.diffusion import DEFAULT_NUM_TIMESTEPS, DEFAULT_SCHEDULE
+from gesturecast.models.generator.diffusion import DEFAULT_DDIM_STEPS, DEFAULT_NUM_TIMESTEPS, DEFAULT_SCHEDULE
 from gesturecast.models.motion.body_parts import body_parts
 from gesturecast.models.networks.denoiser_network import CausalDenoiser
 from gesturecast.models.networks.motion_prompt import MotionPromptConfig, MotionPromptEncoder
@@ -126,6 +126,7 @@ def bundle_manifest(checkpoint: dict) -> dict:
         "audio_stats": stages["data"]["audio_stats"],
         "styles": stages["data"]["styles"],
         "guidance": {"default_scale": checkpoint["preset"]["default_guidance"]},
+        "sampler": {"default_steps": checkpoint["preset"].get("sampler_steps", DEFAULT_DDIM_STEPS)},
         "diffusion": {"schedule": DEFAULT_SCHEDULE, "num_timesteps": DEFAULT_NUM_TIMESTEPS, "prediction": "x0"},
         "denoiser": denoiser,
         "vqvae": vq.to_dict(),

@@ -35,6 +35,7 @@ COSINE_OFFSET_S = 0.008  # Nichol & Dhariwal 2021, eq. 17: small offset s keepin
 MAX_BETA = 0.999  # Nichol & Dhariwal 2021, §3.2: β clipped to avoid singularities at t = T
 DEFAULT_NUM_TIMESTEPS = 1000
 DEFAULT_SCHEDULE = "cosine_1000"
+DEFAULT_DDIM_STEPS = 4  # DDIM K of a preset that names none, and of a bundle whose model.json names none
 CLEAN_TIMESTEP = -1  # the "t_prev" of the last step: ᾱ = 1, the sample is the data itself
 MAX_DDIM_STEPS = 50
 SAMPLER_KINDS = ("ddim", "ddpm")

@@ -32,6 +32,7 @@ from gesturecast.input_files import read_bounded
 from gesturecast.models.audio.stats import FeatureStats
 from gesturecast.models.audio.streaming import FeatureConfig
 from gesturecast.models.generator.denoiser_config import DenoiserConfig
+from gesturecast.models.generator.diffusion import DEFAULT_DDIM_STEPS
 from gesturecast.models.generator.styles import canonical_style
 from gesturecast.models.runtime.denoiser_runtime import DenoiserRuntime, condition_path
 from gesturecast.models.runtime.motion_prompt import MotionPromptRuntime
@@ -165,6 +166,7 @@ class ModelBundle:
     audio_stats: FeatureStats
     styles: StyleTable
     default_guidance: float
+    default_steps: int  # DDIM steps K the model runs at unless told (4 for bundles exported before the field)
     schedule_name: str
     part_channels: dict[str, slice]  # each body part's channels of the stacked latent
 
@@ -193,6 +195,7 @@ class ModelBundle:
             audio_stats=FeatureStats.from_dict(manifest["audio_stats"]),
             styles=StyleTable.from_dict(manifest["styles"]),
             default_guidance=float(manifest["guidance"]["default_scale"]),
+            default_steps=int(manifest.get("sampler", {}).get("default_steps", DEFAULT_DDIM_STEPS)),
             schedule_name=manifest["diffusion"]["schedule"],
             part_channels={name: slice(*part["latent_channels"]) for name, part in manifest["body_parts"].items()},
         )

@@ -12,6 +12,7 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass, field, replace
 
 from gesturecast.errors import UserError
+from gesturecast.models.generator.diffusion import DEFAULT_DDIM_STEPS
 from gesturecast.models.motion.body_parts import PART_NAMES
 
 
@@ -59,6 +60,7 @@ class TrainPreset:
     prompt: PromptPreset
     audio_lookahead: int = 8  # δa feature frames
     default_guidance: float = 1.5
+    sampler_steps: int = DEFAULT_DDIM_STEPS  # DDIM steps K the exported bundle runs at unless told
     seed: int = 0
     threads: int = 1  # on a shared 2-core CPU one torch thread is steadier than two (no barrier stalls)
     mirror_motion_only: bool = True  # mirror the motion-only takes (paired takes get mirror + speed)
@@ -115,6 +117,10 @@ DEFAULT = TrainPreset(
     prompt=PromptPreset(width=128, steps=400, batch_size=32, clip_frames=90),
     lookahead_truncation=True,
     speaker_norm=True,  # speaker-normalised log-mel, no voice copies (docs/voices.md, "Retraining the default")
+    speech_embedding=True,  # every 160 ms: follows unseen TTS voices (docs/unseen-voices-study.md)
+    speech_embedding_every=2,
+    sampler_steps=2,
+    seed=1,
 )
 
 PRESETS = {preset.name: preset for preset in (TINY, DEFAULT)}

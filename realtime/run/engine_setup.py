@@ -71,9 +71,10 @@ def setting_budget(setting: LatencySetting, bundle: ModelBundle, smoothing: int,
 
 
 def generator_settings(settings: Settings, bundle: ModelBundle, budget: LatencyBudget) -> GeneratorSettings:
-    """DDIM with K steps, or DDPM over all T steps of the model's schedule (the offline-quality path), hearing the
-    budget's look-ahead."""
-    steps = settings.steps if settings.sampler == "ddim" else bundle.denoiser_config.num_timesteps
+    """DDIM with K steps (the settings', else the model's), or DDPM over all T steps of the model's schedule (the
+    offline-quality path), hearing the budget's look-ahead."""
+    steps = (settings.steps or bundle.default_steps) if settings.sampler == "ddim" else \
+        bundle.denoiser_config.num_timesteps
     return GeneratorSettings(
         sampler=SamplerConfig(settings.sampler, steps),
         guidance=settings.guidance,
