@@ -42,7 +42,7 @@ def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--cache", type=Path, default=DEFAULT_CACHE, help="dataset cache (held-out segments)")
     parser.add_argument("--shared", type=Path, default=DEFAULT_SHARED, help="shared data folder (unseen speech)")
     parser.add_argument("--seeds", default=DEFAULT_SEEDS, help="comma-separated generation seeds")
-    parser.add_argument("--steps", type=int, default=4, help="DDIM steps K")
+    parser.add_argument("--steps", type=int, default=None, help="DDIM steps K (default: the model's)")
     parser.add_argument("--audio-guidance", type=float, default=DEFAULT_AUDIO_GUIDANCE,
                         help="audio guidance scale s_a (1: off)")
     parser.add_argument("--guidance", type=float, help="style guidance scale s (default: the model's)")
@@ -86,13 +86,13 @@ def summarise(rows: list[dict]) -> dict:
                    "files": len({row["file"] for row in g})} for name, g in sorted(groups.items())}
 
 
-def following_report(bundle_dir: Path, cache: Path, shared: Path, seeds: list[int], steps: int,
+def following_report(bundle_dir: Path, cache: Path, shared: Path, seeds: list[int], steps: int | None,
                      audio_guidance: float = DEFAULT_AUDIO_GUIDANCE, latency: str = QUALITY.name,
                      guidance: float | None = None) -> dict:
     bundle = load_bundle(bundle_dir)
     lookahead = LATENCY_SETTINGS[latency].lookahead_for(bundle.audio_lookahead)
     check_lookahead(bundle.denoiser_config, lookahead)
-    sampler = SamplerConfig("ddim", steps)
+    sampler = SamplerConfig("ddim", steps or bundle.default_steps)
     unseen = unseen_clips(default_unseen_paths(shared), UNSEEN_STYLE, None)
     espeak = [clip for clip in unseen if clip.name.startswith("tts_")]
     joined = [joined_clip(espeak, "espeak_joined", JOIN_GAP_S)] if espeak else []
@@ -109,7 +109,7 @@ def following_report(bundle_dir: Path, cache: Path, shared: Path, seeds: list[in
                          **score(generated.positions, clip.audio, onsets)})
     return {
         "bundle": str(bundle_dir),
-        "sampler": f"ddim K={steps}",
+        "sampler": f"ddim K={sampler.steps}",
         "audio_guidance": audio_guidance,
         "guidance": bundle.default_guidance if guidance is None else guidance,
         "latency": latency,

@@ -30,7 +30,6 @@ GROUND_TRUTH = "ground_truth"
 MISMATCHED = "mismatched_ground_truth"
 DDPM = "ddpm"
 DDIM_STEPS = (1, 2, 4, 8)
-LIVE_CHECK_STEPS = 4  # the live default K
 SYSTEM_NAMES = (GROUND_TRUTH, MISMATCHED, DDPM, *(f"ddim_k{k}" for k in DDIM_STEPS))
 
 
@@ -157,8 +156,8 @@ class SuiteRunner:
         return self.generated_system(name)
 
     def live_vs_offline(self) -> dict:
-        """The first held-out clip at K = 4 through the live engine and the offline path."""
-        spec = system_spec(f"ddim_k{LIVE_CHECK_STEPS}", self.bundle)
+        """The first held-out clip at the model's own K through the live engine and the offline path."""
+        spec = system_spec(f"ddim_k{self.bundle.default_steps}", self.bundle)
         spec = replace(spec, name="live_check")
         clip = self.sets.held_out[0]
         style = self.style_for(clip)
@@ -168,7 +167,7 @@ class SuiteRunner:
         metrics = {kind: motion_metrics([p], [clip.audio], self.networks) for kind, p in
                    (("offline", offline), ("live", live))}
         return {
-            "clip": clip.name, "sampler": f"ddim K={LIVE_CHECK_STEPS}",
+            "clip": clip.name, "sampler": f"ddim K={self.bundle.default_steps}",
             "frames": {"offline": len(offline), "live": len(live)},
             "max_abs_position_difference_m": float(np.abs(offline[:frames] - live[:frames]).max()),
             "metrics": metrics,

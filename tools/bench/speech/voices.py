@@ -74,7 +74,7 @@ def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
                         help="held-out unseen voices per group (default), the dev voices, or the paired held-out "
                              "segments under nine voice/channel transforms")
     parser.add_argument("--seeds", default=DEFAULT_SEEDS, help="comma-separated generation seeds")
-    parser.add_argument("--steps", type=int, default=4, help="DDIM steps K")
+    parser.add_argument("--steps", type=int, default=None, help="DDIM steps K (default: the model's)")
     parser.add_argument("--audio-guidance", type=float, default=DEFAULT_AUDIO_GUIDANCE,
                         help="audio guidance scale s_a (1: off)")
     parser.add_argument("--guidance", type=float, help="style guidance scale s (default: the bundle's)")
@@ -186,11 +186,11 @@ def bench_cases(voice_set: str, cache: Path, shared: Path) -> list[VoiceCase]:
     return voice_set_cases(voice_set, shared, cache)
 
 
-def voices_report(bundle_dir: Path, cache: Path, shared: Path, seeds: list[int], steps: int,
+def voices_report(bundle_dir: Path, cache: Path, shared: Path, seeds: list[int], steps: int | None,
                   audio_guidance: float = DEFAULT_AUDIO_GUIDANCE, plot: Path | None = None,
                   voice_set: str = HELD_OUT, guidance: float | None = None) -> dict:
     bundle = load_bundle(bundle_dir)
-    sampler = SamplerConfig("ddim", steps)
+    sampler = SamplerConfig("ddim", steps or bundle.default_steps)
     started = time.perf_counter()
     cases = bench_cases(voice_set, cache, shared)
     references = {case.file: case.reference for case in cases}
@@ -209,8 +209,8 @@ def voices_report(bundle_dir: Path, cache: Path, shared: Path, seeds: list[int],
                          **score_case(positions, case, onsets, references)})
     conditions = summarise(rows)
     report = {
-        "bundle": str(bundle_dir), "set": voice_set, "sampler": f"ddim K={steps}", "audio_guidance": audio_guidance,
-        "guidance": guidance, "seeds": seeds,
+        "bundle": str(bundle_dir), "set": voice_set, "sampler": f"ddim K={sampler.steps}",
+        "audio_guidance": audio_guidance, "guidance": guidance, "seeds": seeds,
         "metric": "r: Pearson r of smoothed upper-body speed vs the clean reference speech's RMS dB, best lag "
                   "within ±0.5 s; chance: the same motion against the other recordings; ratio: r / r(original) "
                   "on the same files; rest: speed in pauses / while speaking; bc: BEAT beat consistency",

@@ -14,7 +14,7 @@
    needs no dataset cache, only the shared data folder).
 
 Everything runs on the same speech (the first held-out clip at least ``--seconds`` long) through the
-product's offline session, DDIM K = 4, with every ``--seeds`` (default 0; the per-part study uses the first).
+product's offline session, DDIM at the model's K, with every ``--seeds`` (default 0; the per-part study uses the first).
 Nothing is asserted. Definitions: docs/style-study.md.
 """
 
@@ -53,7 +53,7 @@ class StudyConfig:
     max_styles: int | None = None  # only the first N styles of the model ∩ classifier (None: all)
     prompt_styles: tuple[str, str] = ("old", "angry")  # the two motion prompts' styles
     pairs: tuple[PartPair, ...] = DEFAULT_PAIRS
-    steps: int = 4  # DDIM K
+    steps: int | None = None  # DDIM K (None: the model's)
     seeds: tuple[int, ...] = (0,)  # generation seeds (confusion counts pooled; per-part study: the first)
     timing_repeats: int = TIMING_REPEATS  # fresh generations per request timed for the per-part compute cost
     audio_guidance: float = DEFAULT_AUDIO_GUIDANCE  # s_a: < 1 weakens the speech's pull toward the paired takes' style
@@ -133,8 +133,8 @@ def study_report(model: Path, cache: Path, config: StudyConfig, prompt_dir: Path
     bundle = load_bundle(model)
     networks = EvalNetworks(FGDEncoder.load(), StyleClassifier.load(), reference_positions(cache))
     held_out = [clip.crop(config.seconds) for clip in held_out_clips(cache)]
-    runs = StudyRuns(bundle, speech_clip(held_out, config.seconds), SamplerConfig("ddim", config.steps),
-                      config.audio_guidance)
+    sampler = SamplerConfig("ddim", config.steps or bundle.default_steps)
+    runs = StudyRuns(bundle, speech_clip(held_out, config.seconds), sampler, config.audio_guidance)
     styles, seeds = study_styles(bundle, networks.classifier, config), config.seeds
     guidance = {f"{s:g}": guidance_entry(runs, networks, styles, held_out, s, seeds) for s in config.guidance}
     prompts = tuple(write_prompt_clip(cache, style, prompt_dir) for style in config.prompt_styles)
@@ -143,7 +143,7 @@ def study_report(model: Path, cache: Path, config: StudyConfig, prompt_dir: Path
     return {
         "model": str(model),
         "config": {**asdict(config), "pairs": [pair.name for pair in config.pairs]},
-        "speech": {"clip": runs.clip.name, "seconds": runs.clip.seconds, "sampler": f"ddim K={config.steps}",
+        "speech": {"clip": runs.clip.name, "seconds": runs.clip.seconds, "sampler": f"ddim K={runs.sampler.steps}",
                    "seeds": list(seeds)},
         "styles": list(styles),
         "classifier": classifier_summary(networks.classifier),

@@ -71,7 +71,7 @@ def held_out_speech(data: Path, seconds: float) -> EvalClip:
 
 
 def _generate(bundle: ModelBundle, clip: EvalClip, seeds: tuple[int, ...], stylize: bool) -> Clips:
-    sampler = SamplerConfig("ddim", 4)
+    sampler = SamplerConfig("ddim", bundle.default_steps)
     return {(style, seed): generate_offline(bundle, sampler, clip, style, seed, stylize=stylize)
             for style in JUDGED_STYLES for seed in seeds}
 
