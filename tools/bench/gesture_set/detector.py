@@ -14,7 +14,7 @@ Joint positions are relative to the hips in the body's facing frame (x left, y u
   shoulder, averaged over :data:`STILL_FRAMES`) no faster than :data:`GUIDE_STILL` arm lengths a second. Calibrated
   on the fifteen recorded Bandai dataset-1 guide takes, each played at the amplitudes performances use (0.9, 1 and
   1.15): fourteen are found at every amplitude; the tired take, whose arm sweeps while out (0.6-0.8 arm lengths a
-  second), is not. Of the recorded byes five of 30 (an arm held forward between waves), no bow and no call. The
+  second), is not. Of the recorded byes four of 30 (an arm held forward between waves), no bow and no call. The
   stillness is what tells a guide from the generator's own beats, which hold the wrists half an arm forward.
 
 A detection's stroke is the first frame within 10 % of its signal's range below the peak (a guide's: of the wrist's
