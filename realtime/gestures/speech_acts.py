@@ -12,7 +12,9 @@ from the sentence around it:
    "come on stage"; "cheers" neither alone nor followed by "for" or "to" (the crowd's); quoted words with their
    speaker after a comma ("Come on, she thought"); and the other way, an
    interjection standing alone at the start of a clause ("Hooray!", "and goodbye!") is its act. Presenting is cued
-   by its phrases ("here is", "look at", "over there", "this is our"), never by a bare "this", "there" or "here".
+   by its phrases ("here is", "look at", "over there", "this is", "meet", "on your left"), never by a bare "this",
+   "there" or "here"; "this is" opens presenting ("This is the frame") as often as an explanation ("This is why"),
+   so the classifier decides it.
 2. **A small classifier** for the rest (:class:`SpeechActClassifier`): softmax regression over the packaged
    wordllama text embedding (numpy only) of the phrase's window, the words before and after it and the single
    words next to it, plus where it stands (opening the sentence or a clause, punctuation after it). It is trained
@@ -41,19 +43,28 @@ INTENT_GESTURES = {  # intent -> the lexicon gestures that perform it, the first
 MARKS = {"wave": "greeting", "bow": "thanks", "bye": "farewell", "raise-both": "celebration", "guide": "presenting",
          "call": "calling"}  # ``[mark]`` in marked sentences (training, benchmark) -> the intent it stands for
 CLASSES = ("none", *INTENT_GESTURES)
+WISHES = ("nice", "good", "great", "lovely", "wonderful", "pleasant", "safe", "fantastic")  # "have a nice day"
+WISHED = ("day", "evening", "afternoon", "morning", "night", "weekend", "week", "trip", "journey", "flight",
+          "holiday", "time")
+FAREWELL_WISHES = tuple(f"have a {adjective} {time}" for adjective in WISHES for time in WISHED)
 CANDIDATES: dict[str, tuple[str, ...]] = {  # intent -> phrases (normalised tokens) that can open it
     "greeting": ("hello", "hi", "hey", "hiya", "howdy", "good morning", "good afternoon", "good evening", "welcome",
                  "greetings", "hello there", "hi there", "hey there"),
     "thanks": ("thank you", "thanks", "thank", "many thanks", "much appreciated", "cheers", "thank you very much"),
     "farewell": ("bye", "goodbye", "good bye", "bye bye", "see you", "see ya", "farewell", "take care", "so long",
-                 "good night", "have a nice day", "have a good day", "have a great day", "catch you later"),
+                 "good night", *FAREWELL_WISHES, "catch you later", "enjoy the rest of your day",
+                 "enjoy the rest of your evening", "enjoy your evening", "enjoy your weekend", "safe travels",
+                 "until next time", "talk soon", "take it easy"),
     "celebration": ("hooray", "hurray", "hurrah", "yay", "woohoo", "woo hoo", "congratulations", "congrats",
                     "well done", "bravo", "yippee"),
-    "presenting": ("here is", "here are", "here's", "here you can see", "here we have", "this is our",
-                   "these are our", "this is my", "look at", "take a look", "have a look", "over there", "check out",
-                   "check this out"),
+    "presenting": ("here is", "here are", "here's", "here you can see", "here we have", "this is", "these are",
+                   "this is our", "these are our", "this is my", "look at", "take a look", "have a look", "over there",
+                   "check out", "check this out", "meet", "let me show you", "let me introduce",
+                   "allow me to introduce", "may i introduce", "on your left", "on your right", "to your left",
+                   "to your right"),
     "calling": ("come on", "come here", "come over", "come over here", "come closer", "over here", "gather round",
-                "gather around", "come along", "come on over"),
+                "gather around", "come along", "come on over", "come forward", "come on up", "come up here",
+                "come join us", "step forward"),
 }
 AFTER_TOKENS = 3  # words after the phrase the decision reads (fewer at the end of its sentence)
 BEFORE_TOKENS = 3  # words before it

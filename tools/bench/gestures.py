@@ -3,7 +3,8 @@ no cue lost in silence?
 
 **Texts** (:mod:`gesturecast.tools.bench.gesture_set.texts`, held out from the classifier's training): cued stories
 whose sentences mark the intended speech acts, and ordinary narration with none, spoken by espeak-ng with exact word
-times (:mod:`gesturecast.tools.bench.gesture_set.stories`).
+times (:mod:`gesturecast.tools.bench.gesture_set.stories`). ``--stories second`` reads the second held-out set
+(:mod:`gesturecast.tools.bench.gesture_set.texts_second`) instead.
 
 **Runs.** Each cued story is generated with and without its transcript (the same session code as
 ``generate --transcript``), the narrations with theirs; one story also without it at the next seed (the seed-to-seed
@@ -55,6 +56,7 @@ from gesturecast.settings import Settings
 from gesturecast.tools.bench.gesture_set.detector import Detector, jerk
 from gesturecast.tools.bench.gesture_set.stories import Story, make_story
 from gesturecast.tools.bench.gesture_set.texts import CUED_STORIES, NARRATION, NARRATION_FINAL, NARRATION_LATE
+from gesturecast.tools.bench.gesture_set.texts_second import CUED_STORIES_SECOND, NARRATION_SECOND
 
 WINDOW_BEFORE_S, WINDOW_AFTER_S = 1.5, 2.5  # where an intended gesture must show, around its word
 STROKE_TOLERANCE_S = 0.3
@@ -63,6 +65,11 @@ FOLLOWING_MARGIN_S = 0.5  # the following measure's smoothing width: a clip's ow
 LEAD_S = 0.8  # the picture starts this long before each word
 PLAY_WINDOW_S = 1.0  # two plays of a gesture are compared over this long on each side of their strokes
 KINDS = ("wave", "wave-right", "raise-both", "bow", "guide", "call")  # what the detector counts on narration
+STORY_SETS = {  # --stories: (cued stories, named narrations)
+    "first": (CUED_STORIES, (("narration", NARRATION), ("narration-late", NARRATION_LATE),
+                             ("narration-final", NARRATION_FINAL))),
+    "second": (CUED_STORIES_SECOND, (("narration-second", NARRATION_SECOND),)),
+}
 
 
 @dataclass
@@ -89,6 +96,8 @@ def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
     add_generation_arguments(parser)
     parser.add_argument("--json", action="store_true", help="print the JSON result")
     parser.add_argument("--out", type=Path, default=Path("out/bench/gestures"), help="folder for JSON and PNG")
+    parser.add_argument("--stories", choices=sorted(STORY_SETS), default="first",
+                        help="the held-out text set (default: first; second: written later, see texts_second.py)")
     parser.set_defaults(func=run)
 
 
@@ -301,15 +310,14 @@ def run(args: argparse.Namespace) -> int:
     expected = {intent: probe.phrases.gesture_of(intent) for intent in ("greeting", "thanks", "farewell",
                                                                          "celebration", "presenting", "calling")}
     parts = {entry.name: entry.parts for entry in load_lexicon(settings.gestures)}
+    cued_texts, narration_texts = STORY_SETS[args.stories]
     stories = [story_result(settings, make_story(name, sentences), expected, parts)
-               for name, sentences in CUED_STORIES.items()]
-    narrations = [narration_result(settings, make_story(name, texts))
-                  for name, texts in (("narration", NARRATION), ("narration-late", NARRATION_LATE),
-                                      ("narration-final", NARRATION_FINAL))]
-    floor = seed_floor(settings, make_story(*next(iter(CUED_STORIES.items()))), stories[0]["uncued_body"])
+               for name, sentences in cued_texts.items()]
+    narrations = [narration_result(settings, make_story(name, texts)) for name, texts in narration_texts]
+    floor = seed_floor(settings, make_story(*next(iter(cued_texts.items()))), stories[0]["uncued_body"])
     args.out.mkdir(parents=True, exist_ok=True)
     picture = plot_cues(stories[0], args.out / "gestures.png")
-    result = {"summary": summary(stories, narrations, floor), "picture": str(picture),
+    result = {"stories_set": args.stories, "summary": summary(stories, narrations, floor), "picture": str(picture),
               "stories": [{k: v for k, v in s.items() if k not in ("frames_cued", "uncued_body")} for s in stories],
               "narrations": narrations}
     text = json.dumps(result, indent=2, default=str) + "\n"

@@ -37,6 +37,12 @@ FAREWELLS = ("Bye", "Goodbye", "Good bye", "Bye bye", "Bye-bye", "See you", "See
 FAREWELL_TAILS = ("{a}!", "and drive safely.", "for now.", "later, {a}.", "tomorrow.", "next week, {a}.",
                   "{a}, until next time.", "and sleep well.", "soon!", "around, {a}.", "on Monday.",
                   "and [bow]thanks again.", "everyone, and good luck.", "then!")
+WISH_FAREWELLS = ("Have a nice evening", "Have a good weekend", "Have a lovely day", "Have a wonderful evening",
+                  "Have a safe trip", "Have a pleasant journey", "Have a great weekend", "Have a good night",
+                  "Have a nice afternoon", "Have a great time", "Enjoy the rest of your day", "Enjoy your evening",
+                  "Enjoy your weekend", "Safe travels", "Until next time", "Talk soon", "Take it easy")
+WISH_TAILS = ("{a}!", "and drive safely.", "and see you soon.", "everyone.", "and [bow]thanks again.", "{a}, bye.",
+              "all of you.", "and come back soon.", "{a}, it was a pleasure.", "and good luck with the move.")
 CELEBRATIONS = ("Hooray", "Hurray", "Hurrah", "Yay", "Woohoo", "Woo hoo", "Congratulations", "Congrats",
                 "Well done", "Bravo", "Yippee")
 CELEBRATION_TAILS = ("we made it!", "{a}!", "to the winners!", "the tests passed!", "it's finally Friday!",
@@ -45,12 +51,23 @@ CELEBRATION_TAILS = ("we made it!", "{a}!", "to the winners!", "the tests passed
 PRESENTING = ("[guide]Look at this", "[guide]Look at", "[guide]Take a look at", "[guide]Have a look at",
               "[guide]Check out", "[guide]Here is", "[guide]Here are", "[guide]Over there is",
               "[guide]Here you can see", "[guide]This is our", "[guide]These are our", "[guide]Here we have")
+MORE_PRESENTING = ("[guide]This is", "[guide]These are", "[guide]Let me show you", "[guide]On your right is",
+                   "[guide]To your left you can see", "[guide]Allow me to introduce", "[guide]Let me introduce",
+                   "[guide]May I introduce", "[guide]Over there you can see", "[guide]Over there, by the door, is",
+                   "[guide]Over there, next to the stage, are", "[guide]Right here is")  # added in the third revision
 PRESENTED = ("the new logo.", "the first sketch of the garden.", "our sales figures for the year.",
              "the view from the top floor.", "the prototype we built.", "this little machine.",
              "the photo from the launch.", "the results of the survey.", "the map of the old town.",
-             "our new kitchen.", "the winning design.", "the chart on the screen.")
+             "our new kitchen.", "the winning design.", "the chart on the screen.", "the oldest tree in the park.",
+             "my colleague Jonas, who runs the lab.", "the engine room.", "the seeds we collected in May.")
+INTRODUCED = ("[guide]Meet Lena, our head chef.", "[guide]Meet the team behind the app.",
+              "[guide]Meet our newest volunteer, Omar.", "[guide]Meet the robot that sorts the mail.",
+              "Everyone, [guide]meet Professor Diaz.", "Please [guide]meet my sister, Carla.",
+              "[guide]This is Nadia, who built the website.", "[guide]These are the twins I told you about.",
+              "[guide]This is the kitchen, where the magic happens.", "[guide]This is the new studio.")
 CALLING = ("Come here", "Come on", "Come over here", "Come closer", "Over here", "Gather round", "Gather around",
-           "Come along", "Come on over", "Come over")
+           "Come along", "Come on over", "Come over", "Come forward", "Come on up", "Come up here", "Come join us",
+           "Step forward")
 CALLING_TAILS = ("{a}, quickly!", "and sit with us.", "{a}, I want to show you something.", "we're starting.",
                  "and have a look.", "{a}, don't be shy.", "the food is ready.", "everybody, it's time.",
                  "{a}, you can see better from here.", "and grab a chair.")
@@ -103,7 +120,45 @@ NOT_ACTS = (  # the candidate words, not a speech act: none of them opens a gest
     "Bravo was the only word the critic wrote.", "Congratulations poured in from abroad.",
     "If you look at the budget, the numbers are clear.", "Hooray headlines filled the papers the next day.",
     "Greetings cards sell best in December.", "Take care homes are short of staff.",
+    # the phrases added with the farewell wishes, "this is", "meet" and the places (the third revision)
+    "This is a problem for small farms.", "This is not what the council promised.",
+    "This is where the plan falls apart.", "This is what happens when nobody checks the numbers.",
+    "This is a good example of a bad law.", "This is the best part of the job.",
+    "This is one reason prices keep rising.", "This is a book about patience.",
+    "These are the years when the town grew fastest.", "These are difficult questions for any government.",
+    "We meet every second Tuesday in the library.", "The two roads meet at the edge of the forest.",
+    "The ministers will meet again after the summer.", "Our plans did not meet the deadline.",
+    "It is hard to meet the cost of heating.", "I hope to meet her parents one day.",
+    "They want to have a nice day out at the lake.", "Did you have a good weekend?",
+    "We will have a great time in the mountains.", "Kids need to have a good night of sleep.",
+    "He told us to have a safe trip and hung up.", "The tourists have a pleasant evening in the square.",
+    "Keep the river on your left for two miles.", "The bakery is on your right after the bridge.",
+    "Turn to your left at the church.", "Witnesses were asked to come forward.",
+    "Few people dared to step forward at the meeting.", "The topic may come up again next year.",
+    "Nice to meet you, I am the new tenant.", "You should take it easy after surgery.",
+    "Talk soon turned to the weather.", "Until next time the rules stay as they are.",
 )
+
+
+EXPLAINED = ("the moment", "the point", "the reason", "the way", "the kind of thing", "the first time", "the part",
+             "the problem", "the question", "the end of the story", "the only way", "the last time", "a problem",
+             "a question", "a reminder", "a lesson", "a chance", "a sign", "not", "why", "how", "where", "what",
+             "when", "because", "one of the reasons", "exactly", "just", "about", "the same mistake", "a story")
+EXPLAINING = ("we have been waiting for.", "that nobody talks about.", "everyone remembers.", "it all changed.",
+              "the plan failed.", "we need to discuss.", "the experts disagree.", "things went wrong.",
+              "that matters most.", "the town was founded.")
+
+
+EXPLAINED_MANY = ("the reasons", "the questions", "the years", "the kinds of problems", "the risks", "the rules",
+                  "the ideas", "the choices", "difficult times", "not the only reasons", "the lessons", "the details")
+
+
+def _explanations(rng: random.Random, count: int) -> list[str]:
+    """``count`` sentences where "this is" or "these are" opens an explanation, not a thing shown ("This is why it
+    failed", "These are the reasons"): the presenting one names something there to see (added in the third
+    revision)."""
+    return [f"This is {rng.choice(EXPLAINED)} {rng.choice(EXPLAINING)}" if k % 3 else
+            f"These are {rng.choice(EXPLAINED_MANY)} {rng.choice(EXPLAINING)}" for k in range(count)]
 
 
 CONTINUATIONS = frozenset(["for", "to", "and", "on", "later", "tomorrow", "next", "there", "again", "around", "soon",
@@ -148,17 +203,21 @@ def _acts(rng: random.Random, openers: tuple[str, ...], tails: tuple[str, ...], 
 
 
 def training_sentences(seed: int = 0, per_act: int = 220) -> list[str]:
-    """The whole training set: ``per_act`` sentences per speech act, the verb forms of thanks, every
-    :data:`NOT_ACTS` sentence three times (alone, after and before a filler), and ``per_act // 2`` sentences whose
-    subject opens with a candidate."""
+    """The whole training set: ``per_act`` sentences per speech act (half as many farewell wishes, and the
+    introductions three times each), the verb forms of thanks, every
+    :data:`NOT_ACTS` sentence three times (alone, after and before a filler), ``per_act // 2`` sentences whose
+    subject opens with a candidate and as many where "this is" opens an explanation."""
     rng = random.Random(seed)
     sentences = (_acts(rng, GREETINGS, GREETING_TAILS, "wave", per_act)
                  + _acts(rng, THANKS, THANKS_TAILS, "bow", per_act)
                  + _acts(rng, FAREWELLS, FAREWELL_TAILS, "bye", per_act)
                  + _acts(rng, CELEBRATIONS, CELEBRATION_TAILS, "raise-both", per_act)
                  + _acts(rng, CALLING, CALLING_TAILS, "call", per_act)
+                 + _acts(rng, WISH_FAREWELLS, WISH_TAILS, "bye", per_act // 2)
                  + [f"{_fill(o, rng)} {rng.choice(PRESENTED)}" for o in PRESENTING for _ in range(per_act // 12)]
+                 + [f"{o} {rng.choice(PRESENTED)}" for o in MORE_PRESENTING for _ in range(per_act // 24)]
+                 + [text for text in INTRODUCED for _ in range(3)]
                  + [_fill(t, rng) for t in THANK_VERBS for _ in range(4)])
     for text in NOT_ACTS:
         sentences += [text, f"{rng.choice(FILLERS)} {text}", f"{text} {rng.choice(FILLERS)}"]
-    return sentences + _noun_phrase_sentences(rng, per_act // 2)
+    return sentences + _noun_phrase_sentences(rng, per_act // 2) + _explanations(rng, per_act // 2)

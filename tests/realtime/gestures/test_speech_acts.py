@@ -26,6 +26,14 @@ def test_recogniser_spellings_and_common_phrasings_are_candidates():
                      ("much appreciated", ("thanks",)), ("congrats", ("celebration",)), ("woohoo", ("celebration",))]
 
 
+def test_wishes_introductions_and_places_are_candidates():
+    text = "Have a lovely weekend. This is Ana. Meet Tom. On your left, step forward."
+    tokens = tokenize(text.split(" "))
+    found = [(" ".join(t.text for t in tokens[c.start:c.stop]), c.intents) for c in candidates(tokens)]
+    assert found == [("have a lovely weekend", ("farewell",)), ("this is", ("presenting",)), ("meet", ("presenting",)),
+                     ("on your left", ("presenting",)), ("step forward", ("calling",))]
+
+
 @pytest.mark.parametrize("text", ["Thanks to the rain, this year looks better.",
                                   "Thanks to careful planning, the bridge opened on time.",
                                   "Thank goodness it stopped.", "Hi-fi shops were everywhere.",
@@ -53,6 +61,12 @@ def test_a_thank_you_to_people_is_left_to_the_classifier():
     ("In the evening the street lights come on.", []),
     ("Is there anything else?", []),
     ("Come over here, quickly!", ["call"]),
+    ("Have a great evening, everyone.", ["wave-right"]),
+    ("Enjoy the rest of your day!", ["wave-right"]),
+    ("This is the new reading room.", ["guide"]),
+    ("This is why we moved north.", []),
+    ("Meet our new puppy, Biscuit.", ["guide"]),
+    ("We meet on Fridays.", []),
 ])
 def test_the_shipped_classifier_decides_from_the_phrase(phrases, text, cued):
     assert [cue.gesture for cue in phrases.cues(words_of(text))] == cued

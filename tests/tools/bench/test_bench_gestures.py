@@ -1,8 +1,16 @@
 """The gesture benchmark's parts: espeak-ng word times, the marked stories, the kinematic detector."""
 
-import numpy as np
+from pathlib import Path
 
-from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
+import numpy as np
+import pytest
+
+from gesturecast.models.dataset.cache import read_take
+from gesturecast.models.dataset.sources import bandai_takes, unpack_archive
+from gesturecast.models.motion.motion_features import face_forward, features_to_motion, motion_to_features
+from gesturecast.models.motion.skeleton import CANONICAL, CANONICAL_WITH_HANDS
+from gesturecast.realtime.gestures.clips import AMPLITUDE_RANGE, ClipMotion, performance
+from gesturecast.realtime.gestures.strokes import body_frame_positions
 from gesturecast.tools.bench.gesture_set.detector import OVERHEAD_M, Detector
 from gesturecast.tools.bench.gesture_set.stories import LEAD_IN_S, make_story
 from gesturecast.tools.bench.speech.espeak_words import words_at
@@ -51,3 +59,39 @@ def test_a_farewell_must_wave_and_a_cheer_must_be_overhead():
     both = body_with(overhead)
     both[:, names.index("LeftHand"), 1] = overhead[:, 1]
     assert Detector(both, names).events("raise-both")
+
+
+RAW_CACHE = Path(__file__).resolve().parents[3] / ".cache" / "raw"  # where `gesturecast data build` unpacks
+
+
+@pytest.fixture(scope="module")
+def recorded_guides(shared_data) -> list:
+    """Every recorded guide take of Bandai dataset 1 (one per style), unpacked once into .cache/raw."""
+    takes = bandai_takes(unpack_archive(shared_data / "bandai" / "dataset-1.tar.xz", RAW_CACHE / "bandai"))
+    return sorted((t for t in takes if "_guide_" in t.name), key=lambda t: t.name)
+
+
+@pytest.mark.parametrize("amplitude", [AMPLITUDE_RANGE[0], 1.0, AMPLITUDE_RANGE[1]])
+def test_the_detector_finds_the_recorded_guides_at_the_amplitudes_performances_use(recorded_guides, amplitude):
+    assert len(recorded_guides) == 15
+    missed = []
+    for take in recorded_guides:
+        features = motion_to_features(face_forward(read_take(take)[0])).astype(np.float32)  # (T, D)
+        played = performance(ClipMotion("guide", features, 0, ("arms", "torso")), 1.0, amplitude)
+        body = body_frame_positions(features_to_motion(played.features))  # (T, J, 3)
+        if not Detector(body, CANONICAL.names).events("guide"):
+            missed.append(take.name)
+    assert missed == ["dataset-1_guide_tired_001"]  # its arm sweeps while out: not held (the detector's rule)
+
+
+def test_arms_at_rest_or_bent_in_front_are_no_guide():
+    t = np.arange(60) / 30
+    names = CANONICAL_WITH_HANDS.names
+    at_rest = np.stack([np.full(60, -0.2), np.full(60, 0.85), np.zeros(60)], axis=1)  # hanging below the shoulder
+    bent = np.stack([np.full(60, -0.2), np.full(60, 1.2), 0.2 + 0.02 * np.sin(2 * np.pi * t)], axis=1)  # a beat
+    held_out = np.stack([np.full(60, -0.2), np.full(60, 1.35), np.full(60, 0.5)], axis=1)  # straight ahead
+    assert not Detector(body_with(at_rest), names).events("guide")
+    assert not Detector(body_with(bent), names).events("guide")
+    straight = body_with(held_out)
+    straight[:, names.index("RightLowerArm")] = (straight[:, names.index("RightUpperArm")] + held_out) / 2  # elbow
+    assert Detector(straight, names).events("guide-right")

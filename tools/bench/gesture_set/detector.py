@@ -8,10 +8,17 @@ Joint positions are relative to the hips in the body's facing frame (x left, y u
   arms overhead: both wrists at least :data:`OVERHEAD_M` above the head joint for 0.2 s;
 - a bow or a call (Bandai's call is a shout, leaning forward) is the head at least 12 cm further forward of the hips
   than the stream's median for 0.2 s;
-- a guide is an arm held out (85 % of its length, the wrist within 15 cm of shoulder height and 20 cm in front of
-  it) for 0.3 s.
+- a guide is an arm held out in front and held there for 0.3 s: the wrist at least :data:`GUIDE_FORWARD` of the
+  arm's length in front of its shoulder, the arm extended to :data:`GUIDE_EXTENSION` of its length or more, the
+  wrist between :data:`GUIDE_HEIGHT` (fractions of the arm's length) of shoulder height, and moving (about the
+  shoulder, averaged over :data:`STILL_FRAMES`) no faster than :data:`GUIDE_STILL` arm lengths a second. Calibrated
+  on the fifteen recorded Bandai dataset-1 guide takes, each played at the amplitudes performances use (0.9, 1 and
+  1.15): fourteen are found at every amplitude; the tired take, whose arm sweeps while out (0.6-0.8 arm lengths a
+  second), is not. Of the recorded byes four of 30 (an arm held forward between waves), no bow and no call. The
+  stillness is what tells a guide from the generator's own beats, which hold the wrists half an arm forward.
 
-A detection's stroke is the first frame within 10 % of its signal's range below the peak.
+A detection's stroke is the first frame within 10 % of its signal's range below the peak (a guide's: of the wrist's
+forward reach, from :data:`ARRIVAL_S` before the hold).
 """
 
 from __future__ import annotations
@@ -21,6 +28,12 @@ import numpy as np
 from gesturecast.models.motion.motion import MOTION_FPS
 
 OVERHEAD_M = 0.15  # a cheer's wrists above the head joint (about the ears): arms up over the head
+GUIDE_FORWARD = 0.55  # a guide's wrist in front of its shoulder, fraction of the arm's length
+GUIDE_EXTENSION = 0.65  # shoulder-to-wrist distance, fraction of the arm's length
+GUIDE_HEIGHT = (-0.6, 0.4)  # wrist height about the shoulder's, fractions of the arm's length
+GUIDE_STILL = 0.3  # a held arm's wrist speed about its shoulder, arm lengths per second
+STILL_FRAMES = 5  # the speed's moving average
+ARRIVAL_S = 0.5  # a guide's stroke is looked for this long before its hold
 
 
 def runs_of(mask: np.ndarray, min_frames: int) -> list[tuple[int, int]]:
@@ -82,14 +95,27 @@ class Detector:
         if kind in ("bow", "call"):
             forward = self.head[:, 2] - np.median(self.head[:, 2])
             return self._peaks(forward >= 0.12, forward, 6)
-        reach = np.max([self._reach(side) for side in sides], axis=0)  # guide: an arm held out
-        return self._peaks(reach >= 0.85, reach, 9)
+        return self._guides(sides)
+
+    def _guides(self, sides: list[str]) -> list[tuple[int, int, int]]:
+        """An arm held out in front; the stroke is its arrival on the forward reach from :data:`ARRIVAL_S` before
+        the hold (the hold starts once the arm has slowed down)."""
+        held = np.max([self._reach(side) for side in sides], axis=0)  # (T,)
+        forward = np.max([self.wrist[side][:, 2] - self.shoulder[side][:, 2] for side in sides], axis=0)  # (T,)
+        back = int(ARRIVAL_S * MOTION_FPS)
+        return [(a, b, arrival(forward, max(a - back, 0), b)) for a, b in runs_of(held >= GUIDE_FORWARD, 9)]
 
     def _reach(self, side: str) -> np.ndarray:
-        """The arm's extension (fraction of its length) where it is held out near shoulder height, else 0."""
-        extension = np.linalg.norm(self.wrist[side] - self.shoulder[side], axis=1) / self.arm_length[side]
-        held_out = (np.abs(self.height(side)) <= 0.15) & (self.wrist[side][:, 2] - self.shoulder[side][:, 2] >= 0.2)
-        return np.where(held_out, extension, 0.0)
+        """(T,) the wrist's distance in front of the shoulder (fraction of the arm's length) where the arm is
+        extended and held still at a guide's height, else 0."""
+        length = self.arm_length[side]
+        offset = (self.wrist[side] - self.shoulder[side]) / length  # (T, 3) arm lengths
+        speed = np.linalg.norm(np.diff(offset, axis=0, prepend=offset[:1]), axis=1) * MOTION_FPS  # (T,)
+        speed = np.convolve(speed, np.ones(STILL_FRAMES) / STILL_FRAMES, mode="same")
+        height = offset[:, 1]
+        held_out = ((np.linalg.norm(offset, axis=1) >= GUIDE_EXTENSION) & (height >= GUIDE_HEIGHT[0])
+                    & (height <= GUIDE_HEIGHT[1]) & (speed <= GUIDE_STILL))
+        return np.where(held_out, offset[:, 2], 0.0)
 
     def _waves(self, side: str) -> list[tuple[int, int, int]]:
         height = self.height(side)
