@@ -10,7 +10,9 @@ from the sentence around it:
    planning, the bridge opened"; "thank goodness"; a phrase inside a hyphenated word ("hi-fi"); reported speech
    ("said hello", "waved goodbye"); a phrase mentioned, not used ("come on is what he said"); "come on time" and
    "come on stage"; "cheers" neither alone nor followed by "for" or "to" (the crowd's); quoted words with their
-   speaker after a comma ("Come on, she thought"); and the other way, an
+   speaker after a comma ("Come on, she thought", "Goodbye, sun, said the boy", "Have a nice day, the sign in the
+   window says"); what follows making the phrase ordinary English (:func:`not_the_act`: "take care *of* the maps",
+   "meet *me* at noon", "here we have *to*", "this is *why*", "look at *any* map"); and the other way, an
    interjection standing alone at the start of a clause ("Hooray!", "and goodbye!") is its act. Presenting is cued
    by its phrases ("here is", "look at", "over there", "this is", "meet", "on your left"), never by a bare "this",
    "there" or "here"; "this is" opens presenting ("This is the frame") as often as an explanation ("This is why"),
@@ -77,12 +79,36 @@ BE = frozenset(["is", "are", "was", "were", "be", "been", "will", "would", "seem
 CAUSAL_AFTER = frozenset(["the", "a", "an", "this", "that", "its", "it"])
 NOT_THANKS = frozenset(["goodness", "god", "heavens", "heaven"])
 REPORTING = frozenset(["say", "said", "says", "saying", "wave", "waved", "waves", "waving", "bid", "bade", "bidding",
-                       "wish", "wished"])
+                       "wish", "wished", "shouted", "cried", "called", "whispered", "yelled", "muttered", "wrote",
+                       "writes", "read", "reads", "answered", "replied", "added", "told", "tell", "tells"])
 COME_ON_PLACES = frozenset(["time", "stage", "board", "air", "duty", "top", "line", "screen", "camera", "again"])
-ATTRIBUTION = frozenset(["said", "says", "asked", "asks", "argued", "argues", "thought", "thinks", "wrote", "writes",
-                         "shouted", "shouts", "replied", "replies", "added", "explained", "told", "cried",
-                         "whispered", "muttered", "insisted", "suggested", "suggests", "called", "yelled"])
-ATTRIBUTION_TOKENS = 3  # "she thought", "the article argued"
+ATTRIBUTION = frozenset(["said", "says", "say", "asked", "asks", "ask", "argued", "argues", "thought", "thinks",
+                         "wrote", "writes", "shouted", "shouts", "shout", "replied", "replies", "added", "adds",
+                         "explained", "explains", "told", "tells", "cried", "cries", "whispered", "whispers",
+                         "muttered", "insisted", "suggested", "suggests", "called", "calls", "yelled", "warned",
+                         "warns", "promised", "promises", "announced", "announces", "advised", "groaned", "sighed",
+                         "laughed", "joked", "remarked", "noted", "notes", "answered", "complained", "declared",
+                         "declares", "exclaimed", "began", "begins", "urged", "screamed", "murmured", "read", "reads",
+                         "recalled", "recalls", "repeated", "mumbled", "snapped", "grumbled"])  # verbs of saying
+ATTRIBUTION_CLAUSE = 7  # a clause of at most this many words after the quote that holds a verb of saying
+ATTRIBUTION_CLOSING = 12  # … or of at most this many that a verb of saying closes ("the sign in the window says.")
+CLAUSES_AFTER_QUOTE = 2  # "Goodbye, sun, said Pip": the attribution may follow an address
+NOT_ATTRIBUTION = frozenset(["and", "but", "as", "where", "which", "who", "because", "if", "when", "so", "while",
+                             "that", "since", "although", "though", "or", "to", "for", "of", "in", "on", "at",
+                             "with", "from", "i", "we", "you"])  # a clause these open is no attribution
+RELATIVES = frozenset(["who", "that", "which", "whom"])  # "to all of you who wrote in": the verb is not the quote's
+OBJECTS = frozenset(["me", "us", "him", "them", "you"])  # "meet me at the station" arranges, does not introduce
+ARRANGING = frozenset(["at", "in", "on", "after", "before", "outside", "inside", "by", "near", "for", "with", "there",
+                       "here", "tomorrow", "tonight", "today", "again", "soon", "halfway", ""])  # "meet her at noon"
+CARE_COMPLEMENTS = frozenset(["of", "to", "that", "when", "not", "while", "if", "with", "in", "on", "about",
+                              "because", "how", "what", "whether", "before", "after", "during", "where"])
+REFLEXIVES = frozenset(["yourself", "yourselves"])  # "take care of yourself" is still a farewell
+EXPLAINING = frozenset(["where", "how", "what", "why", "when", "who", "which", "whose", "because", "not", "no",
+                        "never", "just", "exactly", "precisely", "also", "partly", "probably", "perhaps", "still",
+                        "only", "nothing", "hardly", "largely", "mostly", "certainly", "surely", "clearly"])
+GENERIC = frozenset(["any", "every", "how", "what", "why", "whether", "where", "who", "which", "most", "almost",
+                     "nearly", "each"])  # "look at any map": nothing there to point at
+SUBJECT_BE = frozenset(["is", "was", "are", "were"])
 MAIN_CLAUSE_TOKENS = 3  # words after the comma that make a main clause
 OPENERS = frozenset(["and", "so", "oh", "well", "but", "now"])  # a speech act may follow these at a clause start
 FEATURE_VERSION = 2
@@ -187,17 +213,16 @@ def rule(tokens: list[Token], candidate: Candidate) -> str | None:
     first, stop = sentence_bounds(tokens, candidate)
     words = [t.text for t in tokens[candidate.start: candidate.stop]]
     after = tokens[candidate.stop].text if candidate.stop < stop else ""
-    before = tokens[candidate.start - 1].text if candidate.start > first else ""
     hyphenated = tokens[candidate.stop - 1].hyphen or (candidate.start > first and tokens[candidate.start - 1].hyphen)
     joined = not tokens[candidate.stop - 1].clause_end
     mentioned = joined and after in BE and "presenting" not in candidate.intents  # "come on is what he said"
     phrasal = words == ["come", "on"] and joined and after in COME_ON_PLACES  # "come on time", "come on stage"
     crowd = words == ["cheers"] and joined and after not in ("for", "to")  # "cheers from the crowd"
-    if hyphenated or before in REPORTING or mentioned or phrasal or crowd:
+    if hyphenated or reported(tokens, candidate, first) or mentioned or phrasal or crowd:
         return "none"
     if words[0] in ("thanks", "thank") and joined and (after in NOT_THANKS or causal_thanks(tokens, candidate, stop)):
         return "none"
-    if quoted(tokens, candidate, stop):
+    if quoted(tokens, candidate, stop) or not_the_act(tokens, candidate, first, stop):
         return "none"
     interjection = not joined and len(candidate.intents) == 1 and candidate.intents[0] != "presenting"
     if interjection and clause_start(tokens, candidate, first):  # "Hooray!", "Thank you, and goodbye!"
@@ -206,12 +231,57 @@ def rule(tokens: list[Token], candidate: Candidate) -> str | None:
 
 
 def quoted(tokens: list[Token], candidate: Candidate, stop: int) -> bool:
-    """"Come on, she thought" / "Hello, the sign said": a comma after the phrase, then a speaker and a verb of
-    saying within :data:`ATTRIBUTION_TOKENS` words: the words are quoted, not said to the listener."""
-    last = tokens[candidate.stop - 1]
-    if not last.clause_end or last.sentence_end:
+    """"Come on, she thought" / "Have a nice day, the sign in the window says" / "Goodbye, sun, said the boy": the
+    phrase ends a clause, and one of the next :data:`CLAUSES_AFTER_QUOTE` clauses is an attribution
+    (:func:`attribution`): the words are quoted, not said to the listener."""
+    end = next((k for k in range(candidate.stop - 1, stop) if tokens[k].clause_end), stop - 1)
+    for _ in range(CLAUSES_AFTER_QUOTE):
+        if tokens[end].sentence_end or end + 1 >= stop:
+            return False
+        clause_stop = next((k + 1 for k in range(end + 1, stop) if tokens[k].clause_end), stop)
+        if attribution([t.text for t in tokens[end + 1: clause_stop]]):
+            return True
+        end = clause_stop - 1
+    return False
+
+
+def attribution(clause: list[str]) -> bool:
+    """A speaker and a verb of saying: not opened by a conjunction, a preposition or "I/we/you", the verb not inside
+    a relative clause, and either at most :data:`ATTRIBUTION_CLAUSE` words or closed by the verb."""
+    if not clause or clause[0] in NOT_ATTRIBUTION:
         return False
-    return any(t.text in ATTRIBUTION for t in tokens[candidate.stop: min(stop, candidate.stop + ATTRIBUTION_TOKENS)])
+    verbs = [k for k, word in enumerate(clause) if word in ATTRIBUTION]
+    if not verbs or RELATIVES & set(clause[: verbs[0]]):
+        return False
+    return len(clause) <= ATTRIBUTION_CLAUSE or verbs[-1] == len(clause) - 1 and len(clause) <= ATTRIBUTION_CLOSING
+
+
+def reported(tokens: list[Token], candidate: Candidate, first: int) -> bool:
+    """"He said hello", "she shouted goodbye", "they told us goodbye": a verb of saying (or waving) before the
+    phrase, directly or before an object pronoun, reports someone else's act."""
+    before = [t.text for t in tokens[max(first, candidate.start - 2): candidate.start]]
+    return bool(before) and (before[-1] in REPORTING or len(before) == 2 and before[0] in REPORTING
+                             and before[1] in OBJECTS | {"her", "it"})
+
+
+def not_the_act(tokens: list[Token], candidate: Candidate, first: int, stop: int) -> bool:
+    """What follows makes the phrase ordinary English: "take care of the maps" / "when you cross" (not a farewell,
+    unless "of yourself"), "meet me at the station" (an arrangement, not an introduction), "here we have to" (an
+    obligation), "this is why" / "here is where" / "this is not" (an explanation), "look at any map" (nothing to
+    point at), and a phrase opening its sentence as the subject of "is"/"was" ("Come on in was painted")."""
+    words = " ".join(t.text for t in tokens[candidate.start: candidate.stop])
+    if tokens[candidate.stop - 1].clause_end or candidate.stop >= stop:
+        return False
+    after = [t.text for t in tokens[candidate.stop: min(stop, candidate.stop + 3)]] + ["", ""]
+    care = words == "take care" and after[0] in CARE_COMPLEMENTS and after[1] not in REFLEXIVES
+    arranged = words == "meet" and (after[0] in OBJECTS or after[0] == "her" and after[1] in ARRANGING)
+    obliged = words.endswith(" have") and after[0] in ("to", "been", "got", "had")
+    explaining = words.split()[-1] in ("is", "are", "here's") and after[0] in EXPLAINING
+    looked = after[1:] if words in ("take a look", "have a look") and after[0] == "at" else after
+    generic = words in ("look at", "take a look", "have a look", "check out") and looked[0] in GENERIC
+    subject = (candidate.start == first and not tokens[candidate.stop].clause_end and after[1] in SUBJECT_BE
+               and "presenting" not in candidate.intents)
+    return care or arranged or obliged or explaining or generic or subject
 
 
 def causal_thanks(tokens: list[Token], candidate: Candidate, stop: int) -> bool:

@@ -45,6 +45,28 @@ def test_rules_rule_out_what_grammar_makes_clear(text):
     assert [rule(tokens, c) for c in candidates(tokens)] == ["none"]
 
 
+@pytest.mark.parametrize("text", [
+    "Take care of the spare keys, please.", "Take care when the floor is wet.", "Take care not to spill it.",
+    "Take care that the gate stays shut.", "Meet me outside the bakery.", "Meet us after lunch.",
+    "Meet her at the gate.", "Here we have to slow down.", "This is why the roof leaks.",
+    "Here is where the path ends.", "These are not the keys I lost.", "Look at any recipe from that time.",
+    "Take a look at how the prices rose.", "Come along was the name of the song.",
+    "Good night, the postcard from the island says.", "Cheerio and bye, the old porter would say.",
+    "Hello, Tess, said her uncle.", "The guard shouted goodbye.", "Her brother told us goodbye."])
+def test_what_follows_or_a_speaker_rules_a_speech_act_out(text):
+    tokens = tokenize(text.split())
+    assert [rule(tokens, c) for c in candidates(tokens)][:1] == ["none"]
+
+
+@pytest.mark.parametrize("text", [
+    "Take care of yourself on the road.", "Meet our new chef, Rosa.", "Here we have the winning cake.",
+    "This is the new boiler.", "Look at this tiny kitten.", "Hi, I just want to say thanks.",
+    "Much appreciated, to everyone who wrote to us.", "Welcome back, friends, as I said last week."])
+def test_the_same_words_used_as_the_act_are_not_ruled_out(text):
+    tokens = tokenize(text.split())
+    assert rule(tokens, candidates(tokens)[0]) != "none"
+
+
 def test_a_thank_you_to_people_is_left_to_the_classifier():
     tokens = tokenize(["Thanks", "to", "everyone", "who", "came", "tonight."])
     assert [rule(tokens, c) for c in candidates(tokens)] == [None]
