@@ -111,8 +111,10 @@ GENERIC = frozenset(["any", "every", "how", "what", "why", "whether", "where", "
 SUBJECT_BE = frozenset(["is", "was", "are", "were"])
 MAIN_CLAUSE_TOKENS = 3  # words after the comma that make a main clause
 OPENERS = frozenset(["and", "so", "oh", "well", "but", "now"])  # a speech act may follow these at a clause start
-FEATURE_VERSION = 2
-CONTEXTS = 5  # texts embedded per candidate (context_texts)
+FEATURE_VERSION = 3
+CONTEXTS = 6  # texts embedded per candidate (context_texts)
+DETERMINERS = frozenset(["the", "a", "an", "our", "my", "your", "this", "these", "that", "those", "its", "their",
+                         "his", "her", "one", "another", "some"])  # skipped to the head word after the phrase
 
 
 @dataclass(frozen=True)
@@ -315,8 +317,10 @@ class Embedder:
 
 
 def context_texts(tokens: list[Token], words: list[str], candidate: Candidate) -> tuple[str, ...]:
-    """(window, before, after, the word before, the word after) texts of a candidate, from the transcript words
-    (punctuation kept), inside its sentence ("" where there is none)."""
+    """(window, before, after, the word before, the word after, the head word after) texts of a candidate, from the
+    transcript words (punctuation kept), inside its sentence ("" where there is none). The head word is the first
+    after the phrase that is not a determiner ("this is the *part*" / "this is the *kitchen*"; the word after is
+    "the" in both)."""
     first, stop = sentence_bounds(tokens, candidate)
 
     def text(a: int, b: int) -> str:
@@ -328,7 +332,8 @@ def context_texts(tokens: list[Token], words: list[str], candidate: Candidate) -
     after = text(candidate.stop, candidate.stop + AFTER_TOKENS) if candidate.stop < stop else ""
     previous = tokens[candidate.start - 1].text if candidate.start > first else ""
     following = tokens[candidate.stop].text if candidate.stop < stop else ""
-    return window, before, after, previous, following
+    head = next((t.text for t in tokens[candidate.stop: stop] if t.text not in DETERMINERS), "")
+    return window, before, after, previous, following, head
 
 
 def shape_features(tokens: list[Token], candidate: Candidate) -> np.ndarray:
@@ -342,7 +347,7 @@ def shape_features(tokens: list[Token], candidate: Candidate) -> np.ndarray:
 
 
 def features(embed: Embedder, tokens: list[Token], words: list[str], found: list[Candidate]) -> np.ndarray:
-    """(n, 5·256 + 12) classifier inputs of the candidates ``found``: the embeddings of :func:`context_texts`
+    """(n, 6·256 + 12) classifier inputs of the candidates ``found``: the embeddings of :func:`context_texts`
     (the single words next to the phrase tell a function word or an addressee from a noun: "welcome *to*" /
     "welcome *news*") and :func:`shape_features`."""
     if not found:
