@@ -90,12 +90,15 @@ ATTRIBUTION = frozenset(["said", "says", "say", "asked", "asks", "ask", "argued"
                          "laughed", "joked", "remarked", "noted", "notes", "answered", "complained", "declared",
                          "declares", "exclaimed", "began", "begins", "urged", "screamed", "murmured", "read", "reads",
                          "recalled", "recalls", "repeated", "mumbled", "snapped", "grumbled"])  # verbs of saying
+PAST_SAYING = frozenset(["said", "told", "wrote", "thought", "began"])
 ATTRIBUTION_CLAUSE = 7  # a clause of at most this many words after the quote that holds a verb of saying
 ATTRIBUTION_CLOSING = 12  # … or of at most this many that a verb of saying closes ("the sign in the window says.")
 CLAUSES_AFTER_QUOTE = 2  # "Goodbye, sun, said Pip": the attribution may follow an address
 NOT_ATTRIBUTION = frozenset(["and", "but", "as", "where", "which", "who", "because", "if", "when", "so", "while",
                              "that", "since", "although", "though", "or", "to", "for", "of", "in", "on", "at",
-                             "with", "from", "i", "we", "you"])  # a clause these open is no attribution
+                             "with", "from"])  # a clause these open is no attribution
+FIRST_PERSON = frozenset(["i", "we", "you"])  # "Hi, I want to say": an attribution only in the past ("we promised")
+SPEAKER_WORDS = 3  # "a painted board announced …": the verb of saying follows a speaker of at most this many words
 RELATIVES = frozenset(["who", "that", "which", "whom"])  # "to all of you who wrote in": the verb is not the quote's
 OBJECTS = frozenset(["me", "us", "him", "them", "you"])  # "meet me at the station" arranges, does not introduce
 ARRANGING = frozenset(["at", "in", "on", "after", "before", "outside", "inside", "by", "near", "for", "with", "there",
@@ -248,14 +251,18 @@ def quoted(tokens: list[Token], candidate: Candidate, stop: int) -> bool:
 
 
 def attribution(clause: list[str]) -> bool:
-    """A speaker and a verb of saying: not opened by a conjunction, a preposition or "I/we/you", the verb not inside
-    a relative clause, and either at most :data:`ATTRIBUTION_CLAUSE` words or closed by the verb."""
+    """A speaker and a verb of saying: not opened by a conjunction or a preposition ("I/we/you" only before a verb
+    in the past), the verb not inside a relative clause, and either right after a short speaker, in a clause of at
+    most :data:`ATTRIBUTION_CLAUSE` words, or closing one."""
     if not clause or clause[0] in NOT_ATTRIBUTION:
         return False
     verbs = [k for k, word in enumerate(clause) if word in ATTRIBUTION]
     if not verbs or RELATIVES & set(clause[: verbs[0]]):
         return False
-    return len(clause) <= ATTRIBUTION_CLAUSE or verbs[-1] == len(clause) - 1 and len(clause) <= ATTRIBUTION_CLOSING
+    if clause[0] in FIRST_PERSON and not (clause[verbs[0]].endswith("ed") or clause[verbs[0]] in PAST_SAYING):
+        return False
+    closing = verbs[-1] == len(clause) - 1 and len(clause) <= ATTRIBUTION_CLOSING
+    return verbs[0] <= SPEAKER_WORDS or len(clause) <= ATTRIBUTION_CLAUSE or closing
 
 
 def reported(tokens: list[Token], candidate: Candidate, first: int) -> bool:
@@ -270,7 +277,8 @@ def not_the_act(tokens: list[Token], candidate: Candidate, first: int, stop: int
     """What follows makes the phrase ordinary English: "take care of the maps" / "when you cross" (not a farewell,
     unless "of yourself"), "meet me at the station" (an arrangement, not an introduction), "here we have to" (an
     obligation), "this is why" / "here is where" / "this is not" (an explanation), "look at any map" (nothing to
-    point at), and a phrase opening its sentence as the subject of "is"/"was" ("Come on in was painted")."""
+    point at), and a phrase opening its sentence as the subject of "is"/"was" ("Come on in was painted", "Hello and
+    goodbye were …")."""
     words = " ".join(t.text for t in tokens[candidate.start: candidate.stop])
     if tokens[candidate.stop - 1].clause_end or candidate.stop >= stop:
         return False
@@ -281,8 +289,9 @@ def not_the_act(tokens: list[Token], candidate: Candidate, first: int, stop: int
     explaining = words.split()[-1] in ("is", "are", "here's") and after[0] in EXPLAINING
     looked = after[1:] if words in ("take a look", "have a look") and after[0] == "at" else after
     generic = words in ("look at", "take a look", "have a look", "check out") and looked[0] in GENERIC
-    subject = (candidate.start == first and not tokens[candidate.stop].clause_end and after[1] in SUBJECT_BE
-               and "presenting" not in candidate.intents)
+    coordinated = after[0] in ("and", "or") and after[2] in SUBJECT_BE  # "Hello and goodbye were …"
+    subject = (candidate.start == first and not tokens[candidate.stop].clause_end and "presenting" not in
+               candidate.intents and (after[1] in SUBJECT_BE or coordinated))
     return care or arranged or obliged or explaining or generic or subject
 
 

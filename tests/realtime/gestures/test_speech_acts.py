@@ -52,7 +52,9 @@ def test_rules_rule_out_what_grammar_makes_clear(text):
     "Here is where the path ends.", "These are not the keys I lost.", "Look at any recipe from that time.",
     "Take a look at how the prices rose.", "Come along was the name of the song.",
     "Good night, the postcard from the island says.", "Cheerio and bye, the old porter would say.",
-    "Hello, Tess, said her uncle.", "The guard shouted goodbye.", "Her brother told us goodbye."])
+    "Hello, Tess, said her uncle.", "The guard shouted goodbye.", "Her brother told us goodbye.",
+    "Goodbye, the captain announced over the crackling ship speaker at dawn.",
+    "See you on Friday, we promised the neighbours before leaving.", "Hi and bye are the words my parrot knows."])
 def test_what_follows_or_a_speaker_rules_a_speech_act_out(text):
     tokens = tokenize(text.split())
     assert [rule(tokens, c) for c in candidates(tokens)][:1] == ["none"]
@@ -61,7 +63,8 @@ def test_what_follows_or_a_speaker_rules_a_speech_act_out(text):
 @pytest.mark.parametrize("text", [
     "Take care of yourself on the road.", "Meet our new chef, Rosa.", "Here we have the winning cake.",
     "This is the new boiler.", "Look at this tiny kitten.", "Hi, I just want to say thanks.",
-    "Much appreciated, to everyone who wrote to us.", "Welcome back, friends, as I said last week."])
+    "Much appreciated, to everyone who wrote to us.", "Welcome back, friends, as I said last week.",
+    "Welcome, we say to every new member of the choir."])
 def test_the_same_words_used_as_the_act_are_not_ruled_out(text):
     tokens = tokenize(text.split())
     assert rule(tokens, candidates(tokens)[0]) != "none"
@@ -110,4 +113,4 @@ def test_words_heard_one_at_a_time_cue_the_same_as_the_transcript(phrases):
 
 def test_an_interjection_alone_at_a_clause_start_is_its_act():
     tokens = tokenize(["Thank", "you,", "and", "goodbye!", "Hello", "and", "goodbye", "are", "words."])
-    assert [rule(tokens, c) for c in candidates(tokens)] == ["thanks", "farewell", None, "none"]
+    assert [rule(tokens, c) for c in candidates(tokens)] == ["thanks", "farewell", "none", "none"]
