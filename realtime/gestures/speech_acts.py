@@ -97,6 +97,11 @@ CLAUSES_AFTER_QUOTE = 2  # "Goodbye, sun, said Pip": the attribution may follow 
 NOT_ATTRIBUTION = frozenset(["and", "but", "as", "where", "which", "who", "because", "if", "when", "so", "while",
                              "that", "since", "although", "though", "or", "to", "for", "of", "in", "on", "at",
                              "with", "from"])  # a clause these open is no attribution
+PERFORMATIVE_VERBS = frozenset(["say", "tell", "wish", "bid", "wave"])  # base forms a speaker performs with
+SPEAKERS = frozenset(["i", "we", "let", "let's", "i'd", "we'd", "i'll", "we'll"])
+PERFORMATIVE_LEAD = frozenset([*SPEAKERS, "me", "us", "just", "also", "really", "only", "first", "want", "wanted",
+                               "to", "like", "would", "must", "can", "could", "should", "and", "so", "now", "all",
+                               "both", "again", "once", "quickly", "briefly", "personally", "simply", "do"])
 FIRST_PERSON = frozenset(["i", "we", "you"])  # "Hi, I want to say": an attribution only in the past ("we promised")
 SPEAKER_WORDS = 3  # "a painted board announced …": the verb of saying follows a speaker of at most this many words
 RELATIVES = frozenset(["who", "that", "which", "whom"])  # "to all of you who wrote in": the verb is not the quote's
@@ -267,10 +272,27 @@ def attribution(clause: list[str]) -> bool:
 
 def reported(tokens: list[Token], candidate: Candidate, first: int) -> bool:
     """"He said hello", "she shouted goodbye", "they told us goodbye": a verb of saying (or waving) before the
-    phrase, directly or before an object pronoun, reports someone else's act."""
+    phrase, directly or before an object pronoun, reports someone else's act; the speaker's own ("I want to say
+    thank you", "let me wish you a good night", :func:`performed`) does not."""
     before = [t.text for t in tokens[max(first, candidate.start - 2): candidate.start]]
-    return bool(before) and (before[-1] in REPORTING or len(before) == 2 and before[0] in REPORTING
-                             and before[1] in OBJECTS | {"her", "it"})
+    if not before:
+        return False
+    verb = candidate.start - 1 if before[-1] in REPORTING else candidate.start - 2 if (
+        len(before) == 2 and before[0] in REPORTING and before[1] in OBJECTS | {"her", "it"}) else None
+    return verb is not None and not performed(tokens, verb, first)
+
+
+def performed(tokens: list[Token], verb: int, first: int) -> bool:
+    """The verb at ``verb`` is the speaker's own performative ("I want to say", "we'd like to wish", "let me
+    say"): a base form whose clause, from its start, holds only :data:`PERFORMATIVE_LEAD` words, one of them "I",
+    "we" or "let"."""
+    if tokens[verb].text not in PERFORMATIVE_VERBS:
+        return False
+    start = verb
+    while start > first and not tokens[start - 1].clause_end:
+        start -= 1
+    lead = [t.text for t in tokens[start: verb]]
+    return bool(SPEAKERS & set(lead)) and all(word in PERFORMATIVE_LEAD for word in lead)
 
 
 def not_the_act(tokens: list[Token], candidate: Candidate, first: int, stop: int) -> bool:

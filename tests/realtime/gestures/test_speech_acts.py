@@ -70,6 +70,15 @@ def test_the_same_words_used_as_the_act_are_not_ruled_out(text):
     assert rule(tokens, candidates(tokens)[0]) != "none"
 
 
+@pytest.mark.parametrize("text, reported", [
+    ("I want to say thank you to everyone.", False), ("Let me say hello to our guests.", False),
+    ("We would like to tell you thanks for everything.", False), ("He wanted to say goodbye to his mother.", True),
+    ("Please say hello to your mother.", True), ("They would like to say thanks.", True)])
+def test_the_speakers_own_say_performs_the_act_anyone_elses_reports_it(text, reported):
+    tokens = tokenize(text.split())
+    assert (rule(tokens, candidates(tokens)[0]) == "none") == reported
+
+
 def test_a_thank_you_to_people_is_left_to_the_classifier():
     tokens = tokenize(["Thanks", "to", "everyone", "who", "came", "tonight."])
     assert [rule(tokens, c) for c in candidates(tokens)] == [None]
