@@ -25,7 +25,9 @@ from the sentence around it:
 
 The decision needs :data:`AFTER_TOKENS` words after the phrase, or the end of its sentence: what follows decides
 ("see you *walking*", "lights come *on*"). Words are only read inside their sentence, so a transcript given at once
-and the same words reported one at a time give the same cues.
+and the same words reported one at a time give the same cues, but for one rule: a quote's attribution (:func:`quoted`)
+more than :data:`AFTER_TOKENS` words after the phrase is read only where the sentence is already there (a
+transcript); words one at a time decide before it arrives, so the classifier decides such a quote.
 """
 
 from __future__ import annotations

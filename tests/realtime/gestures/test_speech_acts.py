@@ -120,6 +120,15 @@ def test_words_heard_one_at_a_time_cue_the_same_as_the_transcript(phrases):
                                                             ("wave-right", "Take care,"), ("wave-right", "bye-bye")]
 
 
+@pytest.mark.parametrize("text", ["Goodbye, sun, said the boy.", "Hello, it says in a small voice every time.",
+                                  "Take care of the maps, she said."])
+def test_a_quote_attributed_within_three_words_is_no_cue_heard_either_way(phrases, text):
+    words = words_of(text)
+    listener = PhraseListener(phrases)
+    heard = [cue for word in words for cue in listener.hear(word)] + listener.flush()
+    assert heard == phrases.cues(words) == []
+
+
 def test_an_interjection_alone_at_a_clause_start_is_its_act():
     tokens = tokenize(["Thank", "you,", "and", "goodbye!", "Hello", "and", "goodbye", "are", "words."])
     assert [rule(tokens, c) for c in candidates(tokens)] == ["thanks", "farewell", "none", "none"]
