@@ -10,7 +10,9 @@ from the sentence around it:
    planning, the bridge opened"; "thank goodness"; a phrase inside a hyphenated word ("hi-fi"); reported speech
    ("said hello", "waved goodbye"); a phrase mentioned, not used ("come on is what he said"); "come on time" and
    "come on stage"; "cheers" neither alone nor followed by "for" or "to" (the crowd's); quoted words with their
-   speaker after a comma ("Come on, she thought"); and the other way, an
+   speaker after a comma ("Come on, she thought", "Goodbye, sun, said the boy", "Have a nice day, the sign in the
+   window says"); what follows making the phrase ordinary English (:func:`not_the_act`: "take care *of* the maps",
+   "meet *me* at noon", "here we have *to*", "this is *why*", "look at *any* map"); and the other way, an
    interjection standing alone at the start of a clause ("Hooray!", "and goodbye!") is its act. Presenting is cued
    by its phrases ("here is", "look at", "over there", "this is", "meet", "on your left"), never by a bare "this",
    "there" or "here"; "this is" opens presenting ("This is the frame") as often as an explanation ("This is why"),
@@ -23,7 +25,9 @@ from the sentence around it:
 
 The decision needs :data:`AFTER_TOKENS` words after the phrase, or the end of its sentence: what follows decides
 ("see you *walking*", "lights come *on*"). Words are only read inside their sentence, so a transcript given at once
-and the same words reported one at a time give the same cues.
+and the same words reported one at a time give the same cues, but for one rule: a quote's attribution (:func:`quoted`)
+more than :data:`AFTER_TOKENS` words after the phrase is read only where the sentence is already there (a
+transcript); words one at a time decide before it arrives, so the classifier decides such a quote.
 """
 
 from __future__ import annotations
@@ -77,16 +81,50 @@ BE = frozenset(["is", "are", "was", "were", "be", "been", "will", "would", "seem
 CAUSAL_AFTER = frozenset(["the", "a", "an", "this", "that", "its", "it"])
 NOT_THANKS = frozenset(["goodness", "god", "heavens", "heaven"])
 REPORTING = frozenset(["say", "said", "says", "saying", "wave", "waved", "waves", "waving", "bid", "bade", "bidding",
-                       "wish", "wished"])
+                       "wish", "wished", "shouted", "cried", "called", "whispered", "yelled", "muttered", "wrote",
+                       "writes", "read", "reads", "answered", "replied", "added", "told", "tell", "tells"])
 COME_ON_PLACES = frozenset(["time", "stage", "board", "air", "duty", "top", "line", "screen", "camera", "again"])
-ATTRIBUTION = frozenset(["said", "says", "asked", "asks", "argued", "argues", "thought", "thinks", "wrote", "writes",
-                         "shouted", "shouts", "replied", "replies", "added", "explained", "told", "cried",
-                         "whispered", "muttered", "insisted", "suggested", "suggests", "called", "yelled"])
-ATTRIBUTION_TOKENS = 3  # "she thought", "the article argued"
+ATTRIBUTION = frozenset(["said", "says", "say", "asked", "asks", "ask", "argued", "argues", "thought", "thinks",
+                         "wrote", "writes", "shouted", "shouts", "shout", "replied", "replies", "added", "adds",
+                         "explained", "explains", "told", "tells", "cried", "cries", "whispered", "whispers",
+                         "muttered", "insisted", "suggested", "suggests", "called", "calls", "yelled", "warned",
+                         "warns", "promised", "promises", "announced", "announces", "advised", "groaned", "sighed",
+                         "laughed", "joked", "remarked", "noted", "notes", "answered", "complained", "declared",
+                         "declares", "exclaimed", "began", "begins", "urged", "screamed", "murmured", "read", "reads",
+                         "recalled", "recalls", "repeated", "mumbled", "snapped", "grumbled"])  # verbs of saying
+PAST_SAYING = frozenset(["said", "told", "wrote", "thought", "began"])
+ATTRIBUTION_CLAUSE = 7  # a clause of at most this many words after the quote that holds a verb of saying
+ATTRIBUTION_CLOSING = 12  # … or of at most this many that a verb of saying closes ("the sign in the window says.")
+CLAUSES_AFTER_QUOTE = 2  # "Goodbye, sun, said Pip": the attribution may follow an address
+NOT_ATTRIBUTION = frozenset(["and", "but", "as", "where", "which", "who", "because", "if", "when", "so", "while",
+                             "that", "since", "although", "though", "or", "to", "for", "of", "in", "on", "at",
+                             "with", "from"])  # a clause these open is no attribution
+PERFORMATIVE_VERBS = frozenset(["say", "tell", "wish", "bid", "wave"])  # base forms a speaker performs with
+SPEAKERS = frozenset(["i", "we", "let", "let's", "i'd", "we'd", "i'll", "we'll"])
+PERFORMATIVE_LEAD = frozenset([*SPEAKERS, "me", "us", "just", "also", "really", "only", "first", "want", "wanted",
+                               "to", "like", "would", "must", "can", "could", "should", "and", "so", "now", "all",
+                               "both", "again", "once", "quickly", "briefly", "personally", "simply", "do"])
+FIRST_PERSON = frozenset(["i", "we", "you"])  # "Hi, I want to say": an attribution only in the past ("we promised")
+SPEAKER_WORDS = 3  # "a painted board announced …": the verb of saying follows a speaker of at most this many words
+RELATIVES = frozenset(["who", "that", "which", "whom"])  # "to all of you who wrote in": the verb is not the quote's
+OBJECTS = frozenset(["me", "us", "him", "them", "you"])  # "meet me at the station" arranges, does not introduce
+ARRANGING = frozenset(["at", "in", "on", "after", "before", "outside", "inside", "by", "near", "for", "with", "there",
+                       "here", "tomorrow", "tonight", "today", "again", "soon", "halfway", ""])  # "meet her at noon"
+CARE_COMPLEMENTS = frozenset(["of", "to", "that", "when", "not", "while", "if", "with", "in", "on", "about",
+                              "because", "how", "what", "whether", "before", "after", "during", "where"])
+REFLEXIVES = frozenset(["yourself", "yourselves"])  # "take care of yourself" is still a farewell
+EXPLAINING = frozenset(["where", "how", "what", "why", "when", "who", "which", "whose", "because", "not", "no",
+                        "never", "just", "exactly", "precisely", "also", "partly", "probably", "perhaps", "still",
+                        "only", "nothing", "hardly", "largely", "mostly", "certainly", "surely", "clearly"])
+GENERIC = frozenset(["any", "every", "how", "what", "why", "whether", "where", "who", "which", "most", "almost",
+                     "nearly", "each"])  # "look at any map": nothing there to point at
+SUBJECT_BE = frozenset(["is", "was", "are", "were"])
 MAIN_CLAUSE_TOKENS = 3  # words after the comma that make a main clause
 OPENERS = frozenset(["and", "so", "oh", "well", "but", "now"])  # a speech act may follow these at a clause start
-FEATURE_VERSION = 2
-CONTEXTS = 5  # texts embedded per candidate (context_texts)
+FEATURE_VERSION = 3
+CONTEXTS = 6  # texts embedded per candidate (context_texts)
+DETERMINERS = frozenset(["the", "a", "an", "our", "my", "your", "this", "these", "that", "those", "its", "their",
+                         "his", "her", "one", "another", "some"])  # skipped to the head word after the phrase
 
 
 @dataclass(frozen=True)
@@ -187,17 +225,16 @@ def rule(tokens: list[Token], candidate: Candidate) -> str | None:
     first, stop = sentence_bounds(tokens, candidate)
     words = [t.text for t in tokens[candidate.start: candidate.stop]]
     after = tokens[candidate.stop].text if candidate.stop < stop else ""
-    before = tokens[candidate.start - 1].text if candidate.start > first else ""
     hyphenated = tokens[candidate.stop - 1].hyphen or (candidate.start > first and tokens[candidate.start - 1].hyphen)
     joined = not tokens[candidate.stop - 1].clause_end
     mentioned = joined and after in BE and "presenting" not in candidate.intents  # "come on is what he said"
     phrasal = words == ["come", "on"] and joined and after in COME_ON_PLACES  # "come on time", "come on stage"
     crowd = words == ["cheers"] and joined and after not in ("for", "to")  # "cheers from the crowd"
-    if hyphenated or before in REPORTING or mentioned or phrasal or crowd:
+    if hyphenated or reported(tokens, candidate, first) or mentioned or phrasal or crowd:
         return "none"
     if words[0] in ("thanks", "thank") and joined and (after in NOT_THANKS or causal_thanks(tokens, candidate, stop)):
         return "none"
-    if quoted(tokens, candidate, stop):
+    if quoted(tokens, candidate, stop) or not_the_act(tokens, candidate, first, stop):
         return "none"
     interjection = not joined and len(candidate.intents) == 1 and candidate.intents[0] != "presenting"
     if interjection and clause_start(tokens, candidate, first):  # "Hooray!", "Thank you, and goodbye!"
@@ -206,12 +243,80 @@ def rule(tokens: list[Token], candidate: Candidate) -> str | None:
 
 
 def quoted(tokens: list[Token], candidate: Candidate, stop: int) -> bool:
-    """"Come on, she thought" / "Hello, the sign said": a comma after the phrase, then a speaker and a verb of
-    saying within :data:`ATTRIBUTION_TOKENS` words: the words are quoted, not said to the listener."""
-    last = tokens[candidate.stop - 1]
-    if not last.clause_end or last.sentence_end:
+    """"Come on, she thought" / "Have a nice day, the sign in the window says" / "Goodbye, sun, said the boy": the
+    phrase ends a clause, and one of the next :data:`CLAUSES_AFTER_QUOTE` clauses is an attribution
+    (:func:`attribution`): the words are quoted, not said to the listener."""
+    end = next((k for k in range(candidate.stop - 1, stop) if tokens[k].clause_end), stop - 1)
+    for _ in range(CLAUSES_AFTER_QUOTE):
+        if tokens[end].sentence_end or end + 1 >= stop:
+            return False
+        clause_stop = next((k + 1 for k in range(end + 1, stop) if tokens[k].clause_end), stop)
+        if attribution([t.text for t in tokens[end + 1: clause_stop]]):
+            return True
+        end = clause_stop - 1
+    return False
+
+
+def attribution(clause: list[str]) -> bool:
+    """A speaker and a verb of saying: not opened by a conjunction or a preposition ("I/we/you" only before a verb
+    in the past), the verb not inside a relative clause, and either right after a short speaker, in a clause of at
+    most :data:`ATTRIBUTION_CLAUSE` words, or closing one."""
+    if not clause or clause[0] in NOT_ATTRIBUTION:
         return False
-    return any(t.text in ATTRIBUTION for t in tokens[candidate.stop: min(stop, candidate.stop + ATTRIBUTION_TOKENS)])
+    verbs = [k for k, word in enumerate(clause) if word in ATTRIBUTION]
+    if not verbs or RELATIVES & set(clause[: verbs[0]]):
+        return False
+    if clause[0] in FIRST_PERSON and not (clause[verbs[0]].endswith("ed") or clause[verbs[0]] in PAST_SAYING):
+        return False
+    closing = verbs[-1] == len(clause) - 1 and len(clause) <= ATTRIBUTION_CLOSING
+    return verbs[0] <= SPEAKER_WORDS or len(clause) <= ATTRIBUTION_CLAUSE or closing
+
+
+def reported(tokens: list[Token], candidate: Candidate, first: int) -> bool:
+    """"He said hello", "she shouted goodbye", "they told us goodbye": a verb of saying (or waving) before the
+    phrase, directly or before an object pronoun, reports someone else's act; the speaker's own ("I want to say
+    thank you", "let me wish you a good night", :func:`performed`) does not."""
+    before = [t.text for t in tokens[max(first, candidate.start - 2): candidate.start]]
+    if not before:
+        return False
+    verb = candidate.start - 1 if before[-1] in REPORTING else candidate.start - 2 if (
+        len(before) == 2 and before[0] in REPORTING and before[1] in OBJECTS | {"her", "it"}) else None
+    return verb is not None and not performed(tokens, verb, first)
+
+
+def performed(tokens: list[Token], verb: int, first: int) -> bool:
+    """The verb at ``verb`` is the speaker's own performative ("I want to say", "we'd like to wish", "let me
+    say"): a base form whose clause, from its start, holds only :data:`PERFORMATIVE_LEAD` words, one of them "I",
+    "we" or "let"."""
+    if tokens[verb].text not in PERFORMATIVE_VERBS:
+        return False
+    start = verb
+    while start > first and not tokens[start - 1].clause_end:
+        start -= 1
+    lead = [t.text for t in tokens[start: verb]]
+    return bool(SPEAKERS & set(lead)) and all(word in PERFORMATIVE_LEAD for word in lead)
+
+
+def not_the_act(tokens: list[Token], candidate: Candidate, first: int, stop: int) -> bool:
+    """What follows makes the phrase ordinary English: "take care of the maps" / "when you cross" (not a farewell,
+    unless "of yourself"), "meet me at the station" (an arrangement, not an introduction), "here we have to" (an
+    obligation), "this is why" / "here is where" / "this is not" (an explanation), "look at any map" (nothing to
+    point at), and a phrase opening its sentence as the subject of "is"/"was" ("Come on in was painted", "Hello and
+    goodbye were …")."""
+    words = " ".join(t.text for t in tokens[candidate.start: candidate.stop])
+    if tokens[candidate.stop - 1].clause_end or candidate.stop >= stop:
+        return False
+    after = [t.text for t in tokens[candidate.stop: min(stop, candidate.stop + 3)]] + ["", ""]
+    care = words == "take care" and after[0] in CARE_COMPLEMENTS and after[1] not in REFLEXIVES
+    arranged = words == "meet" and (after[0] in OBJECTS or after[0] == "her" and after[1] in ARRANGING)
+    obliged = words.endswith(" have") and after[0] in ("to", "been", "got", "had")
+    explaining = words.split()[-1] in ("is", "are", "here's") and after[0] in EXPLAINING
+    looked = after[1:] if words in ("take a look", "have a look") and after[0] == "at" else after
+    generic = words in ("look at", "take a look", "have a look", "check out") and looked[0] in GENERIC
+    coordinated = after[0] in ("and", "or") and after[2] in SUBJECT_BE  # "Hello and goodbye were …"
+    subject = (candidate.start == first and not tokens[candidate.stop].clause_end and "presenting" not in
+               candidate.intents and (after[1] in SUBJECT_BE or coordinated))
+    return care or arranged or obliged or explaining or generic or subject
 
 
 def causal_thanks(tokens: list[Token], candidate: Candidate, stop: int) -> bool:
@@ -245,8 +350,10 @@ class Embedder:
 
 
 def context_texts(tokens: list[Token], words: list[str], candidate: Candidate) -> tuple[str, ...]:
-    """(window, before, after, the word before, the word after) texts of a candidate, from the transcript words
-    (punctuation kept), inside its sentence ("" where there is none)."""
+    """(window, before, after, the word before, the word after, the head word after) texts of a candidate, from the
+    transcript words (punctuation kept), inside its sentence ("" where there is none). The head word is the first
+    after the phrase that is not a determiner ("this is the *part*" / "this is the *kitchen*"; the word after is
+    "the" in both)."""
     first, stop = sentence_bounds(tokens, candidate)
 
     def text(a: int, b: int) -> str:
@@ -258,7 +365,8 @@ def context_texts(tokens: list[Token], words: list[str], candidate: Candidate) -
     after = text(candidate.stop, candidate.stop + AFTER_TOKENS) if candidate.stop < stop else ""
     previous = tokens[candidate.start - 1].text if candidate.start > first else ""
     following = tokens[candidate.stop].text if candidate.stop < stop else ""
-    return window, before, after, previous, following
+    head = next((t.text for t in tokens[candidate.stop: stop] if t.text not in DETERMINERS), "")
+    return window, before, after, previous, following, head
 
 
 def shape_features(tokens: list[Token], candidate: Candidate) -> np.ndarray:
@@ -272,7 +380,7 @@ def shape_features(tokens: list[Token], candidate: Candidate) -> np.ndarray:
 
 
 def features(embed: Embedder, tokens: list[Token], words: list[str], found: list[Candidate]) -> np.ndarray:
-    """(n, 5·256 + 12) classifier inputs of the candidates ``found``: the embeddings of :func:`context_texts`
+    """(n, 6·256 + 12) classifier inputs of the candidates ``found``: the embeddings of :func:`context_texts`
     (the single words next to the phrase tell a function word or an addressee from a noun: "welcome *to*" /
     "welcome *news*") and :func:`shape_features`."""
     if not found:

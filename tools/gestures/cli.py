@@ -43,7 +43,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     listing.add_argument("--json", action="store_true", help="one JSON document instead of the table")
     listing.set_defaults(func=run_list)
     acts = commands.add_parser("train-acts", help="train the speech-act classifier that decides cues from phrases "
-                               "(numpy, about 20 s)")
+                               "(numpy, about a minute)")
     acts.add_argument("--out", type=Path, default=DEFAULT_ACTS, help="weights file (default %(default)s)")
     acts.set_defaults(func=run_train_acts)
 

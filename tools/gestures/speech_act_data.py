@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import random
 
+from gesturecast.tools.gestures.speech_act_narration import narration_sentences, presenting_sentences
+
 ADDRESSEES = ("everyone", "folks", "friends", "all", "guys", "team", "Sam", "Priya", "Doctor Lee", "class",
               "ladies and gentlemen", "you two", "everybody", "my friend", "neighbours")
 FILLERS = ("The weather has been strange lately.", "We have a lot to get through.", "The train was late again.",
@@ -22,7 +24,8 @@ GREETINGS = ("Hello", "Hi", "Hey", "Hiya", "Howdy", "Good morning", "Good aftern
 GREETING_TAILS = ("{a}!", "{a}, nice to see you.", "and [wave]welcome to the meeting.", "{a}, how are you doing?",
                   "to all our listeners.", "{a}, glad you could join us.", "from all of us here.",
                   "{a}, come in and sit down.", "and [bow]thanks for tuning in.", "again, {a}.", "there, {a}.",
-                  "to our new members.", "{a}, it's been a while.", "back to the programme.")
+                  "to our new members.", "{a}, it's been a while.", "back to the programme.", "aboard, {a}.",
+                  "home, {a}!", "in, {a}, make yourselves at home.", "along, {a}.")  # "welcome aboard/home/in/along"
 THANKS = ("Thank you", "Thanks", "Many thanks", "Much appreciated", "Cheers", "Thank you very much",
           "Thanks a lot", "Thanks so much", "Thank you so much")
 THANKS_TAILS = ("for coming today.", "{a}.", "for your help with the move.", "for the lovely flowers.",
@@ -36,7 +39,9 @@ FAREWELLS = ("Bye", "Goodbye", "Good bye", "Bye bye", "Bye-bye", "See you", "See
              "So long", "Good night", "Have a nice day", "Have a good day", "Have a great day", "Catch you later")
 FAREWELL_TAILS = ("{a}!", "and drive safely.", "for now.", "later, {a}.", "tomorrow.", "next week, {a}.",
                   "{a}, until next time.", "and sleep well.", "soon!", "around, {a}.", "on Monday.",
-                  "and [bow]thanks again.", "everyone, and good luck.", "then!")
+                  "and [bow]thanks again.", "everyone, and good luck.", "then!", "at dinner, {a}.",
+                  "at the match on Saturday.", "in the morning, {a}.", "in class tomorrow.", "at school.",
+                  "in a bit, {a}.")  # "see you at/in" a time or a place
 WISH_FAREWELLS = ("Have a nice evening", "Have a good weekend", "Have a lovely day", "Have a wonderful evening",
                   "Have a safe trip", "Have a pleasant journey", "Have a great weekend", "Have a good night",
                   "Have a nice afternoon", "Have a great time", "Enjoy the rest of your day", "Enjoy your evening",
@@ -162,8 +167,9 @@ def _explanations(rng: random.Random, count: int) -> list[str]:
 
 
 CONTINUATIONS = frozenset(["for", "to", "and", "on", "later", "tomorrow", "next", "there", "again", "around", "soon",
-                           "then", "from", "back"])
+                           "then", "from", "back", "aboard", "home", "in", "along", "at"])
 JOINERS = (", ", " ", "! ", ", ")
+NARRATION_PER_ACT = 3  # generated narration sentences per act sentence count (the fourth revision)
 
 
 NOUN_OPENERS = ("Welcome", "Cheers", "Thanks", "Goodbye", "Farewell", "Hello", "Congratulations", "Hooray",
@@ -206,7 +212,9 @@ def training_sentences(seed: int = 0, per_act: int = 220) -> list[str]:
     """The whole training set: ``per_act`` sentences per speech act (half as many farewell wishes, and the
     introductions three times each), the verb forms of thanks, every
     :data:`NOT_ACTS` sentence three times (alone, after and before a filler), ``per_act // 2`` sentences whose
-    subject opens with a candidate and as many where "this is" opens an explanation."""
+    subject opens with a candidate and as many where "this is" opens an explanation, ``NARRATION_PER_ACT · per_act``
+    generated narration sentences and ``per_act`` generated presenting ones
+    (:mod:`gesturecast.tools.gestures.speech_act_narration`, the fourth revision)."""
     rng = random.Random(seed)
     sentences = (_acts(rng, GREETINGS, GREETING_TAILS, "wave", per_act)
                  + _acts(rng, THANKS, THANKS_TAILS, "bow", per_act)
@@ -220,4 +228,5 @@ def training_sentences(seed: int = 0, per_act: int = 220) -> list[str]:
                  + [_fill(t, rng) for t in THANK_VERBS for _ in range(4)])
     for text in NOT_ACTS:
         sentences += [text, f"{rng.choice(FILLERS)} {text}", f"{text} {rng.choice(FILLERS)}"]
-    return sentences + _noun_phrase_sentences(rng, per_act // 2) + _explanations(rng, per_act // 2)
+    return (sentences + _noun_phrase_sentences(rng, per_act // 2) + _explanations(rng, per_act // 2)
+            + narration_sentences(rng, per_act * NARRATION_PER_ACT) + presenting_sentences(rng, per_act))

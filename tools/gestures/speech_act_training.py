@@ -31,9 +31,9 @@ MARK = re.compile(r"\[([a-z-]+)\]")
 
 @dataclass(frozen=True)
 class TrainConfig:
-    steps: int = 400
+    steps: int = 1500
     learning_rate: float = 0.05
-    l2: float = 1e-3
+    l2: float = 1e-4
     held_out: float = 0.2
     seed: int = 0
 

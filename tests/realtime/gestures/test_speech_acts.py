@@ -45,6 +45,40 @@ def test_rules_rule_out_what_grammar_makes_clear(text):
     assert [rule(tokens, c) for c in candidates(tokens)] == ["none"]
 
 
+@pytest.mark.parametrize("text", [
+    "Take care of the spare keys, please.", "Take care when the floor is wet.", "Take care not to spill it.",
+    "Take care that the gate stays shut.", "Meet me outside the bakery.", "Meet us after lunch.",
+    "Meet her at the gate.", "Here we have to slow down.", "This is why the roof leaks.",
+    "Here is where the path ends.", "These are not the keys I lost.", "Look at any recipe from that time.",
+    "Take a look at how the prices rose.", "Come along was the name of the song.",
+    "Good night, the postcard from the island says.", "Cheerio and bye, the old porter would say.",
+    "Hello, Tess, said her uncle.", "The guard shouted goodbye.", "Her brother told us goodbye.",
+    "Goodbye, the captain announced over the crackling ship speaker at dawn.",
+    "See you on Friday, we promised the neighbours before leaving.", "Hi and bye are the words my parrot knows."])
+def test_what_follows_or_a_speaker_rules_a_speech_act_out(text):
+    tokens = tokenize(text.split())
+    assert [rule(tokens, c) for c in candidates(tokens)][:1] == ["none"]
+
+
+@pytest.mark.parametrize("text", [
+    "Take care of yourself on the road.", "Meet our new chef, Rosa.", "Here we have the winning cake.",
+    "This is the new boiler.", "Look at this tiny kitten.", "Hi, I just want to say thanks.",
+    "Much appreciated, to everyone who wrote to us.", "Welcome back, friends, as I said last week.",
+    "Welcome, we say to every new member of the choir."])
+def test_the_same_words_used_as_the_act_are_not_ruled_out(text):
+    tokens = tokenize(text.split())
+    assert rule(tokens, candidates(tokens)[0]) != "none"
+
+
+@pytest.mark.parametrize("text, reported", [
+    ("I want to say thank you to everyone.", False), ("Let me say hello to our guests.", False),
+    ("We would like to tell you thanks for everything.", False), ("He wanted to say goodbye to his mother.", True),
+    ("Please say hello to your mother.", True), ("They would like to say thanks.", True)])
+def test_the_speakers_own_say_performs_the_act_anyone_elses_reports_it(text, reported):
+    tokens = tokenize(text.split())
+    assert (rule(tokens, candidates(tokens)[0]) == "none") == reported
+
+
 def test_a_thank_you_to_people_is_left_to_the_classifier():
     tokens = tokenize(["Thanks", "to", "everyone", "who", "came", "tonight."])
     assert [rule(tokens, c) for c in candidates(tokens)] == [None]
@@ -93,6 +127,15 @@ def test_words_heard_one_at_a_time_cue_the_same_as_the_transcript(phrases):
                                                             ("wave-right", "Take care,"), ("wave-right", "bye-bye")]
 
 
+@pytest.mark.parametrize("text", ["Goodbye, sun, said the boy.", "Hello, it says in a small voice every time.",
+                                  "Take care of the maps, she said."])
+def test_a_quote_attributed_within_three_words_is_no_cue_heard_either_way(phrases, text):
+    words = words_of(text)
+    listener = PhraseListener(phrases)
+    heard = [cue for word in words for cue in listener.hear(word)] + listener.flush()
+    assert heard == phrases.cues(words) == []
+
+
 def test_an_interjection_alone_at_a_clause_start_is_its_act():
     tokens = tokenize(["Thank", "you,", "and", "goodbye!", "Hello", "and", "goodbye", "are", "words."])
-    assert [rule(tokens, c) for c in candidates(tokens)] == ["thanks", "farewell", None, "none"]
+    assert [rule(tokens, c) for c in candidates(tokens)] == ["thanks", "farewell", "none", "none"]

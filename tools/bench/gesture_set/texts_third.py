@@ -1,0 +1,183 @@
+"""The third held-out text set of ``gesturecast bench gestures`` (``--stories third``): written after the second set's
+results were known and before the fourth phrase revision (the grammar rules for "take care of", "meet me", "here we",
+reported greetings, and the generated narration sentences), so none of its wording was seen by the rules or the
+classifier when it was written. Never used to write rules or to train the classifier.
+
+The conventions are those of :mod:`gesturecast.tools.bench.gesture_set.texts`. The cued stories put the known
+openers into new situations (a radio phone-in, a cooking class, a ferry, a graduation, a neighbour's shed) and
+recogniser spellings ("Bye-bye", "See ya"). The narration is read in several voices: a recipe, a travel diary, a
+history lecture, a product review, a children's story and a sports report, using this / these / here / there /
+meet / welcome / thanks to / take care / see you / come on / cheers / bye / hello in ordinary use, as nouns, and
+in reported or quoted speech.
+"""
+
+from __future__ import annotations
+
+CUED_STORIES_THIRD: dict[str, tuple[str, ...]] = {
+    "radio-phone-in": (
+        "[wave]Hello and [wave]welcome back to Drive Time.",
+        "[wave]Hi Marcus, you are on the air.",
+        "[bow]Thanks for having me, I have listened for years.",
+        "The traffic on the ring road is moving again.",
+        "[bow]Cheers, Marcus, and [bye]bye for now.",
+    ),
+    "cooking-class": (
+        "[wave]Hey everyone, [wave]welcome to the kitchen.",
+        "[guide]Here are the knives you will use today.",
+        "[call]Come closer, so you can all see the pan.",
+        "Let the butter melt before you add the onions.",
+        "[raise-both]Well done, that is a perfect omelette!",
+        "[bow]Thank you for cooking with us tonight.",
+    ),
+    "flight-museum": (
+        "[wave]Good morning, and [wave]welcome to the museum of flight.",
+        "[guide]On your right is the first plane ever built in this city.",
+        "It flew for only twelve seconds in nineteen ten.",
+        "[guide]Have a look at the engine, it weighs less than a bicycle.",
+        "[call]Come along, the next hall is even bigger.",
+    ),
+    "fan-zone": (
+        "[raise-both]Hurrah, a goal in the very last minute!",
+        "[wave]Hi, folks, what a finish that was.",
+        "[call]Come on over, the captain is signing shirts.",
+        "[guide]Here you can see the trophy from nineteen sixty six.",
+        "[bow]Thanks a lot for your support all season.",
+        "[bye]See ya next season!",
+    ),
+    "magic-show": (
+        "[wave]Hiya, kids!",
+        "[call]Gather around, the magician is ready.",
+        "[guide]Look at this, a rabbit in a hat!",
+        "[raise-both]Yay, he made it vanish!",
+        "[bow]Thank you, Mister Marvel.",
+        "[bye]Bye-bye, everybody, [bye]see you next year.",
+    ),
+    "bakery-opening": (
+        "[wave]Good afternoon, everyone.",
+        "[raise-both]Congrats to Maria on opening her very own bakery!",
+        "[guide]These are her famous cinnamon rolls.",
+        "The ovens came from Italy and hold forty loaves each.",
+        "[bow]Many thanks to the builders, who finished a week early.",
+        "[call]Come on in and try a slice.",
+    ),
+    "glacier-talk": (
+        "[wave]Good evening, and [bow]thank you for the kind introduction.",
+        "[guide]Let me introduce my co-author, Doctor Yuki Tanaka.",
+        "We spent four years measuring glaciers in Norway.",
+        "[guide]Check out this photo of the ice in twenty twelve.",
+        "[bow]Thank you very much for listening.",
+        "[bye]Have a safe flight home, everyone.",
+    ),
+    "morning-ferry": (
+        "[wave]Hello, passengers, and [wave]welcome aboard the morning ferry.",
+        "[guide]To your left you can see the lighthouse.",
+        "There are twelve of us on the crew today.",
+        "The crossing takes about forty minutes.",
+        "[bow]Thanks for choosing Island Lines.",
+        "[bye]Farewell, and [bye]safe travels.",
+    ),
+    "graduation-day": (
+        "[raise-both]Congratulations, graduates!",
+        "[wave]Greetings to all the families in the hall.",
+        "[call]Step forward when you hear your name.",
+        "[guide]Meet our valedictorian, Amara Osei.",
+        "[raise-both]Bravo, Amara, what a speech!",
+        "[bye]So long, class of twenty twenty six!",
+    ),
+    "neighbours-shed": (
+        "[wave]Howdy, neighbour!",
+        "[call]Come over here and see the new shed.",
+        "[guide]This is the workbench I built last spring.",
+        "[bow]Much appreciated, the ladder was a big help.",
+        "[bye]Catch you later, and [bye]take it easy.",
+    ),
+}
+
+NARRATION_THIRD: tuple[str, ...] = (
+    # a recipe
+    "This is a soup my grandmother made every winter.",
+    "Here you need a heavy pot, not a thin one.",
+    "Take care not to burn the garlic, or the whole pot turns bitter.",
+    "Thanks to the long simmer, the beans go soft without soaking.",
+    "These are the only spices you need: cumin, pepper and a bay leaf.",
+    "Here is the trick: salt the water only at the very end.",
+    "Let it rest for ten minutes, then look at the colour.",
+    "A splash of wine is always welcome at this point.",
+    "Cheers to whoever invented the slow cooker, my aunt used to say.",
+    "There is no need to peel the carrots if they are fresh.",
+    "Take care that the lid fits, or the steam escapes.",
+    "Come on, the recipe seems to say, do not rush the onions.",
+    "This is the moment to taste it and add more lemon.",
+    # a travel diary
+    "Day three: we finally reached the coast.",
+    "There is a ferry every hour, but nobody told us that.",
+    "The owner of the guest house said hello in four languages.",
+    "Meet us by the harbour at noon, the note on our door read.",
+    "Here the buses stop running at nine in the evening.",
+    "We said goodbye to the mountains with some relief.",
+    "Welcome to paradise, a painted board announced beside a closed cafe.",
+    "I could see you would love this place, my sister wrote back.",
+    "Thanks to a strike, the train never came.",
+    "These are the days that make a long trip worth it.",
+    "Over there, on the far side of the bay, fishermen mend their nets.",
+    "Take care of your passport, the guide kept telling us.",
+    "See you in Lisbon, we promised the couple from Utrecht.",
+    "Here we met a retired sailor who knew every rock by name.",
+    "There they sell the best grilled sardines on the coast.",
+    # a history lecture
+    "This is the period historians call the long peace.",
+    "There were no major wars in the region for sixty years.",
+    "Here we see the first signs of trouble in the grain trade.",
+    "Thanks to cheap imports, many farmers lost their land.",
+    "This is where most textbooks stop, but the story goes on.",
+    "The two armies would meet near the river in the spring.",
+    "These are letters from soldiers to their families.",
+    "Hello and farewell were the only words of Latin many of them knew.",
+    "Revolts would come on suddenly and end just as fast.",
+    "Here the sources fall silent for a decade.",
+    "There is a reason the treaty was signed in secret.",
+    "The king bid the ambassadors good night and went to bed.",
+    "Meet them halfway, the queen advised her ministers.",
+    "This is, in short, the end of the old order.",
+    # a product review
+    "This is the third robot vacuum I have tested this year.",
+    "Here is what I liked: it is quiet and the battery lasts.",
+    "There are two brushes, and both tangle on long hair.",
+    "Thanks to the app, you can set a schedule from work.",
+    "Take care when you empty the bin, because it opens suddenly.",
+    "The welcome screen asks for far too much personal data.",
+    "Hello, it says in a cheerful voice every morning, which gets old quickly.",
+    "These are small complaints for the price.",
+    "The box comes with a card that says cheers for your purchase.",
+    "If you see one on sale, buy it.",
+    "The lights come on when the battery runs low.",
+    "Here we have a machine that does one job well.",
+    # a children's story
+    "Once upon a time, there was a small hedgehog called Pip.",
+    "Pip said hello to every snail on the path.",
+    "Come on, said the wind, let us play a game.",
+    "Here comes the rain, thought Pip, and hid under a leaf.",
+    "Thanks to the leaf, Pip stayed dry.",
+    "Meet me under the old oak, whispered the owl.",
+    "This is the biggest tree in the whole forest, said the owl.",
+    "Pip waved bye to the owl and went home.",
+    "Goodbye, sun, said Pip, as the evening came.",
+    "See you tomorrow, said the moon to nobody in particular.",
+    "There was a warm bed of moss waiting for him.",
+    "Take care of your friends, his mother told him, and they will take care of you.",
+    # a sports report
+    "This is the fourth win in a row for the home side.",
+    "There was little to separate the teams in the first half.",
+    "Thanks to a late penalty, the visitors went ahead.",
+    "Come on, the fans shouted, as the clock ran down.",
+    "Here the coach made a bold change.",
+    "The two sides meet again in the cup next month.",
+    "The cheers from the away end could be heard across the city.",
+    "The captain said thanks to the ground staff after the match.",
+    "Welcome news for the club: the striker is fit again.",
+    "These are the games that decide a season.",
+    "Bye weeks give the players a chance to rest.",
+    "See you next week, the presenter said as the credits rolled.",
+    "There they go again, the commentator groaned, another corner.",
+    "Hi-vis jackets marked the stewards along the touchline.",
+)
