@@ -132,7 +132,7 @@ def test_the_stylizer_part_reports_fk_distances_judges_following_jerk_face_and_c
     report, out = quick_study
     stylizer = report["stylizer"]
     styles = stylizer["styles"]
-    assert len(styles) == 7 and stylizer["speech"]["seeds"] == [0, 1]
+    assert len(styles) == 7 and stylizer["speech"]["seeds"] == [0, 1, 2]
     for variant in ("generator", "styled"):
         section = stylizer[variant]
         fk = section["fk"]
