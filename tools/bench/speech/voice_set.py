@@ -71,12 +71,19 @@ class Espeak:
     pitch: int  # 0-99 (-p)
     text: str  # a key of TEXTS
 
+    def argv(self, sentence: str, path: Path) -> list[str]:
+        return [espeak(), "-v", self.voice, "-s", str(self.speed), "-p", str(self.pitch), "-w", str(path), sentence]
+
 
 @dataclass(frozen=True)
 class Flite:
     voice: str  # flite -voice (a built-in voice)
     stretch: float  # duration_stretch: 1.1 speaks a tenth slower
     text: str  # a key of TEXTS
+
+    def argv(self, sentence: str, path: Path) -> list[str]:
+        return [installed("flite"), "-voice", self.voice, "--setf", f"duration_stretch={self.stretch}", "-t",
+                sentence, "-o", str(path)]
 
 
 @dataclass(frozen=True)
@@ -162,19 +169,10 @@ def join_with_pauses(parts: list[np.ndarray]) -> np.ndarray:
     return np.concatenate(pieces)
 
 
-def espeak_sentence(spec: Espeak, sentence: str, folder: Path) -> np.ndarray:
-    """One sentence spoken by espeak-ng, read back at 16 kHz: (N,)."""
+def spoken(spec: Espeak | Flite, sentence: str, folder: Path) -> np.ndarray:
+    """One sentence spoken by the TTS engine of ``spec``, read back at 16 kHz: (N,)."""
     path = folder / "sentence.wav"
-    subprocess.run([espeak(), "-v", spec.voice, "-s", str(spec.speed), "-p", str(spec.pitch), "-w", str(path),
-                    sentence], check=True, capture_output=True)
-    return load_audio(path)
-
-
-def flite_sentence(spec: Flite, sentence: str, folder: Path) -> np.ndarray:
-    """One sentence spoken by CMU Flite, read back at 16 kHz: (N,)."""
-    path = folder / "sentence.wav"
-    subprocess.run([installed("flite"), "-voice", spec.voice, "--setf", f"duration_stretch={spec.stretch}",
-                    "-t", sentence, "-o", str(path)], check=True, capture_output=True)
+    subprocess.run(spec.argv(sentence, path), check=True, capture_output=True)
     return load_audio(path)
 
 
@@ -197,10 +195,9 @@ def _file_audio(voice: Voice, shared: Path) -> np.ndarray:
 
 
 def _clean_audio(voice: Voice, shared: Path, folder: Path) -> np.ndarray:
-    if voice.espeak is not None:
-        return join_with_pauses([espeak_sentence(voice.espeak, s, folder) for s in TEXTS[voice.espeak.text]])
-    if voice.flite is not None:
-        return join_with_pauses([flite_sentence(voice.flite, s, folder) for s in TEXTS[voice.flite.text]])
+    spec = voice.espeak or voice.flite
+    if spec is not None:
+        return join_with_pauses([spoken(spec, sentence, folder) for sentence in TEXTS[spec.text]])
     return _file_audio(voice, shared)
 
 

@@ -19,9 +19,9 @@ from gesturecast.tools.bench.speech.voice_set import (
     VOICES,
     Channel,
     Flite,
-    flite_sentence,
     join_with_pauses,
     rerecorded,
+    spoken,
     voice_audio,
 )
 
@@ -72,7 +72,7 @@ def test_a_missing_recording_or_split_is_a_clear_error(tmp_path):
 @pytest.mark.skipif(shutil.which("flite") is None, reason="flite is not installed")
 def test_a_flite_voice_speaks_a_sentence_at_16k_and_slower_when_stretched(tmp_path):
     sentence = "The museum opens at ten and closes at six."
-    plain = flite_sentence(Flite("slt", 1.0, "agent_museum"), sentence, tmp_path)  # (N,)
-    slower = flite_sentence(Flite("slt", 1.2, "agent_museum"), sentence, tmp_path)
+    plain = spoken(Flite("slt", 1.0, "agent_museum"), sentence, tmp_path)  # (N,)
+    slower = spoken(Flite("slt", 1.2, "agent_museum"), sentence, tmp_path)
     assert 1.5 < len(plain) / SAMPLE_RATE < 5.0 and np.abs(plain).max() > 0.05
     assert len(slower) > 1.1 * len(plain)
