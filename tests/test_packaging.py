@@ -96,6 +96,7 @@ def test_the_wheel_holds_the_model_viewer_avatar_sample_and_licence_notes(names,
     gestures = files_under(source / "models" / "weights" / "gestures")  # the gesture lexicon (docs/gestures.md)
     assert gestures == {"lexicon.json", "clips.npz"}
     assert {f"gesturecast/models/weights/gestures/{name}" for name in gestures} <= names
+    assert "gesturecast/models/weights/speech_embedding/embedding_frames.onnx" in names  # the default model hears it
     viewer = {name for name in files_under(source / "bridges" / "viewer") if "/" not in name}  # the page's own files
     assert {"index.html", "viewer.js"} <= viewer
     assert {f"gesturecast/bridges/viewer/{name}" for name in viewer} <= names
