@@ -43,6 +43,19 @@ def test_reset_restarts_the_stream(model_and_onnx):
     np.testing.assert_array_equal(decoder.decode(latents), first)
 
 
+def test_bound_buffers_give_the_bits_of_plain_runs_and_returned_frames_stay_put(model_and_onnx):
+    _, data = model_and_onnx
+    decoder = StreamingVQDecoder(data)
+    names = [node.name for node in decoder.session.get_inputs()][1:]  # the state inputs, in order
+    state = [np.zeros((1, *node.shape[1:]), np.float32) for node in decoder.session.get_inputs()[1:]]
+    returned, plain = [], []
+    for latent in np.random.default_rng(1).standard_normal((6, 1, 8)).astype(np.float32):
+        returned.append(decoder.step(latent))
+        frames, *state = decoder.session.run(None, {"latent": latent, **dict(zip(names, state, strict=True))})
+        plain.append(frames)
+    np.testing.assert_array_equal(np.stack(returned), np.stack(plain))  # earlier frames not overwritten later
+
+
 def test_batched_steps_match_torch_step(model_and_onnx):
     model, data = model_and_onnx
     decoder = StreamingVQDecoder(data, batch=3)
