@@ -129,6 +129,7 @@ OWN_SUBJECTS = frozenset(["it", "this", "that", "he", "she", "they", "we", "i", 
 NAMED = frozenset(["the", "a", "an", "all", "one"])  # "Hello, stranger, is *the* first line": the phrase is named
 ADVICE = frozenset(["before", "after", "if", "when", "while", "until", "once", "whenever", "unless"])  # "look at the
 # map before you leave": advice, nothing shown
+CALLERS = frozenset(["from", "speaking", "calling", "here"])  # "this is Sam *from* support": a caller's own name
 ADDRESS_SENTENCES = 3  # a deictic presenting phrase presents only this many sentences after another act (decide)
 DEICTIC = frozenset(["this is", "these are", "this is our", "these are our", "this is my", "here is", "here are",
                      "here's", "here we have", "here you can see", "over there", "look at", "take a look",
@@ -321,7 +322,8 @@ def not_the_act(tokens: list[Token], candidate: Candidate, first: int, stop: int
     """What follows makes the phrase ordinary English: "take care of the maps" / "when you cross" (not a farewell,
     unless "of yourself"), "meet me at the station" (an arrangement, not an introduction), "here we have to" (an
     obligation), "this is why" / "here is where" / "this is not" (an explanation), "look at any map" (nothing to
-    point at), "look at the map before you leave" (advice: a subordinate clause in the same clause)."""
+    point at), "look at the map before you leave" (advice: a subordinate clause in the same clause), "this is Sam
+    from customer support" (a caller names themself)."""
     words = " ".join(t.text for t in tokens[candidate.start: candidate.stop])
     if tokens[candidate.stop - 1].clause_end or candidate.stop >= stop:
         return False
@@ -335,7 +337,8 @@ def not_the_act(tokens: list[Token], candidate: Candidate, first: int, stop: int
     clause = next((k + 1 for k in range(candidate.stop, stop) if tokens[k].clause_end), stop)
     advice = words in ("look at", "take a look", "have a look") and any(
         t.text in ADVICE for t in tokens[candidate.stop: clause])
-    return care or arranged or obliged or explaining or generic or advice
+    caller = words == "this is" and after[0] not in DETERMINERS and after[1] in CALLERS  # "this is Sam from support"
+    return care or arranged or obliged or explaining or generic or advice or caller
 
 
 def named(tokens: list[Token], candidate: Candidate, first: int, stop: int) -> bool:

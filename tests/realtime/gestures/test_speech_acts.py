@@ -147,12 +147,13 @@ def test_an_interjection_alone_at_a_clause_start_is_its_act():
     ("Goodbye, was all she wrote.", "Goodbye, all of you."),
     ("Come on foot if you can.", "Come on, we are late."),
     ("Look at the map before you leave the car park.", "Look at the map, we are here."),
-    ("Take a look at the label if the milk smells odd.", "Take a look at the label on this bottle.")])
-def test_a_named_phrase_a_means_of_travel_and_advice_are_no_act(text, act):
+    ("Take a look at the label if the milk smells odd.", "Take a look at the label on this bottle."),
+    ("Hi, this is Sam from the help desk.", "Hi, this is Sam, our new intern.")])
+def test_a_named_phrase_travel_advice_and_a_callers_name_are_no_act(text, act):
     tokens = tokenize(text.split())
-    assert rule(tokens, candidates(tokens)[0]) == "none"
+    assert rule(tokens, candidates(tokens)[-1]) == "none"
     tokens = tokenize(act.split())
-    assert rule(tokens, candidates(tokens)[0]) != "none"
+    assert rule(tokens, candidates(tokens)[-1]) != "none"
 
 
 @pytest.mark.parametrize("text, named", [("Hello, is the manager in?", False), ("Hello, is the first word.", True)])
