@@ -141,11 +141,10 @@ GUESTS = ("hedgehogs", "birds", "frogs", "bees", "butterflies", "new ideas", "fe
 INTO = ("into your garden", "to the pond", "from every member of the team", "at every stage of the project",
         "to the allotment", "in the first week", "to any meeting", "into the classroom")
 BECAUSE = ("they keep the pests down.", "it saves time later.", "they often spot what others miss.",
-           "the soil will thank you.", "they are the quickest way to learn.", "nothing else works as well.")
+           "the soil stays healthier.", "they are the quickest way to learn.", "nothing else works as well.")
 BYE_NOUNS = ("weeks", "laws", "elections", "rounds", "runs", "products")
-BYE_PREDICATES = ("give the players a chance to rest.", "were changed by the council last year.",
-                  "are rarely noticed by the public.", "decide who reaches the final.", "apply to every village.",
-                  "used to be more common.")
+BYE_PREDICATES = ("give the players a chance to rest.", "change every few years.", "rarely make the news.",
+                  "decide who reaches the final.", "apply to every village.", "used to be more common.")
 
 
 def advice_sentences(rng: random.Random, count: int) -> list[str]:
