@@ -19,7 +19,8 @@ from the sentence around it:
    "this is", "meet", "on your left"), never by a bare "this", "there" or "here"; "this is" opens presenting ("This
    is the frame") as often as an explanation ("This is why"), so the classifier decides it, and a deictic phrase
    presents only to someone addressed (:func:`addressed`: within three sentences of another act, or "look at
-   *this*", "here is *your* key"): narration says "this is the third day of the trial" without one.
+   *this*", "here is *your* key"): narration says "this is the third day of the trial" without one. In a talk
+   the same phrase presents from a presenting probability of :data:`ADDRESSED_PRESENTING` on.
 2. **A small classifier** for the rest (:class:`SpeechActClassifier`): softmax regression over the packaged
    wordllama text embedding (numpy only) of the phrase's window, the words before and after it and the single
    words next to it, plus where it stands (opening the sentence or a clause, punctuation after it). It is trained
@@ -131,6 +132,7 @@ ADVICE = frozenset(["before", "after", "if", "when", "while", "until", "once", "
 # map before you leave": advice, nothing shown
 CALLERS = frozenset(["from", "speaking", "calling", "here"])  # "this is Sam *from* support": a caller's own name
 ADDRESS_SENTENCES = 3  # a deictic presenting phrase presents only this many sentences after another act (decide)
+ADDRESSED_PRESENTING = 0.3  # … and there from this probability of presenting on (_likeliest)
 DEICTIC = frozenset(["this is", "these are", "this is our", "these are our", "this is my", "here is", "here are",
                      "here's", "here we have", "here you can see", "over there", "look at", "take a look",
                      "have a look", "check out"])  # presenting phrases that narration uses as often
@@ -511,13 +513,22 @@ class SpeechActClassifier:
         last = None if since is None else -since  # the sentence of the last act, counted like ``sentence``
         decided = []
         for candidate, ruling in zip(found, ruled, strict=True):
-            intent = ruling
-            if intent is None:
-                p = next(probabilities)
-                intent = max(("none", *candidate.intents), key=lambda name: p[CLASSES.index(name)])
             here = int(sentence[candidate.start])
-            if intent == "presenting" and not addressed(tokens, candidate, None if last is None else here - last):
+            since_act = None if last is None else here - last
+            intent = ruling or self._likeliest(tokens, candidate, next(probabilities), since_act)
+            if intent == "presenting" and not addressed(tokens, candidate, since_act):
                 intent = "none"
             last = here if intent != "none" else last
             decided.append(intent)
         return decided
+
+    @staticmethod
+    def _likeliest(tokens: list[Token], candidate: Candidate, p: np.ndarray, since_act: int | None) -> str:
+        """The likeliest of "none" and the candidate's intents under the (len(CLASSES),) probabilities ``p``; in a
+        talk (another act at most :data:`ADDRESS_SENTENCES` sentences back) a deictic phrase presents from
+        :data:`ADDRESSED_PRESENTING` on: the model is fitted on text where "this is the …" is as often narration."""
+        intent = max(("none", *candidate.intents), key=lambda name: p[CLASSES.index(name)])
+        talk = since_act is not None and since_act <= ADDRESS_SENTENCES
+        deictic = " ".join(t.text for t in tokens[candidate.start: candidate.stop]) in DEICTIC
+        leans = p[CLASSES.index("presenting")] >= ADDRESSED_PRESENTING
+        return "presenting" if intent == "none" and talk and deictic and leans else intent

@@ -1,10 +1,20 @@
 """Cues decided from the phrase: candidates (recogniser spellings too), the grammar rules, the shipped classifier on
 the phrasings users write, and words heard one at a time deciding the same as a transcript given at once."""
 
+import numpy as np
 import pytest
 
 from gesturecast.realtime.gestures.phrases import PhraseCues, PhraseListener
-from gesturecast.realtime.gestures.speech_acts import ADDRESS_SENTENCES, addressed, candidates, rule, tokenize
+from gesturecast.realtime.gestures.speech_acts import (
+    ADDRESS_SENTENCES,
+    ADDRESSED_PRESENTING,
+    CLASSES,
+    SpeechActClassifier,
+    addressed,
+    candidates,
+    rule,
+    tokenize,
+)
 from gesturecast.realtime.gestures.words import Word
 
 GESTURES = ("wave", "wave-right", "bye", "bow", "raise-both", "guide", "call")
@@ -184,3 +194,14 @@ def test_an_act_opens_the_sentences_where_this_is_presents_heard_either_way(phra
     listener = PhraseListener(phrases)
     heard = [cue for word in words for cue in listener.hear(word)] + listener.flush()
     assert [cue.gesture for cue in heard] == [cue.gesture for cue in phrases.cues(words)] == cued
+
+
+@pytest.mark.parametrize("text, since, intent", [
+    ("Here is the plan for today.", 1, "presenting"), ("Here is the plan for today.", None, "none"),
+    ("Here is the plan for today.", ADDRESS_SENTENCES + 1, "none"), ("Meet the new head of the lab.", 0, "none")])
+def test_in_a_talk_a_deictic_phrase_presents_on_weaker_odds(text, since, intent):
+    p = np.zeros(len(CLASSES))  # (classes,) just over the talk's threshold for presenting, the rest "none"
+    p[CLASSES.index("presenting")] = ADDRESSED_PRESENTING + 0.05
+    p[CLASSES.index("none")] = 1 - p.sum()
+    tokens = tokenize(text.split())
+    assert SpeechActClassifier._likeliest(tokens, candidates(tokens)[0], p, since) == intent
