@@ -83,6 +83,7 @@ TOKEN = re.compile(r"[\w']+")
 BE = frozenset(["is", "are", "was", "were", "be", "been", "will", "would", "seems", "seem", "seemed", "has", "have",
                 "had", "might", "must", "may", "could", "should", "used", "isn't", "aren't", "wasn't", "weren't"])
 CAUSAL_AFTER = frozenset(["the", "a", "an", "this", "that", "its", "it"])
+DEGREES = frozenset(["largely", "partly", "mostly", "mainly", "chiefly", "entirely", "only", "partially", "solely"])
 NOT_THANKS = frozenset(["goodness", "god", "heavens", "heaven"])
 REPORTING = frozenset(["say", "said", "says", "saying", "wave", "waved", "waves", "waving", "bid", "bade", "bidding",
                        "wish", "wished", "shouted", "cried", "called", "whispered", "yelled", "muttered", "wrote",
@@ -126,7 +127,9 @@ GENERIC = frozenset(["any", "every", "how", "what", "why", "whether", "where", "
 SUBJECT_BE = frozenset(["is", "was", "are", "were"])
 SUBJECT_WORDS = 3  # "See you in court was written": at most this many words between the phrase and its verb
 OWN_SUBJECTS = frozenset(["it", "this", "that", "he", "she", "they", "we", "i", "you", "there", "who", "which", "what",
-                          "where", "when", "how", "if", "because"])  # the verb has a subject of its own
+                          "where", "when", "how", "if", "because", "everyone", "everybody", "all", "folks", "guys",
+                          "friends", "team", "ladies", "kids", "children", "us"])  # the verb has a subject of its own,
+# or the phrase an addressee ("Hi everyone the weather is lovely", as a recogniser may write it)
 NAMED = frozenset(["the", "a", "an", "all", "one"])  # "Hello, stranger, is *the* first line": the phrase is named
 ADVICE = frozenset(["before", "after", "if", "when", "while", "until", "once", "whenever", "unless"])  # "look at the
 # map before you leave": advice, nothing shown
@@ -352,10 +355,12 @@ def named(tokens: list[Token], candidate: Candidate, first: int, stop: int) -> b
     if candidate.start != first or "presenting" in candidate.intents or tokens[stop - 1].question:
         return False
     if not tokens[candidate.stop - 1].clause_end:
+        if candidate.stop < stop and tokens[candidate.stop].text in DETERMINERS:
+            return False  # a new subject: "Hooray the snow is here" as a recogniser may write it
         for token in tokens[candidate.stop: min(stop, candidate.stop + SUBJECT_WORDS + 1)]:
             if token.text in SUBJECT_BE:
                 return True
-            if token.text in OWN_SUBJECTS or token.text in DETERMINERS or token.clause_end:
+            if token.text in OWN_SUBJECTS or token.clause_end:
                 return False
         return False
     start = candidate.stop
@@ -372,9 +377,12 @@ def named(tokens: list[Token], candidate: Candidate, first: int, stop: int) -> b
 
 
 def causal_thanks(tokens: list[Token], candidate: Candidate, stop: int) -> bool:
-    """"Thanks to the rain" / "thanks to careful planning, the bridge opened": "thanks to" followed by a
-    determiner, or by a phrase that a comma closes before a main clause (not one opened by "and")."""
+    """"Thanks to the rain" / "thanks to careful planning, the bridge opened" / "thanks largely to the manager":
+    "thanks (+ a degree) to" followed by a determiner, or by a phrase that a comma closes before a main clause (not
+    one opened by "and")."""
     rest = [t for t in tokens[candidate.stop: stop]]
+    if rest and rest[0].text in DEGREES and not rest[0].clause_end:  # "thanks largely to the new manager"
+        rest = rest[1:]
     if [t.text for t in tokens[candidate.start: candidate.stop]] != ["thanks"] or not rest or rest[0].text != "to":
         return False
     if len(rest) > 1 and rest[1].text in CAUSAL_AFTER:

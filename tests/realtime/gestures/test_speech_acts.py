@@ -158,8 +158,11 @@ def test_an_interjection_alone_at_a_clause_start_is_its_act():
     ("Come on foot if you can.", "Come on, we are late."),
     ("Look at the map before you leave the car park.", "Look at the map, we are here."),
     ("Take a look at the label if the milk smells odd.", "Take a look at the label on this bottle."),
-    ("Hi, this is Sam from the help desk.", "Hi, this is Sam, our new intern.")])
-def test_a_named_phrase_travel_advice_and_a_callers_name_are_no_act(text, act):
+    ("Hi, this is Sam from the help desk.", "Hi, this is Sam, our new intern."),
+    ("Welcome to the jungle was their biggest hit.", "Welcome everyone the show is about to start."),
+    ("Hooray for Henry was the headline.", "Hooray the snow is here!"),
+    ("Thanks largely to the new manager, the club stayed up.", "Thanks largely for your patience.")])
+def test_a_named_phrase_travel_advice_a_callers_name_and_a_cause_are_no_act(text, act):
     tokens = tokenize(text.split())
     assert rule(tokens, candidates(tokens)[-1]) == "none"
     tokens = tokenize(act.split())
