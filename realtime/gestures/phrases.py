@@ -5,8 +5,8 @@ A cue's stroke is at the start of its phrase's first word, its source the phrase
 gestures the session's lexicon has are cued. The listener holds the words of the sentence being spoken (at most
 :data:`MAX_HELD_WORDS`) and decides a phrase once the words after it that the decision reads have arrived or its
 sentence has ended; :meth:`PhraseListener.flush` decides what is left when the speech ends. Of earlier sentences
-both keep only how many have ended since the last act (a deictic "this is" presents only soon after one:
-:func:`gesturecast.realtime.gestures.speech_acts.addressed`).
+both keep only how many have ended since the last act that opens a talk (a deictic "this is" presents only soon
+after one: :func:`gesturecast.realtime.gestures.speech_acts.addressed`).
 """
 
 from __future__ import annotations
@@ -24,6 +24,7 @@ from gesturecast.realtime.gestures.speech_acts import (
     candidates,
     decidable,
     default_weights,
+    opens_talk,
     tokenize,
 )
 from gesturecast.realtime.gestures.words import Word
@@ -66,8 +67,9 @@ class PhraseCues:
 
     def decided(self, words: list[Word], tokens: list[Token], ready, since: int | None
                 ) -> list[tuple[Cue | None, int, str]]:
-        """(cue or None for no gesture, the candidate's first token, its intent) of each candidate that
-        ``ready(candidate)`` accepts, in order; ``since``: sentence ends between the last act and ``tokens``."""
+        """(cue or None for no gesture, the candidate's first token, whether its act opens a talk) of each candidate
+        that ``ready(candidate)`` accepts, in order; ``since``: sentence ends between the last act that opens a talk
+        and ``tokens``."""
         found = [c for c in candidates(tokens) if ready(c)]
         if not found:  # no speech act possible: a stream without words never loads wordllama
             return []
@@ -78,7 +80,7 @@ class PhraseCues:
             first = tokens[candidate.start].word
             phrase = " ".join(w.text for w in words[first: tokens[candidate.stop - 1].word + 1])
             cue = Cue(gesture, words[first].start, phrase) if gesture else None
-            out.append((cue, candidate.start, intent))
+            out.append((cue, candidate.start, opens_talk(tokens, candidate, intent)))
         return out
 
 
@@ -89,7 +91,7 @@ class PhraseListener:
         self.phrases = phrases
         self.held: list[Word] = []  # the words of the sentence being spoken
         self.decided_upto = 0  # tokens of ``held`` before this are decided
-        self.since: int | None = None  # sentence ends since the last act (0: in the sentence being spoken)
+        self.since: int | None = None  # sentence ends since the last act opening a talk (0: in this sentence)
 
     def hear(self, word: Word) -> list[Cue]:
         """The cues that ``word`` lets the listener decide."""
@@ -112,7 +114,7 @@ class PhraseListener:
                                        lambda c: c.start >= self.decided_upto and ready(tokens, c), self.since)
         if decided:
             self.decided_upto = max(start for _, start, _ in decided) + 1
-        if any(intent != "none" for _, _, intent in decided):
+        if any(opens for _, _, opens in decided):
             self.since = 0
         return [cue for cue, _, _ in decided if cue is not None]
 

@@ -97,8 +97,10 @@ ATTRIBUTION = frozenset(["said", "says", "say", "asked", "asks", "ask", "argued"
                          "warns", "promised", "promises", "announced", "announces", "advised", "groaned", "sighed",
                          "laughed", "joked", "remarked", "noted", "notes", "answered", "complained", "declared",
                          "declares", "exclaimed", "began", "begins", "urged", "screamed", "murmured", "read", "reads",
-                         "recalled", "recalls", "repeated", "mumbled", "snapped", "grumbled"])  # verbs of saying
+                         "recalled", "recalls", "repeated", "mumbled", "snapped", "grumbled",
+                         "tell"])  # verbs of saying
 PAST_SAYING = frozenset(["said", "told", "wrote", "thought", "began"])
+REFLEXIVE_SELF = frozenset(["myself", "ourselves", "yourself", "yourselves"])  # a quote said to oneself
 ATTRIBUTION_CLAUSE = 7  # a clause of at most this many words after the quote that holds a verb of saying
 ATTRIBUTION_CLOSING = 12  # … or of at most this many that a verb of saying closes ("the sign in the window says.")
 CLAUSES_AFTER_QUOTE = 2  # "Goodbye, sun, said Pip": the attribution may follow an address
@@ -214,6 +216,11 @@ def candidates(tokens: list[Token]) -> list[Candidate]:
     return found
 
 
+def phrase_of(tokens: list[Token], candidate: Candidate) -> str:
+    """The candidate's tokens joined ("take a look")."""
+    return " ".join(t.text for t in tokens[candidate.start: candidate.stop])
+
+
 def sentence_bounds(tokens: list[Token], candidate: Candidate) -> tuple[int, int]:
     """[first, stop) of the tokens of the candidate's sentence."""
     first = candidate.start
@@ -285,14 +292,16 @@ def quoted(tokens: list[Token], candidate: Candidate, stop: int) -> bool:
 
 def attribution(clause: list[str]) -> bool:
     """A speaker and a verb of saying: not opened by a conjunction or a preposition ("I/we/you" only before a verb
-    in the past), the verb not inside a relative clause, and either right after a short speaker, in a clause of at
-    most :data:`ATTRIBUTION_CLAUSE` words, or closing one."""
+    in the past or one said to oneself: "we tell ourselves"), the verb not inside a relative clause, and either right
+    after a short speaker, in a clause of at most :data:`ATTRIBUTION_CLAUSE` words, or closing one."""
     if not clause or clause[0] in NOT_ATTRIBUTION:
         return False
     verbs = [k for k, word in enumerate(clause) if word in ATTRIBUTION]
     if not verbs or RELATIVES & set(clause[: verbs[0]]):
         return False
-    if clause[0] in FIRST_PERSON and not (clause[verbs[0]].endswith("ed") or clause[verbs[0]] in PAST_SAYING):
+    past = clause[verbs[0]].endswith("ed") or clause[verbs[0]] in PAST_SAYING
+    to_self = REFLEXIVE_SELF & set(clause[verbs[0] + 1: verbs[0] + 2])  # "Come on, we tell ourselves"
+    if clause[0] in FIRST_PERSON and not (past or to_self):
         return False
     closing = verbs[-1] == len(clause) - 1 and len(clause) <= ATTRIBUTION_CLOSING
     return verbs[0] <= SPEAKER_WORDS or len(clause) <= ATTRIBUTION_CLAUSE or closing
@@ -329,7 +338,7 @@ def not_the_act(tokens: list[Token], candidate: Candidate, first: int, stop: int
     obligation), "this is why" / "here is where" / "this is not" (an explanation), "look at any map" (nothing to
     point at), "look at the map before you leave" (advice: a subordinate clause in the same clause), "this is Sam
     from customer support" (a caller names themself)."""
-    words = " ".join(t.text for t in tokens[candidate.start: candidate.stop])
+    words = phrase_of(tokens, candidate)
     if tokens[candidate.stop - 1].clause_end or candidate.stop >= stop:
         return False
     after = [t.text for t in tokens[candidate.stop: min(stop, candidate.stop + 3)]] + ["", ""]
@@ -399,12 +408,18 @@ def addressed(tokens: list[Token], candidate: Candidate, since: int | None) -> b
     "your" ("look at this", "here is your key"); the other presenting phrases ("meet", "let me show you", "on your
     left") always may."""
     _, stop = sentence_bounds(tokens, candidate)
-    words = " ".join(t.text for t in tokens[candidate.start: candidate.stop])
+    words = phrase_of(tokens, candidate)
     if words not in DEICTIC or since is not None and since <= ADDRESS_SENTENCES:
         return True
     after = [t.text for t in tokens[candidate.stop: stop]] + [""]
     shown = after[1] if words in ("take a look", "have a look") and after[0] == "at" else after[0]
     return not tokens[candidate.stop - 1].sentence_end and shown in POINTING
+
+
+def opens_talk(tokens: list[Token], candidate: Candidate, intent: str) -> bool:
+    """Whether the decided ``intent`` starts (or prolongs) a talk (:func:`addressed`): any act but a deictic
+    phrase's presenting."""
+    return intent != "none" and phrase_of(tokens, candidate) not in DEICTIC
 
 
 class Embedder:
@@ -512,8 +527,9 @@ class SpeechActClassifier:
     def decide(self, tokens: list[Token], words: list[str], found: list[Candidate], since: int | None = None
                ) -> list[str]:
         """One intent per candidate (the likeliest of "none" and the intents its phrase can open); a deictic
-        presenting phrase only where the speaker is addressing someone (:func:`addressed`). ``since``: sentence ends
-        between the last act decided before ``tokens`` and their start (None: no act yet)."""
+        presenting phrase only where the speaker is addressing someone (:func:`addressed`), which a deictic phrase's
+        own presenting does not prolong (one false act opens at most :data:`ADDRESS_SENTENCES` sentences). ``since``:
+        sentence ends between the last act decided before ``tokens`` and their start (None: no act yet)."""
         ruled = [rule(tokens, c) for c in found]
         open_ = [c for c, r in zip(found, ruled, strict=True) if r is None]
         probabilities = iter(self.model.probabilities(features(self.embed, tokens, words, open_)))
@@ -526,7 +542,7 @@ class SpeechActClassifier:
             intent = ruling or self._likeliest(tokens, candidate, next(probabilities), since_act)
             if intent == "presenting" and not addressed(tokens, candidate, since_act):
                 intent = "none"
-            last = here if intent != "none" else last
+            last = here if opens_talk(tokens, candidate, intent) else last
             decided.append(intent)
         return decided
 
@@ -537,6 +553,6 @@ class SpeechActClassifier:
         :data:`ADDRESSED_PRESENTING` on: the model is fitted on text where "this is the …" is as often narration."""
         intent = max(("none", *candidate.intents), key=lambda name: p[CLASSES.index(name)])
         talk = since_act is not None and since_act <= ADDRESS_SENTENCES
-        deictic = " ".join(t.text for t in tokens[candidate.start: candidate.stop]) in DEICTIC
+        deictic = phrase_of(tokens, candidate) in DEICTIC
         leans = p[CLASSES.index("presenting")] >= ADDRESSED_PRESENTING
         return "presenting" if intent == "none" and talk and deictic and leans else intent

@@ -161,6 +161,7 @@ def test_an_interjection_alone_at_a_clause_start_is_its_act():
     ("Hi, this is Sam from the help desk.", "Hi, this is Sam, our new intern."),
     ("Welcome to the jungle was their biggest hit.", "Welcome everyone the show is about to start."),
     ("Hooray for Henry was the headline.", "Hooray the snow is here!"),
+    ("Come on, we tell ourselves, it cannot last.", "Welcome, we tell every new member."),
     ("Thanks largely to the new manager, the club stayed up.", "Thanks largely for your patience.")])
 def test_a_named_phrase_travel_advice_a_callers_name_and_a_cause_are_no_act(text, act):
     tokens = tokenize(text.split())
@@ -191,7 +192,11 @@ def test_a_deictic_presenting_phrase_presents_only_to_someone_addressed(text, si
 @pytest.mark.parametrize("text, cued", [
     ("This is the third day of the trial. There was a long silence.", []),
     ("Hi, everyone. The shop opens at nine. This is our new coffee machine.", ["wave", "guide"]),
-    ("Hi, everyone. One. Two. Three. This is our new coffee machine.", ["wave"])])
+    ("Hi, everyone. One. Two. Three. This is our new coffee machine.", ["wave"]),
+    ("Hi, everyone. This is our kitchen. This is our garden. This is our garage. This is our office.",
+     ["wave", "guide", "guide", "guide"]),
+    ("Hi, everyone. This is our kitchen. Meet our chef. This is our garage. This is our office.",
+     ["wave", "guide", "guide", "guide", "guide"])])
 def test_an_act_opens_the_sentences_where_this_is_presents_heard_either_way(phrases, text, cued):
     words = words_of(text)
     listener = PhraseListener(phrases)
