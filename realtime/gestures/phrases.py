@@ -84,6 +84,26 @@ class PhraseCues:
         return out
 
 
+class PhraseStream:
+    """A stream's word messages, each a stretch of its transcript in order (a live ``words`` message) → cues; the
+    sentences since the last act that opens a talk carry over from one message to the next, so "Hello, everyone."
+    and then "This is our new coffee machine." cue as they would in one transcript."""
+
+    def __init__(self, phrases: PhraseCues) -> None:
+        self.phrases = phrases
+        self.since: int | None = None  # sentence ends since the last act opening a talk (None: none yet)
+
+    def cues(self, words: list[Word]) -> list[Cue]:
+        """The cues of ``words``, the message after those before."""
+        tokens = tokenize([w.text for w in words])
+        decided = self.phrases.decided(words, tokens, lambda _: True, self.since)
+        opened = [start for _, start, opens in decided if opens]
+        if opened or self.since is not None:
+            start = opened[-1] if opened else 0
+            self.since = (0 if opened else self.since) + sum(t.sentence_end for t in tokens[start:])
+        return [cue for cue, _, _ in decided if cue]
+
+
 class PhraseListener:
     """Words one at a time (a TTS reporting what it speaks) → the cues decided by each new word."""
 

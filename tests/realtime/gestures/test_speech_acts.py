@@ -4,7 +4,7 @@ the phrasings users write, and words heard one at a time deciding the same as a 
 import numpy as np
 import pytest
 
-from gesturecast.realtime.gestures.phrases import PhraseCues, PhraseListener
+from gesturecast.realtime.gestures.phrases import PhraseCues, PhraseListener, PhraseStream
 from gesturecast.realtime.gestures.speech_acts import (
     ADDRESS_SENTENCES,
     ADDRESSED_PRESENTING,
@@ -213,3 +213,17 @@ def test_in_a_talk_a_deictic_phrase_presents_on_weaker_odds(text, since, intent)
     p[CLASSES.index("none")] = 1 - p.sum()
     tokens = tokenize(text.split())
     assert SpeechActClassifier._likeliest(tokens, candidates(tokens)[0], p, since) == intent
+
+
+@pytest.mark.parametrize("messages", [
+    ("Hi, everyone.", "This is our kitchen. One. Two.", "Three. This is our garden."),
+    ("Hi,", "everyone. This is our kitchen. One.", "Two. Three. This is our garden.")])
+def test_word_messages_carry_the_talk_over_as_one_transcript(phrases, messages):
+    words = words_of(" ".join(messages))
+    stream, at = PhraseStream(phrases), 0
+    sent = []
+    for message in messages:
+        sent += stream.cues(words[at: at + len(message.split())])
+        at += len(message.split())
+    assert sent == phrases.cues(words)
+    assert [cue.gesture for cue in sent] == ["wave", "guide"]
