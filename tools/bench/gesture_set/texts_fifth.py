@@ -5,10 +5,10 @@ classifier.
 
 The conventions are those of :mod:`gesturecast.tools.bench.gesture_set.texts`. Six cued stories in situations the
 other sets lack (a flat viewing, a podcast studio, a laboratory induction, a wedding reception, a support hotline, a
-club's open day) and about 5.5 minutes of narration in nine voices none of the other sets uses: a museum audio
-guide, a property listing, a laboratory protocol, a podcast introduction, a news bulletin, a sermon, a support call
-transcript, a football commentary and an obituary, with this / these / here / there / look at / meet / welcome /
-thanks to / take care / see you / come on / cheers / bye / hello in ordinary use.
+club's open day) and 6.4 minutes of narration (106 sentences) in nine voices none of the other sets uses: a museum
+audio guide, a property listing, a laboratory protocol, a podcast introduction, a news bulletin, a sermon, a support
+call transcript, a football commentary and an obituary, with this / these / here / there / look at / meet / welcome
+/ thanks to / take care / see you / come on / cheers / bye / hello in ordinary use.
 """
 
 from __future__ import annotations
