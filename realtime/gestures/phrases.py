@@ -4,7 +4,9 @@ given at once (:meth:`PhraseCues.cues`) and for words reported one at a time (:c
 A cue's stroke is at the start of its phrase's first word, its source the phrase as spoken ("Bye-bye"). Only the
 gestures the session's lexicon has are cued. The listener holds the words of the sentence being spoken (at most
 :data:`MAX_HELD_WORDS`) and decides a phrase once the words after it that the decision reads have arrived or its
-sentence has ended; :meth:`PhraseListener.flush` decides what is left when the speech ends.
+sentence has ended; :meth:`PhraseListener.flush` decides what is left when the speech ends. Of earlier sentences
+both keep only how many have ended since the last act that opens a talk (a deictic "this is" presents only soon
+after one: :func:`gesturecast.realtime.gestures.speech_acts.addressed`).
 """
 
 from __future__ import annotations
@@ -22,6 +24,7 @@ from gesturecast.realtime.gestures.speech_acts import (
     candidates,
     decidable,
     default_weights,
+    opens_talk,
     tokenize,
 )
 from gesturecast.realtime.gestures.words import Word
@@ -59,23 +62,46 @@ class PhraseCues:
 
     def cues(self, words: list[Word]) -> list[Cue]:
         """One cue per speech act in ``words`` (a whole transcript or a stretch of it)."""
-        return [cue for cue, _ in self.decided(words, tokenize([w.text for w in words]), lambda _: True) if cue]
+        tokens = tokenize([w.text for w in words])
+        return [cue for cue, _, _ in self.decided(words, tokens, lambda _: True, None) if cue]
 
-    def decided(self, words: list[Word], tokens: list[Token], ready) -> list[tuple[Cue | None, int]]:
-        """(cue or None for "no speech act", the candidate's first token) of each candidate that ``ready(candidate)``
-        accepts, in order."""
+    def decided(self, words: list[Word], tokens: list[Token], ready, since: int | None
+                ) -> list[tuple[Cue | None, int, str]]:
+        """(cue or None for no gesture, the candidate's first token, whether its act opens a talk) of each candidate
+        that ``ready(candidate)`` accepts, in order; ``since``: sentence ends between the last act that opens a talk
+        and ``tokens``."""
         found = [c for c in candidates(tokens) if ready(c)]
         if not found:  # no speech act possible: a stream without words never loads wordllama
             return []
-        intents = self.classifier.decide(tokens, [w.text for w in words], found)
+        intents = self.classifier.decide(tokens, [w.text for w in words], found, since)
         out = []
         for candidate, intent in zip(found, intents, strict=True):
             gesture = self.gesture_of(intent)
             first = tokens[candidate.start].word
             phrase = " ".join(w.text for w in words[first: tokens[candidate.stop - 1].word + 1])
             cue = Cue(gesture, words[first].start, phrase) if gesture else None
-            out.append((cue, candidate.start))
+            out.append((cue, candidate.start, opens_talk(tokens, candidate, intent)))
         return out
+
+
+class PhraseStream:
+    """A stream's word messages, each a stretch of its transcript in order (a live ``words`` message) → cues; the
+    sentences since the last act that opens a talk carry over from one message to the next, so "Hello, everyone."
+    and then "This is our new coffee machine." cue as they would in one transcript."""
+
+    def __init__(self, phrases: PhraseCues) -> None:
+        self.phrases = phrases
+        self.since: int | None = None  # sentence ends since the last act opening a talk (None: none yet)
+
+    def cues(self, words: list[Word]) -> list[Cue]:
+        """The cues of ``words``, the message after those before."""
+        tokens = tokenize([w.text for w in words])
+        decided = self.phrases.decided(words, tokens, lambda _: True, self.since)
+        opened = [start for _, start, opens in decided if opens]
+        if opened or self.since is not None:
+            start = opened[-1] if opened else 0
+            self.since = (0 if opened else self.since) + sum(t.sentence_end for t in tokens[start:])
+        return [cue for cue, _, _ in decided if cue]
 
 
 class PhraseListener:
@@ -85,6 +111,7 @@ class PhraseListener:
         self.phrases = phrases
         self.held: list[Word] = []  # the words of the sentence being spoken
         self.decided_upto = 0  # tokens of ``held`` before this are decided
+        self.since: int | None = None  # sentence ends since the last act opening a talk (0: in this sentence)
 
     def hear(self, word: Word) -> list[Cue]:
         """The cues that ``word`` lets the listener decide."""
@@ -98,21 +125,27 @@ class PhraseListener:
     def flush(self) -> list[Cue]:
         """The speech ended: decide what is left and forget the sentence."""
         cues = self._decide(lambda tokens, c: True)
-        self.held, self.decided_upto = [], 0
+        self._end_sentence()
         return cues
 
     def _decide(self, ready) -> list[Cue]:
         tokens = tokenize([w.text for w in self.held])
         decided = self.phrases.decided(self.held, tokens,
-                                       lambda c: c.start >= self.decided_upto and ready(tokens, c))
+                                       lambda c: c.start >= self.decided_upto and ready(tokens, c), self.since)
         if decided:
-            self.decided_upto = max(start for _, start in decided) + 1
-        return [cue for cue, _ in decided if cue is not None]
+            self.decided_upto = max(start for _, start, _ in decided) + 1
+        if any(opens for _, _, opens in decided):
+            self.since = 0
+        return [cue for cue, _, _ in decided if cue is not None]
+
+    def _end_sentence(self) -> None:
+        self.held, self.decided_upto = [], 0
+        self.since = None if self.since is None else self.since + 1
 
     def _forget(self, tokens: list[Token]) -> None:
         """Forget an ended sentence (all its phrases are decided), or the oldest word beyond the bound."""
         if tokens[-1].sentence_end:
-            self.held, self.decided_upto = [], 0
+            self._end_sentence()
         elif len(self.held) > MAX_HELD_WORDS:
             self.held.pop(0)
             self.decided_upto = max(0, self.decided_upto - sum(1 for t in tokens if t.word == 0))

@@ -46,7 +46,7 @@ from gesturecast.models.style.params import DEFAULT_STYLE_PARAMS
 from gesturecast.realtime.audio.sources import AudioChunk
 from gesturecast.realtime.generation.generator import Generator
 from gesturecast.realtime.gestures.cues import BLEND_LATENTS, Cue, CueOutcome, CuePlan, GestureClip
-from gesturecast.realtime.gestures.phrases import PhraseCues, PhraseListener
+from gesturecast.realtime.gestures.phrases import PhraseCues, PhraseListener, PhraseStream
 from gesturecast.realtime.gestures.words import TriggerVocabulary, Word, WordListener
 from gesturecast.realtime.pose.face import Expressions, FaceAnimator, text_embedder
 from gesturecast.realtime.pose.feature_buffer import FeatureBuffer
@@ -176,6 +176,7 @@ class GestureSession:
                             self.denoiser_config.frames_per_latent / self.fps, performances)
         self.listener = WordListener(self.vocabulary)  # words reported one at a time (a TTS speaking)
         self.phrase_listener = None if self.phrases is None else PhraseListener(self.phrases)
+        self.phrase_stream = None if self.phrases is None else PhraseStream(self.phrases)  # word messages
         self._visemes: deque[np.ndarray] = deque()  # (5,) weights of the audio frames not yet posed, in order
         self._speaking: deque[bool] = deque()  # voice-activity flag of the audio frames not yet posed, in order
         self._energy: deque[float] = deque()  # speech energy (dB) of the audio frames not yet posed, in order
@@ -298,9 +299,10 @@ class GestureSession:
         return max(0.0, self.budget.total_s + stroke_s - self.samples_in / self.sample_rate)
 
     def cue_words(self, words: list[Word]) -> list[CueOutcome]:
-        """Cue the gestures of the speech acts and forced trigger phrases in ``words`` (stream-time stamps)."""
+        """Cue the gestures of the speech acts and forced trigger phrases in ``words`` (stream-time stamps), the
+        words after those of earlier calls (:class:`~gesturecast.realtime.gestures.phrases.PhraseStream`)."""
         forced = self.vocabulary.cues(words)
-        acts = [] if self.phrases is None else self.phrases.cues(words)
+        acts = [] if self.phrase_stream is None else self.phrase_stream.cues(words)
         return self._place(forced, acts)
 
     def cue_spoken(self, word: Word) -> list[CueOutcome]:

@@ -3,9 +3,9 @@ no cue lost in silence?
 
 **Texts** (:mod:`gesturecast.tools.bench.gesture_set.texts`, held out from the classifier's training): cued stories
 whose sentences mark the intended speech acts, and ordinary narration with none, spoken by espeak-ng with exact word
-times (:mod:`gesturecast.tools.bench.gesture_set.stories`). ``--stories second``, ``third`` and ``fourth`` read the
-later held-out sets (:mod:`gesturecast.tools.bench.gesture_set.texts_second`, ``texts_third``, ``texts_fourth``)
-instead.
+times (:mod:`gesturecast.tools.bench.gesture_set.stories`). ``--stories second``, ``third``, ``fourth`` and ``fifth``
+read the later held-out sets (:mod:`gesturecast.tools.bench.gesture_set.texts_second`, ``texts_third``,
+``texts_fourth``, ``texts_fifth``) instead.
 
 **Runs.** Each cued story is generated with and without its transcript (the same session code as
 ``generate --transcript``), the narrations with theirs; one story also without it at the next seed (the seed-to-seed
@@ -57,6 +57,7 @@ from gesturecast.settings import Settings
 from gesturecast.tools.bench.gesture_set.detector import Detector, jerk
 from gesturecast.tools.bench.gesture_set.stories import Story, make_story
 from gesturecast.tools.bench.gesture_set.texts import CUED_STORIES, NARRATION, NARRATION_FINAL, NARRATION_LATE
+from gesturecast.tools.bench.gesture_set.texts_fifth import CUED_STORIES_FIFTH, NARRATION_FIFTH
 from gesturecast.tools.bench.gesture_set.texts_fourth import CUED_STORIES_FOURTH, NARRATION_FOURTH
 from gesturecast.tools.bench.gesture_set.texts_second import CUED_STORIES_SECOND, NARRATION_SECOND
 from gesturecast.tools.bench.gesture_set.texts_third import CUED_STORIES_THIRD, NARRATION_THIRD
@@ -74,6 +75,7 @@ STORY_SETS = {  # --stories: (cued stories, named narrations)
     "second": (CUED_STORIES_SECOND, (("narration-second", NARRATION_SECOND),)),
     "third": (CUED_STORIES_THIRD, (("narration-third", NARRATION_THIRD),)),
     "fourth": (CUED_STORIES_FOURTH, (("narration-fourth", NARRATION_FOURTH),)),
+    "fifth": (CUED_STORIES_FIFTH, (("narration-fifth", NARRATION_FIFTH),)),
 }
 
 
@@ -102,7 +104,7 @@ def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--json", action="store_true", help="print the JSON result")
     parser.add_argument("--out", type=Path, default=Path("out/bench/gestures"), help="folder for JSON and PNG")
     parser.add_argument("--stories", choices=sorted(STORY_SETS), default="first",
-                        help="the held-out text set (default: first; second, third, fourth: written later, "
+                        help="the held-out text set (default: first; second … fifth: written later, "
                         "see texts_second.py …)")
     parser.set_defaults(func=run)
 

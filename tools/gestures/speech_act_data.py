@@ -11,7 +11,11 @@ from __future__ import annotations
 
 import random
 
-from gesturecast.tools.gestures.speech_act_narration import narration_sentences, presenting_sentences
+from gesturecast.tools.gestures.speech_act_narration import (
+    advice_sentences,
+    narration_sentences,
+    presenting_sentences,
+)
 
 ADDRESSEES = ("everyone", "folks", "friends", "all", "guys", "team", "Sam", "Priya", "Doctor Lee", "class",
               "ladies and gentlemen", "you two", "everybody", "my friend", "neighbours")
@@ -214,7 +218,8 @@ def training_sentences(seed: int = 0, per_act: int = 220) -> list[str]:
     :data:`NOT_ACTS` sentence three times (alone, after and before a filler), ``per_act // 2`` sentences whose
     subject opens with a candidate and as many where "this is" opens an explanation, ``NARRATION_PER_ACT · per_act``
     generated narration sentences and ``per_act`` generated presenting ones
-    (:mod:`gesturecast.tools.gestures.speech_act_narration`, the fourth revision)."""
+    (:mod:`gesturecast.tools.gestures.speech_act_narration`, the fourth revision), and ``per_act // 2`` where
+    "welcome" advises and "bye" opens a noun phrase (the sixth revision)."""
     rng = random.Random(seed)
     sentences = (_acts(rng, GREETINGS, GREETING_TAILS, "wave", per_act)
                  + _acts(rng, THANKS, THANKS_TAILS, "bow", per_act)
@@ -229,4 +234,5 @@ def training_sentences(seed: int = 0, per_act: int = 220) -> list[str]:
     for text in NOT_ACTS:
         sentences += [text, f"{rng.choice(FILLERS)} {text}", f"{text} {rng.choice(FILLERS)}"]
     return (sentences + _noun_phrase_sentences(rng, per_act // 2) + _explanations(rng, per_act // 2)
-            + narration_sentences(rng, per_act * NARRATION_PER_ACT) + presenting_sentences(rng, per_act))
+            + narration_sentences(rng, per_act * NARRATION_PER_ACT) + presenting_sentences(rng, per_act)
+            + advice_sentences(rng, per_act // 2))

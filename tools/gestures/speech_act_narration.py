@@ -136,6 +136,31 @@ def _welcome_adjective(rng: random.Random) -> str:
     return rng.choice((f"Welcome {noun} {verb}", f"It was a welcome {noun} {reason}", f"The welcome {noun} {verb}"))
 
 
+GUESTS = ("hedgehogs", "birds", "frogs", "bees", "butterflies", "new ideas", "feedback", "questions", "criticism",
+          "volunteers", "beginners", "rain", "early mistakes", "visitors")
+INTO = ("into your garden", "to the pond", "from every member of the team", "at every stage of the project",
+        "to the allotment", "in the first week", "to any meeting", "into the classroom")
+BECAUSE = ("they keep the pests down.", "it saves time later.", "they often spot what others miss.",
+           "the soil stays healthier.", "they are the quickest way to learn.", "nothing else works as well.")
+BYE_NOUNS = ("weeks", "laws", "elections", "rounds", "runs", "products")
+BYE_PREDICATES = ("give the players a chance to rest.", "change every few years.", "rarely make the news.",
+                  "decide who reaches the final.", "apply to every village.", "used to be more common.")
+
+
+def advice_sentences(rng: random.Random, count: int) -> list[str]:
+    """``count`` sentences where "welcome" is a verb of advice ("Welcome hedgehogs into your garden, they keep the
+    pests down") or "bye" opens a noun phrase ("Bye weeks give the players a chance to rest"): no act (the sixth
+    revision)."""
+    sentences = []
+    for k in range(count):
+        if k % 3:
+            guests, into, because = _pick(rng, GUESTS, INTO, BECAUSE)
+            sentences.append(f"Welcome {guests} {into}{rng.choice((', ', ' because '))}{because}")
+        else:
+            sentences.append(f"Bye {rng.choice(BYE_NOUNS)} {rng.choice(BYE_PREDICATES)}")
+    return sentences
+
+
 def _condition(rng: random.Random) -> str:
     """An imperative and a consequence: "Look at the census and the pattern is obvious" (if you look …)."""
     opener, evidence, consequence = _pick(rng, ("Look at", "Take a look at", "Have a look at"), EVIDENCE, CONSEQUENCES)

@@ -1,10 +1,20 @@
 """Cues decided from the phrase: candidates (recogniser spellings too), the grammar rules, the shipped classifier on
 the phrasings users write, and words heard one at a time deciding the same as a transcript given at once."""
 
+import numpy as np
 import pytest
 
-from gesturecast.realtime.gestures.phrases import PhraseCues, PhraseListener
-from gesturecast.realtime.gestures.speech_acts import candidates, rule, tokenize
+from gesturecast.realtime.gestures.phrases import PhraseCues, PhraseListener, PhraseStream
+from gesturecast.realtime.gestures.speech_acts import (
+    ADDRESS_SENTENCES,
+    ADDRESSED_PRESENTING,
+    CLASSES,
+    SpeechActClassifier,
+    addressed,
+    candidates,
+    rule,
+    tokenize,
+)
 from gesturecast.realtime.gestures.words import Word
 
 GESTURES = ("wave", "wave-right", "bye", "bow", "raise-both", "guide", "call")
@@ -97,7 +107,7 @@ def test_a_thank_you_to_people_is_left_to_the_classifier():
     ("Come over here, quickly!", ["call"]),
     ("Have a great evening, everyone.", ["wave-right"]),
     ("Enjoy the rest of your day!", ["wave-right"]),
-    ("This is the new reading room.", ["guide"]),
+    ("Welcome, everyone. This is the new reading room.", ["wave", "guide"]),
     ("This is why we moved north.", []),
     ("Meet our new puppy, Biscuit.", ["guide"]),
     ("We meet on Fridays.", []),
@@ -139,3 +149,81 @@ def test_a_quote_attributed_within_three_words_is_no_cue_heard_either_way(phrase
 def test_an_interjection_alone_at_a_clause_start_is_its_act():
     tokens = tokenize(["Thank", "you,", "and", "goodbye!", "Hello", "and", "goodbye", "are", "words."])
     assert [rule(tokens, c) for c in candidates(tokens)] == ["thanks", "farewell", "none", "none"]
+
+
+@pytest.mark.parametrize("text, act", [
+    ("See you in court was written on the note.", "See you in court, and good luck."),
+    ("Hello, stranger, is the first line of the film.", "Hello, stranger, come in."),
+    ("Goodbye, was all she wrote.", "Goodbye, all of you."),
+    ("Come on foot if you can.", "Come on, we are late."),
+    ("Look at the map before you leave the car park.", "Look at the map, we are here."),
+    ("Take a look at the label if the milk smells odd.", "Take a look at the label on this bottle."),
+    ("Hi, this is Sam from the help desk.", "Hi, this is Sam, our new intern."),
+    ("Welcome to the jungle was their biggest hit.", "Welcome everyone the show is about to start."),
+    ("Hooray for Henry was the headline.", "Hooray the snow is here!"),
+    ("Come on, we tell ourselves, it cannot last.", "Welcome, we tell every new member."),
+    ("Thanks largely to the new manager, the club stayed up.", "Thanks largely for your patience.")])
+def test_a_named_phrase_travel_advice_a_callers_name_and_a_cause_are_no_act(text, act):
+    tokens = tokenize(text.split())
+    assert rule(tokens, candidates(tokens)[-1]) == "none"
+    tokens = tokenize(act.split())
+    assert rule(tokens, candidates(tokens)[-1]) != "none"
+
+
+@pytest.mark.parametrize("text, named", [("Hello, is the manager in?", False), ("Hello, is the first word.", True)])
+def test_a_question_after_a_greeting_does_not_name_it(text, named):
+    tokens = tokenize(text.split())
+    assert (rule(tokens, candidates(tokens)[0]) == "none") == named
+
+
+@pytest.mark.parametrize("text, since, presents", [
+    ("These are the coldest nights of the year.", None, False),
+    ("These are the coldest nights of the year.", 1, True),
+    ("Over there, in a lab in Vienna, the effect was seen.", ADDRESS_SENTENCES + 1, False),
+    ("Over there, by the door, is the cloakroom.", ADDRESS_SENTENCES, True),
+    ("Look at this!", None, True), ("Take a look at these footprints.", None, True),
+    ("Here is your key card.", None, True), ("Here is a detail from the second chapter.", None, False),
+    ("Meet the new head of the lab.", None, True), ("On your left is the market.", None, True)])
+def test_a_deictic_presenting_phrase_presents_only_to_someone_addressed(text, since, presents):
+    tokens = tokenize(text.split())
+    assert addressed(tokens, candidates(tokens)[0], since) == presents
+
+
+@pytest.mark.parametrize("text, cued", [
+    ("This is the third day of the trial. There was a long silence.", []),
+    ("Hi, everyone. The shop opens at nine. This is our new coffee machine.", ["wave", "guide"]),
+    ("Hi, everyone. One. Two. Three. This is our new coffee machine.", ["wave"]),
+    ("Hi, everyone. This is our kitchen. This is our garden. This is our garage. This is our office.",
+     ["wave", "guide", "guide", "guide"]),
+    ("Hi, everyone. This is our kitchen. Meet our chef. This is our garage. This is our office.",
+     ["wave", "guide", "guide", "guide", "guide"])])
+def test_an_act_opens_the_sentences_where_this_is_presents_heard_either_way(phrases, text, cued):
+    words = words_of(text)
+    listener = PhraseListener(phrases)
+    heard = [cue for word in words for cue in listener.hear(word)] + listener.flush()
+    assert [cue.gesture for cue in heard] == [cue.gesture for cue in phrases.cues(words)] == cued
+
+
+@pytest.mark.parametrize("text, since, intent", [
+    ("Here is the plan for today.", 1, "presenting"), ("Here is the plan for today.", None, "none"),
+    ("Here is the plan for today.", ADDRESS_SENTENCES + 1, "none"), ("Meet the new head of the lab.", 0, "none")])
+def test_in_a_talk_a_deictic_phrase_presents_on_weaker_odds(text, since, intent):
+    p = np.zeros(len(CLASSES))  # (classes,) just over the talk's threshold for presenting, the rest "none"
+    p[CLASSES.index("presenting")] = ADDRESSED_PRESENTING + 0.05
+    p[CLASSES.index("none")] = 1 - p.sum()
+    tokens = tokenize(text.split())
+    assert SpeechActClassifier._likeliest(tokens, candidates(tokens)[0], p, since) == intent
+
+
+@pytest.mark.parametrize("messages", [
+    ("Hi, everyone.", "This is our kitchen. One. Two.", "Three. This is our garden."),
+    ("Hi,", "everyone. This is our kitchen. One.", "Two. Three. This is our garden.")])
+def test_word_messages_carry_the_talk_over_as_one_transcript(phrases, messages):
+    words = words_of(" ".join(messages))
+    stream, at = PhraseStream(phrases), 0
+    sent = []
+    for message in messages:
+        sent += stream.cues(words[at: at + len(message.split())])
+        at += len(message.split())
+    assert sent == phrases.cues(words)
+    assert [cue.gesture for cue in sent] == ["wave", "guide"]

@@ -4,7 +4,11 @@ names a thing there to see, both seeded, and the head word the classifier reads 
 import random
 
 from gesturecast.realtime.gestures.speech_acts import candidates, context_texts, rule, tokenize
-from gesturecast.tools.gestures.speech_act_narration import narration_sentences, presenting_sentences
+from gesturecast.tools.gestures.speech_act_narration import (
+    advice_sentences,
+    narration_sentences,
+    presenting_sentences,
+)
 from gesturecast.tools.gestures.speech_act_training import parse_marked
 
 
@@ -37,3 +41,9 @@ def test_the_head_word_skips_determiners():
     words = ["This", "is", "the", "part", "that", "matters."]
     tokens = tokenize(words)
     assert context_texts(tokens, words, candidates(tokens)[0])[-2:] == ("the", "part")
+
+
+def test_advice_sentences_leave_welcome_and_bye_to_the_classifier_as_no_act():
+    sentences = advice_sentences(random.Random(0), 30)
+    assert not any("[" in s for s in sentences)
+    assert {" ".join(open_candidates(s)) for s in sentences} == {"welcome", "bye"}
