@@ -24,9 +24,9 @@ from collections import OrderedDict, deque
 from collections.abc import Callable, Iterable, Mapping
 from http import HTTPStatus
 from pathlib import Path
+from typing import TYPE_CHECKING
 from urllib.parse import urlsplit
 
-from websockets.asyncio.server import ServerConnection
 from websockets.datastructures import Headers
 from websockets.frames import CloseCode
 from websockets.http11 import Request, Response
@@ -35,6 +35,9 @@ from gesturecast.bridges.ws_protocol import error_message
 from gesturecast.controls import ControlError
 from gesturecast.errors import UserError
 from gesturecast.input_files import read_bounded
+
+if TYPE_CHECKING:  # asyncio and the server load only where a server runs (`generate` never needs them)
+    from websockets.asyncio.server import ServerConnection
 
 LOOPBACK_NAMES = frozenset({"localhost"})
 MIN_TOKEN_CHARS = 16

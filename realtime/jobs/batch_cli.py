@@ -12,9 +12,6 @@ import time
 from collections.abc import Callable
 from pathlib import Path
 
-from tqdm import tqdm
-from tqdm.contrib.logging import logging_redirect_tqdm
-
 from gesturecast.arguments import int_at_least
 from gesturecast.errors import INTERRUPTED_EXIT, UserError
 from gesturecast.files import write_text_atomic
@@ -115,6 +112,9 @@ def _run_with_progress(run: Callable, jobs: list[BatchJob], missing: list[JobRes
                        summary: BatchSummary) -> bool:
     """Report the ``missing`` files' failures at once, then run the jobs, with a progress bar on stderr; True when
     Ctrl-C stopped the run."""
+    from tqdm import tqdm  # loads asyncio: only a batch shows a progress bar
+    from tqdm.contrib.logging import logging_redirect_tqdm
+
     total = len(jobs) + len(missing)
     with logging_redirect_tqdm(), tqdm(total=total, unit="file", desc="generate", file=sys.stderr) as bar:
 

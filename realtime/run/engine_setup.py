@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from dataclasses import replace
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -20,7 +21,6 @@ from gesturecast.bridges.osc import OscBridge, OscConfig
 from gesturecast.bridges.output_settings import Outputs, parse_host_port
 from gesturecast.bridges.vmc import VmcBridge, VmcConfig
 from gesturecast.bridges.vmc_roles import BoneSelection
-from gesturecast.bridges.websocket_server import WebSocketBridge, WebSocketConfig
 from gesturecast.bridges.ws_access import token_from_sources
 from gesturecast.errors import UserError
 from gesturecast.models.generator.diffusion import SamplerConfig
@@ -43,6 +43,9 @@ from gesturecast.realtime.pose.session import GestureSession, SessionConfig
 from gesturecast.realtime.timing.clock import Clock
 from gesturecast.realtime.timing.latency import LatencyBudget
 from gesturecast.settings import LATENCY_SETTINGS, LatencySetting, Settings
+
+if TYPE_CHECKING:  # the WebSocket server (and asyncio) load only where one runs: `generate` never needs them
+    from gesturecast.bridges.websocket_server import WebSocketConfig
 
 MEANT_STYLES = {"raise-both": "active", "guide": "proud"}  # gesture -> the take that means it, where the neutral
 # one falls short: Bandai's neutral raise stops at the top of the head (all 74 neutral takes: wrists 5-19 cm above
@@ -184,6 +187,8 @@ def vmc_config(outputs: Outputs, settings: Settings) -> VmcConfig:
 
 
 def websocket_config(outputs: Outputs, settings: Settings, session: GestureSession, clock: Clock) -> WebSocketConfig:
+    from gesturecast.bridges.websocket_server import WebSocketConfig  # asyncio loads only where a server runs
+
     token = token_from_sources(outputs.token, outputs.token_file)
     return WebSocketConfig(host=outputs.host, port=outputs.ws, token=token, fps=float(settings.fps),
                            style=session.controls.describe(), style_choices=tuple(session.bundle.styles.labels),
@@ -207,6 +212,8 @@ def build_outputs(outputs: Outputs, settings: Settings, session: GestureSession,
                                                viseme_names=settings.lipsync_names,
                                                face_names=settings.face_names)))
         if outputs.ws is not None:
+            from gesturecast.bridges.websocket_server import WebSocketBridge
+
             config = websocket_config(outputs, settings, session, clock)
             bridges.append(WebSocketBridge(config, on_control=session.controls.submit).start())
         if outputs.bvh is not None:
