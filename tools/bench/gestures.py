@@ -3,9 +3,9 @@ no cue lost in silence?
 
 **Texts** (:mod:`gesturecast.tools.bench.gesture_set.texts`, held out from the classifier's training): cued stories
 whose sentences mark the intended speech acts, and ordinary narration with none, spoken by espeak-ng with exact word
-times (:mod:`gesturecast.tools.bench.gesture_set.stories`). ``--stories second``, ``third``, ``fourth`` and ``fifth``
+times (:mod:`gesturecast.tools.bench.gesture_set.stories`). ``--stories second`` … ``sixth``
 read the later held-out sets (:mod:`gesturecast.tools.bench.gesture_set.texts_second`, ``texts_third``,
-``texts_fourth``, ``texts_fifth``) instead.
+``texts_fourth``, ``texts_fifth``, ``texts_sixth``) instead.
 
 **Runs.** Each cued story is generated with and without its transcript (the same session code as
 ``generate --transcript``), the narrations with theirs; one story also without it at the next seed (the seed-to-seed
@@ -60,6 +60,7 @@ from gesturecast.tools.bench.gesture_set.texts import CUED_STORIES, NARRATION, N
 from gesturecast.tools.bench.gesture_set.texts_fifth import CUED_STORIES_FIFTH, NARRATION_FIFTH
 from gesturecast.tools.bench.gesture_set.texts_fourth import CUED_STORIES_FOURTH, NARRATION_FOURTH
 from gesturecast.tools.bench.gesture_set.texts_second import CUED_STORIES_SECOND, NARRATION_SECOND
+from gesturecast.tools.bench.gesture_set.texts_sixth import CUED_STORIES_SIXTH, NARRATION_SIXTH
 from gesturecast.tools.bench.gesture_set.texts_third import CUED_STORIES_THIRD, NARRATION_THIRD
 
 WINDOW_BEFORE_S, WINDOW_AFTER_S = 1.5, 2.5  # where an intended gesture must show, around its word
@@ -76,6 +77,7 @@ STORY_SETS = {  # --stories: (cued stories, named narrations)
     "third": (CUED_STORIES_THIRD, (("narration-third", NARRATION_THIRD),)),
     "fourth": (CUED_STORIES_FOURTH, (("narration-fourth", NARRATION_FOURTH),)),
     "fifth": (CUED_STORIES_FIFTH, (("narration-fifth", NARRATION_FIFTH),)),
+    "sixth": (CUED_STORIES_SIXTH, (("narration-sixth", NARRATION_SIXTH),)),
 }
 
 
@@ -104,7 +106,7 @@ def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--json", action="store_true", help="print the JSON result")
     parser.add_argument("--out", type=Path, default=Path("out/bench/gestures"), help="folder for JSON and PNG")
     parser.add_argument("--stories", choices=sorted(STORY_SETS), default="first",
-                        help="the held-out text set (default: first; second … fifth: written later, "
+                        help="the held-out text set (default: first; second … sixth: written later, "
                         "see texts_second.py …)")
     parser.set_defaults(func=run)
 
