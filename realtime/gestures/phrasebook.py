@@ -8,7 +8,8 @@ The phrases come in families of general English, not from any benchmark text:
 - **thanks**: "thank you" / "thanks" and their intensified forms ("thanks a lot / a million / ever so much", "thank
   you all"), "many thanks", "a big thank you", "much appreciated", "much obliged", "I really appreciate", the
   British "cheers" and "ta".
-- **farewell**: "bye" and "goodbye" forms, "see you / ya", the nights ("goodnight", "night night"), the wishes
+- **farewell**: "bye" and "goodbye" forms, "see you / ya", the nights ("goodnight", "night night", "sleep well",
+  "sweet dreams"), the wishes
   ("have a nice day", "safe travels / trip / journey", "take care", "take it easy"), the leave-takings ("catch you
   later", "so long", "until / till next time", "peace out", "later", "cheerio").
 - **celebration**: the cheers ("hooray", "hip hip hooray", "woohoo", "woo", "yay", "yippee"), the praise ("well
@@ -57,7 +58,8 @@ PHRASEBOOK: dict[str, tuple[str, ...]] = {  # intent -> phrases (normalised toke
                *INTENSIFIED_THANKS, "thank you all", "thanks all", "thanks everyone", "a big thank you",
                "big thanks", "much obliged", "i really appreciate", "ta", "ta very much"),
     "farewell": ("bye", "goodbye", "good bye", "bye bye", "see you", "see ya", "farewell", "take care", "so long",
-                 "good night", "goodnight", "night night", "nighty night", *FAREWELL_WISHES, "catch you later",
+                 "good night", "goodnight", "night night", "nighty night", "sleep well", "sleep tight",
+                 "sweet dreams", *FAREWELL_WISHES, "catch you later",
                  "enjoy the rest of your day", "enjoy the rest of your evening", "enjoy your evening",
                  "enjoy your weekend", "safe travels", "safe trip", "safe journey", "until next time",
                  "till next time", "talk soon", "take it easy", "peace out", "later", "cheerio"),
@@ -77,7 +79,7 @@ PHRASEBOOK: dict[str, tuple[str, ...]] = {  # intent -> phrases (normalised toke
 ALONE = frozenset([*TIMES_OF_DAY, "good day", *EVALUATIVE, "woo", "nailed it", "let's go", "this way", "ta",
                    "cheerio"])
 EXCLAIMED = frozenset(["yes", "later"])
-OPENING = frozenset(["goodnight", "come up", "behold"])
+OPENING = frozenset(["goodnight", "sleep well", "sleep tight", "sweet dreams", "come up", "behold"])
 WHOLE = frozenset(["hiya", "howdy", "g'day", "yo", "hip hip hooray", *INTENSIFIED_THANKS, "thank you all",
                    "a big thank you", "big thanks", "much obliged", "ta very much", "night night", "nighty night",
                    "safe travels", "safe trip", "safe journey", "peace out", "catch you later", "until next time",

@@ -369,8 +369,10 @@ def named(tokens: list[Token], candidate: Candidate, first: int, stop: int) -> b
     :data:`SUBJECT_WORDS` words on, with no subject of the verb's own between ("See you in court was written",
     "Come on in was painted", "Hello and goodbye were …"), or the clause after it (or after a short address) opens
     with that verb and a determiner ("Hello, stranger, is the first line"). Never in a question ("Hello, is the
-    manager in?")."""
-    if candidate.start != first or "presenting" in candidate.intents or tokens[stop - 1].question:
+    manager in?"), nor for a presenting phrase ("On your left is the market") but a whole one ("Allow me to
+    introduce is how every toast began")."""
+    introduced = "presenting" in candidate.intents and placement(phrase_of(tokens, candidate)) != "whole"
+    if candidate.start != first or introduced or tokens[stop - 1].question:
         return False
     if not tokens[candidate.stop - 1].clause_end:
         if candidate.stop < stop and tokens[candidate.stop].text in DETERMINERS:

@@ -48,7 +48,7 @@ ORDINARY = (  # the phrasebook's words in narration: none of them opens a gestur
     "Let's go over the numbers once more, the manager told the board.", "The children never say let's go home.",
     "The topic may come up again at the next meeting.", "Come up with a better plan and we will listen.",
     "In this way the dough stays soft for days.", "This way of working suits small teams.",
-    "The old castle was a sight to behold.", "Peace talks resumed in the spring.",
+    "The old castle was a sight to behold.", "Peace out was scrawled on the locker door.",
     "The candidates woo the voters with promises.", "He nailed it to the door of the shed.",
     "Take it easy on the brakes when the road is wet.", "So long as the pumps work, the mine stays dry.",
     "Night night was the last thing the parrot learned.", "Yo-yo prices make planning hard for shops.",
@@ -57,7 +57,7 @@ ORDINARY = (  # the phrasebook's words in narration: none of them opens a gestur
     "The charity sent a big thank you card to every school.", "Ta-da, the magician said, and the dove was gone.",
     "Over here is colder than over there, the locals say.", "Behold was an old word for look.",
     "The woo of the owls kept us awake.", "Hip hip hooray was the headline on the back page.",
-    "Cheerio was printed on the side of the box.", "The team came up short in the final.",
+    "Cheerio was printed on the side of the box.", "Come up short again and the coach will drop you.",
 )
 
 
