@@ -44,6 +44,7 @@ from pathlib import Path
 import numpy as np
 
 from gesturecast.errors import UserError
+from gesturecast.realtime.gestures.phrasebook import ADDRESSEES, NOT_AFTER, PHRASEBOOK, placement
 
 INTENT_GESTURES = {  # intent -> the lexicon gestures that perform it, the first the lexicon has wins
     "greeting": ("wave",), "thanks": ("bow",), "farewell": ("wave-right", "bye"), "celebration": ("raise-both",),
@@ -51,29 +52,7 @@ INTENT_GESTURES = {  # intent -> the lexicon gestures that perform it, the first
 MARKS = {"wave": "greeting", "bow": "thanks", "bye": "farewell", "raise-both": "celebration", "guide": "presenting",
          "call": "calling"}  # ``[mark]`` in marked sentences (training, benchmark) -> the intent it stands for
 CLASSES = ("none", *INTENT_GESTURES)
-WISHES = ("nice", "good", "great", "lovely", "wonderful", "pleasant", "safe", "fantastic")  # "have a nice day"
-WISHED = ("day", "evening", "afternoon", "morning", "night", "weekend", "week", "trip", "journey", "flight",
-          "holiday", "time")
-FAREWELL_WISHES = tuple(f"have a {adjective} {time}" for adjective in WISHES for time in WISHED)
-CANDIDATES: dict[str, tuple[str, ...]] = {  # intent -> phrases (normalised tokens) that can open it
-    "greeting": ("hello", "hi", "hey", "hiya", "howdy", "good morning", "good afternoon", "good evening", "welcome",
-                 "greetings", "hello there", "hi there", "hey there"),
-    "thanks": ("thank you", "thanks", "thank", "many thanks", "much appreciated", "cheers", "thank you very much"),
-    "farewell": ("bye", "goodbye", "good bye", "bye bye", "see you", "see ya", "farewell", "take care", "so long",
-                 "good night", *FAREWELL_WISHES, "catch you later", "enjoy the rest of your day",
-                 "enjoy the rest of your evening", "enjoy your evening", "enjoy your weekend", "safe travels",
-                 "until next time", "talk soon", "take it easy"),
-    "celebration": ("hooray", "hurray", "hurrah", "yay", "woohoo", "woo hoo", "congratulations", "congrats",
-                    "well done", "bravo", "yippee"),
-    "presenting": ("here is", "here are", "here's", "here you can see", "here we have", "this is", "these are",
-                   "this is our", "these are our", "this is my", "look at", "take a look", "have a look", "over there",
-                   "check out", "check this out", "meet", "let me show you", "let me introduce",
-                   "allow me to introduce", "may i introduce", "on your left", "on your right", "to your left",
-                   "to your right"),
-    "calling": ("come on", "come here", "come over", "come over here", "come closer", "over here", "gather round",
-                "gather around", "come along", "come on over", "come forward", "come on up", "come up here",
-                "come join us", "step forward"),
-}
+CANDIDATES = PHRASEBOOK  # intent -> phrases (normalised tokens) that can open it (gestures/phrasebook.py)
 AFTER_TOKENS = 3  # words after the phrase the decision reads (fewer at the end of its sentence)
 BEFORE_TOKENS = 3  # words before it
 WINDOW_TOKENS = 4  # the window's words on each side of the phrase
@@ -98,7 +77,9 @@ ATTRIBUTION = frozenset(["said", "says", "say", "asked", "asks", "ask", "argued"
                          "laughed", "joked", "remarked", "noted", "notes", "answered", "complained", "declared",
                          "declares", "exclaimed", "began", "begins", "urged", "screamed", "murmured", "read", "reads",
                          "recalled", "recalls", "repeated", "mumbled", "snapped", "grumbled",
-                         "tell"])  # verbs of saying
+                         "tell", "mutters", "murmurs", "mumbles", "grumbles", "snaps", "sighs", "groans", "laughs",
+                         "jokes", "yells", "screams", "exclaims", "insists", "complains", "remarks",
+                         "repeats"])  # verbs of saying (the phrasebook revision: every past form's present too)
 PAST_SAYING = frozenset(["said", "told", "wrote", "thought", "began"])
 REFLEXIVE_SELF = frozenset(["myself", "ourselves", "yourself", "yourselves"])  # a quote said to oneself
 ATTRIBUTION_CLAUSE = 7  # a clause of at most this many words after the quote that holds a verb of saying
@@ -154,7 +135,7 @@ DETERMINERS = frozenset(["the", "a", "an", "our", "my", "your", "this", "these",
 class Token:
     """One word token: its text (lower case), the index of the transcript word it came from, whether punctuation
     follows it (",", "." …), whether it ends a sentence, whether a hyphen joins it to the next token, and whether a
-    question mark follows it."""
+    question mark or an exclamation mark follows it."""
 
     text: str
     word: int
@@ -162,6 +143,7 @@ class Token:
     sentence_end: bool
     hyphen: bool
     question: bool = False  # a question mark follows it
+    exclaimed: bool = False  # an exclamation mark follows it
 
 
 @dataclass(frozen=True)
@@ -183,7 +165,7 @@ def tokenize(texts: list[str]) -> list[Token]:
             last = k + 1 == len(parts)
             tokens.append(Token(part.group(), index, bool(CLAUSE_END.search(tail)) or (last and bool(
                 SENTENCE_END.search(tail))), last and bool(SENTENCE_END.search(tail)), "-" in tail and not last,
-                last and "?" in tail))
+                last and "?" in tail, last and "!" in tail))
     return tokens
 
 
@@ -243,11 +225,13 @@ def decidable(tokens: list[Token], candidate: Candidate) -> bool:
 
 
 def clause_start(tokens: list[Token], candidate: Candidate, first: int) -> bool:
-    """The candidate opens its sentence or a clause (after punctuation, or after "and", "so", "oh" … there)."""
+    """The candidate opens its sentence or a clause (after punctuation, or after "and", "so", "oh" … there), or
+    follows an addressee that opens its sentence ("Everyone come up", "Please come through")."""
     k = candidate.start
     while k > first and tokens[k - 1].text in OPENERS:
         k -= 1
-    return k == first or tokens[k - 1].clause_end
+    vocative = candidate.start - first == 1 and tokens[first].text in ADDRESSEES  # "Everyone come up", "Please …"
+    return k == first or tokens[k - 1].clause_end or vocative
 
 
 def rule(tokens: list[Token], candidate: Candidate) -> str | None:
@@ -269,10 +253,35 @@ def rule(tokens: list[Token], candidate: Candidate) -> str | None:
         return "none"
     if named(tokens, candidate, first, stop):
         return "none"
+    placed = placed_act(tokens, candidate, first, stop)
+    if placed is not None:
+        return placed
     interjection = not joined and len(candidate.intents) == 1 and candidate.intents[0] != "presenting"
     if interjection and clause_start(tokens, candidate, first):  # "Hooray!", "Thank you, and goodbye!"
         return candidate.intents[0]
     return None
+
+
+def placed_act(tokens: list[Token], candidate: Candidate, first: int, stop: int) -> str | None:
+    """Where the phrasebook says a phrase can be its act (:func:`gesturecast.realtime.gestures.phrasebook.placement`):
+    "none" where an "alone" / "exclaimed" / "opening" phrase stands elsewhere ("Morning traffic", "a brilliant
+    idea", "Later, the rook", "a goodnight kiss", "come up with a plan"), its intent where an "alone" / "exclaimed"
+    phrase stands alone or a "whole" one opens a clause ("Brilliant!", "Yes!", "Hip hip hooray for …"), else None."""
+    place = placement(phrase_of(tokens, candidate))
+    if place is None:
+        return None
+    opening = clause_start(tokens, candidate, first)
+    last = tokens[candidate.stop - 1]
+    after = tokens[candidate.stop] if candidate.stop < stop else None
+    addressee = after is not None and after.text in ADDRESSEES and (after.clause_end or candidate.stop + 1 == stop)
+    alone = last.clause_end or candidate.stop == stop
+    excluded = after is not None and after.text in NOT_AFTER.get(phrase_of(tokens, candidate), ())
+    if place == "whole":
+        return candidate.intents[0] if opening else None
+    if place == "opening":
+        return None if opening and not excluded else "none"
+    stands = alone or addressee if place == "alone" else last.exclaimed or addressee
+    return candidate.intents[0] if opening and stands else "none"
 
 
 def quoted(tokens: list[Token], candidate: Candidate, stop: int) -> bool:
@@ -360,8 +369,10 @@ def named(tokens: list[Token], candidate: Candidate, first: int, stop: int) -> b
     :data:`SUBJECT_WORDS` words on, with no subject of the verb's own between ("See you in court was written",
     "Come on in was painted", "Hello and goodbye were …"), or the clause after it (or after a short address) opens
     with that verb and a determiner ("Hello, stranger, is the first line"). Never in a question ("Hello, is the
-    manager in?")."""
-    if candidate.start != first or "presenting" in candidate.intents or tokens[stop - 1].question:
+    manager in?"), nor for a presenting phrase ("On your left is the market") but a whole one ("Allow me to
+    introduce is how every toast began")."""
+    introduced = "presenting" in candidate.intents and placement(phrase_of(tokens, candidate)) != "whole"
+    if candidate.start != first or introduced or tokens[stop - 1].question:
         return False
     if not tokens[candidate.stop - 1].clause_end:
         if candidate.stop < stop and tokens[candidate.stop].text in DETERMINERS:

@@ -3,9 +3,9 @@ no cue lost in silence?
 
 **Texts** (:mod:`gesturecast.tools.bench.gesture_set.texts`, held out from the classifier's training): cued stories
 whose sentences mark the intended speech acts, and ordinary narration with none, spoken by espeak-ng with exact word
-times (:mod:`gesturecast.tools.bench.gesture_set.stories`). ``--stories second``, ``third``, ``fourth`` and ``fifth``
+times (:mod:`gesturecast.tools.bench.gesture_set.stories`). ``--stories second`` … ``sixth``
 read the later held-out sets (:mod:`gesturecast.tools.bench.gesture_set.texts_second`, ``texts_third``,
-``texts_fourth``, ``texts_fifth``) instead.
+``texts_fourth``, ``texts_fifth``, ``texts_sixth``) instead.
 
 **Runs.** Each cued story is generated with and without its transcript (the same session code as
 ``generate --transcript``), the narrations with theirs; one story also without it at the next seed (the seed-to-seed
@@ -24,6 +24,9 @@ gesture in a stream against the seed-to-seed distance of the uncued speech; the 
 gesture moves (the torso during a wave), cued over uncued; the largest jerk within 0.3 s of each
 clip's ends over the uncued stream's 95th percentile; speech following outside the cue windows, cued over uncued;
 a PNG strip of frames around each cue of the first story.
+
+``--decisions-only``: only the speech acts decided on the set's words, without speech or generation
+(:mod:`gesturecast.tools.bench.gesture_set.decisions`).
 """
 
 from __future__ import annotations
@@ -37,6 +40,7 @@ from pathlib import Path
 
 import numpy as np
 
+from gesturecast.errors import UserError
 from gesturecast.files import write_text_atomic
 from gesturecast.frames import PoseFrame, gesture_names
 from gesturecast.models.audio.files import SAMPLE_RATE
@@ -54,12 +58,14 @@ from gesturecast.realtime.run.engine import run_offline
 from gesturecast.realtime.run.engine_setup import build_session
 from gesturecast.realtime.timing.clock import MonotonicClock
 from gesturecast.settings import Settings
+from gesturecast.tools.bench.gesture_set.decisions import decisions
 from gesturecast.tools.bench.gesture_set.detector import Detector, jerk
 from gesturecast.tools.bench.gesture_set.stories import Story, make_story
 from gesturecast.tools.bench.gesture_set.texts import CUED_STORIES, NARRATION, NARRATION_FINAL, NARRATION_LATE
 from gesturecast.tools.bench.gesture_set.texts_fifth import CUED_STORIES_FIFTH, NARRATION_FIFTH
 from gesturecast.tools.bench.gesture_set.texts_fourth import CUED_STORIES_FOURTH, NARRATION_FOURTH
 from gesturecast.tools.bench.gesture_set.texts_second import CUED_STORIES_SECOND, NARRATION_SECOND
+from gesturecast.tools.bench.gesture_set.texts_sixth import CUED_STORIES_SIXTH, NARRATION_SIXTH
 from gesturecast.tools.bench.gesture_set.texts_third import CUED_STORIES_THIRD, NARRATION_THIRD
 
 WINDOW_BEFORE_S, WINDOW_AFTER_S = 1.5, 2.5  # where an intended gesture must show, around its word
@@ -76,6 +82,7 @@ STORY_SETS = {  # --stories: (cued stories, named narrations)
     "third": (CUED_STORIES_THIRD, (("narration-third", NARRATION_THIRD),)),
     "fourth": (CUED_STORIES_FOURTH, (("narration-fourth", NARRATION_FOURTH),)),
     "fifth": (CUED_STORIES_FIFTH, (("narration-fifth", NARRATION_FIFTH),)),
+    "sixth": (CUED_STORIES_SIXTH, (("narration-sixth", NARRATION_SIXTH),)),
 }
 
 
@@ -104,8 +111,11 @@ def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--json", action="store_true", help="print the JSON result")
     parser.add_argument("--out", type=Path, default=Path("out/bench/gestures"), help="folder for JSON and PNG")
     parser.add_argument("--stories", choices=sorted(STORY_SETS), default="first",
-                        help="the held-out text set (default: first; second … fifth: written later, "
+                        help="the held-out text set (default: first; second … sixth: written later, "
                         "see texts_second.py …)")
+    parser.add_argument("--decisions-only", action="store_true",
+                        help="only which speech acts are decided on the set's words: no speech, no generation "
+                        "(decisions.json; a second)")
     parser.set_defaults(func=run)
 
 
@@ -319,6 +329,8 @@ def run(args: argparse.Namespace) -> int:
                                                                          "celebration", "presenting", "calling")}
     parts = {entry.name: entry.parts for entry in load_lexicon(settings.gestures)}
     cued_texts, narration_texts = STORY_SETS[args.stories]
+    if args.decisions_only:
+        return run_decisions(args, probe.phrases, cued_texts, narration_texts)
     stories = [story_result(settings, make_story(name, sentences), expected, parts)
                for name, sentences in cued_texts.items()]
     narrations = [narration_result(settings, make_story(name, texts)) for name, texts in narration_texts]
@@ -331,6 +343,20 @@ def run(args: argparse.Namespace) -> int:
     text = json.dumps(result, indent=2, default=str) + "\n"
     write_text_atomic(args.out / "gestures.json", text)
     sys.stdout.write(text if args.json else json.dumps(result["summary"], default=str) + "\n")
+    return 0
+
+
+def run_decisions(args: argparse.Namespace, phrases, cued_texts: dict, narration_texts: tuple) -> int:
+    """``--decisions-only``: the decisions on the set's words (:mod:`gesturecast.tools.bench.gesture_set.decisions`)
+    as JSON in ``decisions.json``; the counts printed (everything with ``--json``)."""
+    if phrases is None:
+        raise UserError("--decisions-only: this session decides no speech acts (speech acts are switched off)")
+    result = {"stories_set": args.stories, **decisions(phrases, cued_texts, narration_texts)}
+    text = json.dumps(result, indent=2) + "\n"
+    args.out.mkdir(parents=True, exist_ok=True)
+    write_text_atomic(args.out / "decisions.json", text)
+    counts = {k: v for k, v in result.items() if not isinstance(v, list)}
+    sys.stdout.write(text if args.json else json.dumps(counts) + "\n")
     return 0
 
 

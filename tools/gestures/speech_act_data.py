@@ -16,6 +16,7 @@ from gesturecast.tools.gestures.speech_act_narration import (
     narration_sentences,
     presenting_sentences,
 )
+from gesturecast.tools.gestures.speech_act_phrasebook import phrasebook_acts, phrasebook_ordinary
 
 ADDRESSEES = ("everyone", "folks", "friends", "all", "guys", "team", "Sam", "Priya", "Doctor Lee", "class",
               "ladies and gentlemen", "you two", "everybody", "my friend", "neighbours")
@@ -219,7 +220,9 @@ def training_sentences(seed: int = 0, per_act: int = 220) -> list[str]:
     subject opens with a candidate and as many where "this is" opens an explanation, ``NARRATION_PER_ACT · per_act``
     generated narration sentences and ``per_act`` generated presenting ones
     (:mod:`gesturecast.tools.gestures.speech_act_narration`, the fourth revision), and ``per_act // 2`` where
-    "welcome" advises and "bye" opens a noun phrase (the sixth revision)."""
+    "welcome" advises and "bye" opens a noun phrase (the sixth revision), and every phrasebook phrase as its act
+    twice and its words in ordinary narration (:mod:`gesturecast.tools.gestures.speech_act_phrasebook`, the
+    phrasebook revision)."""
     rng = random.Random(seed)
     sentences = (_acts(rng, GREETINGS, GREETING_TAILS, "wave", per_act)
                  + _acts(rng, THANKS, THANKS_TAILS, "bow", per_act)
@@ -235,4 +238,4 @@ def training_sentences(seed: int = 0, per_act: int = 220) -> list[str]:
         sentences += [text, f"{rng.choice(FILLERS)} {text}", f"{text} {rng.choice(FILLERS)}"]
     return (sentences + _noun_phrase_sentences(rng, per_act // 2) + _explanations(rng, per_act // 2)
             + narration_sentences(rng, per_act * NARRATION_PER_ACT) + presenting_sentences(rng, per_act)
-            + advice_sentences(rng, per_act // 2))
+            + advice_sentences(rng, per_act // 2) + phrasebook_acts(rng) + phrasebook_ordinary())

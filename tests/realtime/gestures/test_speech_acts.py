@@ -227,3 +227,75 @@ def test_word_messages_carry_the_talk_over_as_one_transcript(phrases, messages):
         at += len(message.split())
     assert sent == phrases.cues(words)
     assert [cue.gesture for cue in sent] == ["wave", "guide"]
+
+
+@pytest.mark.parametrize("text, phrase, intent", [
+    ("Morning, all.", "morning", "greeting"), ("G'day, mate.", "g'day", "greeting"), ("Yo, Sam!", "yo", "greeting"),
+    ("Good day, sir.", "good day", "greeting"), ("Thanks a million, Sam.", "thanks a million", "thanks"),
+    ("Ta, love.", "ta", "thanks"), ("Much obliged, sir.", "much obliged", "thanks"),
+    ("Night night, kids.", "night night", "farewell"), ("Peace out, folks!", "peace out", "farewell"),
+    ("Safe journey, Tom.", "safe journey", "farewell"), ("Sweet dreams, love.", "sweet dreams", "farewell"),
+    ("Hip hip hooray!", "hip hip hooray", "celebration"), ("Nailed it!", "nailed it", "celebration"),
+    ("Fantastic, guys!", "fantastic", "celebration"), ("May I present the winner.", "may i present", "presenting"),
+    ("Feast your eyes on this.", "feast your eyes on", "presenting"), ("This way, please.", "this way", "calling")])
+def test_the_phrasebook_families_are_candidates(text, phrase, intent):
+    tokens = tokenize(text.split())
+    found = candidates(tokens)[0]
+    assert (" ".join(t.text for t in tokens[found.start:found.stop]), found.intents) == (phrase, (intent,))
+
+
+@pytest.mark.parametrize("act, intent, ordinary", [
+    ("Morning, all.", "greeting", "Morning traffic was light on the ring road."),
+    ("Evening, everyone!", "greeting", "The evening news ran long."),
+    ("Good day, sir.", "greeting", "It was a good day for the farmers."),
+    ("Brilliant, the printer works!", "celebration", "It was a brilliant idea that nobody tried."),
+    ("Let's go, team!", "celebration", "Let's go home before the rain starts."),
+    ("This way, please.", "calling", "In this way the dough stays soft."),
+    ("Ta, that was quick.", "thanks", "The ta of the drum kept time."),
+    ("Yes! We won the quiz!", "celebration", "Yes, the figures are in, and they are poor."),
+    ("Later, guys!", "farewell", "Later, the council changed its mind."),
+    ("Later!", "farewell", "Later all the guests went home.")])
+def test_an_interjection_word_is_its_act_only_standing_alone(act, intent, ordinary):
+    tokens = tokenize(act.split())
+    assert rule(tokens, candidates(tokens)[0]) == intent
+    tokens = tokenize(ordinary.split())
+    assert [rule(tokens, c) for c in candidates(tokens)] == ["none"]
+
+
+@pytest.mark.parametrize("act, ordinary", [
+    ("Goodnight, everyone, drive safely.", "She gave him a goodnight kiss."),
+    ("Come up to the front, all of you.", "The topic may come up again next year."),
+    ("Everyone come up to the stage.", "Come up with a better plan and we will listen."),
+    ("Behold the finished cathedral.", "The old castle was a sight to behold."),
+    ("Sleep well, and see you in the morning.", "Babies sleep well in a cool room.")])
+def test_a_phrase_that_must_open_its_clause_is_no_act_elsewhere(act, ordinary):
+    tokens = tokenize(act.split())
+    assert rule(tokens, candidates(tokens)[0]) != "none"
+    tokens = tokenize(ordinary.split())
+    assert rule(tokens, candidates(tokens)[0]) == "none"
+
+
+@pytest.mark.parametrize("act, intent, ordinary", [
+    ("Hip hip hooray for the twins!", "celebration", "Hip hip hooray was the headline on the back page."),
+    ("Thanks ever so much for the lift.", "thanks", "Thanks ever so much, she said, and left."),
+    ("Allow me to introduce our speaker.", "presenting", "Allow me to introduce is how every toast began."),
+    ("Safe travels, and text us when you land.", "farewell", "The airline wished everyone safe travels."),
+    ("Gather round, the story is starting.", "calling", "Gather round was the name of their first album.")])
+def test_a_whole_phrase_opening_a_clause_is_its_act_unless_reported_quoted_or_named(act, intent, ordinary):
+    tokens = tokenize(act.split())
+    assert rule(tokens, candidates(tokens)[0]) == intent
+    tokens = tokenize(ordinary.split())
+    assert rule(tokens, candidates(tokens)[0]) != intent
+
+
+def test_a_present_verb_of_saying_attributes_a_quote():
+    tokens = tokenize(["Come", "on,", "the", "driver", "mutters", "at", "the", "red", "light."])
+    assert rule(tokens, candidates(tokens)[0]) == "none"
+
+
+@pytest.mark.parametrize("text, cued", [
+    ("Thanks a million, Sam.", ["bow"]), ("Morning traffic was light.", []), ("Goodnight, everyone!", ["wave-right"]),
+    ("She gave him a goodnight kiss.", []), ("Brilliant, you did it!", ["raise-both"]),
+    ("It was a brilliant idea.", []), ("Take a seat. Behold the finished cathedral.", ["guide"])])
+def test_the_shipped_classifier_with_the_phrasebook(phrases, text, cued):
+    assert [cue.gesture for cue in phrases.cues(words_of(text))] == cued

@@ -95,3 +95,18 @@ def test_arms_at_rest_or_bent_in_front_are_no_guide():
     straight = body_with(held_out)
     straight[:, names.index("RightLowerArm")] = (straight[:, names.index("RightUpperArm")] + held_out) / 2  # elbow
     assert Detector(straight, names).events("guide-right")
+
+
+def test_decisions_only_counts_decided_missed_unintended_and_narration_cues():
+    from gesturecast.realtime.gestures.phrases import PhraseCues
+    from gesturecast.tools.bench.gesture_set.decisions import decisions
+
+    phrases = PhraseCues(("wave", "bow", "wave-right", "guide"))
+    stories = {"call": ("[wave]Hi, [bow]thanks for calling.", "[bow]Thanks to the rain, we stayed in.",
+                        "Goodbye, everyone.")}
+    narration = (("n", ("This is the third day of the trial.", "Hello, everyone, and welcome.")),)
+    result = decisions(phrases, stories, narration)
+    assert (result["intended"], result["decided"], result["unintended_in_stories"]) == (3, 2, 1)
+    assert result["misses"] == [{"mark": "bow", "decided": None, "sentence": "[bow]Thanks to the rain, we stayed in."}]
+    assert [row["gesture"] for row in result["narration"]] == ["wave", "wave"]
+    assert result["narration_sentences"] == 2

@@ -47,3 +47,27 @@ def test_advice_sentences_leave_welcome_and_bye_to_the_classifier_as_no_act():
     sentences = advice_sentences(random.Random(0), 30)
     assert not any("[" in s for s in sentences)
     assert {" ".join(open_candidates(s)) for s in sentences} == {"welcome", "bye"}
+
+
+def test_every_phrasebook_phrase_opens_a_generated_act_of_its_intent():
+    from gesturecast.realtime.gestures.phrasebook import PHRASEBOOK
+    from gesturecast.realtime.gestures.speech_acts import MARKS
+    from gesturecast.tools.gestures.speech_act_phrasebook import phrasebook_acts
+
+    opened = set()
+    for sentence in phrasebook_acts(random.Random(0)):
+        words, marks = parse_marked(sentence)
+        tokens = tokenize(words)
+        first = candidates(tokens)[0]
+        assert list(marks) == [0] and first.start == 0 and MARKS[marks[0]] in first.intents
+        opened.add(" ".join(t.text for t in tokens[first.start:first.stop]))
+    assert opened == {phrase for phrases in PHRASEBOOK.values() for phrase in phrases}
+
+
+def test_the_ordinary_phrasebook_sentences_are_unmarked_and_hold_a_candidate():
+    from gesturecast.tools.gestures.speech_act_phrasebook import ORDINARY, phrasebook_ordinary
+
+    assert len(phrasebook_ordinary()) == 3 * len(ORDINARY)
+    for sentence in ORDINARY:
+        words, marks = parse_marked(sentence)
+        assert not marks and candidates(tokenize(words)), sentence
