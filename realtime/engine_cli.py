@@ -40,6 +40,7 @@ from gesturecast.realtime.run.engine import EngineReport, LiveEngine
 from gesturecast.realtime.run.engine_setup import build_outputs, build_session
 from gesturecast.realtime.run.offline_generate import (
     VRMA_SUFFIX,
+    body_only,
     check_motion_path,
     generate_to_files,
     transcript_words,
@@ -181,7 +182,7 @@ def run_generate(args: argparse.Namespace) -> int:
     words = transcript_words(args.transcript, settings)
     if not words and settings.gestures == DEFAULT_GESTURES_DIR:  # no words, no gesture: the bundled lexicon is
         settings = dataclasses.replace(settings, gestures=None)  # not encoded (0.1 s); a user's folder is still checked
-    session = build_session(settings, MonotonicClock())
+    session = build_session(body_only(settings, motion_paths, args.json), MonotonicClock())
     session.cue_words(words)
     report = generate_to_files(session, args.audio, motion_paths, args.json, args.vrma_bones)
     process_cpu = time.process_time()  # the whole command: start-up, model, generation, files

@@ -28,7 +28,7 @@ from gesturecast.errors import UserError
 from gesturecast.realtime.jobs.batch_jobs import BatchJob
 from gesturecast.realtime.pose.session import GestureSession
 from gesturecast.realtime.run.engine_setup import build_session, load_bundle
-from gesturecast.realtime.run.offline_generate import generate_to_files, transcript_words
+from gesturecast.realtime.run.offline_generate import body_only, generate_to_files, transcript_words
 from gesturecast.realtime.timing.clock import MonotonicClock
 from gesturecast.realtime.timing.latency import LatencyStats
 from gesturecast.settings import Settings
@@ -77,7 +77,7 @@ class BatchWorker:
         try:
             settings = job.settings(self.base)
             words = transcript_words(job.transcript, settings)
-            session = self._session_for(settings)
+            session = self._session_for(body_only(settings, job.motion_paths(), job.json))
             session.cue_words(words)
             report = generate_to_files(session, job.audio, job.motion_paths(), job.json)
         except UserError as error:

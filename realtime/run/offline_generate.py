@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import logging
 from contextlib import ExitStack
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -29,7 +30,7 @@ from gesturecast.realtime.gestures.words import Word, read_transcript
 from gesturecast.realtime.pose.session import GestureSession
 from gesturecast.realtime.run.engine import EngineReport, make_report, offline_batches
 from gesturecast.realtime.timing.scheduler import STAGE_SINK
-from gesturecast.settings import Settings
+from gesturecast.settings import FACE_OFF, LIPSYNC_OFF, Settings
 
 BVH_SUFFIX = ".bvh"
 VRMA_SUFFIX = ".vrma"
@@ -71,6 +72,14 @@ def frame_writer(path: Path, viseme_names: tuple[str, ...], face_names: tuple[st
     if path.suffix.lower() not in MOTION_SUFFIXES:
         raise UserError(f"{path}: name a .bvh, .vrma or .json file (the suffix picks the format)")
     return motion_writer(path)
+
+
+def body_only(settings: Settings, motion_paths: list[Path], json_path: Path | None) -> Settings:
+    """``settings`` without lip sync and face when no output carries them (BVH files only: a .vrma and the JSON carry
+    visemes and face weights); the body is the same bit for bit, and the visemes' and face's CPU is not spent."""
+    if json_path is not None or any(path.suffix.lower() != BVH_SUFFIX for path in motion_paths):
+        return settings
+    return replace(settings, lipsync=LIPSYNC_OFF, face=FACE_OFF)
 
 
 def generate_to_files(session: GestureSession, audio: Path, motion_paths: list[Path], json_path: Path | None = None,

@@ -1,5 +1,5 @@
 """`generate -o FILE` picks its writer by the file name: .vrma → VRM Animation, anything else → BVH; a .vrma
-has its upper chest folded into the chest unless `--vrma-bones full`."""
+has its upper chest folded into the chest unless `--vrma-bones full`; BVH files alone skip lip sync and face."""
 
 from __future__ import annotations
 
@@ -16,7 +16,9 @@ from gesturecast.models.audio.files import PACKAGED_SAMPLE, SAMPLE_RATE, load_au
 from gesturecast.models.motion.bvh import read_bvh
 from gesturecast.models.motion.rotations import quat_mul
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
-from gesturecast.realtime.run.offline_generate import BvhFrameWriter, motion_writer
+from gesturecast.realtime.cli_flags import settings_from_args
+from gesturecast.realtime.run.offline_generate import BvhFrameWriter, body_only, motion_writer
+from gesturecast.settings import FACE_OFF, LIPSYNC_OFF
 
 FRAMES = 5
 
@@ -76,3 +78,19 @@ def test_vrma_bones_full_is_refused_with_a_batch(tmp_path, capsys):
                                       "--vrma-bones", "full"])
     assert run_command(args) == 2
     assert "--vrma-bones full is for one file" in capsys.readouterr().err
+
+
+def test_a_bvh_alone_skips_lip_sync_and_face_and_is_the_same_file(tmp_path):
+    speech = tmp_path / "speech.wav"
+    soundfile.write(speech, load_audio(PACKAGED_SAMPLE)[: 3 * SAMPLE_RATE], SAMPLE_RATE, subtype="FLOAT")
+    base = build_parser().parse_args(["generate", str(speech), "-o", "x.bvh"])
+    settings = settings_from_args(base)
+    assert (settings.lipsync, settings.face) != (LIPSYNC_OFF, FACE_OFF)  # the defaults fill visemes and face
+    alone = body_only(settings, [tmp_path / "a.bvh"], None)
+    assert (alone.lipsync, alone.face) == (LIPSYNC_OFF, FACE_OFF)
+    for keeps in (([tmp_path / "a.bvh"], tmp_path / "a.json"), ([tmp_path / "a.bvh", tmp_path / "a.vrma"], None)):
+        assert body_only(settings, *keeps) == settings  # a JSON or a .vrma carries visemes and face weights
+    for name, extra in (("alone.bvh", []), ("with_json.bvh", ["--json", str(tmp_path / "with.json")])):
+        args = build_parser().parse_args(["generate", str(speech), "-o", str(tmp_path / name), *extra])
+        assert run_command(args) == 0
+    assert (tmp_path / "alone.bvh").read_bytes() == (tmp_path / "with_json.bvh").read_bytes()
