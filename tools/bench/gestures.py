@@ -352,7 +352,7 @@ def run_decisions(args: argparse.Namespace, phrases, cued_texts: dict, narration
     """``--decisions-only``: the decisions on the set's words (:mod:`gesturecast.tools.bench.gesture_set.decisions`)
     as JSON in ``decisions.json``; the counts printed (everything with ``--json``)."""
     if phrases is None:
-        raise UserError("--decisions-only: this session decides no speech acts (speech acts are switched off)")
+        raise UserError("--decisions-only: speech acts are switched off in these settings, so none is decided")
     result = {"stories_set": args.stories, **decisions(phrases, cued_texts, narration_texts)}
     text = json.dumps(result, indent=2) + "\n"
     args.out.mkdir(parents=True, exist_ok=True)
