@@ -3,9 +3,9 @@ no cue lost in silence?
 
 **Texts** (:mod:`gesturecast.tools.bench.gesture_set.texts`, held out from the classifier's training): cued stories
 whose sentences mark the intended speech acts, and ordinary narration with none, spoken by espeak-ng with exact word
-times (:mod:`gesturecast.tools.bench.gesture_set.stories`). ``--stories second`` … ``sixth``
+times (:mod:`gesturecast.tools.bench.gesture_set.stories`). ``--stories second`` … ``seventh``
 read the later held-out sets (:mod:`gesturecast.tools.bench.gesture_set.texts_second`, ``texts_third``,
-``texts_fourth``, ``texts_fifth``, ``texts_sixth``) instead.
+``texts_fourth``, ``texts_fifth``, ``texts_sixth``, ``texts_seventh``) instead.
 
 **Runs.** Each cued story is generated with and without its transcript (the same session code as
 ``generate --transcript``), the narrations with theirs; one story also without it at the next seed (the seed-to-seed
@@ -65,6 +65,7 @@ from gesturecast.tools.bench.gesture_set.texts import CUED_STORIES, NARRATION, N
 from gesturecast.tools.bench.gesture_set.texts_fifth import CUED_STORIES_FIFTH, NARRATION_FIFTH
 from gesturecast.tools.bench.gesture_set.texts_fourth import CUED_STORIES_FOURTH, NARRATION_FOURTH
 from gesturecast.tools.bench.gesture_set.texts_second import CUED_STORIES_SECOND, NARRATION_SECOND
+from gesturecast.tools.bench.gesture_set.texts_seventh import CUED_STORIES_SEVENTH, NARRATION_SEVENTH
 from gesturecast.tools.bench.gesture_set.texts_sixth import CUED_STORIES_SIXTH, NARRATION_SIXTH
 from gesturecast.tools.bench.gesture_set.texts_third import CUED_STORIES_THIRD, NARRATION_THIRD
 
@@ -83,6 +84,7 @@ STORY_SETS = {  # --stories: (cued stories, named narrations)
     "fourth": (CUED_STORIES_FOURTH, (("narration-fourth", NARRATION_FOURTH),)),
     "fifth": (CUED_STORIES_FIFTH, (("narration-fifth", NARRATION_FIFTH),)),
     "sixth": (CUED_STORIES_SIXTH, (("narration-sixth", NARRATION_SIXTH),)),
+    "seventh": (CUED_STORIES_SEVENTH, (("narration-seventh", NARRATION_SEVENTH),)),
 }
 
 
@@ -111,7 +113,7 @@ def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--json", action="store_true", help="print the JSON result")
     parser.add_argument("--out", type=Path, default=Path("out/bench/gestures"), help="folder for JSON and PNG")
     parser.add_argument("--stories", choices=sorted(STORY_SETS), default="first",
-                        help="the held-out text set (default: first; second … sixth: written later, "
+                        help="the held-out text set (default: first; second … seventh: written later, "
                         "see texts_second.py …)")
     parser.add_argument("--decisions-only", action="store_true",
                         help="only which speech acts are decided on the set's words: no speech, no generation "
@@ -350,7 +352,7 @@ def run_decisions(args: argparse.Namespace, phrases, cued_texts: dict, narration
     """``--decisions-only``: the decisions on the set's words (:mod:`gesturecast.tools.bench.gesture_set.decisions`)
     as JSON in ``decisions.json``; the counts printed (everything with ``--json``)."""
     if phrases is None:
-        raise UserError("--decisions-only: this session decides no speech acts (speech acts are switched off)")
+        raise UserError("--decisions-only: speech acts are switched off in these settings, so none is decided")
     result = {"stories_set": args.stories, **decisions(phrases, cued_texts, narration_texts)}
     text = json.dumps(result, indent=2) + "\n"
     args.out.mkdir(parents=True, exist_ok=True)
