@@ -324,13 +324,15 @@ class CuePlan:
                          ramp_in=max(1, min(RAMP_LATENTS, stroke - start)))
 
     def _blend(self, placement: Placement, conflicts: list[Placement]) -> CueOutcome:
-        """Fit ``placement`` after the latest conflicting gesture (cutting its return short), or drop it."""
+        """Fit ``placement`` after the gestures it meets (every placement of theirs, each part of a shared one),
+        cutting their returns short, or drop it."""
         earlier = max(conflicts, key=lambda p: p.stroke)
         if earlier.stroke > placement.stroke:
             return self._drop(placement.cue, f"{earlier.cue.gesture} ({earlier.cue.source}) holds the same body "
                               f"parts around the word")
-        if (placement.clip.channels & ~earlier.clip.channels).any():
-            return self._share(placement, earlier)
+        busy = np.logical_or.reduce([p.clip.channels for p in conflicts])
+        if (placement.clip.channels & ~busy).any():
+            return self._share(placement, conflicts, earlier)
         start = max(placement.start, earlier.stroke + 1)
         stroke = max(placement.stroke, start + BLEND_LATENTS)
         if stroke - placement.stroke > self.max_defer:
@@ -341,34 +343,42 @@ class CuePlan:
         later = replace(placement, first=first, start=start, stop=placement.stop + shift,
                         ramp_in=max(1, min(BLEND_LATENTS, stroke - start)),
                         late_s=max(0.0, self._time(stroke) - placement.cue.time))
-        cut = replace(earlier, stop=min(earlier.stop, start + BLEND_LATENTS - 1),
-                      ramp_out=min(earlier.ramp_out, BLEND_LATENTS))
-        if any(p is not earlier for p in self._overlapping(later)):  # the cut only shrinks: it overlaps nothing new
+        if not self._hand_over(conflicts, start, [later]):
             return self._drop(placement.cue, "the gestures around it leave no room")
-        self._replace(earlier, cut)
-        return self._accept(later, "blended", f"after the {earlier.cue.gesture}, whose return is cut short")
+        self._insert(later)
+        return self._record(CueOutcome(later.cue, "blended", self._time(later.stroke),
+                                       f"after the {_names(conflicts)}, whose return is cut short"))
 
-    def _share(self, placement: Placement, earlier: Placement) -> CueOutcome:
-        """The later gesture's own parts (a bow's torso) play on time alongside the earlier one; the parts they share
-        (the arms) hand over once the earlier has held its stroke :data:`HOLD_LATENTS`, cross-fading over
-        :data:`BLEND_LATENTS` (the earlier's return cut short), or never when the later has ended by then."""
-        shared = earlier.clip.channels, earlier.clip.columns
-        own = replace(placement, clip=part_clip(placement.clip, ~shared[0], ~shared[1]))
+    def _share(self, placement: Placement, conflicts: list[Placement], earlier: Placement) -> CueOutcome:
+        """The later gesture's own parts (a bow's torso) play on time alongside the earlier ones; the parts they share
+        (the arms) hand over once the latest has held its stroke :data:`HOLD_LATENTS`, cross-fading over
+        :data:`BLEND_LATENTS` (the earlier returns cut short), or never when the later has ended by then."""
+        busy = np.logical_or.reduce([p.clip.channels for p in conflicts])
+        columns = np.logical_or.reduce([p.clip.columns for p in conflicts])
+        own = replace(placement, clip=part_clip(placement.clip, ~busy, ~columns))
         hand_over = max(placement.start, earlier.stroke + HOLD_LATENTS)
         parts = [own]
-        cut = earlier
         if hand_over + 2 * BLEND_LATENTS <= placement.stop:
-            parts.append(replace(placement, clip=part_clip(placement.clip, *shared), start=hand_over,
+            parts.append(replace(placement, clip=part_clip(placement.clip, busy, columns), start=hand_over,
                                  ramp_in=BLEND_LATENTS))
-            cut = replace(earlier, stop=min(earlier.stop, hand_over + BLEND_LATENTS - 1),
-                          ramp_out=min(earlier.ramp_out, BLEND_LATENTS))
-        if any(p is not earlier for q in parts for p in self._overlapping(q)):
+        if not self._hand_over(conflicts if len(parts) > 1 else [], hand_over, parts):
             return self._drop(placement.cue, "the gestures around it leave no room")
-        self._replace(earlier, cut)
         for part in parts[1:]:
             self._insert(part)
-        note = f"with the {earlier.cue.gesture}" + (", the shared parts after its stroke" if len(parts) > 1 else "")
+        note = f"with the {_names(conflicts)}" + (", the shared parts after its stroke" if len(parts) > 1 else "")
         return self._accept(own, "blended", note)
+
+    def _hand_over(self, conflicts: list[Placement], start: int, parts: list[Placement]) -> bool:
+        """Cut each of ``conflicts`` to cross-fade over :data:`BLEND_LATENTS` from ``start`` (one that would only
+        start after that is taken out) to make room for ``parts``; False, changing nothing, when a part meets a
+        gesture that is not one of them."""
+        if any(not any(p is q for q in conflicts) for part in parts for p in self._overlapping(part)):
+            return False
+        for placement in conflicts:
+            cut = replace(placement, stop=min(placement.stop, start + BLEND_LATENTS - 1),
+                          ramp_out=min(placement.ramp_out, BLEND_LATENTS))
+            self._replace(placement, cut if cut.start <= cut.stop else None)
+        return True
 
     def _starting_within(self, low: int, high: int) -> list[Placement]:
         """The placements whose first latent is within [low, high] (binary search on the ordered list)."""
@@ -387,11 +397,14 @@ class CuePlan:
     def _insert(self, placement: Placement) -> None:
         bisect.insort(self.placements, placement, key=_first_latent)
 
-    def _replace(self, old: Placement, new: Placement) -> None:
-        """Put ``new`` (the same first latent) where ``old`` is."""
+    def _replace(self, old: Placement, new: Placement | None) -> None:
+        """Put ``new`` (the same first latent) where ``old`` is, or take ``old`` out (None)."""
         low = bisect.bisect_left(self.placements, old.first, key=_first_latent)
         index = next(i for i in range(low, len(self.placements)) if self.placements[i] is old)
-        self.placements[index] = new
+        if new is None:
+            del self.placements[index]
+        else:
+            self.placements[index] = new
 
     def _accept(self, placement: Placement, status: str, note: str) -> CueOutcome:
         self._insert(placement)
@@ -428,3 +441,8 @@ class CuePlan:
 
 def _first_latent(placement: Placement) -> int:
     return placement.first
+
+
+def _names(placements: list[Placement]) -> str:
+    """The gestures of ``placements`` in their cues' order, once each ("wave and call")."""
+    return " and ".join(dict.fromkeys(p.cue.gesture for p in sorted(placements, key=lambda p: p.cue.time)))

@@ -22,6 +22,7 @@ D = 10
 SECONDS_PER_LATENT = 4 / 30
 ARMS = np.arange(C) < 4
 TORSO = (np.arange(C) >= 4) & (np.arange(C) < 6)
+LEGS = np.arange(C) >= 6
 
 
 def clip(name: str, channels: np.ndarray, length: int = 10, stroke: int = 4, columns: int = 3) -> GestureClip:
@@ -33,7 +34,9 @@ def clip(name: str, channels: np.ndarray, length: int = 10, stroke: int = 4, col
 @pytest.fixture
 def plan() -> CuePlan:
     return CuePlan({"wave": clip("wave", ARMS), "raise": clip("raise", ARMS),
-                    "bow": clip("bow", ARMS | TORSO, length=24, stroke=8, columns=6)}, SECONDS_PER_LATENT)
+                    "bow": clip("bow", ARMS | TORSO, length=24, stroke=8, columns=6),
+                    "guide": clip("guide", ARMS | TORSO, length=12, stroke=5, columns=6),
+                    "call": clip("call", ARMS | TORSO | LEGS, length=16, stroke=6, columns=8)}, SECONDS_PER_LATENT)
 
 
 def at(latent: float) -> float:
@@ -87,6 +90,46 @@ def test_a_bow_after_a_wave_bows_on_time_and_takes_the_arms_after_the_wave_held_
     assert plan.imposition(21).names == "wave+bow"
 
 
+def placed(plan: CuePlan, gesture: str) -> list:
+    """The placements of ``gesture``, in order of their start."""
+    return sorted((p for p in plan.placements if p.cue.gesture == gesture), key=lambda p: p.start)
+
+
+def test_a_guide_after_a_bow_shared_with_a_wave_cuts_both_bow_placements_and_plays_on_its_word(plan):
+    plan.place(Cue("wave", at(20)), 0)
+    plan.place(Cue("bow", at(22), "thanks"), 0)  # its torso on time, its arms from latent 26
+    outcome = plan.place(Cue("guide", at(33), "this is"), 0)
+    (guide,) = placed(plan, "guide")
+    assert outcome.status == "blended" and guide.stroke == 33
+    assert outcome.note == "after the bow, whose return is cut short"
+    assert [p.stop for p in placed(plan, "bow")] == [guide.start + BLEND_LATENTS - 1] * 2  # the torso and the arms
+    assert plan.imposition(guide.start).names == "bow+guide"
+    assert plan.imposition(guide.start + BLEND_LATENTS).names == "guide"
+
+
+def test_a_bow_part_that_would_take_the_arms_only_after_the_next_gesture_begins_is_taken_out(plan):
+    plan.place(Cue("wave", at(20)), 0)
+    plan.place(Cue("bow", at(22), "thanks"), 0)
+    assert placed(plan, "bow")[1].start == 20 + HOLD_LATENTS
+    outcome = plan.place(Cue("guide", at(28), "meet"), 0)  # its approach starts at 23, before the bow's arms would
+    (guide,) = placed(plan, "guide")
+    (bow_torso,) = placed(plan, "bow")
+    assert outcome.status == "blended" and guide.stroke == 28 and guide.start == 23
+    assert np.array_equal(bow_torso.clip.channels, TORSO) and bow_torso.stop == 23 + BLEND_LATENTS - 1
+    assert all(plan.imposition(k).names in ("wave+bow+guide", "bow+guide", "guide") for k in range(23, 26))
+
+
+def test_a_call_after_a_shared_bow_moves_its_legs_on_time_and_takes_the_rest_from_both_bow_placements(plan):
+    plan.place(Cue("wave", at(20)), 0)
+    plan.place(Cue("bow", at(22), "thanks"), 0)
+    outcome = plan.place(Cue("call", at(40), "come here"), 0)
+    legs, rest = sorted(placed(plan, "call"), key=lambda p: p.clip.channels.sum())
+    assert outcome.status == "blended" and outcome.stroke_time == 40 * SECONDS_PER_LATENT
+    assert np.array_equal(legs.clip.channels, LEGS) and np.array_equal(rest.clip.channels, ARMS | TORSO)
+    assert legs.start == 34 and rest.start == 34 and rest.ramp_in == BLEND_LATENTS
+    assert [p.stop for p in placed(plan, "bow")] == [34 + BLEND_LATENTS - 1] * 2
+
+
 def test_a_cue_with_no_room_is_dropped_with_a_log_line_and_counted(plan, caplog):
     plan.place(Cue("wave", at(20)), 0)
     with caplog.at_level(logging.WARNING):
@@ -115,7 +158,7 @@ def test_imposition_holds_the_clip_latent_on_its_parts_with_ramped_weights(plan)
 
 
 def test_an_unknown_gesture_is_one_line(plan):
-    with pytest.raises(UserError, match="unknown gesture 'wav'; known: bow, raise, wave"):
+    with pytest.raises(UserError, match="unknown gesture 'wav'; known: bow, call, guide, raise, wave"):
         plan.place(Cue("wav", 1.0), 0)
 
 
