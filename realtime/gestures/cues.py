@@ -22,7 +22,8 @@ than recorded), and the blend keeps their shape while the latents keep the neigh
   has held its stroke (:data:`HOLD_LATENTS`); otherwise the earlier one's return is cut short and cross-fades over
   :data:`BLEND_LATENTS` latents into the later one's approach, the later stroke moved at most :data:`MAX_DEFER_S`
   after its word when the two strokes are closer than the cross-fade;
-- ``merged``: the same gesture is already playing over the word (a "hello" right after a "hi");
+- ``merged``: the same gesture is already playing over the word and holds on after it (a "hello" right after a
+  "hi"); one already returning is played again, after it;
 - ``dropped``: none of these fits (logged, counted).
 
 A gesture may have several performances (:mod:`gesturecast.realtime.gestures.clips`, tempo and amplitude
@@ -89,6 +90,8 @@ class GestureClip:
     roots: the first imposed joint of each chain under generated parents (an arms-only clip's shoulders, an arms
     and torso clip's spine): its feature columns, the joints between it and the hips, and its (N·d, 4) rotation in
     the body frame (:mod:`gesturecast.realtime.gestures.reattach`).
+    release_latent: the last latent of the clip's hold (after it the wrists and head only come back,
+    :func:`gesturecast.realtime.gestures.strokes.release_frame`), or -1 when not known (its return is never moved).
     """
 
     name: str
@@ -98,6 +101,7 @@ class GestureClip:
     features: np.ndarray
     columns: np.ndarray
     roots: tuple = ()  # (columns, joints above, (N·d, 4) body-frame rotation) per re-attached joint (reattach)
+    release_latent: int = -1  # the last latent of its hold, where its return begins (-1: not known)
 
     @property
     def num_latents(self) -> int:
@@ -110,9 +114,9 @@ class GestureClip:
 
 @dataclass(frozen=True)
 class Placement:
-    """A cue placed on the latent grid: clip latent ``k`` belongs to stream latent ``first + k``; the stream latents
-    ``start`` … ``stop`` (inclusive) play it, ramped over ``ramp_in`` latents after ``start`` and ``ramp_out`` before
-    ``stop``."""
+    """A cue placed on the latent grid: clip latent ``k`` belongs to stream latent ``first + k`` (``first + k − skip``
+    where ``skip`` latents of its hold are left out: its return moved earlier); the stream latents ``start`` …
+    ``stop`` (inclusive) play it, ramped over ``ramp_in`` latents after ``start`` and ``ramp_out`` before ``stop``."""
 
     cue: Cue
     clip: GestureClip
@@ -122,6 +126,7 @@ class Placement:
     stop: int
     ramp_in: int = RAMP_LATENTS
     ramp_out: int = RAMP_LATENTS
+    skip: int = 0
 
     @property
     def stroke(self) -> int:
@@ -132,6 +137,15 @@ class Placement:
     def last(self) -> int:
         return self.stop
 
+    @property
+    def whole(self) -> bool:
+        """Whether it plays to the clip's end as placed (its return neither cut nor moved)."""
+        return self.skip == 0 and self.stop == self.first + self.clip.num_latents - 1
+
+    def clip_latent(self, latent: int) -> int:
+        """The clip latent that stream latent ``latent`` plays."""
+        return latent - self.first + self.skip
+
     def covers(self, latent: int) -> bool:
         return self.start <= latent <= self.stop
 
@@ -140,6 +154,12 @@ class Placement:
         if not self.covers(latent):
             return 0.0
         return min(1.0, (latent - self.start + 1) / (self.ramp_in + 1), (self.stop - latent + 1) / (self.ramp_out + 1))
+
+    def holds(self, latent: int) -> bool:
+        """Whether the gesture is held on stream latent ``latent``: played at weight 0.5 or more and, where the
+        clip's release is known, for :data:`BLEND_LATENTS` more before its return."""
+        release = self.clip.release_latent
+        return self.weight(latent) >= 0.5 and (release < 0 or self.clip_latent(latent) + BLEND_LATENTS <= release)
 
     def frame_weights(self, latent: int) -> np.ndarray:
         """(d,) pose-blend weights of the frames of stream latent ``latent`` (the same ramps, per frame)."""
@@ -215,7 +235,7 @@ class Imposition:
         target, weights = np.zeros(channels, np.float32), np.zeros(channels, np.float32)
         pose, pose_weights = np.zeros((d, dim), np.float32), np.zeros((d, dim), np.float32)
         for placement in placements:
-            k, c = latent - placement.first, placement.clip
+            k, c = placement.clip_latent(latent), placement.clip
             w = placement.weight(latent)
             target[c.channels] += w * c.latents[k, c.channels]
             weights[c.channels] += w
@@ -225,7 +245,7 @@ class Imposition:
         target /= np.maximum(weights, 1e-6)
         pose /= np.maximum(pose_weights, 1e-6)
         roots = [root for p in placements for root in placed_roots(
-            p.clip.roots, p.clip.features, slice((latent - p.first) * d, (latent - p.first + 1) * d),
+            p.clip.roots, p.clip.features, slice(p.clip_latent(latent) * d, (p.clip_latent(latent) + 1) * d),
             p.frame_weights(latent)[:, None], pose_weights)]
         return cls(target, np.minimum(weights, 1.0), pose, np.minimum(pose_weights, 1.0),
                    "+".join(dict.fromkeys(p.cue.gesture for p in placements)), roots)
@@ -288,8 +308,7 @@ class CuePlan:
         self._check_room()
         clip = self._performance(self.check(cue.gesture))
         wanted = math.floor(cue.time / self.seconds_per_latent)  # the stroke latent that covers the word
-        merged = next((p for p in self._covering(wanted) if p.cue.gesture == cue.gesture and p.weight(wanted) >= 0.5),
-                      None)
+        merged = next((p for p in self._covering(wanted) if p.cue.gesture == cue.gesture and p.holds(wanted)), None)
         if merged is not None:
             return self._record(CueOutcome(cue, "merged", self._time(merged.stroke), f"into the {cue.gesture} playing"))
         placement = self._fresh(cue, clip, wanted, next_latent)
@@ -334,20 +353,47 @@ class CuePlan:
         if (placement.clip.channels & ~busy).any():
             return self._share(placement, conflicts, earlier)
         start = max(placement.start, earlier.stroke + 1)
+        returns = self._returns(conflicts, start) if start == placement.first else None
+        later = placement if returns else self._deferred(placement, start)
+        if later is None:
+            return self._drop(placement.cue, f"{earlier.cue.gesture} ({earlier.cue.source}) plays too close before it")
+        if not self._hand_over(conflicts, later.start, [later], returns):
+            return self._drop(placement.cue, "the gestures around it leave no room")
+        self._insert(later)
+        cut = "hold" if returns else "return"
+        return self._record(CueOutcome(later.cue, "blended", self._time(later.stroke),
+                                       f"after the {_names(conflicts)}, whose {cut} is cut short"))
+
+    def _deferred(self, placement: Placement, start: int) -> Placement | None:
+        """``placement`` approaching from ``start`` over at least :data:`BLEND_LATENTS`, its stroke moved later as
+        that needs (None when more than :data:`MAX_DEFER_S`)."""
         stroke = max(placement.stroke, start + BLEND_LATENTS)
         if stroke - placement.stroke > self.max_defer:
-            return self._drop(placement.cue, f"{earlier.cue.gesture} ({earlier.cue.source}) plays too close before it")
+            return None
         shift = stroke - placement.stroke
         first = placement.first + shift
         start = max(start, first)  # a moved clip may start after the hand-over: it approaches from its own start
-        later = replace(placement, first=first, start=start, stop=placement.stop + shift,
-                        ramp_in=max(1, min(BLEND_LATENTS, stroke - start)),
-                        late_s=max(0.0, self._time(stroke) - placement.cue.time))
-        if not self._hand_over(conflicts, start, [later]):
-            return self._drop(placement.cue, "the gestures around it leave no room")
-        self._insert(later)
-        return self._record(CueOutcome(later.cue, "blended", self._time(later.stroke),
-                                       f"after the {_names(conflicts)}, whose return is cut short"))
+        return replace(placement, first=first, start=start, stop=placement.stop + shift,
+                       ramp_in=max(1, min(BLEND_LATENTS, stroke - start)),
+                       late_s=max(0.0, self._time(stroke) - placement.cue.time))
+
+    def _returns(self, conflicts: list[Placement], start: int) -> list[Placement] | None:
+        """Each of ``conflicts`` with its whole return moved earlier, to end (arms down) where a gesture approaching
+        from ``start`` begins: its hold cut short instead, cross-fading into the return over :data:`BLEND_LATENTS`.
+        None when one cannot: its return is not known or already cut, it would begin within :data:`HOLD_LATENTS` of
+        its stroke, or another part of the same cue plays on (a bow's torso beside the arms it shares)."""
+        playing = self._covering(start)
+        returns = []
+        for placement in conflicts:
+            clip = placement.clip
+            skip = placement.first + clip.num_latents - 1 - start  # the clip's last latent on ``start``
+            begin = placement.first + clip.release_latent - skip - BLEND_LATENTS + 1  # the cross-fade into the return
+            if (clip.release_latent < 0 or not placement.whole or begin < placement.stroke + HOLD_LATENTS
+                    or any(p.cue == placement.cue and not any(p is q for q in conflicts) for p in playing)):
+                return None
+            returns.append(replace(placement, skip=skip, start=begin, stop=start, ramp_in=BLEND_LATENTS,
+                                   ramp_out=min(placement.ramp_out, BLEND_LATENTS)))
+        return returns
 
     def _share(self, placement: Placement, conflicts: list[Placement], earlier: Placement) -> CueOutcome:
         """The later gesture's own parts (a bow's torso) play on time alongside the earlier ones; the parts they share
@@ -368,16 +414,20 @@ class CuePlan:
         note = f"with the {_names(conflicts)}" + (", the shared parts after its stroke" if len(parts) > 1 else "")
         return self._accept(own, "blended", note)
 
-    def _hand_over(self, conflicts: list[Placement], start: int, parts: list[Placement]) -> bool:
+    def _hand_over(self, conflicts: list[Placement], start: int, parts: list[Placement],
+                   returns: list[Placement] | None = None) -> bool:
         """Cut each of ``conflicts`` to cross-fade over :data:`BLEND_LATENTS` from ``start`` (one that would only
-        start after that is taken out) to make room for ``parts``; False, changing nothing, when a part meets a
-        gesture that is not one of them."""
+        start after that is taken out), or from the start of its moved return where ``returns`` has one for each, to
+        make room for ``parts``; False, changing nothing, when a part meets a gesture that is not one of them."""
         if any(not any(p is q for q in conflicts) for part in parts for p in self._overlapping(part)):
             return False
-        for placement in conflicts:
-            cut = replace(placement, stop=min(placement.stop, start + BLEND_LATENTS - 1),
+        for k, placement in enumerate(conflicts):
+            cut_from = start if returns is None else returns[k].start
+            cut = replace(placement, stop=min(placement.stop, cut_from + BLEND_LATENTS - 1),
                           ramp_out=min(placement.ramp_out, BLEND_LATENTS))
             self._replace(placement, cut if cut.start <= cut.stop else None)
+        for moved in returns or ():
+            self._insert(moved)
         return True
 
     def _starting_within(self, low: int, high: int) -> list[Placement]:

@@ -25,10 +25,11 @@ TORSO = (np.arange(C) >= 4) & (np.arange(C) < 6)
 LEGS = np.arange(C) >= 6
 
 
-def clip(name: str, channels: np.ndarray, length: int = 10, stroke: int = 4, columns: int = 3) -> GestureClip:
+def clip(name: str, channels: np.ndarray, length: int = 10, stroke: int = 4, columns: int = 3,
+         release: int = -1) -> GestureClip:
     latents = np.arange(length * C, dtype=np.float32).reshape(length, C)  # (N, C)
     features = np.arange(length * 4 * D, dtype=np.float32).reshape(length * 4, D)  # (N·d, D)
-    return GestureClip(name, latents, channels, stroke, features, np.arange(D) < columns)
+    return GestureClip(name, latents, channels, stroke, features, np.arange(D) < columns, release_latent=release)
 
 
 @pytest.fixture
@@ -169,3 +170,38 @@ def test_performances_play_in_turn_so_two_plays_differ():
     plan.place(Cue("wave", at(60)), 0)
     plan.place(Cue("wave", at(100)), 0)
     assert [p.clip for p in plan.placements] == [versions[0], versions[1], versions[0]]
+
+
+@pytest.fixture
+def held() -> CuePlan:
+    """A wave that holds its stroke from latent 4 to its release at 15 and returns over its last 4 latents."""
+    return CuePlan({"wave": clip("wave", ARMS, length=20, stroke=4, release=15),
+                    "raise": clip("raise", ARMS, length=8, stroke=3, release=5)}, SECONDS_PER_LATENT)
+
+
+def test_a_gesture_well_after_a_long_hold_cuts_the_hold_short_and_plays_the_whole_return_before_it(held):
+    held.place(Cue("wave", at(20)), 0)  # stroke 20, clip latents 16 … 35
+    outcome = held.place(Cue("raise", at(36), "yay"), 0)  # its approach from 33, on time
+    head, moved = placed(held, "wave")
+    (raise_,) = placed(held, "raise")
+    assert outcome.status == "blended" and raise_.stroke == 36 and raise_.start == raise_.first == 33
+    assert outcome.note == "after the wave, whose hold is cut short"
+    assert moved.skip == 2 and moved.stop == raise_.start and moved.clip_latent(moved.stop) == 19  # arms down on it
+    assert moved.clip_latent(moved.start + BLEND_LATENTS - 1) == 15 and head.stop == moved.start + BLEND_LATENTS - 1
+    assert moved.stroke == head.stroke == 20 and not moved.whole
+    assert np.array_equal(held.imposition(31).target[ARMS], moved.clip.latents[17, ARMS])  # the return alone
+
+
+def test_a_gesture_too_soon_after_a_stroke_to_move_the_return_cuts_the_return_as_before(held):
+    held.place(Cue("wave", at(20)), 0)
+    outcome = held.place(Cue("raise", at(30), "yay"), 0)  # the return would begin 1 latent after the stroke's hold
+    (wave,) = placed(held, "wave")
+    assert outcome.note == "after the wave, whose return is cut short" and wave.stop == 27 + BLEND_LATENTS - 1
+
+
+def test_the_same_gesture_on_a_word_during_the_playing_ones_return_plays_again_instead_of_merging(held):
+    held.place(Cue("wave", at(20)), 0)
+    assert held.place(Cue("wave", at(26), "welcome"), 0).status == "merged"  # clip latent 10: held on after it
+    again = held.place(Cue("wave", at(30), "hi"), 0)  # clip latent 14: it returns one latent later
+    assert again.status == "blended" and again.stroke_time == 30 * SECONDS_PER_LATENT
+    assert [p.stroke for p in placed(held, "wave")] == [20, 30]
