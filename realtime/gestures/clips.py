@@ -9,13 +9,13 @@ versions of it (or the next multiple of its number of takes), each a recorded ta
 up to three per style where the data has several; the takes in turn, in an order drawn from the seed) at its own
 tempo (:data:`TEMPO_RANGE`, resampled in time) and amplitude (:data:`AMPLITUDE_RANGE`, the moving joints' 6D
 rotation features scaled about the clip's first pose), drawn from the stream's seed: the amplitude from the lower
-and the upper third of its range in turns of two (a shallow bow, then a deep one). A gesture of the built lexicon
-whose name says no hand (a bye, a guide, a bow, not wave-right) is played with the other hand every other time
-(:func:`mirrored`: the left and right joints swapped and reflected). The cue plan plays them in turn (and again from
-the first), so two plays of a gesture in a row are different takes where there are two or more, with the other hand
-or at another size, at other tempos, and another seed plays others. Each clip also knows where its hold ends
-(:func:`gesturecast.realtime.gestures.strokes.release_frame`), so the cue plan can cut a hold short and keep the
-return.
+or the upper third of its range in turns of two (two shallow bows, then two deep ones). A gesture of the built
+lexicon whose name says no hand (a bye, a guide, a bow; not wave-right) is played with the other hand every other
+time (:func:`mirrored`: the left and right joints swapped and reflected). The cue plan plays them in turn (and again
+from the first), so two plays of a gesture in a row are different takes where there are two or more, with the other
+hand (every other time also at another size), at other tempos, and another seed plays others. Each clip also
+knows where its hold ends (:func:`gesturecast.realtime.gestures.strokes.release_frame`), so the cue plan can cut a
+hold short and keep the return.
 """
 
 from __future__ import annotations

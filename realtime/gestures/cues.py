@@ -17,17 +17,20 @@ than recorded), and the blend keeps their shape while the latents keep the neigh
 - ``late``: the cue came after its window began; the clip's opening is skipped (a quicker approach over
   :data:`BLEND_LATENTS` latents) so the stroke lands as soon after the word as that allows, at most
   :data:`MAX_LATE_S` after it (later, the cue is dropped: a gesture seconds after its word means nothing);
-- ``blended``: it meets a gesture playing on a shared body part. A later gesture with parts of its own (a bow's
-  torso after a wave) plays those on time alongside the earlier one and takes the shared parts over once the earlier
-  has held its stroke (:data:`HOLD_LATENTS`); otherwise the earlier one's return is cut short and cross-fades over
-  :data:`BLEND_LATENTS` latents into the later one's approach, the later stroke moved at most :data:`MAX_DEFER_S`
-  after its word when the two strokes are closer than the cross-fade;
+- ``blended``: it meets gestures playing on a shared body part (every placement of theirs: a bow shared with a
+  wave is two). A later gesture with parts of its own (a bow's torso after a wave) plays those on time alongside the
+  earlier ones and takes the shared parts over once they have held their strokes (:data:`HOLD_LATENTS`). Otherwise,
+  where the earlier ones have held their strokes that long, their holds are cut short and their whole returns moved
+  earlier, to end where the later one's approach begins (a wave lowers the hands before a cheer:
+  :attr:`Placement.skip`, the clip's release known from :func:`gesturecast.realtime.gestures.strokes.release_frame`);
+  else their returns are cut short and cross-fade over :data:`BLEND_LATENTS` latents into the later one's approach,
+  the later stroke moved at most :data:`MAX_DEFER_S` after its word when the strokes are closer than the cross-fade;
 - ``merged``: the same gesture is already playing over the word and holds on after it (a "hello" right after a
   "hi"); one already returning is played again, after it;
 - ``dropped``: none of these fits (logged, counted).
 
-A gesture may have several performances (:mod:`gesturecast.realtime.gestures.clips`, tempo and amplitude
-drawn from the seed); the plan plays them in turn. The plan is deterministic in stream time, so streaming and
+A gesture may have several performances (:mod:`gesturecast.realtime.gestures.clips`: takes, hand, tempo and
+amplitude drawn from the seed); the plan plays them in turn. The plan is deterministic in stream time, so streaming and
 offline runs with the same cues give the same poses.
 
 The placements are kept in order of their first latent, so placing a cue and imposing a latent look only at the

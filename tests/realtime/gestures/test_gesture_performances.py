@@ -19,7 +19,7 @@ from gesturecast.realtime.gestures.clips import (
     rotation_columns,
 )
 from gesturecast.realtime.gestures.lexicon import load_lexicon
-from gesturecast.realtime.gestures.strokes import body_frame_positions
+from gesturecast.realtime.gestures.strokes import body_frame_positions, release_frame
 from gesturecast.realtime.run.engine_setup import performed_motions
 
 D = 136
@@ -127,3 +127,12 @@ def test_a_stream_mirrors_every_other_performance_of_a_gesture_that_names_no_han
              for name in ("wave-right", "bye")}
     assert set(hands["wave-right"]) == {1} and len(set(hands["bye"])) == 2
     assert mirrorable("bye") and mirrorable("guide") and not mirrorable("wave-right") and not mirrorable("raise-left")
+
+
+def test_a_wave_holds_until_its_release_and_only_returns_after_it():
+    wave = shipped_take("wave")
+    heights = wrist_heights(wave).max(axis=1)  # (T,) the higher wrist above its shoulder
+    release = release_frame(body_frame_positions(features_to_motion(wave.features)))
+    assert wave.stroke_frame < release < len(heights) - 10
+    assert heights[wave.stroke_frame: release - 5].min() > 0.2 and heights[release] > 0.1  # held up, waving
+    assert np.all(np.diff(heights[release + 5:]) < 0.02) and heights[-1] < -0.3  # on its way down, then at rest
