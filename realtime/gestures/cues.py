@@ -319,7 +319,7 @@ class CuePlan:
             return self._drop(cue, f"its words came {placement.late_s:.1f} s too late for the stroke to be near them")
         conflicts = self._overlapping(placement)
         if conflicts:
-            return self._blend(placement, conflicts)
+            return self._blend(placement, conflicts, next_latent)
         if cue.source == CONTROL_SOURCE:  # a button press: as soon as it can, never "late"
             return self._accept(placement, "on time", "as soon as the look-ahead allows")
         return self._accept(placement, "late" if placement.late_s > 0 else "on time", "")
@@ -345,9 +345,10 @@ class CuePlan:
         return Placement(cue, clip, first, late, start, first + clip.num_latents - 1,
                          ramp_in=max(1, min(RAMP_LATENTS, stroke - start)))
 
-    def _blend(self, placement: Placement, conflicts: list[Placement]) -> CueOutcome:
+    def _blend(self, placement: Placement, conflicts: list[Placement], next_latent: int) -> CueOutcome:
         """Fit ``placement`` after the gestures it meets (every placement of theirs, each part of a shared one),
-        cutting their returns short, or drop it."""
+        cutting their holds or returns short from ``next_latent`` on (the first latent not generated yet), or drop
+        it."""
         earlier = max(conflicts, key=lambda p: p.stroke)
         if earlier.stroke > placement.stroke:
             return self._drop(placement.cue, f"{earlier.cue.gesture} ({earlier.cue.source}) holds the same body "
@@ -356,7 +357,7 @@ class CuePlan:
         if (placement.clip.channels & ~busy).any():
             return self._share(placement, conflicts, earlier)
         start = max(placement.start, earlier.stroke + 1)
-        returns = self._returns(conflicts, start) if start == placement.first else None
+        returns = self._returns(conflicts, start, next_latent) if start == placement.first else None
         later = placement if returns else self._deferred(placement, start)
         if later is None:
             return self._drop(placement.cue, f"{earlier.cue.gesture} ({earlier.cue.source}) plays too close before it")
@@ -380,19 +381,21 @@ class CuePlan:
                        ramp_in=max(1, min(BLEND_LATENTS, stroke - start)),
                        late_s=max(0.0, self._time(stroke) - placement.cue.time))
 
-    def _returns(self, conflicts: list[Placement], start: int) -> list[Placement] | None:
+    def _returns(self, conflicts: list[Placement], start: int, next_latent: int) -> list[Placement] | None:
         """Each of ``conflicts`` with its whole return moved earlier, to end (arms down) where a gesture approaching
         from ``start`` begins: its hold cut short instead, cross-fading into the return over :data:`BLEND_LATENTS`.
         None when one cannot: its return is not known or already cut, it would begin within :data:`HOLD_LATENTS` of
-        its stroke, or another part of the same cue plays on (a bow's torso beside the arms it shares)."""
+        its stroke or before ``next_latent``, or another part of the same cue plays on (a bow's torso beside the arms
+        it shares)."""
         playing = self._covering(start)
         returns = []
         for placement in conflicts:
             clip = placement.clip
             skip = placement.first + clip.num_latents - 1 - start  # the clip's last latent on ``start``
             begin = placement.first + clip.release_latent - skip - BLEND_LATENTS + 1  # the cross-fade into the return
-            if (clip.release_latent < 0 or not placement.whole or begin < placement.stroke + HOLD_LATENTS
-                    or any(p.cue == placement.cue and not any(p is q for q in conflicts) for p in playing)):
+            earliest = max(placement.stroke + HOLD_LATENTS, next_latent)
+            sibling = any(p.cue == placement.cue and not any(p is q for q in conflicts) for p in playing)
+            if clip.release_latent < 0 or not placement.whole or begin < earliest or sibling:
                 return None
             returns.append(replace(placement, skip=skip, start=begin, stop=start, ramp_in=BLEND_LATENTS,
                                    ramp_out=min(placement.ramp_out, BLEND_LATENTS)))

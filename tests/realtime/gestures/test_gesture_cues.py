@@ -199,6 +199,13 @@ def test_a_gesture_too_soon_after_a_stroke_to_move_the_return_cuts_the_return_as
     assert outcome.note == "after the wave, whose return is cut short" and wave.stop == 27 + BLEND_LATENTS - 1
 
 
+def test_a_return_is_never_moved_into_latents_already_generated(held):
+    held.place(Cue("wave", at(20)), 0)
+    outcome = held.place(Cue("raise", at(36), "yay"), next_latent=28)  # the return would begin at 27
+    (wave,) = placed(held, "wave")
+    assert outcome.note == "after the wave, whose return is cut short" and wave.stop == 33 + BLEND_LATENTS - 1
+
+
 def test_the_same_gesture_on_a_word_during_the_playing_ones_return_plays_again_instead_of_merging(held):
     held.place(Cue("wave", at(20)), 0)
     assert held.place(Cue("wave", at(26), "welcome"), 0).status == "merged"  # clip latent 10: held on after it
