@@ -356,6 +356,7 @@ class CuePlan:
         busy = np.logical_or.reduce([p.clip.channels for p in conflicts])
         if (placement.clip.channels & ~busy).any():
             return self._share(placement, conflicts, earlier)
+        conflicts = self._with_siblings(conflicts, placement.start)
         start = max(placement.start, earlier.stroke + 1)
         returns = self._returns(conflicts, start, next_latent) if start == placement.first else None
         later = placement if returns else self._deferred(placement, start)
@@ -367,6 +368,13 @@ class CuePlan:
         cut = "hold" if returns else "return"
         return self._record(CueOutcome(later.cue, "blended", self._time(later.stroke),
                                        f"after the {_names(conflicts)}, whose {cut} is cut short"))
+
+    def _with_siblings(self, conflicts: list[Placement], latent: int) -> list[Placement]:
+        """``conflicts`` and the other placements of their cues still playing on ``latent`` or after (a bow's legs
+        beside the arms and torso a wave takes over): a gesture gives way as a whole."""
+        nearby = self._starting_within(latent - self.longest + 1, latent + self.longest)
+        return conflicts + [p for p in nearby if p.stop >= latent and any(p.cue == c.cue for c in conflicts)
+                            and not any(p is q for q in conflicts)]
 
     def _deferred(self, placement: Placement, start: int) -> Placement | None:
         """``placement`` approaching from ``start`` over at least :data:`BLEND_LATENTS`, its stroke moved later as
@@ -384,18 +392,15 @@ class CuePlan:
     def _returns(self, conflicts: list[Placement], start: int, next_latent: int) -> list[Placement] | None:
         """Each of ``conflicts`` with its whole return moved earlier, to end (arms down) where a gesture approaching
         from ``start`` begins: its hold cut short instead, cross-fading into the return over :data:`BLEND_LATENTS`.
-        None when one cannot: its return is not known or already cut, it would begin within :data:`HOLD_LATENTS` of
-        its stroke or before ``next_latent``, or another part of the same cue plays on (a bow's torso beside the arms
-        it shares)."""
-        playing = self._covering(start)
+        None when one cannot: its return is not known or already cut, or it would begin within :data:`HOLD_LATENTS`
+        of its stroke or before ``next_latent``."""
         returns = []
         for placement in conflicts:
             clip = placement.clip
             skip = placement.first + clip.num_latents - 1 - start  # the clip's last latent on ``start``
             begin = placement.first + clip.release_latent - skip - BLEND_LATENTS + 1  # the cross-fade into the return
             earliest = max(placement.stroke + HOLD_LATENTS, next_latent)
-            sibling = any(p.cue == placement.cue and not any(p is q for q in conflicts) for p in playing)
-            if clip.release_latent < 0 or not placement.whole or begin < earliest or sibling:
+            if clip.release_latent < 0 or not placement.whole or begin < earliest:
                 return None
             returns.append(replace(placement, skip=skip, start=begin, stop=start, ramp_in=BLEND_LATENTS,
                                    ramp_out=min(placement.ramp_out, BLEND_LATENTS)))

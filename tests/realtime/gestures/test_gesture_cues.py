@@ -131,6 +131,15 @@ def test_a_call_after_a_shared_bow_moves_its_legs_on_time_and_takes_the_rest_fro
     assert [p.stop for p in placed(plan, "bow")] == [34 + BLEND_LATENTS - 1] * 2
 
 
+def test_a_wave_that_meets_the_arms_of_a_shared_call_ends_every_part_of_the_call_at_once(plan):
+    plan.place(Cue("guide", at(20), "this is"), 0)
+    plan.place(Cue("call", at(24), "come here"), 0)  # its legs on time, the arms and torso from latent 26
+    outcome = plan.place(Cue("wave", at(34), "bye"), 0)  # meets the arms only
+    legs, rest = sorted(placed(plan, "call"), key=lambda p: p.clip.channels.sum())
+    assert outcome.status == "blended" and np.array_equal(legs.clip.channels, LEGS)
+    assert legs.stop == rest.stop == 30 + BLEND_LATENTS - 1  # the whole call gives way, not its arms alone
+
+
 def test_a_cue_with_no_room_is_dropped_with_a_log_line_and_counted(plan, caplog):
     plan.place(Cue("wave", at(20)), 0)
     with caplog.at_level(logging.WARNING):
