@@ -24,7 +24,8 @@ than recorded), and the blend keeps their shape while the latents keep the neigh
   earlier, to end where the later one's approach begins (a wave lowers the hands before a cheer:
   :attr:`Placement.skip`, the clip's release known from :func:`gesturecast.realtime.gestures.strokes.release_frame`);
   else their returns are cut short and cross-fade over :data:`BLEND_LATENTS` latents into the later one's approach,
-  the later stroke moved at most :data:`MAX_DEFER_S` after its word when the strokes are closer than the cross-fade;
+  the later stroke moved at most :data:`MAX_DEFER_S` after its word when the strokes are closer than the cross-fade.
+  Either way an earlier gesture gives way as a whole (a bow's legs end with the arms and torso a wave takes over);
 - ``merged``: the same gesture is already playing over the word and holds on after it (a "hello" right after a
   "hi"); one already returning is played again, after it;
 - ``dropped``: none of these fits (logged, counted).
