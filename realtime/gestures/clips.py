@@ -8,9 +8,14 @@ so the clip's legs, root and facing never reach the stream.
 versions of it (or the next multiple of its number of takes), each a recorded take of the style (the lexicon keeps
 up to three per style where the data has several; the takes in turn, in an order drawn from the seed) at its own
 tempo (:data:`TEMPO_RANGE`, resampled in time) and amplitude (:data:`AMPLITUDE_RANGE`, the moving joints' 6D
-rotation features scaled about the clip's first pose), drawn from the stream's seed. The cue plan plays them in turn
-(and again from the first), so two plays of a gesture in a row are different takes where there are two or more, at
-other tempos and amplitudes, and another seed plays others.
+rotation features scaled about the clip's first pose), drawn from the stream's seed: the amplitude from the lower
+or the upper third of its range in turns of two (two shallow bows, then two deep ones). A gesture of the built
+lexicon whose name says no hand (a bye, a guide, a bow; not wave-right) is played with the other hand every other
+time (:func:`mirrored`: the left and right joints swapped and reflected). The cue plan plays them in turn (and again
+from the first), so two plays of a gesture in a row are different takes where there are two or more, with the other
+hand (every other time also at another size), at other tempos, and another seed plays others. Each clip also
+knows where its hold ends (:func:`gesturecast.realtime.gestures.strokes.release_frame`), so the cue plan can cut a
+hold short and keep the return.
 """
 
 from __future__ import annotations
@@ -22,13 +27,16 @@ import numpy as np
 
 from gesturecast.errors import UserError
 from gesturecast.models.motion.body_parts import PART_JOINTS, joint_columns
+from gesturecast.models.motion.motion_features import features_to_motion, mirror_motion, motion_to_features
 from gesturecast.models.runtime.bundle import ModelBundle, VQEncoderRuntime
 from gesturecast.realtime.gestures.cues import GestureClip
 from gesturecast.realtime.gestures.reattach import body_frame_roots
+from gesturecast.realtime.gestures.strokes import body_frame_positions, release_frame
 
 PERFORMANCES = 4  # versions of each gesture per stream, played in turn
 TEMPO_RANGE = (0.88, 1.12)  # a performance's speed, relative to the recorded clip
 AMPLITUDE_RANGE = (0.9, 1.15)  # how far its moving joints turn, relative to the recorded clip
+SIDES = ("-left", "-right")  # a gesture named with one of these is performed with that hand only
 
 
 @dataclass(frozen=True)
@@ -64,9 +72,10 @@ def encode_clip(bundle: ModelBundle, motion: ClipMotion, encoder: VQEncoderRunti
     features = np.asarray(motion.features[:usable], np.float32)  # (T', D)
     latents = encoder.encode(bundle.motion_stats.normalize(features))  # (N, C)
     columns = rotation_columns(motion.parts, features.shape[1])
+    release = release_frame(body_frame_positions(features_to_motion(features)))
     return GestureClip(motion.name, bundle.latent_stats.normalize(latents).astype(np.float32),
                        part_mask(bundle, motion.parts, motion.name), motion.stroke_frame // d, features, columns,
-                       tuple(body_frame_roots(features, columns)))
+                       tuple(body_frame_roots(features, columns)), max(release, motion.stroke_frame) // d)
 
 
 def rotation_columns(parts: Iterable[str], feature_dim: int) -> np.ndarray:
@@ -99,16 +108,39 @@ def performance(motion: ClipMotion, tempo: float, amplitude: float) -> ClipMotio
     return replace(motion, features=features.astype(np.float32), stroke_frame=stroke)
 
 
-def performances(takes: Sequence[ClipMotion], seed: int, count: int = PERFORMANCES) -> list[ClipMotion]:
+def mirrored(motion: ClipMotion) -> ClipMotion:
+    """``motion`` performed with the other hand: its left and right joints swapped and reflected (the skeleton's
+    mirror, an exact involution), the stroke where it was."""
+    return replace(motion, features=motion_to_features(mirror_motion(features_to_motion(motion.features))))
+
+
+def mirrorable(name: str) -> bool:
+    """Whether a gesture reads the same with the other hand: any whose name does not say which (wave-right)."""
+    return not name.endswith(SIDES)
+
+
+def performances(takes: Sequence[ClipMotion], seed: int, count: int = PERFORMANCES, mirror: bool = False
+                 ) -> list[ClipMotion]:
     """At least ``count`` performances of one gesture from its recorded ``takes`` (one or more, the same name), as
     many as the next multiple of the number of takes: the takes in turn, in an order drawn from ``seed`` and the
     gesture's name, each at its own tempo and amplitude drawn from them too (the same seed gives the same
-    performances). Played in turn and again from the first, consecutive ones are different takes when there are two
-    or more."""
+    performances). The amplitude comes from the lower and the upper third of its range in turns of two; with
+    ``mirror``, every other performance is played with the other hand, each take with both hands over the
+    performances. Played in turn and again from the first, consecutive ones are different takes when there are two
+    or more, and otherwise differ in hand or in size."""
     if not takes:
         raise ValueError("a gesture's performances need at least one take")
     rng = np.random.default_rng([seed, *takes[0].name.encode()])
     order = rng.permutation(len(takes))
     total = -(-count // len(takes)) * len(takes)
-    return [performance(takes[order[k % len(takes)]], float(rng.uniform(*TEMPO_RANGE)),
-                        float(rng.uniform(*AMPLITUDE_RANGE))) for k in range(total)]
+    hand, size = (int(k) for k in rng.integers(2, size=2))
+    low, high = AMPLITUDE_RANGE
+    third = (high - low) / 3
+    motions = []
+    for k in range(total):
+        larger = ((k + 1) // 2 + size) % 2
+        amplitude = rng.uniform(high - third, high) if larger else rng.uniform(low, low + third)
+        motion = performance(takes[order[k % len(takes)]], float(rng.uniform(*TEMPO_RANGE)), float(amplitude))
+        other_hand = (k + (k // len(takes) if len(takes) % 2 == 0 else 0) + hand) % 2  # a take's next round flips
+        motions.append(mirrored(motion) if mirror and other_hand else motion)
+    return motions

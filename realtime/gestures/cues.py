@@ -17,16 +17,21 @@ than recorded), and the blend keeps their shape while the latents keep the neigh
 - ``late``: the cue came after its window began; the clip's opening is skipped (a quicker approach over
   :data:`BLEND_LATENTS` latents) so the stroke lands as soon after the word as that allows, at most
   :data:`MAX_LATE_S` after it (later, the cue is dropped: a gesture seconds after its word means nothing);
-- ``blended``: it meets a gesture playing on a shared body part. A later gesture with parts of its own (a bow's
-  torso after a wave) plays those on time alongside the earlier one and takes the shared parts over once the earlier
-  has held its stroke (:data:`HOLD_LATENTS`); otherwise the earlier one's return is cut short and cross-fades over
-  :data:`BLEND_LATENTS` latents into the later one's approach, the later stroke moved at most :data:`MAX_DEFER_S`
-  after its word when the two strokes are closer than the cross-fade;
-- ``merged``: the same gesture is already playing over the word (a "hello" right after a "hi");
+- ``blended``: it meets gestures playing on a shared body part (every placement of theirs: a bow shared with a
+  wave is two). A later gesture with parts of its own (a bow's torso after a wave) plays those on time alongside the
+  earlier ones and takes the shared parts over once they have held their strokes (:data:`HOLD_LATENTS`). Otherwise,
+  where the earlier ones have held their strokes that long, their holds are cut short and their whole returns moved
+  earlier, to end where the later one's approach begins (a wave lowers the hands before a cheer:
+  :attr:`Placement.skip`, the clip's release known from :func:`gesturecast.realtime.gestures.strokes.release_frame`);
+  else their returns are cut short and cross-fade over :data:`BLEND_LATENTS` latents into the later one's approach,
+  the later stroke moved at most :data:`MAX_DEFER_S` after its word when the strokes are closer than the cross-fade.
+  Either way an earlier gesture gives way as a whole (a bow's legs end with the arms and torso a wave takes over);
+- ``merged``: the same gesture is already playing over the word and holds on after it (a "hello" right after a
+  "hi"); one already returning is played again, after it;
 - ``dropped``: none of these fits (logged, counted).
 
-A gesture may have several performances (:mod:`gesturecast.realtime.gestures.clips`, tempo and amplitude
-drawn from the seed); the plan plays them in turn. The plan is deterministic in stream time, so streaming and
+A gesture may have several performances (:mod:`gesturecast.realtime.gestures.clips`: takes, hand, tempo and
+amplitude drawn from the seed); the plan plays them in turn. The plan is deterministic in stream time, so streaming and
 offline runs with the same cues give the same poses.
 
 The placements are kept in order of their first latent, so placing a cue and imposing a latent look only at the
@@ -89,6 +94,8 @@ class GestureClip:
     roots: the first imposed joint of each chain under generated parents (an arms-only clip's shoulders, an arms
     and torso clip's spine): its feature columns, the joints between it and the hips, and its (N·d, 4) rotation in
     the body frame (:mod:`gesturecast.realtime.gestures.reattach`).
+    release_latent: the last latent of the clip's hold (after it the wrists and head only come back,
+    :func:`gesturecast.realtime.gestures.strokes.release_frame`), or -1 when not known (its return is never moved).
     """
 
     name: str
@@ -98,6 +105,7 @@ class GestureClip:
     features: np.ndarray
     columns: np.ndarray
     roots: tuple = ()  # (columns, joints above, (N·d, 4) body-frame rotation) per re-attached joint (reattach)
+    release_latent: int = -1  # the last latent of its hold, where its return begins (-1: not known)
 
     @property
     def num_latents(self) -> int:
@@ -110,9 +118,9 @@ class GestureClip:
 
 @dataclass(frozen=True)
 class Placement:
-    """A cue placed on the latent grid: clip latent ``k`` belongs to stream latent ``first + k``; the stream latents
-    ``start`` … ``stop`` (inclusive) play it, ramped over ``ramp_in`` latents after ``start`` and ``ramp_out`` before
-    ``stop``."""
+    """A cue placed on the latent grid: clip latent ``k`` belongs to stream latent ``first + k`` (``first + k − skip``
+    where ``skip`` latents of its hold are left out: its return moved earlier); the stream latents ``start`` …
+    ``stop`` (inclusive) play it, ramped over ``ramp_in`` latents after ``start`` and ``ramp_out`` before ``stop``."""
 
     cue: Cue
     clip: GestureClip
@@ -122,6 +130,7 @@ class Placement:
     stop: int
     ramp_in: int = RAMP_LATENTS
     ramp_out: int = RAMP_LATENTS
+    skip: int = 0
 
     @property
     def stroke(self) -> int:
@@ -132,6 +141,15 @@ class Placement:
     def last(self) -> int:
         return self.stop
 
+    @property
+    def whole(self) -> bool:
+        """Whether it plays to the clip's end as placed (its return neither cut nor moved)."""
+        return self.skip == 0 and self.stop == self.first + self.clip.num_latents - 1
+
+    def clip_latent(self, latent: int) -> int:
+        """The clip latent that stream latent ``latent`` plays."""
+        return latent - self.first + self.skip
+
     def covers(self, latent: int) -> bool:
         return self.start <= latent <= self.stop
 
@@ -140,6 +158,12 @@ class Placement:
         if not self.covers(latent):
             return 0.0
         return min(1.0, (latent - self.start + 1) / (self.ramp_in + 1), (self.stop - latent + 1) / (self.ramp_out + 1))
+
+    def holds(self, latent: int) -> bool:
+        """Whether the gesture is held on stream latent ``latent``: played at weight 0.5 or more and, where the
+        clip's release is known, for :data:`BLEND_LATENTS` more before its return."""
+        release = self.clip.release_latent
+        return self.weight(latent) >= 0.5 and (release < 0 or self.clip_latent(latent) + BLEND_LATENTS <= release)
 
     def frame_weights(self, latent: int) -> np.ndarray:
         """(d,) pose-blend weights of the frames of stream latent ``latent`` (the same ramps, per frame)."""
@@ -215,7 +239,7 @@ class Imposition:
         target, weights = np.zeros(channels, np.float32), np.zeros(channels, np.float32)
         pose, pose_weights = np.zeros((d, dim), np.float32), np.zeros((d, dim), np.float32)
         for placement in placements:
-            k, c = latent - placement.first, placement.clip
+            k, c = placement.clip_latent(latent), placement.clip
             w = placement.weight(latent)
             target[c.channels] += w * c.latents[k, c.channels]
             weights[c.channels] += w
@@ -225,7 +249,7 @@ class Imposition:
         target /= np.maximum(weights, 1e-6)
         pose /= np.maximum(pose_weights, 1e-6)
         roots = [root for p in placements for root in placed_roots(
-            p.clip.roots, p.clip.features, slice((latent - p.first) * d, (latent - p.first + 1) * d),
+            p.clip.roots, p.clip.features, slice(p.clip_latent(latent) * d, (p.clip_latent(latent) + 1) * d),
             p.frame_weights(latent)[:, None], pose_weights)]
         return cls(target, np.minimum(weights, 1.0), pose, np.minimum(pose_weights, 1.0),
                    "+".join(dict.fromkeys(p.cue.gesture for p in placements)), roots)
@@ -288,8 +312,7 @@ class CuePlan:
         self._check_room()
         clip = self._performance(self.check(cue.gesture))
         wanted = math.floor(cue.time / self.seconds_per_latent)  # the stroke latent that covers the word
-        merged = next((p for p in self._covering(wanted) if p.cue.gesture == cue.gesture and p.weight(wanted) >= 0.5),
-                      None)
+        merged = next((p for p in self._covering(wanted) if p.cue.gesture == cue.gesture and p.holds(wanted)), None)
         if merged is not None:
             return self._record(CueOutcome(cue, "merged", self._time(merged.stroke), f"into the {cue.gesture} playing"))
         placement = self._fresh(cue, clip, wanted, next_latent)
@@ -297,7 +320,7 @@ class CuePlan:
             return self._drop(cue, f"its words came {placement.late_s:.1f} s too late for the stroke to be near them")
         conflicts = self._overlapping(placement)
         if conflicts:
-            return self._blend(placement, conflicts)
+            return self._blend(placement, conflicts, next_latent)
         if cue.source == CONTROL_SOURCE:  # a button press: as soon as it can, never "late"
             return self._accept(placement, "on time", "as soon as the look-ahead allows")
         return self._accept(placement, "late" if placement.late_s > 0 else "on time", "")
@@ -323,52 +346,101 @@ class CuePlan:
         return Placement(cue, clip, first, late, start, first + clip.num_latents - 1,
                          ramp_in=max(1, min(RAMP_LATENTS, stroke - start)))
 
-    def _blend(self, placement: Placement, conflicts: list[Placement]) -> CueOutcome:
-        """Fit ``placement`` after the latest conflicting gesture (cutting its return short), or drop it."""
+    def _blend(self, placement: Placement, conflicts: list[Placement], next_latent: int) -> CueOutcome:
+        """Fit ``placement`` after the gestures it meets (every placement of theirs, each part of a shared one),
+        cutting their holds or returns short from ``next_latent`` on (the first latent not generated yet), or drop
+        it."""
         earlier = max(conflicts, key=lambda p: p.stroke)
         if earlier.stroke > placement.stroke:
             return self._drop(placement.cue, f"{earlier.cue.gesture} ({earlier.cue.source}) holds the same body "
                               f"parts around the word")
-        if (placement.clip.channels & ~earlier.clip.channels).any():
-            return self._share(placement, earlier)
+        busy = np.logical_or.reduce([p.clip.channels for p in conflicts])
+        if (placement.clip.channels & ~busy).any():
+            return self._share(placement, conflicts, earlier)
+        conflicts = self._with_siblings(conflicts, placement.start)
         start = max(placement.start, earlier.stroke + 1)
+        returns = self._returns(conflicts, start, next_latent) if start == placement.first else None
+        later = placement if returns else self._deferred(placement, start)
+        if later is None:
+            return self._drop(placement.cue, f"{earlier.cue.gesture} ({earlier.cue.source}) plays too close before it")
+        if not self._hand_over(conflicts, later.start, [later], returns):
+            return self._drop(placement.cue, "the gestures around it leave no room")
+        self._insert(later)
+        cut = "hold" if returns else "return"
+        return self._record(CueOutcome(later.cue, "blended", self._time(later.stroke),
+                                       f"after the {_names(conflicts)}, whose {cut} is cut short"))
+
+    def _with_siblings(self, conflicts: list[Placement], latent: int) -> list[Placement]:
+        """``conflicts`` and the other placements of their cues still playing on ``latent`` or after (a bow's legs
+        beside the arms and torso a wave takes over): a gesture gives way as a whole."""
+        nearby = self._starting_within(latent - self.longest + 1, latent + self.longest)
+        return conflicts + [p for p in nearby if p.stop >= latent and any(p.cue == c.cue for c in conflicts)
+                            and not any(p is q for q in conflicts)]
+
+    def _deferred(self, placement: Placement, start: int) -> Placement | None:
+        """``placement`` approaching from ``start`` over at least :data:`BLEND_LATENTS`, its stroke moved later as
+        that needs (None when more than :data:`MAX_DEFER_S`)."""
         stroke = max(placement.stroke, start + BLEND_LATENTS)
         if stroke - placement.stroke > self.max_defer:
-            return self._drop(placement.cue, f"{earlier.cue.gesture} ({earlier.cue.source}) plays too close before it")
+            return None
         shift = stroke - placement.stroke
         first = placement.first + shift
         start = max(start, first)  # a moved clip may start after the hand-over: it approaches from its own start
-        later = replace(placement, first=first, start=start, stop=placement.stop + shift,
-                        ramp_in=max(1, min(BLEND_LATENTS, stroke - start)),
-                        late_s=max(0.0, self._time(stroke) - placement.cue.time))
-        cut = replace(earlier, stop=min(earlier.stop, start + BLEND_LATENTS - 1),
-                      ramp_out=min(earlier.ramp_out, BLEND_LATENTS))
-        if any(p is not earlier for p in self._overlapping(later)):  # the cut only shrinks: it overlaps nothing new
-            return self._drop(placement.cue, "the gestures around it leave no room")
-        self._replace(earlier, cut)
-        return self._accept(later, "blended", f"after the {earlier.cue.gesture}, whose return is cut short")
+        return replace(placement, first=first, start=start, stop=placement.stop + shift,
+                       ramp_in=max(1, min(BLEND_LATENTS, stroke - start)),
+                       late_s=max(0.0, self._time(stroke) - placement.cue.time))
 
-    def _share(self, placement: Placement, earlier: Placement) -> CueOutcome:
-        """The later gesture's own parts (a bow's torso) play on time alongside the earlier one; the parts they share
-        (the arms) hand over once the earlier has held its stroke :data:`HOLD_LATENTS`, cross-fading over
-        :data:`BLEND_LATENTS` (the earlier's return cut short), or never when the later has ended by then."""
-        shared = earlier.clip.channels, earlier.clip.columns
-        own = replace(placement, clip=part_clip(placement.clip, ~shared[0], ~shared[1]))
+    def _returns(self, conflicts: list[Placement], start: int, next_latent: int) -> list[Placement] | None:
+        """Each of ``conflicts`` with its whole return moved earlier, to end (arms down) where a gesture approaching
+        from ``start`` begins: its hold cut short instead, cross-fading into the return over :data:`BLEND_LATENTS`.
+        None when one cannot: its return is not known or already cut, or it would begin within :data:`HOLD_LATENTS`
+        of its stroke or before ``next_latent``."""
+        returns = []
+        for placement in conflicts:
+            clip = placement.clip
+            skip = placement.first + clip.num_latents - 1 - start  # the clip's last latent on ``start``
+            begin = placement.first + clip.release_latent - skip - BLEND_LATENTS + 1  # the cross-fade into the return
+            earliest = max(placement.stroke + HOLD_LATENTS, next_latent)
+            if clip.release_latent < 0 or not placement.whole or begin < earliest:
+                return None
+            returns.append(replace(placement, skip=skip, start=begin, stop=start, ramp_in=BLEND_LATENTS,
+                                   ramp_out=min(placement.ramp_out, BLEND_LATENTS)))
+        return returns
+
+    def _share(self, placement: Placement, conflicts: list[Placement], earlier: Placement) -> CueOutcome:
+        """The later gesture's own parts (a bow's torso) play on time alongside the earlier ones; the parts they share
+        (the arms) hand over once the latest has held its stroke :data:`HOLD_LATENTS`, cross-fading over
+        :data:`BLEND_LATENTS` (the earlier returns cut short), or never when the later has ended by then."""
+        busy = np.logical_or.reduce([p.clip.channels for p in conflicts])
+        columns = np.logical_or.reduce([p.clip.columns for p in conflicts])
+        own = replace(placement, clip=part_clip(placement.clip, ~busy, ~columns))
         hand_over = max(placement.start, earlier.stroke + HOLD_LATENTS)
         parts = [own]
-        cut = earlier
         if hand_over + 2 * BLEND_LATENTS <= placement.stop:
-            parts.append(replace(placement, clip=part_clip(placement.clip, *shared), start=hand_over,
+            parts.append(replace(placement, clip=part_clip(placement.clip, busy, columns), start=hand_over,
                                  ramp_in=BLEND_LATENTS))
-            cut = replace(earlier, stop=min(earlier.stop, hand_over + BLEND_LATENTS - 1),
-                          ramp_out=min(earlier.ramp_out, BLEND_LATENTS))
-        if any(p is not earlier for q in parts for p in self._overlapping(q)):
+        if not self._hand_over(conflicts if len(parts) > 1 else [], hand_over, parts):
             return self._drop(placement.cue, "the gestures around it leave no room")
-        self._replace(earlier, cut)
         for part in parts[1:]:
             self._insert(part)
-        note = f"with the {earlier.cue.gesture}" + (", the shared parts after its stroke" if len(parts) > 1 else "")
+        note = f"with the {_names(conflicts)}" + (", the shared parts after its stroke" if len(parts) > 1 else "")
         return self._accept(own, "blended", note)
+
+    def _hand_over(self, conflicts: list[Placement], start: int, parts: list[Placement],
+                   returns: list[Placement] | None = None) -> bool:
+        """Cut each of ``conflicts`` to cross-fade over :data:`BLEND_LATENTS` from ``start`` (one that would only
+        start after that is taken out), or from the start of its moved return where ``returns`` has one for each, to
+        make room for ``parts``; False, changing nothing, when a part meets a gesture that is not one of them."""
+        if any(not any(p is q for q in conflicts) for part in parts for p in self._overlapping(part)):
+            return False
+        for k, placement in enumerate(conflicts):
+            cut_from = start if returns is None else returns[k].start
+            cut = replace(placement, stop=min(placement.stop, cut_from + BLEND_LATENTS - 1),
+                          ramp_out=min(placement.ramp_out, BLEND_LATENTS))
+            self._replace(placement, cut if cut.start <= cut.stop else None)
+        for moved in returns or ():
+            self._insert(moved)
+        return True
 
     def _starting_within(self, low: int, high: int) -> list[Placement]:
         """The placements whose first latent is within [low, high] (binary search on the ordered list)."""
@@ -387,11 +459,14 @@ class CuePlan:
     def _insert(self, placement: Placement) -> None:
         bisect.insort(self.placements, placement, key=_first_latent)
 
-    def _replace(self, old: Placement, new: Placement) -> None:
-        """Put ``new`` (the same first latent) where ``old`` is."""
+    def _replace(self, old: Placement, new: Placement | None) -> None:
+        """Put ``new`` (the same first latent) where ``old`` is, or take ``old`` out (None)."""
         low = bisect.bisect_left(self.placements, old.first, key=_first_latent)
         index = next(i for i in range(low, len(self.placements)) if self.placements[i] is old)
-        self.placements[index] = new
+        if new is None:
+            del self.placements[index]
+        else:
+            self.placements[index] = new
 
     def _accept(self, placement: Placement, status: str, note: str) -> CueOutcome:
         self._insert(placement)
@@ -428,3 +503,8 @@ class CuePlan:
 
 def _first_latent(placement: Placement) -> int:
     return placement.first
+
+
+def _names(placements: list[Placement]) -> str:
+    """The gestures of ``placements`` in their cues' order, once each ("wave and call")."""
+    return " and ".join(dict.fromkeys(p.cue.gesture for p in sorted(placements, key=lambda p: p.cue.time)))

@@ -21,6 +21,7 @@ from gesturecast.models.motion.skeleton import CANONICAL
 
 ACTIVITY_JOINTS = ("LeftHand", "RightHand", "Head")  # the joints whose motion is the gesture
 STROKE_TOLERANCE = 0.05
+RELEASE_LEVEL = 0.75  # a clip's hold ends at the last frame its wrists and head are this near their farthest
 
 
 def body_frame_positions(motion: Motion) -> np.ndarray:
@@ -49,3 +50,10 @@ def pose_distance(body: np.ndarray, reference: int = 0) -> np.ndarray:
     """(T,) summed distance (m) of the wrists and head from their place at frame ``reference`` (body frame)."""
     joints = [CANONICAL.index(name) for name in ACTIVITY_JOINTS]
     return np.linalg.norm(body[:, joints] - body[reference, joints], axis=-1).sum(axis=-1)
+
+
+def release_frame(body: np.ndarray) -> int:
+    """The last frame of a clip's hold: after it, the wrists and head only come back toward their first pose (the
+    last frame their :func:`pose_distance` from it is at least :data:`RELEASE_LEVEL` of its peak)."""
+    distance = pose_distance(body)
+    return int(np.flatnonzero(distance >= RELEASE_LEVEL * distance.max())[-1])

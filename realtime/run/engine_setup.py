@@ -29,7 +29,7 @@ from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
 from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.models.style.params import DEFAULT_STYLE_PARAMS, StyleBook
 from gesturecast.realtime.generation.generator import NEUTRAL_STYLE, Generator, GeneratorSettings
-from gesturecast.realtime.gestures.clips import ClipMotion, encode_clips, performances
+from gesturecast.realtime.gestures.clips import ClipMotion, encode_clips, mirrorable, performances
 from gesturecast.realtime.gestures.lexicon import (
     DEFAULT_STYLE,
     LEXICON_FILE,
@@ -105,20 +105,22 @@ def gesture_setup(settings: Settings, bundle: ModelBundle) -> dict:
     lexicon = load_lexicon(settings.gestures)
     prompt = settings.style_prompt()
     style = prompt.value if prompt.kind == "label" else None
-    motions = performed_motions(lexicon, style, settings.seed)
     built = (Path(settings.gestures) / LEXICON_FILE).is_file()  # the Bandai lexicon: cued by speech acts
+    motions = performed_motions(lexicon, style, settings.seed, mirror=built)
     return {"gesture_clips": encode_clips(bundle, motions, settings.threads), "speech_acts": built,
             "gesture_triggers": () if built else tuple((entry.name, entry.triggers) for entry in lexicon)}
 
 
-def performed_motions(lexicon: Lexicon, style: str | None, seed: int) -> list[ClipMotion]:
+def performed_motions(lexicon: Lexicon, style: str | None, seed: int, mirror: bool = False) -> list[ClipMotion]:
     """Every gesture's performances for a stream in ``style`` at ``seed``: the recorded takes of its performed
-    variant (:func:`performed_variant`) in turn, each at a tempo and amplitude drawn from the seed."""
+    variant (:func:`performed_variant`) in turn, each at a tempo and amplitude drawn from the seed; with
+    ``mirror`` (the built lexicon, not a user's clips), every other one of a gesture that names no hand with the
+    other hand."""
     motions: list[ClipMotion] = []
     for entry in lexicon:
         takes = [ClipMotion(entry.name, np.asarray(take.features, np.float32), take.stroke_frame, entry.parts,
                             take.source) for take in entry.takes(performed_variant(entry, style).style)]
-        motions += performances(takes, seed)
+        motions += performances(takes, seed, mirror=mirror and mirrorable(entry.name))
     return motions
 
 

@@ -20,7 +20,8 @@ of the word; a merged cue (the same gesture already playing) is a hit when the d
 **Measures** (JSON): hits / intended, per intent; stroke − word p50/p95 (ms); outcomes; cues played where none was
 intended; on the narrations, gestures played per minute and detector events per minute (cued and uncued runs);
 silent drops (dropped outcomes without a warning log line, plus cues decided without an outcome); two plays of one
-gesture in a stream against the seed-to-seed distance of the uncued speech; the speed of the parts no playing
+gesture in a stream (over the frames both play, aligned at their strokes) against the seed-to-seed distance of the
+uncued speech; the speed of the parts no playing
 gesture moves (the torso during a wave), cued over uncued; the largest jerk within 0.3 s of each
 clip's ends over the uncued stream's 95th percentile; speech following outside the cue windows, cued over uncued;
 a PNG strip of frames around each cue of the first story.
@@ -74,7 +75,6 @@ STROKE_TOLERANCE_S = 0.3
 SEAM_S = 0.3
 FOLLOWING_MARGIN_S = 0.5  # the following measure's smoothing width: a clip's own speed spreads this far past its ends
 LEAD_S = 0.8  # the picture starts this long before each word
-PLAY_WINDOW_S = 1.0  # two plays of a gesture are compared over this long on each side of their strokes
 KINDS = ("wave", "wave-right", "raise-both", "bow", "guide", "call")  # what the detector counts on narration
 STORY_SETS = {  # --stories: (cued stories, named narrations)
     "first": (CUED_STORIES, (("narration", NARRATION), ("narration-late", NARRATION_LATE),
@@ -206,19 +206,41 @@ def finite_or_none(value: float) -> float | None:
 
 
 def play_distances(run: Run, body: np.ndarray) -> list[dict]:
-    """Mean joint distance (m) between consecutive plays of the same gesture in one stream, aligned at strokes."""
-    width = int(PLAY_WINDOW_S * MOTION_FPS)
+    """Mean joint distance (m) between consecutive plays of the same gesture in one stream over their played parts
+    (:func:`played_spans`), aligned at their strokes: the frames both play, from the later start to the earlier end."""
     strokes: dict[str, list[int]] = {}
     for outcome in run.outcomes:
         if outcome.status in ("on time", "late", "blended"):
             strokes.setdefault(outcome.cue.gesture, []).append(round(outcome.stroke_time * MOTION_FPS))
+    names = [gesture_names(frame.gesture) for frame in run.frames[: len(body)]]
     pairs = []
     for gesture, frames in strokes.items():
-        for a, b in zip(frames, frames[1:], strict=False):
-            if a >= width and b + width <= len(body):
-                distance = np.linalg.norm(body[a - width: a + width, :22] - body[b - width: b + width, :22], axis=-1)
-                pairs.append({"gesture": gesture, "distance_m": round(float(distance.mean()), 4)})
+        spans = played_spans(names, gesture, sorted(frames))
+        for (a, a0, a1), (b, b0, b1) in zip(spans, spans[1:], strict=False):
+            before, after = min(a - a0, b - b0), min(a1 - a, b1 - b)
+            if before + after > 0:
+                distance = np.linalg.norm(body[a - before: a + after, :22] - body[b - before: b + after, :22], axis=-1)
+                pairs.append({"gesture": gesture, "distance_m": round(float(distance.mean()), 4),
+                              "seconds": round((before + after) / MOTION_FPS, 2)})
     return pairs
+
+
+def played_spans(names: list[set[str]], gesture: str, strokes: list[int]) -> list[tuple[int, int, int]]:
+    """(stroke, first, stop) of each play of ``gesture``: the frames around its stroke that name it, no further than
+    halfway to the next or previous play's stroke (two plays may touch); strokes outside the stream are left out."""
+    spans = []
+    for k, stroke in enumerate(strokes):
+        if not 0 <= stroke < len(names) or gesture not in names[stroke]:
+            continue
+        low = (strokes[k - 1] + stroke + 1) // 2 if k else 0
+        high = (stroke + strokes[k + 1] + 1) // 2 if k + 1 < len(strokes) else len(names)
+        first, stop = stroke, stroke + 1
+        while first > low and gesture in names[first - 1]:
+            first -= 1
+        while stop < high and gesture in names[stop]:
+            stop += 1
+        spans.append((stroke, first, stop))
+    return spans
 
 
 def idle_part_speed_ratio(run: Run, body: np.ndarray, uncued_body: np.ndarray, parts: dict[str, tuple[str, ...]]

@@ -22,18 +22,22 @@ D = 10
 SECONDS_PER_LATENT = 4 / 30
 ARMS = np.arange(C) < 4
 TORSO = (np.arange(C) >= 4) & (np.arange(C) < 6)
+LEGS = np.arange(C) >= 6
 
 
-def clip(name: str, channels: np.ndarray, length: int = 10, stroke: int = 4, columns: int = 3) -> GestureClip:
+def clip(name: str, channels: np.ndarray, length: int = 10, stroke: int = 4, columns: int = 3,
+         release: int = -1) -> GestureClip:
     latents = np.arange(length * C, dtype=np.float32).reshape(length, C)  # (N, C)
     features = np.arange(length * 4 * D, dtype=np.float32).reshape(length * 4, D)  # (N·d, D)
-    return GestureClip(name, latents, channels, stroke, features, np.arange(D) < columns)
+    return GestureClip(name, latents, channels, stroke, features, np.arange(D) < columns, release_latent=release)
 
 
 @pytest.fixture
 def plan() -> CuePlan:
     return CuePlan({"wave": clip("wave", ARMS), "raise": clip("raise", ARMS),
-                    "bow": clip("bow", ARMS | TORSO, length=24, stroke=8, columns=6)}, SECONDS_PER_LATENT)
+                    "bow": clip("bow", ARMS | TORSO, length=24, stroke=8, columns=6),
+                    "guide": clip("guide", ARMS | TORSO, length=12, stroke=5, columns=6),
+                    "call": clip("call", ARMS | TORSO | LEGS, length=16, stroke=6, columns=8)}, SECONDS_PER_LATENT)
 
 
 def at(latent: float) -> float:
@@ -87,6 +91,55 @@ def test_a_bow_after_a_wave_bows_on_time_and_takes_the_arms_after_the_wave_held_
     assert plan.imposition(21).names == "wave+bow"
 
 
+def placed(plan: CuePlan, gesture: str) -> list:
+    """The placements of ``gesture``, in order of their start."""
+    return sorted((p for p in plan.placements if p.cue.gesture == gesture), key=lambda p: p.start)
+
+
+def test_a_guide_after_a_bow_shared_with_a_wave_cuts_both_bow_placements_and_plays_on_its_word(plan):
+    plan.place(Cue("wave", at(20)), 0)
+    plan.place(Cue("bow", at(22), "thanks"), 0)  # its torso on time, its arms from latent 26
+    outcome = plan.place(Cue("guide", at(33), "this is"), 0)
+    (guide,) = placed(plan, "guide")
+    assert outcome.status == "blended" and guide.stroke == 33
+    assert outcome.note == "after the bow, whose return is cut short"
+    assert [p.stop for p in placed(plan, "bow")] == [guide.start + BLEND_LATENTS - 1] * 2  # the torso and the arms
+    assert plan.imposition(guide.start).names == "bow+guide"
+    assert plan.imposition(guide.start + BLEND_LATENTS).names == "guide"
+
+
+def test_a_bow_part_that_would_take_the_arms_only_after_the_next_gesture_begins_is_taken_out(plan):
+    plan.place(Cue("wave", at(20)), 0)
+    plan.place(Cue("bow", at(22), "thanks"), 0)
+    assert placed(plan, "bow")[1].start == 20 + HOLD_LATENTS
+    outcome = plan.place(Cue("guide", at(28), "meet"), 0)  # its approach starts at 23, before the bow's arms would
+    (guide,) = placed(plan, "guide")
+    (bow_torso,) = placed(plan, "bow")
+    assert outcome.status == "blended" and guide.stroke == 28 and guide.start == 23
+    assert np.array_equal(bow_torso.clip.channels, TORSO) and bow_torso.stop == 23 + BLEND_LATENTS - 1
+    assert all(plan.imposition(k).names in ("wave+bow+guide", "bow+guide", "guide") for k in range(23, 26))
+
+
+def test_a_call_after_a_shared_bow_moves_its_legs_on_time_and_takes_the_rest_from_both_bow_placements(plan):
+    plan.place(Cue("wave", at(20)), 0)
+    plan.place(Cue("bow", at(22), "thanks"), 0)
+    outcome = plan.place(Cue("call", at(40), "come here"), 0)
+    legs, rest = sorted(placed(plan, "call"), key=lambda p: p.clip.channels.sum())
+    assert outcome.status == "blended" and outcome.stroke_time == 40 * SECONDS_PER_LATENT
+    assert np.array_equal(legs.clip.channels, LEGS) and np.array_equal(rest.clip.channels, ARMS | TORSO)
+    assert legs.start == 34 and rest.start == 34 and rest.ramp_in == BLEND_LATENTS
+    assert [p.stop for p in placed(plan, "bow")] == [34 + BLEND_LATENTS - 1] * 2
+
+
+def test_a_wave_that_meets_the_arms_of_a_shared_call_ends_every_part_of_the_call_at_once(plan):
+    plan.place(Cue("guide", at(20), "this is"), 0)
+    plan.place(Cue("call", at(24), "come here"), 0)  # its legs on time, the arms and torso from latent 26
+    outcome = plan.place(Cue("wave", at(34), "bye"), 0)  # meets the arms only
+    legs, rest = sorted(placed(plan, "call"), key=lambda p: p.clip.channels.sum())
+    assert outcome.status == "blended" and np.array_equal(legs.clip.channels, LEGS)
+    assert legs.stop == rest.stop == 30 + BLEND_LATENTS - 1  # the whole call gives way, not its arms alone
+
+
 def test_a_cue_with_no_room_is_dropped_with_a_log_line_and_counted(plan, caplog):
     plan.place(Cue("wave", at(20)), 0)
     with caplog.at_level(logging.WARNING):
@@ -115,7 +168,7 @@ def test_imposition_holds_the_clip_latent_on_its_parts_with_ramped_weights(plan)
 
 
 def test_an_unknown_gesture_is_one_line(plan):
-    with pytest.raises(UserError, match="unknown gesture 'wav'; known: bow, raise, wave"):
+    with pytest.raises(UserError, match="unknown gesture 'wav'; known: bow, call, guide, raise, wave"):
         plan.place(Cue("wav", 1.0), 0)
 
 
@@ -126,3 +179,45 @@ def test_performances_play_in_turn_so_two_plays_differ():
     plan.place(Cue("wave", at(60)), 0)
     plan.place(Cue("wave", at(100)), 0)
     assert [p.clip for p in plan.placements] == [versions[0], versions[1], versions[0]]
+
+
+@pytest.fixture
+def held() -> CuePlan:
+    """A wave that holds its stroke from latent 4 to its release at 15 and returns over its last 4 latents."""
+    return CuePlan({"wave": clip("wave", ARMS, length=20, stroke=4, release=15),
+                    "raise": clip("raise", ARMS, length=8, stroke=3, release=5)}, SECONDS_PER_LATENT)
+
+
+def test_a_gesture_well_after_a_long_hold_cuts_the_hold_short_and_plays_the_whole_return_before_it(held):
+    held.place(Cue("wave", at(20)), 0)  # stroke 20, clip latents 16 … 35
+    outcome = held.place(Cue("raise", at(36), "yay"), 0)  # its approach from 33, on time
+    head, moved = placed(held, "wave")
+    (raise_,) = placed(held, "raise")
+    assert outcome.status == "blended" and raise_.stroke == 36 and raise_.start == raise_.first == 33
+    assert outcome.note == "after the wave, whose hold is cut short"
+    assert moved.skip == 2 and moved.stop == raise_.start and moved.clip_latent(moved.stop) == 19  # arms down on it
+    assert moved.clip_latent(moved.start + BLEND_LATENTS - 1) == 15 and head.stop == moved.start + BLEND_LATENTS - 1
+    assert moved.stroke == head.stroke == 20 and not moved.whole
+    assert np.array_equal(held.imposition(31).target[ARMS], moved.clip.latents[17, ARMS])  # the return alone
+
+
+def test_a_gesture_too_soon_after_a_stroke_to_move_the_return_cuts_the_return_as_before(held):
+    held.place(Cue("wave", at(20)), 0)
+    outcome = held.place(Cue("raise", at(30), "yay"), 0)  # the return would begin 1 latent after the stroke's hold
+    (wave,) = placed(held, "wave")
+    assert outcome.note == "after the wave, whose return is cut short" and wave.stop == 27 + BLEND_LATENTS - 1
+
+
+def test_a_return_is_never_moved_into_latents_already_generated(held):
+    held.place(Cue("wave", at(20)), 0)
+    outcome = held.place(Cue("raise", at(36), "yay"), next_latent=28)  # the return would begin at 27
+    (wave,) = placed(held, "wave")
+    assert outcome.note == "after the wave, whose return is cut short" and wave.stop == 33 + BLEND_LATENTS - 1
+
+
+def test_the_same_gesture_on_a_word_during_the_playing_ones_return_plays_again_instead_of_merging(held):
+    held.place(Cue("wave", at(20)), 0)
+    assert held.place(Cue("wave", at(26), "welcome"), 0).status == "merged"  # clip latent 10: held on after it
+    again = held.place(Cue("wave", at(30), "hi"), 0)  # clip latent 14: it returns one latent later
+    assert again.status == "blended" and again.stroke_time == 30 * SECONDS_PER_LATENT
+    assert [p.stroke for p in placed(held, "wave")] == [20, 30]

@@ -1,19 +1,25 @@
 """A gesture's performances: recorded takes in turn, tempo and amplitude drawn from the seed, the same seed the same
-performances; a stream's performances of the shipped wave play different recordings."""
+performances; a stream's performances of the shipped wave play different recordings; consecutive ones change hand
+(gestures that name none) and size."""
 
 import numpy as np
 import pytest
 
+from gesturecast.models.motion.motion_features import features_to_motion
+from gesturecast.models.motion.skeleton import CANONICAL
 from gesturecast.realtime.gestures.clips import (
     AMPLITUDE_RANGE,
     PERFORMANCES,
     TEMPO_RANGE,
     ClipMotion,
+    mirrorable,
+    mirrored,
     performance,
     performances,
     rotation_columns,
 )
 from gesturecast.realtime.gestures.lexicon import load_lexicon
+from gesturecast.realtime.gestures.strokes import body_frame_positions, release_frame
 from gesturecast.realtime.run.engine_setup import performed_motions
 
 D = 136
@@ -70,3 +76,63 @@ def test_a_stream_plays_different_recorded_waves_and_one_take_gestures_still_var
     assert len({(m.features.shape[0], float(np.abs(m.features).sum())) for m in bows}) == PERFORMANCES
     old = performed_motions(load_lexicon(), "elderly", seed=0)
     assert all("_elderly_" in m.source for m in old if m.name == "wave")
+
+
+def wrist_heights(motion: ClipMotion) -> np.ndarray:
+    """(T, 2) the left and right wrists' heights above their shoulders (body frame, m)."""
+    body = body_frame_positions(features_to_motion(motion.features))  # (T, J, 3)
+    joint = CANONICAL.index
+    return np.stack([body[:, joint(f"{side}Hand"), 1] - body[:, joint(f"{side}UpperArm"), 1]
+                     for side in ("Left", "Right")], axis=1)
+
+
+def shipped_take(name: str) -> ClipMotion:
+    entry = next(entry for entry in load_lexicon() if entry.name == name)
+    take = entry.takes("neutral")[0]
+    return ClipMotion(name, np.asarray(take.features, np.float32), take.stroke_frame, entry.parts, take.source)
+
+
+def test_a_mirrored_performance_waves_the_other_hand_and_mirroring_twice_gives_it_back():
+    wave = shipped_take("wave-right")
+    other = mirrored(wave)
+    heights, swapped = wrist_heights(wave), wrist_heights(other)
+    assert heights[wave.stroke_frame, 1] > 0.2 > heights[wave.stroke_frame, 0]  # the right hand up
+    assert np.allclose(swapped[:, ::-1], heights, atol=1e-3) and other.stroke_frame == wave.stroke_frame
+    assert np.allclose(mirrored(other).features[:, 4:], wave.features[:, 4:], atol=2e-3)  # float16 takes
+
+
+def test_consecutive_performances_change_hand_and_size_in_turns_of_two():
+    played = performances([shipped_take("bye")], seed=3, mirror=True)
+    hands = [int(np.argmax(wrist_heights(p)[p.stroke_frame])) for p in played]  # 0: left hand up, 1: right
+    assert all(a != b for a, b in zip(hands, hands[1:] + hands[:1], strict=True))
+    for seed in range(4):
+        arms = rotation_columns(("arms",), D)
+        sizes = [float(p.features[:, arms].max()) for p in performances([clip()], seed)]  # the sine's peak: amplitude
+        low, high = AMPLITUDE_RANGE
+        larger = [size > (2 * high + low) / 3 - 0.01 for size in sizes]
+        assert all(size > (2 * high + low) / 3 - 0.01 or size < (high + 2 * low) / 3 + 0.01 for size in sizes)
+        assert larger in ([False, True, True, False], [True, False, False, True])
+
+
+def test_with_two_takes_each_is_played_with_both_hands():
+    takes = [shipped_take("bye"), mirrored(shipped_take("bye"))]  # a right-handed and a left-handed take
+    played = performances(takes, seed=0, mirror=True)
+    hands = [int(np.argmax(wrist_heights(p)[p.stroke_frame])) for p in played]
+    assert len(played) == 4 and sorted(hands) == [0, 0, 1, 1]
+
+
+def test_a_stream_mirrors_every_other_performance_of_a_gesture_that_names_no_hand_and_never_one_that_does():
+    motions = performed_motions(load_lexicon(), None, seed=0, mirror=True)
+    hands = {name: [int(np.argmax(wrist_heights(m)[m.stroke_frame])) for m in motions if m.name == name]
+             for name in ("wave-right", "bye")}
+    assert set(hands["wave-right"]) == {1} and len(set(hands["bye"])) == 2
+    assert mirrorable("bye") and mirrorable("guide") and not mirrorable("wave-right") and not mirrorable("raise-left")
+
+
+def test_a_wave_holds_until_its_release_and_only_returns_after_it():
+    wave = shipped_take("wave")
+    heights = wrist_heights(wave).max(axis=1)  # (T,) the higher wrist above its shoulder
+    release = release_frame(body_frame_positions(features_to_motion(wave.features)))
+    assert wave.stroke_frame < release < len(heights) - 10
+    assert heights[wave.stroke_frame: release - 5].min() > 0.2 and heights[release] > 0.1  # held up, waving
+    assert np.all(np.diff(heights[release + 5:]) < 0.02) and heights[-1] < -0.3  # on its way down, then at rest

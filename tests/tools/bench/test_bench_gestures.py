@@ -1,18 +1,22 @@
-"""The gesture benchmark's parts: espeak-ng word times, the marked stories, the kinematic detector."""
+"""The gesture benchmark's parts: espeak-ng word times, the marked stories, the kinematic detector, the distance
+between two plays of a gesture."""
 
 from pathlib import Path
 
 import numpy as np
 import pytest
 
+from gesturecast.frames import PoseFrame
 from gesturecast.models.dataset.cache import read_take
 from gesturecast.models.dataset.sources import bandai_takes, unpack_archive
 from gesturecast.models.motion.motion_features import face_forward, features_to_motion, motion_to_features
 from gesturecast.models.motion.skeleton import CANONICAL, CANONICAL_WITH_HANDS
 from gesturecast.realtime.gestures.clips import AMPLITUDE_RANGE, ClipMotion, performance
+from gesturecast.realtime.gestures.cues import Cue, CueOutcome
 from gesturecast.realtime.gestures.strokes import body_frame_positions
 from gesturecast.tools.bench.gesture_set.detector import OVERHEAD_M, Detector
 from gesturecast.tools.bench.gesture_set.stories import LEAD_IN_S, make_story
+from gesturecast.tools.bench.gestures import Run, play_distances, played_spans
 from gesturecast.tools.bench.speech.espeak_words import words_at
 
 
@@ -110,3 +114,17 @@ def test_decisions_only_counts_decided_missed_unintended_and_narration_cues():
     assert result["misses"] == [{"mark": "bow", "decided": None, "sentence": "[bow]Thanks to the rain, we stayed in."}]
     assert [row["gesture"] for row in result["narration"]] == ["wave", "wave"]
     assert result["narration_sentences"] == 2
+
+
+def test_two_plays_are_compared_over_the_frames_both_play():
+    names = [set()] * 5 + [{"bow"}] * 20 + [{"bow", "wave"}] * 3 + [{"wave"}] * 10 + [{"bow"}] * 30 + [set()] * 5
+    spans = played_spans(names, "bow", [12, 50])
+    assert spans == [(12, 5, 28), (50, 38, 68)]  # the second starts where the wave leaves off
+    frames = [PoseFrame(t, t / 30, t / 30, np.zeros(3), np.zeros((1, 4)), gesture="+".join(sorted(n)))
+              for t, n in enumerate(names)]
+    body = np.zeros((len(names), 22, 3))
+    body[38:68, :, 0] = 0.1  # the second play 10 cm to the left all along
+    run = Run(frames, [CueOutcome(Cue("bow", 0.4), "on time", 0.4), CueOutcome(Cue("bow", 50 / 30), "on time",
+                                                                                      50 / 30)], 2, [], 1.0)
+    (pair,) = play_distances(run, body)
+    assert pair["distance_m"] == pytest.approx(0.1) and pair["seconds"] == pytest.approx((7 + 16) / 30, abs=0.01)
