@@ -66,7 +66,7 @@ class PhraseCues:
         return [cue for cue, _, _ in self.decided(words, tokens, lambda _: True, None) if cue]
 
     def decided(self, words: list[Word], tokens: list[Token], ready, since: int | None
-                ) -> list[tuple[Cue | None, int, str]]:
+                ) -> list[tuple[Cue | None, int, bool]]:
         """(cue or None for no gesture, the candidate's first token, whether its act opens a talk) of each candidate
         that ``ready(candidate)`` accepts, in order; ``since``: sentence ends between the last act that opens a talk
         and ``tokens``."""
