@@ -356,7 +356,7 @@ class CuePlan:
                               f"parts around the word")
         busy = np.logical_or.reduce([p.clip.channels for p in conflicts])
         if (placement.clip.channels & ~busy).any():
-            return self._share(placement, conflicts, earlier)
+            return self._share(placement, conflicts, earlier, busy)
         conflicts = self._with_siblings(conflicts, placement.start)
         start = max(placement.start, earlier.stroke + 1)
         returns = self._returns(conflicts, start, next_latent) if start == placement.first else None
@@ -407,11 +407,12 @@ class CuePlan:
                                    ramp_out=min(placement.ramp_out, BLEND_LATENTS)))
         return returns
 
-    def _share(self, placement: Placement, conflicts: list[Placement], earlier: Placement) -> CueOutcome:
+    def _share(self, placement: Placement, conflicts: list[Placement], earlier: Placement, busy: np.ndarray
+               ) -> CueOutcome:
         """The later gesture's own parts (a bow's torso) play on time alongside the earlier ones; the parts they share
-        (the arms) hand over once the latest has held its stroke :data:`HOLD_LATENTS`, cross-fading over
-        :data:`BLEND_LATENTS` (the earlier returns cut short), or never when the later has ended by then."""
-        busy = np.logical_or.reduce([p.clip.channels for p in conflicts])
+        (the arms; ``busy``: (C,) the channels the earlier ones impose) hand over once the latest has held its stroke
+        :data:`HOLD_LATENTS`, cross-fading over :data:`BLEND_LATENTS` (the earlier returns cut short), or never when
+        the later has ended by then."""
         columns = np.logical_or.reduce([p.clip.columns for p in conflicts])
         own = replace(placement, clip=part_clip(placement.clip, ~busy, ~columns))
         hand_over = max(placement.start, earlier.stroke + HOLD_LATENTS)
