@@ -3,9 +3,9 @@ no cue lost in silence?
 
 **Texts** (:mod:`gesturecast.tools.bench.gesture_set.texts`, held out from the classifier's training): cued stories
 whose sentences mark the intended speech acts, and ordinary narration with none, spoken by espeak-ng with exact word
-times (:mod:`gesturecast.tools.bench.gesture_set.stories`). ``--stories second`` … ``seventh``
+times (:mod:`gesturecast.tools.bench.gesture_set.stories`). ``--stories second`` … ``eighth``
 read the later held-out sets (:mod:`gesturecast.tools.bench.gesture_set.texts_second`, ``texts_third``,
-``texts_fourth``, ``texts_fifth``, ``texts_sixth``, ``texts_seventh``) instead.
+``texts_fourth``, ``texts_fifth``, ``texts_sixth``, ``texts_seventh``, ``texts_eighth``) instead.
 
 **Runs.** Each cued story is generated with and without its transcript (the same session code as
 ``generate --transcript``), the narrations with theirs; one story also without it at the next seed (the seed-to-seed
@@ -63,6 +63,7 @@ from gesturecast.tools.bench.gesture_set.decisions import decisions
 from gesturecast.tools.bench.gesture_set.detector import Detector, jerk
 from gesturecast.tools.bench.gesture_set.stories import Story, make_story
 from gesturecast.tools.bench.gesture_set.texts import CUED_STORIES, NARRATION, NARRATION_FINAL, NARRATION_LATE
+from gesturecast.tools.bench.gesture_set.texts_eighth import CUED_STORIES_EIGHTH, NARRATION_EIGHTH
 from gesturecast.tools.bench.gesture_set.texts_fifth import CUED_STORIES_FIFTH, NARRATION_FIFTH
 from gesturecast.tools.bench.gesture_set.texts_fourth import CUED_STORIES_FOURTH, NARRATION_FOURTH
 from gesturecast.tools.bench.gesture_set.texts_second import CUED_STORIES_SECOND, NARRATION_SECOND
@@ -85,6 +86,7 @@ STORY_SETS = {  # --stories: (cued stories, named narrations)
     "fifth": (CUED_STORIES_FIFTH, (("narration-fifth", NARRATION_FIFTH),)),
     "sixth": (CUED_STORIES_SIXTH, (("narration-sixth", NARRATION_SIXTH),)),
     "seventh": (CUED_STORIES_SEVENTH, (("narration-seventh", NARRATION_SEVENTH),)),
+    "eighth": (CUED_STORIES_EIGHTH, (("narration-eighth", NARRATION_EIGHTH),)),
 }
 
 
@@ -113,7 +115,7 @@ def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--json", action="store_true", help="print the JSON result")
     parser.add_argument("--out", type=Path, default=Path("out/bench/gestures"), help="folder for JSON and PNG")
     parser.add_argument("--stories", choices=sorted(STORY_SETS), default="first",
-                        help="the held-out text set (default: first; second … seventh: written later, "
+                        help="the held-out text set (default: first; second … eighth: written later, "
                         "see texts_second.py …)")
     parser.add_argument("--decisions-only", action="store_true",
                         help="only which speech acts are decided on the set's words: no speech, no generation "
