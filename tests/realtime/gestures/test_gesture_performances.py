@@ -1,6 +1,6 @@
 """A gesture's performances: recorded takes in turn, tempo and amplitude drawn from the seed, the same seed the same
 performances; a stream's performances of the shipped wave play different recordings; consecutive ones change hand
-(gestures that name none) and size."""
+(gestures that name none and are not symmetric) and size."""
 
 import numpy as np
 import pytest
@@ -16,7 +16,9 @@ from gesturecast.realtime.gestures.clips import (
     mirrored,
     performance,
     performances,
+    played_larger,
     rotation_columns,
+    symmetric,
 )
 from gesturecast.realtime.gestures.lexicon import load_lexicon
 from gesturecast.realtime.gestures.strokes import body_frame_positions, release_frame
@@ -101,17 +103,30 @@ def test_a_mirrored_performance_waves_the_other_hand_and_mirroring_twice_gives_i
     assert np.allclose(mirrored(other).features[:, 4:], wave.features[:, 4:], atol=2e-3)  # float16 takes
 
 
-def test_consecutive_performances_change_hand_and_size_in_turns_of_two():
+def test_consecutive_performances_change_hand_every_time_and_size_in_turns_of_two():
     played = performances([shipped_take("bye")], seed=3, mirror=True)
     hands = [int(np.argmax(wrist_heights(p)[p.stroke_frame])) for p in played]  # 0: left hand up, 1: right
     assert all(a != b for a, b in zip(hands, hands[1:] + hands[:1], strict=True))
+    assert [played_larger(k, hands_alternate=True) for k in range(4)] == [0, 1, 1, 0]
+
+
+def test_a_symmetric_gesture_leads_with_either_hand_in_turns_and_changes_size_every_time_the_larger_slower():
+    raise_both = shipped_take("raise-both")
+    assert symmetric(raise_both) and symmetric(shipped_take("wave")) and not symmetric(shipped_take("bow"))
+    for seed in range(4):  # never mirrored: the hands lead in turns, the other arm lower
+        played = performances([raise_both], seed, mirror=True)
+        leads = [int(np.argmax(wrist_heights(p)[p.stroke_frame])) for p in played]
+        assert all(a != b for a, b in zip(leads, leads[1:] + leads[:1], strict=True))
+    assert [played_larger(k, hands_alternate=False) for k in range(4)] == [0, 1, 0, 1]
+    arms = rotation_columns(("arms",), D)
+    low, high = AMPLITUDE_RANGE
     for seed in range(4):
-        arms = rotation_columns(("arms",), D)
         sizes = [float(p.features[:, arms].max()) for p in performances([clip()], seed)]  # the sine's peak: amplitude
-        low, high = AMPLITUDE_RANGE
-        larger = [size > (2 * high + low) / 3 - 0.01 for size in sizes]
         assert all(size > (2 * high + low) / 3 - 0.01 or size < (high + 2 * low) / 3 + 0.01 for size in sizes)
-        assert larger in ([False, True, True, False], [True, False, False, True])
+        larger = [size > (2 * high + low) / 3 - 0.01 for size in sizes]
+        assert larger in ([False, True] * 2, [True, False] * 2)
+        lengths = [p.features.shape[0] for p in performances([clip()], seed)]  # 60 frames recorded
+        assert all(n >= 60 if big else n <= 60 for n, big in zip(lengths, larger, strict=True))  # larger is slower
 
 
 def test_with_two_takes_each_is_played_with_both_hands():
