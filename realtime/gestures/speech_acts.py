@@ -79,8 +79,15 @@ ATTRIBUTION = frozenset(["said", "says", "say", "asked", "asks", "ask", "argued"
                          "recalled", "recalls", "repeated", "mumbled", "snapped", "grumbled",
                          "tell", "mutters", "murmurs", "mumbles", "grumbles", "snaps", "sighs", "groans", "laughs",
                          "jokes", "yells", "screams", "exclaims", "insists", "complains", "remarks",
-                         "repeats"])  # verbs of saying (the phrasebook revision: every past form's present too)
-PAST_SAYING = frozenset(["said", "told", "wrote", "thought", "began"])
+                         "repeats",
+                         "sneered", "sneers", "snarled", "snarls", "hissed", "hisses", "growled", "growls",
+                         "chuckled", "chuckles", "teased", "teases", "scoffed", "scoffs", "gasped", "gasps",
+                         "boomed", "booms", "roared", "roars", "barked", "barks", "quipped", "quips", "retorted",
+                         "retorts", "stammered", "stammers", "texted", "texts", "typed", "types", "scrawled",
+                         "scribbled", "written", "spoken", "sung", "sang", "sings"])  # verbs of saying (the
+# phrasebook revision: every past form's present too; the last revision: manners of saying and the participles
+# after "had" / "has": "See you in court, the defendant had written")
+PAST_SAYING = frozenset(["said", "told", "wrote", "thought", "began", "written", "spoken", "sung", "sang"])
 REFLEXIVE_SELF = frozenset(["myself", "ourselves", "yourself", "yourselves"])  # a quote said to oneself
 ATTRIBUTION_CLAUSE = 7  # a clause of at most this many words after the quote that holds a verb of saying
 ATTRIBUTION_CLOSING = 12  # … or of at most this many that a verb of saying closes ("the sign in the window says.")

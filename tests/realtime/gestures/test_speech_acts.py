@@ -138,7 +138,8 @@ def test_words_heard_one_at_a_time_cue_the_same_as_the_transcript(phrases):
 
 
 @pytest.mark.parametrize("text", ["Goodbye, sun, said the boy.", "Hello, it says in a small voice every time.",
-                                  "Take care of the maps, she said."])
+                                  "Take care of the maps, she said.", "See ya, the pirate sneered.",
+                                  "Bye, he had written."])
 def test_a_quote_attributed_within_three_words_is_no_cue_heard_either_way(phrases, text):
     words = words_of(text)
     listener = PhraseListener(phrases)
