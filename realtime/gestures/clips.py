@@ -9,17 +9,16 @@ versions of it (or the next multiple of its number of takes), each a recorded ta
 up to three per style where the data has several; the takes in turn, in an order drawn from the seed) at its own
 tempo (:data:`TEMPO_RANGE`, resampled in time) and amplitude (:data:`AMPLITUDE_RANGE`, the moving joints' 6D
 rotation features scaled about the clip's first pose), drawn from the stream's seed: the amplitude from the lower
-or the upper third of its range in turns of two (two shallow bows, then two deep ones), a larger one slower (the
-tempo from the lower half of its range), a smaller one quicker. A gesture of the built
-lexicon whose name says no hand (a bye, a guide, a bow; not wave-right) is played with the other hand every other
-time (:func:`mirrored`: the left and right joints swapped and reflected), unless it is symmetric (both hands wave
-or rise: its mirror within :data:`SYMMETRIC_WITHIN_M` of it, :func:`symmetric`); then the other hand is no other
-performance, so the hands lead in turns (the other arm turns :data:`LAGGING_ARM` as far) and the size changes
-every time. The cue plan plays them in turn (and again
-from the first), so two plays of a gesture in a row are different takes where there are two or more, with the other
-hand (every other time also at another size), at other tempos, and another seed plays others. Each clip also
-knows where its hold ends (:func:`gesturecast.realtime.gestures.strokes.release_frame`), so the cue plan can cut a
-hold short and keep the return.
+or the upper third of its range, in turns of two where the hands alternate (two shallow bows, then two deep ones)
+and every time otherwise, a larger one slower (the tempo from the lower half of its range), a smaller one quicker.
+A gesture of the built lexicon whose name says no hand (a bye, a guide, a bow; not wave-right) is played with the
+other hand every other time (:func:`mirrored`: the left and right joints swapped and reflected), unless it is
+symmetric (both hands wave or rise: its mirror within :data:`SYMMETRIC_WITHIN_M` of it, :func:`symmetric`); then
+the other hand is no other performance, so the hands lead in turns (the other arm turns :data:`LAGGING_ARM` as
+far). The cue plan plays them in turn (and again from the first), so two plays of a gesture in a row are different
+takes where there are two or more, at another size or with the other hand, at other tempos, and another seed plays
+others. Each clip also knows where its hold ends (:func:`gesturecast.realtime.gestures.strokes.release_frame`), so
+the cue plan can cut a hold short and keep the return.
 """
 
 from __future__ import annotations
@@ -170,16 +169,16 @@ def performances(takes: Sequence[ClipMotion], seed: int, count: int = PERFORMANC
     total = -(-count // len(takes)) * len(takes)
     hand, size = (int(k) for k in rng.integers(2, size=2))
     even = mirror and all(symmetric(take) for take in takes)  # both hands alike: they lead in turns instead
-    mirror = mirror and not even
+    other_hands = mirror and not even
     low, high = AMPLITUDE_RANGE
     third = (high - low) / 3
     motions = []
     for k in range(total):
-        larger = played_larger(k, mirror) ^ size
+        larger = played_larger(k, other_hands) ^ size
         amplitude = rng.uniform(high - third, high) if larger else rng.uniform(low, low + third)
         tempo = rng.uniform(TEMPO_RANGE[0], 1.0) if larger else rng.uniform(1.0, TEMPO_RANGE[1])  # larger is slower
         lagging = ARM_SIDES[(k + hand) % 2] if even else None
         motion = performance(takes[order[k % len(takes)]], float(tempo), float(amplitude), lagging)
         other_hand = (k + (k // len(takes) if len(takes) % 2 == 0 else 0) + hand) % 2  # a take's next round flips
-        motions.append(mirrored(motion) if mirror and other_hand else motion)
+        motions.append(mirrored(motion) if other_hands and other_hand else motion)
     return motions
