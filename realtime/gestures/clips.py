@@ -23,6 +23,7 @@ the cue plan can cut a hold short and keep the return.
 
 from __future__ import annotations
 
+import hashlib
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, replace
 
@@ -43,6 +44,7 @@ SIDES = ("-left", "-right")  # a gesture named with one of these is performed wi
 SYMMETRIC_WITHIN_M = 0.04  # mean joint distance of a take from its mirror below which it reads the same mirrored
 LAGGING_ARM = 0.85  # how far the arm that does not lead a symmetric gesture turns, relative to the leading one
 ARM_SIDES = ("Left", "Right")  # joint-name prefixes of the two arms
+_SYMMETRIC_TAKES: dict[bytes, bool] = {}  # a take's features' digest -> whether it is symmetric (:func:`symmetric`)
 
 
 @dataclass(frozen=True)
@@ -134,10 +136,14 @@ def mirrored(motion: ClipMotion) -> ClipMotion:
 def symmetric(motion: ClipMotion) -> bool:
     """Whether ``motion`` reads the same with the other hand: its mirror's joints are on average within
     :data:`SYMMETRIC_WITHIN_M` of its own (the shipped both-hands waves and raises 1.6–2.6 cm, a bow 6 cm, one-hand
-    gestures 7–16 cm)."""
-    positions = features_to_motion(motion.features).positions()  # (T, J, 3)
-    other = features_to_motion(mirrored(motion).features).positions()  # (T, J, 3)
-    return float(np.linalg.norm(positions - other, axis=-1).mean()) < SYMMETRIC_WITHIN_M
+    gestures 7–16 cm). A property of the recorded take, worked out once per process (two forward kinematics of the
+    whole take: 60 of a session build's 90 ms otherwise)."""
+    key = hashlib.blake2b(np.ascontiguousarray(motion.features).tobytes(), digest_size=16).digest()
+    if key not in _SYMMETRIC_TAKES:
+        positions = features_to_motion(motion.features).positions()  # (T, J, 3)
+        other = features_to_motion(mirrored(motion).features).positions()  # (T, J, 3)
+        _SYMMETRIC_TAKES[key] = float(np.linalg.norm(positions - other, axis=-1).mean()) < SYMMETRIC_WITHIN_M
+    return _SYMMETRIC_TAKES[key]
 
 
 def mirrorable(name: str) -> bool:
