@@ -245,6 +245,12 @@ def test_the_phrasebook_families_are_candidates(text, phrase, intent):
     assert (" ".join(t.text for t in tokens[found.start:found.stop]), found.intents) == (phrase, (intent,))
 
 
+def first_rule(text: str) -> str | None:
+    """What the rules decide for the first candidate phrase of ``text`` (words split at spaces)."""
+    tokens = tokenize(text.split())
+    return rule(tokens, candidates(tokens)[0])
+
+
 @pytest.mark.parametrize("act, intent, ordinary", [
     ("Morning, all.", "greeting", "Morning traffic was light on the ring road."),
     ("Evening, everyone!", "greeting", "The evening news ran long."),
@@ -257,8 +263,7 @@ def test_the_phrasebook_families_are_candidates(text, phrase, intent):
     ("Later, guys!", "farewell", "Later, the council changed its mind."),
     ("Later!", "farewell", "Later all the guests went home.")])
 def test_an_interjection_word_is_its_act_only_standing_alone(act, intent, ordinary):
-    tokens = tokenize(act.split())
-    assert rule(tokens, candidates(tokens)[0]) == intent
+    assert first_rule(act) == intent
     tokens = tokenize(ordinary.split())
     assert [rule(tokens, c) for c in candidates(tokens)] == ["none"]
 
@@ -270,10 +275,8 @@ def test_an_interjection_word_is_its_act_only_standing_alone(act, intent, ordina
     ("Behold the finished cathedral.", "The old castle was a sight to behold."),
     ("Sleep well, and see you in the morning.", "Babies sleep well in a cool room.")])
 def test_a_phrase_that_must_open_its_clause_is_no_act_elsewhere(act, ordinary):
-    tokens = tokenize(act.split())
-    assert rule(tokens, candidates(tokens)[0]) != "none"
-    tokens = tokenize(ordinary.split())
-    assert rule(tokens, candidates(tokens)[0]) == "none"
+    assert first_rule(act) != "none"
+    assert first_rule(ordinary) == "none"
 
 
 @pytest.mark.parametrize("act, intent, ordinary", [
@@ -283,10 +286,8 @@ def test_a_phrase_that_must_open_its_clause_is_no_act_elsewhere(act, ordinary):
     ("Safe travels, and text us when you land.", "farewell", "The airline wished everyone safe travels."),
     ("Gather round, the story is starting.", "calling", "Gather round was the name of their first album.")])
 def test_a_whole_phrase_opening_a_clause_is_its_act_unless_reported_quoted_or_named(act, intent, ordinary):
-    tokens = tokenize(act.split())
-    assert rule(tokens, candidates(tokens)[0]) == intent
-    tokens = tokenize(ordinary.split())
-    assert rule(tokens, candidates(tokens)[0]) != intent
+    assert first_rule(act) == intent
+    assert first_rule(ordinary) != intent
 
 
 def test_a_present_verb_of_saying_attributes_a_quote():
