@@ -51,6 +51,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                              "preset's, 1)")
     parser.add_argument("--voice-copies", type=int, default=None,
                         help="waveform-augmented voice copies per paired train clip (default: the preset's)")
+    parser.add_argument("--respoken-copies", type=int, default=None, metavar="N",
+                        help="TTS voices (espeak-ng) re-speaking each paired take's words in time with its motion, "
+                             "0-8 (needs pocketsphinx; docs/unseen-voices-study.md; default: the preset's)")
     parser.add_argument("--partial-takes", action=argparse.BooleanOptionalAction, default=None,
                         help="also train on takes that hold only some body parts (SHOW: arms), the others masked "
                              "(default: the preset's; docs/dataset.md)")
@@ -85,6 +88,7 @@ def run_train(args: argparse.Namespace) -> int:
 
     preset = get_preset(args.preset, seed=args.seed, audio_lookahead=args.lookahead, threads=args.threads,
                         audio_augmentation=args.audio_augmentation, voice_copies=args.voice_copies,
+                        respoken_copies=args.respoken_copies,
                         front_end=args.front_end, speaker_norm=args.speaker_norm, warm_start=args.warm_start,
                         speech_embedding=args.speech_embedding, speech_embedding_every=args.speech_embedding_every,
                         lookahead_truncation=args.lookahead_truncation, partial_takes=args.partial_takes,

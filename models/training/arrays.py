@@ -19,6 +19,8 @@ from gesturecast.models.audio.files import SAMPLE_RATE
 from gesturecast.models.audio.streaming import FeatureConfig, extract_features
 from gesturecast.models.dataset.augment import AugmentConfig, augmented_variants, slice_audio
 from gesturecast.models.dataset.cache import is_full_body, load_take, read_index
+from gesturecast.models.dataset.respeak import TRAINING_VOICES, respeak
+from gesturecast.models.dataset.transcripts import cached_words
 from gesturecast.models.dataset.voice_transforms import random_voice
 from gesturecast.models.generator.styles import canonical_style
 from gesturecast.models.motion.body_parts import PART_NAMES, holds_every_part
@@ -70,6 +72,17 @@ def voice_variants(tag: str, audio: np.ndarray | None, copies: int,
     return [(tag, audio), *((f"{tag}+voice{i}", random_voice(audio, SAMPLE_RATE, rng)) for i in range(copies))]
 
 
+def take_speakers(cache_dir: Path, record: dict, audio: np.ndarray | None,
+                  respoken: int) -> list[tuple[str, np.ndarray | None]]:
+    """("", the take's own audio), then ("+tts-VOICE", its words re-spoken) for the first ``respoken`` training
+    voices (models/dataset/respeak.py); only the own audio for takes without speech."""
+    if audio is None or respoken == 0:
+        return [("", audio)]
+    words = cached_words(cache_dir, record, audio)
+    return [("", audio), *((f"+tts-{voice.voice}", respeak(audio, words, voice))
+                           for voice in TRAINING_VOICES[:respoken])]
+
+
 def load_training_clips(
     cache_dir: Path,
     split: str,
@@ -80,12 +93,15 @@ def load_training_clips(
     voice_copies: int = 0,
     seed: int = 0,
     partial_takes: bool = False,
+    respoken_copies: int = 0,
 ) -> list[TrainingClip]:
     """Every segment of ``split`` in the cache, augmented for training, with audio features; takes that hold only
-    some body parts (SHOW) only when ``partial_takes``."""
+    some body parts (SHOW) only when ``partial_takes``. In ``train``, each paired take also comes with
+    ``voice_copies`` waveform voice copies per variant and ``respoken_copies`` re-spoken TTS copies."""
     clips = []
     rng = np.random.default_rng(seed)
     copies = voice_copies if split == "train" else 0
+    respoken = respoken_copies if split == "train" else 0
     records = [record for record in read_index(cache_dir)["takes"] if partial_takes or is_full_body(record)]
     for record in tqdm(records, desc=f"load {split}", unit="take", disable=not progress):
         segments = [s for s in record["segments"] if s["split"] == split]
@@ -93,20 +109,24 @@ def load_training_clips(
             continue
         motion, audio = load_take(cache_dir, record)
         augment = augmentation(audio is not None, split, mirror_motion_only, paired_speeds)
+        speakers = take_speakers(cache_dir, record, audio, respoken)
         for segment in segments:
             part = motion.slice(segment["start"], segment["stop"])
-            part_audio = None if audio is None else slice_audio(audio, segment["start"], segment["stop"], motion.fps,
-                                                                SAMPLE_RATE)
-            for tag, variant, variant_audio in augmented_variants(part, part_audio, augment, SAMPLE_RATE):
-                features = motion_to_features(variant)  # (T, D)
-                for voice_tag, voice_audio in voice_variants(tag, variant_audio, copies, rng):
-                    audio_features = (
-                        None if voice_audio is None
-                        else aligned_audio_features(voice_audio, len(features), feature_config)
-                    )
-                    clips.append(TrainingClip(record["name"], record["dataset"], canonical_style(record["style"]),
-                                              voice_tag, features, audio_features, voice_tag != tag,
-                                              tuple(record["parts"])))
+            for speaker_tag, speaker_audio in speakers:
+                part_audio = None if speaker_audio is None else slice_audio(
+                    speaker_audio, segment["start"], segment["stop"], motion.fps, SAMPLE_RATE)
+                for tag, variant, variant_audio in augmented_variants(part, part_audio, augment, SAMPLE_RATE):
+                    features = motion_to_features(variant)  # (T, D)
+                    own_voice_copies = 0 if speaker_tag else copies
+                    for voice_tag, voice_audio in voice_variants(tag + speaker_tag, variant_audio, own_voice_copies,
+                                                                 rng):
+                        audio_features = (
+                            None if voice_audio is None
+                            else aligned_audio_features(voice_audio, len(features), feature_config)
+                        )
+                        clips.append(TrainingClip(record["name"], record["dataset"],
+                                                  canonical_style(record["style"]), voice_tag, features,
+                                                  audio_features, voice_tag != tag, tuple(record["parts"])))
     return clips
 
 

@@ -125,7 +125,7 @@ def hardware_summary() -> dict:
 
 def data_stage(inputs: TrainInputs) -> dict:
     motion_stats = Normalizer.fit([clip.motion for clip in inputs.full_body_train], MOTION_STD_FLOOR)
-    paired = [clip.audio for clip in inputs.train if clip.audio is not None]
+    paired = [clip.audio for clip in inputs.motion_train if clip.audio is not None]  # the speakers' own voices
     if not paired:
         raise UserError("the training split holds no take with speech audio; the model needs paired data")
     audio_stats = FeatureStats.fit(paired, inputs.feature_config)
@@ -346,7 +346,8 @@ def run_training(preset: TrainPreset, cache_dir: Path, work_dir: Path, resume: b
     kwargs = {"mirror_motion_only": preset.mirror_motion_only, "paired_speeds": preset.paired_speeds,
               "progress": progress, "partial_takes": preset.partial_takes}
     inputs = TrainInputs(load_training_clips(cache_dir, "train", feature_config, **kwargs,
-                                             voice_copies=preset.voice_copies, seed=preset.seed),
+                                             voice_copies=preset.voice_copies, seed=preset.seed,
+                                             respoken_copies=preset.respoken_copies),
                          load_training_clips(cache_dir, "val", feature_config, **kwargs), feature_config)
     checkpoint["stage_seconds"]["load"] = time.perf_counter() - started
     stage_functions = {

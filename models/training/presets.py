@@ -12,6 +12,7 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass, field, replace
 
 from gesturecast.errors import UserError
+from gesturecast.models.dataset.respeak import TRAINING_VOICES
 from gesturecast.models.generator.diffusion import DEFAULT_DDIM_STEPS
 from gesturecast.models.motion.body_parts import PART_NAMES
 
@@ -67,6 +68,7 @@ class TrainPreset:
     paired_speeds: tuple[float, ...] = field(default=(0.9, 1.1))
     audio_augmentation: bool = False  # feature-space voice / channel augmentation (models/training/audio_augment.py)
     voice_copies: int = 0  # waveform-augmented copies of each paired train variant (models/training/arrays.py)
+    respoken_copies: int = 0  # TTS voices re-speaking each paired take in time (models/dataset/respeak.py)
     front_end: str = "mel"  # FeatureConfig.kind: "mel" or "prosody" (docs/voices.md)
     speaker_norm: bool = False  # log-mel / energy relative to the voice's running mean (models/audio/speaker_norm.py)
     warm_start: bool = False  # the normaliser's mean starts from the speech heard so far (SpeakerNormConfig)
@@ -144,6 +146,10 @@ def get_preset(name: str, **overrides) -> TrainPreset:
     if unknown_parts:
         raise UserError(f"unknown body part {sorted(unknown_parts)[0]!r} for style swaps; "
                         f"known: {', '.join(PART_NAMES)}")
+    respoken = overrides.get("respoken_copies")
+    if respoken is not None and not 0 <= respoken <= len(TRAINING_VOICES):
+        raise UserError(f"--respoken-copies {respoken}: there are {len(TRAINING_VOICES)} training voices; "
+                        f"give 0 to {len(TRAINING_VOICES)}")
     if overrides.get("front_end") not in (None, "mel", "prosody"):
         raise UserError(f"unknown front end {overrides['front_end']!r}; known: mel, prosody")
     nested = {key: overrides.pop(key) for key in NESTED_OVERRIDES if key in overrides}

@@ -13,17 +13,16 @@ Portuguese and German voices read with five pure vowels. Frame labels (30 fps, t
 
 from __future__ import annotations
 
-import shutil
 import subprocess
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from gesturecast.errors import UserError
 from gesturecast.frames import VISEME_VOWELS
 from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
 from gesturecast.models.audio.streaming import FeatureConfig, extract_features
+from gesturecast.programs import espeak
 
 SET_DIR = Path(".cache/lipsync_set")
 # male and female variants, five languages' rules (voice+variant as espeak-ng names them)
@@ -46,20 +45,6 @@ class Utterance:
     word: str
     audio: np.ndarray  # (N,) 16 kHz, padded with silence
     labels: np.ndarray  # (T,) class per frame: 0-4 vowel, 5 silence, -1 unlabelled
-
-
-def installed(program: str, package: str | None = None) -> str:
-    """Path of ``program``; UserError naming its Debian package when it is not installed."""
-    path = shutil.which(program)
-    if path is None:
-        raise UserError(f"{program} is not installed (apt-get install {package or program}; see the Makefile's "
-                        "SYSTEM_PACKAGES)")
-    return path
-
-
-def espeak() -> str:
-    """Path of espeak-ng; UserError when it is not installed."""
-    return installed("espeak-ng")
 
 
 def synthesize(voice: str, word: str, out_dir: Path = SET_DIR) -> Path:

@@ -33,7 +33,7 @@ import soxr
 
 from gesturecast.errors import UserError
 from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
-from gesturecast.tools.bench.speech.lipsync_set import espeak, installed
+from gesturecast.programs import espeak, installed
 
 HELD_OUT = "held-out"
 DEV = "dev"
