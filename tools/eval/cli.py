@@ -42,6 +42,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         "trained styles the classifier knows)")
     parser.add_argument("--ddpm-seconds", type=float, help="crop of every clip DDPM runs on (costly: "
                         "~5 s of compute per second of motion)")
+    parser.add_argument("--seed", type=int, default=0,
+                        help="generation seed of every system (default 0); compare models over several")
     parser.add_argument("--lookahead-models", type=Path, nargs="*", default=[], metavar="DIR",
                         help="bundles trained with another look-ahead, compared at K = 4 on the held-out set")
     parser.add_argument("--fgd-encoder", type=Path, default=DEFAULT_FGD_ENCODER, help=argparse.SUPPRESS)
@@ -50,7 +52,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def eval_config(args: argparse.Namespace) -> EvalConfig:
-    config = QUICK if args.quick else EvalConfig()
+    config = replace(QUICK if args.quick else EvalConfig(), seed=args.seed)
     if args.systems:
         config = replace(config, systems=tuple(n for n in SYSTEM_NAMES if n in args.systems))
     if args.styles:

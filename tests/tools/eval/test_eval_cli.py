@@ -54,3 +54,15 @@ def test_report_records_commit_versions_and_plots(quick_report):
 def test_ground_truth_style_accuracy_uses_the_clip_labels(quick_report):
     _, report = quick_report
     assert set(report["systems"]["ground_truth"]["style_accuracy"]["per_style"]) == {"neutral", "old"}
+
+
+def test_another_generation_seed_generates_other_motion(quick_report, tiny_model, shared_data, tmp_path):
+    _, seed0 = quick_report
+    out = tmp_path / "seed1.json"
+    bundle = tiny_model[1]
+    unseen = shared_data / "speech" / "tts_01_en-us.wav"
+    assert main(["eval", "--json", str(out), "--model", str(bundle), "--quick", "--cache",
+                 str(bundle.parent / "dataset"), "--unseen", str(unseen), "--systems", "ddim_k4", "--seed", "1"]) == 0
+    seed1 = json.loads(out.read_text())
+    assert seed0["config"]["seed"] == 0 and seed1["config"]["seed"] == 1
+    assert seed1["systems"]["ddim_k4"]["jerk"] != seed0["systems"]["ddim_k4"]["jerk"]
