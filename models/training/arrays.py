@@ -24,6 +24,7 @@ from gesturecast.models.dataset.transcripts import cached_words
 from gesturecast.models.dataset.voice_transforms import random_voice
 from gesturecast.models.generator.styles import canonical_style
 from gesturecast.models.motion.body_parts import PART_NAMES, holds_every_part
+from gesturecast.models.motion.motion import Motion
 from gesturecast.models.motion.motion_features import motion_to_features
 
 
@@ -83,6 +84,22 @@ def take_speakers(cache_dir: Path, record: dict, audio: np.ndarray | None,
                            for voice in TRAINING_VOICES[:respoken])]
 
 
+def variant_clips(record: dict, part: Motion, part_audio: np.ndarray | None, speaker_tag: str,
+                  augment: AugmentConfig, copies: int, feature_config: FeatureConfig,
+                  rng: np.random.Generator) -> list[TrainingClip]:
+    """One segment in one speaker's audio: its augmented variants, each with ``copies`` waveform voice copies."""
+    clips = []
+    for tag, variant, variant_audio in augmented_variants(part, part_audio, augment, SAMPLE_RATE):
+        features = motion_to_features(variant)  # (T, D)
+        for voice_tag, voice_audio in voice_variants(tag + speaker_tag, variant_audio, copies, rng):
+            audio_features = (
+                None if voice_audio is None else aligned_audio_features(voice_audio, len(features), feature_config)
+            )
+            clips.append(TrainingClip(record["name"], record["dataset"], canonical_style(record["style"]), voice_tag,
+                                      features, audio_features, voice_tag != tag, tuple(record["parts"])))
+    return clips
+
+
 def load_training_clips(
     cache_dir: Path,
     split: str,
@@ -115,18 +132,8 @@ def load_training_clips(
             for speaker_tag, speaker_audio in speakers:
                 part_audio = None if speaker_audio is None else slice_audio(
                     speaker_audio, segment["start"], segment["stop"], motion.fps, SAMPLE_RATE)
-                for tag, variant, variant_audio in augmented_variants(part, part_audio, augment, SAMPLE_RATE):
-                    features = motion_to_features(variant)  # (T, D)
-                    own_voice_copies = 0 if speaker_tag else copies
-                    for voice_tag, voice_audio in voice_variants(tag + speaker_tag, variant_audio, own_voice_copies,
-                                                                 rng):
-                        audio_features = (
-                            None if voice_audio is None
-                            else aligned_audio_features(voice_audio, len(features), feature_config)
-                        )
-                        clips.append(TrainingClip(record["name"], record["dataset"],
-                                                  canonical_style(record["style"]), voice_tag, features,
-                                                  audio_features, voice_tag != tag, tuple(record["parts"])))
+                clips.extend(variant_clips(record, part, part_audio, speaker_tag, augment,
+                                           0 if speaker_tag else copies, feature_config, rng))
     return clips
 
 
