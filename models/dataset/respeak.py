@@ -23,10 +23,10 @@ import numpy as np
 import soundfile
 import soxr
 
+from gesturecast.models.audio.files import SAMPLE_RATE
 from gesturecast.models.dataset.transcripts import Word
 from gesturecast.programs import espeak
 
-SAMPLE_RATE = 16000
 TRIM_DB = 40.0  # a synthesised word's edges quieter than its peak by this much are cut
 BASE_WPM = 175  # espeak-ng's default speaking rate
 WPM_RANGE = (80, 450)  # the rates espeak-ng takes (-s)

@@ -17,9 +17,9 @@ from pathlib import Path
 import numpy as np
 
 from gesturecast.errors import UserError
+from gesturecast.models.audio.files import SAMPLE_RATE
 
 SPHINX_FRAMES_PER_S = 100  # PocketSphinx's frame rate (10 ms frames)
-SPHINX_RATE = 16000
 ALTERNATE_PRONUNCIATION = re.compile(r"\(\d+\)$")  # "nice(2)": the dictionary's second pronunciation
 
 
@@ -35,7 +35,7 @@ def _decoder():
         from pocketsphinx import Decoder
     except ImportError as error:  # a train extra: the runtime never transcribes
         raise UserError("re-spoken voice copies need pocketsphinx (pip install 'gesturecast[train]')") from error
-    return Decoder(samprate=SPHINX_RATE, loglevel="FATAL")
+    return Decoder(samprate=SAMPLE_RATE, loglevel="FATAL")  # the project's audio rate
 
 
 def transcribe(audio: np.ndarray) -> list[Word]:
