@@ -22,6 +22,7 @@ from gesturecast.controls import STYLE_SETTINGS, Choice, Number, StyleChange
 from gesturecast.errors import UserError
 from gesturecast.frames import FACE_NAMES, VISEME_NAMES
 from gesturecast.models.generator.style_prompt import PartStyles, StylePrompt, parse_part_styles
+from gesturecast.models.generator.styles import canonical_style
 from gesturecast.models.motion.root_anchor import RootMode
 
 
@@ -52,6 +53,7 @@ FACE_OFF, FACE_BLINK, FACE_FULL = "off", "blink", "full"
 FACE_MODES = (FACE_OFF, FACE_BLINK, FACE_FULL)  # what the face does besides the mouth
 OUTPUT_RATES = (30, 60)  # 60: slerp upsampling of the 30 fps motion
 DEFAULT_STYLE_STRENGTH = 1.0
+GENERATOR_STYLE = "speech"  # what the generator hears under the stylizer's styles (docs/voices.md)
 SINGLE_STYLE = 1.0  # γ = 1: the first style only
 DEFAULT_AUDIO_GUIDANCE = 1.5  # docs/generator.md "Audio guidance": rests in pauses, follows the speech more
 DEFAULT_SMOOTHING_FRAMES = 1  # centred 3-frame window: jerk ≈ real motion's (docs/generator.md "Smoothing")
@@ -90,6 +92,10 @@ class Settings:
     style2, gamma: second style of x̂0 = γ·D(style) + (1 − γ)·D(style2) (DiffuseStyleGesture); γ = 1: one style.
     style_strength: how strongly the style shows, 0 .. 2: the stylizer after the generator changes the motion by k
         times the fitted style (0: the generator's own motion, 1: as fitted; docs/stylizer.md).
+    generator_style: the label the generator hears whenever the stylizer gives the style (every stylizer style,
+        the default ``neutral`` among them): ``speech``, learned from motion captured with its speech, so the motion
+        follows the voice; ``neutral`` gives the generator's own neutral, learned mostly from motion without
+        speech (docs/voices.md).
     guidance: classifier-free guidance s (None: the model's); audio_guidance: s_a (1: off).
     sampler, steps: "ddim" with K steps per latent (None: the model's, 2 for the bundled one), or "ddpm" over all the
         model's steps (offline quality).
@@ -114,6 +120,7 @@ class Settings:
     style2: str | None = None
     gamma: float = SINGLE_STYLE
     style_strength: float = DEFAULT_STYLE_STRENGTH
+    generator_style: str = GENERATOR_STYLE
     guidance: float | None = None
     audio_guidance: float = DEFAULT_AUDIO_GUIDANCE
     sampler: str = "ddim"
@@ -147,6 +154,7 @@ class Settings:
         self.style_prompt()  # an empty style or prompt is refused here
         if self.style2 is not None:
             StylePrompt.parse(self.style2)
+        object.__setattr__(self, "generator_style", canonical_style(self.generator_style))
 
     def style_prompt(self) -> StylePrompt:
         """The first style: the motion prompt, else the text prompt, else ``style``."""

@@ -57,6 +57,10 @@ def add_generation_arguments(parser: argparse.ArgumentParser) -> None:
                             "above 1 exaggerates --style away from --style2 (default %(default)s)")
     group.add_argument("--style-strength", default=defaults.style_strength, **_limited("style_strength"),
                        help="how strongly the style shows: 0 neutral, 1 the model's default, up to 2")
+    group.add_argument("--generator-style", default=defaults.generator_style, metavar="LABEL",
+                       help="the label the generator hears under the stylizer's styles: speech (the default) "
+                            "follows the voice; neutral is the generator's own neutral, learned from motion without "
+                            "speech (docs/voices.md)")
     group.add_argument("--guidance", **_limited("guidance"),
                        help="how closely the motion follows the style and speech prompts; higher shows styles "
                             "more (4 is clear) but follows the speech less (default: the model's)")

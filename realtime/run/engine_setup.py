@@ -24,11 +24,12 @@ from gesturecast.bridges.vmc_roles import BoneSelection
 from gesturecast.bridges.ws_access import token_from_sources
 from gesturecast.errors import UserError
 from gesturecast.models.generator.diffusion import SamplerConfig
+from gesturecast.models.generator.style_prompt import StylePrompt
 from gesturecast.models.motion.root_anchor import RootMode
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
 from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.models.style.params import DEFAULT_STYLE_PARAMS, StyleBook
-from gesturecast.realtime.generation.generator import NEUTRAL_STYLE, Generator, GeneratorSettings
+from gesturecast.realtime.generation.generator import Generator, GeneratorSettings
 from gesturecast.realtime.gestures.clips import ClipMotion, encode_clips, mirrorable, performances
 from gesturecast.realtime.gestures.lexicon import (
     DEFAULT_STYLE,
@@ -90,7 +91,9 @@ def generator_settings(settings: Settings, bundle: ModelBundle, budget: LatencyB
         audio_guidance=settings.audio_guidance,
         lookahead=budget.lookahead_frames,
         part_styles=settings.part_styles,
-        generator_style=NEUTRAL_STYLE,  # the stylizer after the generator gives the style (docs/stylizer.md)
+        # the stylizer after the generator gives the style (docs/stylizer.md); the generator hears a label it learned
+        # with speech, so that the motion follows the voice in every style (docs/voices.md)
+        generator_style=StylePrompt("label", settings.generator_style),
         own_labels=StyleBook.labels_left(DEFAULT_STYLE_PARAMS, bundle.styles.labels),
     )
 

@@ -1,7 +1,8 @@
 """``gesturecast bench following``: does a model's motion follow the speech of voices it never heard?
 
 For a bundle, motion is generated through the product's offline path (``run_offline``, DDIM K,
-the bundle's guidance) for: the held-out test segments of the paired takes (seen speakers,
+the bundle's guidance) at the product's default settings unless ``--style`` / ``--generator-style`` ask for another
+condition (:mod:`gesturecast.tools.eval.condition`), for: the held-out test segments of the paired takes (seen speakers,
 unseen sentences; their real motion is scored too), the unseen ZeroEGGS Flirty recording and the
 synthetic espeak voices (the shared data folder, ``--shared``), each alone and all six joined into one stream
 with 1.5 s pauses (does the motion rest in the pauses?). Per file and seed: the energy–speed correlation
@@ -29,9 +30,9 @@ from gesturecast.realtime.run.engine_setup import load_bundle
 from gesturecast.settings import DEFAULT_AUDIO_GUIDANCE, DEFAULT_MODEL_DIR, LATENCY_SETTINGS, QUALITY
 from gesturecast.tools.data_cli import DEFAULT_CACHE, DEFAULT_SHARED
 from gesturecast.tools.eval.clips import EvalClip, default_unseen_paths, held_out_clips, unseen_clips
+from gesturecast.tools.eval.condition import DEFAULT_CONDITION, Condition, add_condition_arguments
 from gesturecast.tools.eval.generate import generate_offline
 
-UNSEEN_STYLE = "speech"  # the style of the paired ZeroEGGS take: the one that co-occurs with audio
 DEFAULT_SEEDS = "0,1,2"
 JOIN_GAP_S = 1.5  # silence between the espeak sentences of the joined stream
 
@@ -48,6 +49,7 @@ def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--guidance", type=float, help="style guidance scale s (default: the model's)")
     parser.add_argument("--latency", choices=tuple(LATENCY_SETTINGS), default=QUALITY.name,
                         help="latency setting whose look-ahead the motion is generated with (docs/latency.md)")
+    add_condition_arguments(parser)
     parser.add_argument("--json", type=Path, help="also write the result here")
     parser.set_defaults(func=run_bench)
 
@@ -88,12 +90,12 @@ def summarise(rows: list[dict]) -> dict:
 
 def following_report(bundle_dir: Path, cache: Path, shared: Path, seeds: list[int], steps: int | None,
                      audio_guidance: float = DEFAULT_AUDIO_GUIDANCE, latency: str = QUALITY.name,
-                     guidance: float | None = None) -> dict:
+                     guidance: float | None = None, condition: Condition = DEFAULT_CONDITION) -> dict:
     bundle = load_bundle(bundle_dir)
     lookahead = LATENCY_SETTINGS[latency].lookahead_for(bundle.audio_lookahead)
     check_lookahead(bundle.denoiser_config, lookahead)
     sampler = SamplerConfig("ddim", steps or bundle.default_steps)
-    unseen = unseen_clips(default_unseen_paths(shared), UNSEEN_STYLE, None)
+    unseen = unseen_clips(default_unseen_paths(shared), condition.style, None)
     espeak = [clip for clip in unseen if clip.name.startswith("tts_")]
     joined = [joined_clip(espeak, "espeak_joined", JOIN_GAP_S)] if espeak else []
     clips = [*held_out_clips(cache), *unseen, *joined]
@@ -104,7 +106,8 @@ def following_report(bundle_dir: Path, cache: Path, shared: Path, seeds: list[in
         if clip.positions is not None:
             real.append({"file": clip.name, "group": group_of(clip), **score(clip.positions, clip.audio, onsets)})
         for seed in seeds:
-            generated = generate_offline(bundle, sampler, clip, clip.style, seed, audio_guidance, lookahead, guidance)
+            generated = generate_offline(bundle, sampler, clip, condition.style, seed, audio_guidance, lookahead,
+                                         guidance, generator_style=condition.generator_style)
             rows.append({"file": clip.name, "group": group_of(clip), "seed": seed,
                          **score(generated.positions, clip.audio, onsets)})
     return {
@@ -115,6 +118,7 @@ def following_report(bundle_dir: Path, cache: Path, shared: Path, seeds: list[in
         "latency": latency,
         "lookahead_frames": lookahead,
         "seeds": seeds,
+        "condition": condition.describe(),
         "metric": "Pearson r of smoothed upper-body joint speed vs frame RMS dB, best lag within ±0.5 s; "
                   "BC = BEAT beat consistency",
         "generated": summarise(rows),
@@ -127,7 +131,7 @@ def following_report(bundle_dir: Path, cache: Path, shared: Path, seeds: list[in
 def run_bench(args: argparse.Namespace) -> int:
     seeds = [int(value) for value in args.seeds.split(",")]
     report = following_report(args.bundle, args.cache, args.shared, seeds, args.steps, args.audio_guidance,
-                              args.latency, args.guidance)
+                              args.latency, args.guidance, Condition.from_args(args))
     text = json.dumps(report, indent=1)
     if args.json is not None:
         write_text_atomic(args.json, text + "\n")

@@ -21,6 +21,7 @@ from gesturecast.realtime.run.engine_setup import load_bundle
 from gesturecast.settings import DEFAULT_MODEL_DIR
 from gesturecast.tools.data_cli import DEFAULT_CACHE, DEFAULT_SHARED
 from gesturecast.tools.eval.clips import default_unseen_paths, held_out_clips, reference_positions, unseen_clips
+from gesturecast.tools.eval.condition import Condition, add_condition_arguments
 from gesturecast.tools.eval.metrics import EvalNetworks
 from gesturecast.tools.eval.report import ddim_vs_ddpm, format_table, git_commit, plot_curves, write_json
 from gesturecast.tools.eval.suite import QUICK, SYSTEM_NAMES, EvalConfig, EvalSets, SuiteRunner
@@ -44,6 +45,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         "~5 s of compute per second of motion)")
     parser.add_argument("--seed", type=int, default=0,
                         help="generation seed of every system (default 0); compare models over several")
+    add_condition_arguments(parser)
     parser.add_argument("--lookahead-models", type=Path, nargs="*", default=[], metavar="DIR",
                         help="bundles trained with another look-ahead, compared at K = 4 on the held-out set")
     parser.add_argument("--fgd-encoder", type=Path, default=DEFAULT_FGD_ENCODER, help=argparse.SUPPRESS)
@@ -52,7 +54,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def eval_config(args: argparse.Namespace) -> EvalConfig:
-    config = replace(QUICK if args.quick else EvalConfig(), seed=args.seed)
+    config = replace(QUICK if args.quick else EvalConfig(), seed=args.seed, condition=Condition.from_args(args))
     if args.systems:
         config = replace(config, systems=tuple(n for n in SYSTEM_NAMES if n in args.systems))
     if args.styles:

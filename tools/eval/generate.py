@@ -1,6 +1,7 @@
 """Generated motion for evaluation, through the product's own session (the `generate` / `live` paths).
 
 Offline: the session fed by :class:`FastFileSource` (``run_offline``), exactly as ``gesturecast generate``.
+Both build their session from the product's :class:`Settings` (:func:`eval_settings`), as every door does.
 Live: the same audio replayed at real-time pace in microphone-sized chunks by :class:`LiveEngine`,
 its frames released by the scheduler — on a :class:`FakeClock`, so the pacing costs no wall time.
 """
@@ -9,7 +10,7 @@ from __future__ import annotations
 
 import tempfile
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -21,19 +22,17 @@ from gesturecast.models.generator.diffusion import SamplerConfig
 from gesturecast.models.generator.style_prompt import PartStyles, StylePrompt
 from gesturecast.models.motion.skeleton import NUM_JOINTS
 from gesturecast.models.runtime.bundle import ModelBundle
-from gesturecast.models.style.params import DEFAULT_STYLE_PARAMS, StyleBook
 from gesturecast.realtime.audio.sources import FastFileSource, PacedFileSource
 from gesturecast.realtime.engine_cli import frames_to_motion
-from gesturecast.realtime.generation.generator import NEUTRAL_STYLE, Generator, GeneratorSettings
-from gesturecast.realtime.pose.session import GestureSession, SessionConfig
+from gesturecast.realtime.generation.generator import Generator
+from gesturecast.realtime.pose.session import GestureSession
 from gesturecast.realtime.run.engine import LiveEngine, run_offline
+from gesturecast.realtime.run.engine_setup import SessionFactory, generator_settings
 from gesturecast.realtime.timing.clock import FakeClock
-from gesturecast.realtime.timing.latency import LatencyBudget
-from gesturecast.settings import DEFAULT_AUDIO_GUIDANCE, DEFAULT_SMOOTHING_FRAMES
+from gesturecast.settings import DEFAULT_AUDIO_GUIDANCE, GENERATOR_STYLE, Settings
 from gesturecast.tools.eval.clips import EvalClip
 
 LIVE_CHUNK_SAMPLES = 160  # 10 ms, a typical microphone callback (the offline path reads 512)
-LATENCY_MARGIN_MS = 100.0
 
 
 @dataclass(frozen=True)
@@ -51,20 +50,35 @@ class Generated:
     face: np.ndarray | None = None  # (T, 8) blink and expression weights (FACE_NAMES order), None with the face off
 
 
-def _session(bundle: ModelBundle, sampler: SamplerConfig, style: str | StylePrompt, seed: int, clock: FakeClock,
-             audio_guidance: float = DEFAULT_AUDIO_GUIDANCE, lookahead: int | None = None,
-             guidance: float | None = None, part_styles: PartStyles = (), stylize: bool = True) -> GestureSession:
-    """A session on a fake clock; ``style`` is a label or any prompt, ``part_styles`` per-part prompts over it;
+def style_settings(style: str | StylePrompt) -> dict:
+    """The :class:`Settings` fields that ask for ``style``: a label (or ``text:``/``motion:`` prompt string), or a
+    :class:`StylePrompt` of any kind."""
+    if isinstance(style, str):
+        return {"style": style}
+    return {"label": {"style": style.value}, "text": {"prompt": style.value},
+            "motion": {"motion_prompt": Path(style.value)}}[style.kind]
+
+
+def eval_settings(bundle: ModelBundle, sampler: SamplerConfig, style: str | StylePrompt, seed: int,
+                  audio_guidance: float = DEFAULT_AUDIO_GUIDANCE, lookahead: int | None = None,
+                  guidance: float | None = None, part_styles: PartStyles = (),
+                  generator_style: str = GENERATOR_STYLE) -> Settings:
+    """The product's :class:`Settings` with what a benchmark varies; every other field at its default (one thread)."""
+    steps = sampler.steps if sampler.kind == "ddim" else None
+    return Settings(model=bundle.directory, sampler=sampler.kind, steps=steps, seed=seed, audio_guidance=audio_guidance,
+                    lookahead=lookahead, guidance=guidance, part_styles=part_styles, generator_style=generator_style,
+                    threads=1, **style_settings(style))
+
+
+def _session(bundle: ModelBundle, settings: Settings, clock: FakeClock, stylize: bool = True) -> GestureSession:
+    """The session ``gesturecast generate`` builds from ``settings`` (:class:`SessionFactory`), on a fake clock;
     ``stylize`` False leaves the stylizer out and lets the generator hear the style instead (as before the stylizer)."""
-    prompt = style if isinstance(style, StylePrompt) else StylePrompt("label", style)
-    settings = GeneratorSettings(sampler=sampler, style=prompt, seed=seed, threads=1,
-                                 audio_guidance=audio_guidance, lookahead=lookahead, guidance=guidance,
-                                 part_styles=part_styles, generator_style=NEUTRAL_STYLE if stylize else None,
-                                 own_labels=StyleBook.labels_left(DEFAULT_STYLE_PARAMS, bundle.styles.labels))
-    generator = Generator(bundle, settings)
-    budget = LatencyBudget(bundle.frames_per_latent, generator.lookahead, LATENCY_MARGIN_MS,
-                           smoothing_frames=DEFAULT_SMOOTHING_FRAMES)
-    return GestureSession(bundle, generator, budget, clock, SessionConfig(style_params=None) if not stylize else None)
+    factory = SessionFactory(settings, bundle)
+    if stylize:
+        return factory.session(clock)
+    heard = replace(generator_settings(settings, bundle, factory.budget()), generator_style=None)
+    return GestureSession(bundle, Generator(bundle, heard), factory.budget(), clock,
+                          replace(factory.config, style_params=None))
 
 
 def _generated(frames: list[PoseFrame], start: float, setup_s: float) -> Generated:
@@ -85,27 +99,31 @@ def _with_wav(audio: np.ndarray, run):
 def generate_offline(
     bundle: ModelBundle, sampler: SamplerConfig, clip: EvalClip, style: str | StylePrompt, seed: int = 0,
     audio_guidance: float = DEFAULT_AUDIO_GUIDANCE, lookahead: int | None = None, guidance: float | None = None,
-    part_styles: PartStyles = (), stylize: bool = True,
+    part_styles: PartStyles = (), stylize: bool = True, generator_style: str = GENERATOR_STYLE,
 ) -> Generated:
-    """Motion for the clip's audio in ``style`` through ``run_offline`` (the `generate` path), at look-ahead
-    ``lookahead`` (default: the model's δa) and style guidance ``guidance`` (default: the model's); body parts
-    named in ``part_styles`` follow their own prompt; ``stylize`` False: the generator's motion without the
-    stylizer after it."""
+    """Motion for the clip's audio in ``style`` through ``run_offline`` (the `generate` path, the product's settings
+    of :func:`eval_settings`), at look-ahead ``lookahead`` (default: the model's δa) and style guidance ``guidance``
+    (default: the model's); body parts named in ``part_styles`` follow their own prompt; the generator hears
+    ``generator_style`` under the stylizer's styles; ``stylize`` False: the generator's motion without the stylizer
+    after it."""
     start = time.perf_counter()
-    session = _session(bundle, sampler, style, seed, FakeClock(), audio_guidance, lookahead, guidance, part_styles,
-                       stylize)
+    settings = eval_settings(bundle, sampler, style, seed, audio_guidance, lookahead, guidance, part_styles,
+                             generator_style)
+    session = _session(bundle, settings, FakeClock(), stylize)
     setup_s = time.perf_counter() - start
     frames, _ = _with_wav(clip.audio, lambda path: run_offline(session, FastFileSource(path)))
     return _generated(frames, start, setup_s)
 
 
 def generate_live(
-    bundle: ModelBundle, sampler: SamplerConfig, clip: EvalClip, style: str, seed: int = 0
+    bundle: ModelBundle, sampler: SamplerConfig, clip: EvalClip, style: str, seed: int = 0,
+    generator_style: str = GENERATOR_STYLE,
 ) -> Generated:
-    """Motion for the clip's audio through :class:`LiveEngine` (paced source, scheduler, sink)."""
+    """Motion for the clip's audio through :class:`LiveEngine` (paced source, scheduler, sink), with the settings of
+    :func:`eval_settings`."""
     start = time.perf_counter()
     clock = FakeClock()
-    session = _session(bundle, sampler, style, seed, clock)
+    session = _session(bundle, eval_settings(bundle, sampler, style, seed, generator_style=generator_style), clock)
     setup_s = time.perf_counter() - start
     received: list[PoseFrame] = []
 

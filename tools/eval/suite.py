@@ -22,6 +22,7 @@ from gesturecast.models.generator.diffusion import SamplerConfig
 from gesturecast.models.motion.motion import MOTION_FPS
 from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.tools.eval.clips import EvalClip
+from gesturecast.tools.eval.condition import DEFAULT_CONDITION, Condition
 from gesturecast.tools.eval.generate import SystemSpec, generate_live, generate_offline
 from gesturecast.tools.eval.metrics import EvalNetworks, motion_metrics, style_accuracy
 
@@ -44,6 +45,7 @@ class EvalConfig:
     styles: tuple[str, ...] = ()  # requested styles for style accuracy; () = the model's ∩ the classifier's
     systems: tuple[str, ...] = SYSTEM_NAMES
     seed: int = 0
+    condition: Condition = DEFAULT_CONDITION  # the style asked and the label the generator hears (Settings())
 
 
 QUICK = EvalConfig(held_out_seconds=5.0, unseen_seconds=5.0, style_seconds=2.5, ddpm_seconds=2.5,
@@ -95,7 +97,8 @@ class SuiteRunner:
     # ---- running ----
     def _generate(self, spec: SystemSpec, clip: EvalClip, style: str, seed: int,
                   generate: Callable = generate_offline) -> np.ndarray:
-        result = generate(self.bundle, spec.sampler, clip, style, seed)
+        result = generate(self.bundle, spec.sampler, clip, style, seed,
+                          generator_style=self.config.condition.generator_style)
         self.compute_s[spec.name] = self.compute_s.get(spec.name, 0.0) + result.compute_s
         self.bar.update(clip.seconds)
         return result.positions
@@ -110,23 +113,24 @@ class SuiteRunner:
         spec = system_spec(name, self.bundle)
         held, unseen, styles, style_s = self._subsets(name)
         seed = self.config.seed
-        held_pos = [self._generate(spec, c, self.style_for(c), seed) for c in held]
+        held_pos = [self._generate(spec, c, self.speech_style, seed) for c in held]
         result = motion_metrics(held_pos, [c.audio for c in held], self.networks)
         if name != DDPM:
-            other_seed = self._generate(spec, held[0], self.style_for(held[0]), seed + 1)
+            other_seed = self._generate(spec, held[0], self.speech_style, seed + 1)
             result["diversity"]["seed"] = seed_pair_diversity(held_pos[0], other_seed)
         per_style = {s: [self._generate(spec, self._style_clip(style_s), s, seed)] for s in styles}
         result["style_accuracy"] = style_accuracy(per_style, self.networks.classifier)
-        unseen_pos = [self._generate(spec, c, self.style_for(c), seed) for c in unseen]
+        unseen_pos = [self._generate(spec, c, self.speech_style, seed) for c in unseen]
         result["unseen_speech"] = motion_metrics(unseen_pos, [c.audio for c in unseen], self.networks)
         result["compute_s"] = self.compute_s.get(name, 0.0)
         result["clips"] = {"held_out": [c.name for c in held], "unseen": [c.name for c in unseen],
                            "styles": list(styles), "seconds_per_style": style_s}
         return result
 
-    def style_for(self, clip: EvalClip) -> str:
-        """The clip's own style when the model knows it, else neutral."""
-        return clip.style if clip.style in self.bundle.styles.labels else "neutral"
+    @property
+    def speech_style(self) -> str:
+        """The style every speech clip is generated in: the condition's (the product's default unless asked)."""
+        return self.config.condition.style
 
     def ground_truth(self, mismatched: bool) -> dict:
         held = self.sets.held_out
@@ -147,7 +151,7 @@ class SuiteRunner:
         """A generated system's metrics on the held-out set alone (for the look-ahead comparison)."""
         spec = system_spec(name, self.bundle)
         held = self.sets.held_out
-        positions = [self._generate(spec, c, self.style_for(c), self.config.seed) for c in held]
+        positions = [self._generate(spec, c, self.speech_style, self.config.seed) for c in held]
         return motion_metrics(positions, [c.audio for c in held], self.networks)
 
     def run_system(self, name: str) -> dict:
@@ -160,7 +164,7 @@ class SuiteRunner:
         spec = system_spec(f"ddim_k{self.bundle.default_steps}", self.bundle)
         spec = replace(spec, name="live_check")
         clip = self.sets.held_out[0]
-        style = self.style_for(clip)
+        style = self.speech_style
         offline = self._generate(spec, clip, style, self.config.seed)
         live = self._generate(spec, clip, style, self.config.seed, generate=generate_live)
         frames = min(len(offline), len(live))

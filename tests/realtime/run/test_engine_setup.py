@@ -3,10 +3,12 @@ sent; the latency setting is resolved once, into the budget both the generator a
 
 import argparse
 
+import numpy as np
 import pytest
 
 from gesturecast.bridges.vmc_roles import HEAD_AND_LEGS
 from gesturecast.errors import UserError
+from gesturecast.models.generator.style_prompt import StylePrompt
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
 from gesturecast.realtime.cli_flags import (
     add_generation_arguments,
@@ -80,3 +82,24 @@ def test_one_factory_makes_every_stream_sharing_the_model_lexicon_and_each_budge
 
 def low_lookahead(factory: SessionFactory) -> int:
     return LATENCY_SETTINGS["low"].lookahead_for(factory.bundle.audio_lookahead)
+
+
+@pytest.mark.parametrize("style", ["neutral", "happy", "old"])
+def test_the_generator_hears_the_speech_label_under_every_stylizer_style(style):
+    """The default and every stylizer style: the denoiser is conditioned on ``speech`` (learned with its audio), not
+    on the label asked, which the stylizer gives."""
+    session = build_session(Settings(style=style, gestures=None), MonotonicClock())
+    speech = session.generator.styles.embed(StylePrompt("label", "speech"))
+    assert Settings().generator_style == "speech"
+    np.testing.assert_array_equal(session.generator.style_embedding, speech)
+
+
+def test_the_generators_own_neutral_is_a_setting_and_an_unknown_label_is_refused():
+    session = build_session(Settings(generator_style="Neutral", gestures=None), MonotonicClock())
+    neutral = session.generator.styles.embed(StylePrompt("label", "neutral"))
+    np.testing.assert_array_equal(session.generator.style_embedding, neutral)
+    with pytest.raises(UserError, match="unknown style 'mumbling'"):
+        Settings(generator_style="mumbling")
+    parser = argparse.ArgumentParser()
+    add_generation_arguments(parser)
+    assert settings_from_args(parser.parse_args(["--generator-style", "neutral"])).generator_style == "neutral"

@@ -16,7 +16,7 @@ from gesturecast.models.generator.style_prompt import StylePrompt, parse_part_st
 from gesturecast.models.motion.root_anchor import RootMode
 from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.realtime.audio.sources import AudioChunk
-from gesturecast.realtime.generation.generator import NEUTRAL_STYLE, Generator, GeneratorSettings
+from gesturecast.realtime.generation.generator import Generator, GeneratorSettings
 from gesturecast.realtime.pose.session import GestureSession, SessionConfig
 from gesturecast.realtime.serve.server import GestureServer, ServeConfig
 from gesturecast.realtime.serve.setup import StreamSessions
@@ -67,7 +67,8 @@ def solo_poses(bundle, audio, style="neutral", guidance=1.5, seed=0, root="bound
     lookahead = None if latency is None else LATENCY_SETTINGS[latency].lookahead_for(bundle.audio_lookahead)
     settings = GeneratorSettings(SamplerConfig("ddim", 2), guidance, StylePrompt("label", style), seed=seed,
                                  lookahead=lookahead, part_styles=parse_part_styles(part_styles or {}),
-                                 generator_style=NEUTRAL_STYLE)  # as every door's sessions: the stylizer styles
+                                 # as every door's sessions: the stylizer styles, the generator hears the default's label
+                                 generator_style=StylePrompt("label", DEFAULTS.generator_style))
     session = GestureSession(bundle, Generator(bundle, settings), budget(bundle), FakeClock(),
                              SessionConfig(root_mode=RootMode(root)))
     frames = session.push(AudioChunk(audio, 0, 0.0)) + session.finish()

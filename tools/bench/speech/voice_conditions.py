@@ -44,7 +44,6 @@ TRANSFORMS: dict[str, Transform] = {
     "reverb small room": lambda a: vt.reverb(a, SR, np.random.default_rng(NOISE_SEED)),
 }
 ORIGINAL = "original"
-UNSEEN_STYLE = "speech"
 
 
 @dataclass(frozen=True)
@@ -53,7 +52,6 @@ class VoiceCase:
     file: str  # the source recording (the same for an original and its transforms)
     heard: np.ndarray  # (N,) what the model hears, 16 kHz
     reference: np.ndarray  # (N,) the clean speech its motion is scored against
-    style: str
     positions: np.ndarray | None = None  # (T, J, 3) real motion (originals of paired takes only)
     voice: str = ""  # the voice heard, where it differs from the file (unseen voices)
 
@@ -72,8 +70,8 @@ def transformed_cases(cache: Path, shared: Path, transforms: dict[str, Transform
     """Original + every transform of every held-out paired segment."""
     cases = []
     for clip in [*held_out_clips(cache), *upper_body_held_out(shared)]:
-        cases.append(VoiceCase(ORIGINAL, clip.name, clip.audio, clip.audio, clip.style, clip.positions))
-        cases += [VoiceCase(name, clip.name, transform(clip.audio), clip.audio, clip.style)
+        cases.append(VoiceCase(ORIGINAL, clip.name, clip.audio, clip.audio, clip.positions))
+        cases += [VoiceCase(name, clip.name, transform(clip.audio), clip.audio)
                   for name, transform in transforms.items()]
     return cases
 
@@ -97,6 +95,6 @@ def voice_set_cases(split: str, shared: Path, cache: Path) -> list[VoiceCase]:
         voice = item.voice
         source = voice.channel.of if voice.channel is not None else voice.name
         whole = voice.channel is None and voice.span_s is None and len(voice.files) == 1
-        cases.append(VoiceCase(voice.group, source, item.heard, item.reference, UNSEEN_STYLE,
+        cases.append(VoiceCase(voice.group, source, item.heard, item.reference,
                                motion.get(voice.files[0]) if whole else None, voice=voice.name))
     return cases

@@ -4,7 +4,9 @@
 :mod:`gesturecast.tools.bench.speech.voice_set` per voice group, ``--set dev`` the voices that may be chosen on,
 ``--set transforms`` the held-out paired segments and nine voice/channel transforms of them
 (:mod:`gesturecast.tools.bench.speech.voice_conditions`). For every case and every seed, motion is generated
-through the product's offline path (``run_offline``, DDIM K, the bundle's guidance) and scored:
+through the product's offline path (``run_offline``, DDIM K, the bundle's guidance) at the product's default
+settings (``Settings()``: the style ``neutral`` given by the stylizer, the generator hearing ``speech``) unless
+``--style`` / ``--generator-style`` ask for another condition, and scored:
 
 - ``r``: the speech-following measure (:mod:`gesturecast.models.evaluation.speech_following`: Pearson r of
   smoothed upper-body speed vs the reference speech's loudness, best lag within ±0.5 s);
@@ -54,6 +56,7 @@ from gesturecast.tools.bench.speech.voice_conditions import (
 from gesturecast.tools.bench.speech.voice_set import HELD_OUT, SPLITS
 from gesturecast.tools.data_cli import DEFAULT_CACHE, DEFAULT_SHARED
 from gesturecast.tools.eval.clips import EvalClip
+from gesturecast.tools.eval.condition import DEFAULT_CONDITION, Condition, add_condition_arguments
 from gesturecast.tools.eval.generate import generate_offline
 from gesturecast.tools.render.plot_voices import VoiceTrace, plot_voice_traces
 
@@ -78,6 +81,7 @@ def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--audio-guidance", type=float, default=DEFAULT_AUDIO_GUIDANCE,
                         help="audio guidance scale s_a (1: off)")
     parser.add_argument("--guidance", type=float, help="style guidance scale s (default: the bundle's)")
+    add_condition_arguments(parser)
     parser.add_argument("--json", type=Path, help="also write the result here")
     parser.add_argument("--plot", type=Path, help="PNG: loudness and generated speed for three voices")
     parser.set_defaults(func=run_bench)
@@ -188,7 +192,8 @@ def bench_cases(voice_set: str, cache: Path, shared: Path) -> list[VoiceCase]:
 
 def voices_report(bundle_dir: Path, cache: Path, shared: Path, seeds: list[int], steps: int | None,
                   audio_guidance: float = DEFAULT_AUDIO_GUIDANCE, plot: Path | None = None,
-                  voice_set: str = HELD_OUT, guidance: float | None = None) -> dict:
+                  voice_set: str = HELD_OUT, guidance: float | None = None,
+                  condition: Condition = DEFAULT_CONDITION) -> dict:
     bundle = load_bundle(bundle_dir)
     sampler = SamplerConfig("ddim", steps or bundle.default_steps)
     started = time.perf_counter()
@@ -201,16 +206,16 @@ def voices_report(bundle_dir: Path, cache: Path, shared: Path, seeds: list[int],
             real.append({"condition": case.condition, "file": case.file, "voice": case.voice, "seed": -1,
                          **score_case(case.positions, case, onsets, references)})
         for seed in seeds:
-            clip = EvalClip(case.file, case.heard, case.style)
-            positions = generate_offline(bundle, sampler, clip, case.style, seed, audio_guidance,
-                                         guidance=guidance).positions
+            clip = EvalClip(case.file, case.heard, condition.style)
+            positions = generate_offline(bundle, sampler, clip, condition.style, seed, audio_guidance,
+                                         guidance=guidance, generator_style=condition.generator_style).positions
             first_motion.setdefault(case_key(case), positions)
             rows.append({"condition": case.condition, "file": case.file, "voice": case.voice, "seed": seed,
                          **score_case(positions, case, onsets, references)})
     conditions = summarise(rows)
     report = {
         "bundle": str(bundle_dir), "set": voice_set, "sampler": f"ddim K={sampler.steps}",
-        "audio_guidance": audio_guidance, "guidance": guidance, "seeds": seeds,
+        "audio_guidance": audio_guidance, "guidance": guidance, "seeds": seeds, "condition": condition.describe(),
         "metric": "r: Pearson r of smoothed upper-body speed vs the clean reference speech's RMS dB, best lag "
                   "within ±0.5 s; chance: the same motion against the other recordings; ratio: r / r(original) "
                   "on the same files; rest: speed in pauses / while speaking; bc: BEAT beat consistency",
@@ -229,7 +234,7 @@ def voices_report(bundle_dir: Path, cache: Path, shared: Path, seeds: list[int],
 def run_bench(args: argparse.Namespace) -> int:
     seeds = [int(value) for value in args.seeds.split(",")]
     report = voices_report(args.bundle, args.cache, args.shared, seeds, args.steps, args.audio_guidance, args.plot,
-                           args.voice_set, args.guidance)
+                           args.voice_set, args.guidance, Condition.from_args(args))
     text = json.dumps(report, indent=1)
     if args.json is not None:
         write_text_atomic(args.json, text + "\n")
