@@ -67,7 +67,7 @@ def solo_poses(bundle, audio, style="neutral", guidance=1.5, seed=0, root="bound
     lookahead = None if latency is None else LATENCY_SETTINGS[latency].lookahead_for(bundle.audio_lookahead)
     settings = GeneratorSettings(SamplerConfig("ddim", 2), guidance, StylePrompt("label", style), seed=seed,
                                  lookahead=lookahead, part_styles=parse_part_styles(part_styles or {}),
-                                 # as every door's sessions: the stylizer styles, the generator hears the default's label
+                                 # as every door's sessions: the stylizer styles, the generator hears the default label
                                  generator_style=StylePrompt("label", DEFAULTS.generator_style))
     session = GestureSession(bundle, Generator(bundle, settings), budget(bundle), FakeClock(),
                              SessionConfig(root_mode=RootMode(root)))

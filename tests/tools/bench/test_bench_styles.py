@@ -144,7 +144,13 @@ def test_the_stylizer_part_reports_fk_distances_judges_following_jerk_face_and_c
         for judged in (section["judge"], section["classifier"]):
             assert set(judged["per_style"]) == set(styles)
             assert all(0.0 <= value <= 1.0 for value in judged["per_style"].values())
-        assert section["following"]["ratio_to_neutral"]["neutral"] == 1.0
+        following = section["following"]
+        assert following["baseline"]["style"] == "speech"
+        speech = following["baseline"]["following"]
+        for style, ratio in following["ratio_to_speech"].items():  # within what the 3-decimal rounding allows
+            value = following["per_style"][style]
+            low, high = sorted([(value - rounding) / (speech + rounding), (value + rounding) / (speech - rounding)])
+            assert low - rounding <= ratio <= high + rounding
         assert section["jerk"]["real"] > 0.0
     assert stylizer["styled"]["fk"]["pairs"] != stylizer["generator"]["fk"]["pairs"]
     assert set(stylizer["face"]) == set(styles) and stylizer["cost"]["ms_per_motion_second"] > 0.0

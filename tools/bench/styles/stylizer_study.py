@@ -13,7 +13,8 @@ stylizer existed). Per variant:
   windows judged as the style asked for, and their mean; ``classifier``: the same with the frozen classifier of
   ``gesturecast eval`` (kept for continuity; it knows 16 labels);
 - ``following``: the ``bench voices`` measure (best correlation of upper-body speed with speech energy within
-  ±0.5 s) per style, mean over seeds, and its ratio to the neutral style's;
+  ±0.5 s) per style, mean over seeds, and its ratio to the speech baseline's (the ``speech`` label, which the
+  generator learned with its audio, heard as asked and not restyled: the motion that follows the voice best);
 - ``jerk``: GENEA jerk of root-relative positions (m/s³) per style, and as a ratio to real motion capture of the
   same voice (ZeroEGGS 067, the whole take);
 - ``face``: per style, the expression weight's correlation with speech energy (dB, per frame), its standard
@@ -61,6 +62,7 @@ HELD_OUT_SPEECH = "zeggs/037_Flirty_1_x_1_0.wav"
 REAL_MOTION = "zeggs/067_Speech_2_x_1_0.bvh"
 DEFAULT_JUDGE = DEFAULT_STYLE_PARAMS.parent / "judge.json"
 CLOSED = 0.5  # lid closure that counts as a blink
+BASELINE_STYLE = "speech"  # following is measured against this label's motion
 GRID_TIMES = (8.0, 20.0, 32.0, 44.0, 56.0)  # seconds of the grid's columns (those past the clip are left out)
 Clips = dict[tuple[str, int], Generated]
 
@@ -70,10 +72,11 @@ def held_out_speech(data: Path, seconds: float) -> EvalClip:
     return EvalClip("zeggs/037_Flirty_1[speech only]", audio, "neutral")
 
 
-def _generate(bundle: ModelBundle, clip: EvalClip, seeds: tuple[int, ...], stylize: bool) -> Clips:
+def _generate(bundle: ModelBundle, clip: EvalClip, seeds: tuple[int, ...], stylize: bool,
+              styles: tuple[str, ...] = JUDGED_STYLES) -> Clips:
     sampler = SamplerConfig("ddim", bundle.default_steps)
     return {(style, seed): generate_offline(bundle, sampler, clip, style, seed, stylize=stylize)
-            for style in JUDGED_STYLES for seed in seeds}
+            for style in styles for seed in seeds}
 
 
 def _descriptor(generated: Generated) -> np.ndarray:
@@ -106,13 +109,18 @@ def classifier_section(clips: Clips, seeds: tuple[int, ...], classifier: StyleCl
     return {**scores(per_style), "labels": len(classifier.labels)}
 
 
-def following_section(clips: Clips, seeds: tuple[int, ...], audio: np.ndarray) -> dict:
-    per_style = {style: float(np.mean([speech_following(clips[(style, seed)].positions, audio, SAMPLE_RATE,
-                                                        MOTION_FPS).best_correlation for seed in seeds]))
-                 for style in JUDGED_STYLES}
-    ratios = {style: value / per_style["neutral"] for style, value in per_style.items()}
-    return {"per_style": _rounded(per_style), "ratio_to_neutral": _rounded(ratios),
-            "min_ratio": round(min(ratios.values()), 3)}
+def mean_following(clips: Clips, style: str, seeds: tuple[int, ...], audio: np.ndarray) -> float:
+    return float(np.mean([speech_following(clips[(style, seed)].positions, audio, SAMPLE_RATE,
+                                           MOTION_FPS).best_correlation for seed in seeds]))
+
+
+def following_section(clips: Clips, seeds: tuple[int, ...], audio: np.ndarray, baseline: Clips) -> dict:
+    """Each style's following and its ratio to the ``baseline`` clips' (the speech label's)."""
+    per_style = {style: mean_following(clips, style, seeds, audio) for style in JUDGED_STYLES}
+    speech = mean_following(baseline, BASELINE_STYLE, seeds, audio)
+    ratios = {style: value / speech for style, value in per_style.items()}
+    return {"per_style": _rounded(per_style), "baseline": {"style": BASELINE_STYLE, "following": round(speech, 3)},
+            "ratio_to_speech": _rounded(ratios), "min_ratio": round(min(ratios.values()), 3)}
 
 
 def real_jerk(data: Path) -> float:
@@ -188,6 +196,7 @@ def stylizer_report(bundle: ModelBundle, data: Path, seconds: float, seeds: tupl
     judge, classifier, real = StyleJudge.load(DEFAULT_JUDGE), StyleClassifier.load(), real_jerk(data)
     report = {"speech": {"clip": clip.name, "seconds": round(clip.seconds, 2), "seeds": list(seeds)},
               "styles": list(JUDGED_STYLES)}
+    baseline = _generate(bundle, clip, seeds, True, (BASELINE_STYLE,))
     for variant, stylize in (("generator", False), ("styled", True)):
         clips = _generate(bundle, clip, seeds, stylize)
         if grid is not None:
@@ -195,7 +204,7 @@ def stylizer_report(bundle: ModelBundle, data: Path, seconds: float, seeds: tupl
             report.setdefault("grid", []).append(str(style_grid(clips, seeds[0], path)))
         report[variant] = {"fk": fk_section(clips, seeds), "judge": judge_section(clips, seeds, judge),
                            "classifier": classifier_section(clips, seeds, classifier),
-                           "following": following_section(clips, seeds, clip.audio),
+                           "following": following_section(clips, seeds, clip.audio, baseline),
                            "jerk": jerk_section(clips, seeds, real)}
     if voices:
         report["judge_voices"] = judge_on_voices(bundle, data, seeds, judge, lambda *a: _generate(*a, stylize=True),
