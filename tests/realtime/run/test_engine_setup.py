@@ -103,3 +103,28 @@ def test_the_generators_own_neutral_is_a_setting_and_an_unknown_label_is_refused
     parser = argparse.ArgumentParser()
     add_generation_arguments(parser)
     assert settings_from_args(parser.parse_args(["--generator-style", "neutral"])).generator_style == "neutral"
+
+
+@pytest.mark.parametrize("latency", list(LATENCY_SETTINGS))
+def test_every_door_and_a_live_style_change_keep_the_speech_label(latency):
+    """``Stream`` (and the Pipecat processor, a Stream), a ``serve`` stream and a live style change: the generator
+    still hears ``speech`` at every latency setting."""
+    from gesturecast.controls import StyleChange
+    from gesturecast.realtime.run.stream import Stream
+    from gesturecast.realtime.serve.protocol import StreamOptions
+    from gesturecast.realtime.serve.setup import StreamSessions
+
+    settings = Settings(latency=latency, gestures=None)
+    stream = Stream(settings, warm=False, paced=False)
+    served = StreamSessions(settings, stream.session.bundle, MonotonicClock(), max_streams=1)
+    try:
+        session = served.session(StreamOptions(style=StyleChange(style="happy"), latency=latency))
+        speech = session.generator.styles.embed(StylePrompt("label", "speech"))
+        stream.session.controls.submit((StyleChange(style="old"),))
+        stream.push(np.zeros(16000, np.float32))  # the change is applied at the next latent
+        for generator in (stream.session.generator, session.generator):
+            np.testing.assert_array_equal(generator.style_embedding, speech)
+        assert stream.session.generator.settings.style == StylePrompt("label", "old")
+    finally:
+        stream.close()
+        served.close()
