@@ -39,6 +39,8 @@ from gesturecast.realtime.pose.session import GestureSession
 from gesturecast.realtime.run.engine import EngineReport, LiveEngine
 from gesturecast.realtime.run.engine_setup import build_outputs, build_session
 from gesturecast.realtime.run.offline_generate import (
+    JSON_SUFFIX,
+    OUTPUT_SUFFIXES,
     VRMA_SUFFIX,
     body_only,
     check_motion_path,
@@ -68,8 +70,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                                      "--batch: a folder or CSV of files → a folder of BVHs")
     generate.add_argument("audio", type=Path, nargs="?", help="speech file (any format soundfile reads)")
     generate.add_argument("-o", "--output", type=Path, required=True,
-                          help="BVH file to write, or a VRM Animation when it ends in .vrma (with --batch: the "
-                          "output folder)")
+                          help="file to write: .bvh (BVH), .vrma (VRM Animation) or .json (the pose stream); with "
+                          "--batch: the output folder")
     generate.add_argument("--json", type=Path, metavar="FILE", help="also write the pose stream as JSON")
     generate.add_argument("--vrma", type=Path, metavar="FILE", help="also write the motion as VRM Animation (.vrma)")
     generate.add_argument("--vrma-bones", choices=VRMA_BONES, default=FOLDED,
@@ -173,22 +175,29 @@ def run_generate(args: argparse.Namespace) -> int:
     if args.audio is None:
         raise UserError("name an audio file, or a folder / CSV with --batch")
     check_distinct([("audio", args.audio)], [("-o", args.output), ("--json", args.json), ("--vrma", args.vrma)])
-    motion_paths = [check_motion_path(args.output, "-o")]
-    if args.vrma is not None:
-        if args.vrma.suffix.lower() != VRMA_SUFFIX:
-            raise UserError(f"--vrma {args.vrma}: name a .vrma file")
-        motion_paths.append(args.vrma)
+    motion_paths, json_path = output_files(args)
     settings = settings_from_args(args)
     words = transcript_words(args.transcript, settings)
     if not words and settings.gestures == DEFAULT_GESTURES_DIR:  # no words, no gesture: the bundled lexicon is
         settings = dataclasses.replace(settings, gestures=None)  # not encoded (0.1 s); a user's folder is still checked
-    session = build_session(body_only(settings, motion_paths, args.json), MonotonicClock())
+    session = build_session(body_only(settings, motion_paths, json_path), MonotonicClock())
     session.cue_words(words)
-    report = generate_to_files(session, args.audio, motion_paths, args.json, args.vrma_bones)
+    report = generate_to_files(session, args.audio, motion_paths, json_path, args.vrma_bones)
     process_cpu = time.process_time()  # the whole command: start-up, model, generation, files
     logger.info("process CPU %.2f s for %.1f s of audio: %.3f s per second", process_cpu, report.audio_seconds,
                 process_cpu / report.audio_seconds)
     return 0
+
+
+def output_files(args: argparse.Namespace) -> tuple[list[Path], Path | None]:
+    """``generate``'s motion files (-o as BVH or .vrma, --vrma) and pose-stream JSON (-o as .json, or --json)."""
+    output = check_motion_path(args.output, "-o", OUTPUT_SUFFIXES)
+    if output.suffix.lower() == JSON_SUFFIX and args.json is not None:
+        raise UserError(f"-o {output} already writes the pose stream as JSON; drop --json {args.json}")
+    motion_paths = [] if output.suffix.lower() == JSON_SUFFIX else [output]
+    if args.vrma is not None:
+        motion_paths.append(check_motion_path(args.vrma, "--vrma", (VRMA_SUFFIX,)))
+    return motion_paths, output if output.suffix.lower() == JSON_SUFFIX else args.json
 
 
 def scheduler_config(args: argparse.Namespace) -> SchedulerConfig:

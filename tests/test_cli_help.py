@@ -42,6 +42,22 @@ def test_running_one_command_imports_no_other_command_module():
     assert result.stdout.strip() == "[]"
 
 
+HEAVY_PACKAGES = ("scipy", "onnxruntime", "torch", "matplotlib")
+
+
+@pytest.mark.parametrize("argv", [["--version"], ["--help"], ["bench", "--help"], ["eval", "--help"]])
+def test_help_and_version_import_no_heavy_package(argv):
+    """``--help`` and ``--version`` name no command and import none; a command's help leaves scipy and torch to its
+    run (`gesturecast bench startup` times them)."""
+    heavy = HEAVY_PACKAGES if argv[0].startswith("-") else ("scipy", "torch", "matplotlib")
+    code = ("import contextlib, io, sys; from gesturecast.cli import main\n"
+            "with contextlib.suppress(SystemExit), contextlib.redirect_stdout(io.StringIO()):\n"
+            f"    main({argv!r})\n"
+            f"print(sorted({{m.split('.')[0] for m in sys.modules}} & set({heavy!r})))")
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert result.stdout.strip() == "[]"
+
+
 def test_command_in_finds_the_command_after_global_options():
     assert command_in(["-v", "generate", "x.wav"]) == "generate" and command_in(["--help"]) is None
 

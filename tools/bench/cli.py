@@ -29,6 +29,7 @@ BENCH_MODULES: tuple[str, ...] = (
     "gesturecast.tools.bench.cues",
     "gesturecast.tools.bench.worker_kill",
     "gesturecast.tools.bench.styles.face",
+    "gesturecast.tools.bench.startup",
 )
 
 
