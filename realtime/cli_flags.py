@@ -57,6 +57,9 @@ def add_generation_arguments(parser: argparse.ArgumentParser) -> None:
                             "above 1 exaggerates --style away from --style2 (default %(default)s)")
     group.add_argument("--style-strength", default=defaults.style_strength, **_limited("style_strength"),
                        help="how strongly the style shows: 0 neutral, 1 the model's default, up to 2")
+    group.add_argument("--intensity", default=defaults.intensity, **_limited("intensity"),
+                       help="gesture size: 0 stands, breathes and blinks, 1 the gestures as generated (default), "
+                            "up to 2 twice as big; changes live with an intensity control")
     group.add_argument("--guidance", **_limited("guidance"),
                        help="how closely the motion follows the style and speech prompts; higher shows styles "
                             "more (4 is clear) but follows the speech less (default: the model's)")
