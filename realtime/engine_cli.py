@@ -13,7 +13,13 @@ import numpy as np
 
 from gesturecast import stop_signals
 from gesturecast.bridges.fanout import BridgeFanout
-from gesturecast.bridges.osc_in import GESTURE_ADDRESS, OscControlListener, OscInConfig
+from gesturecast.bridges.osc_in import (
+    GESTURE_ADDRESS,
+    INTENSITY_ADDRESS,
+    PAUSE_ADDRESS,
+    OscControlListener,
+    OscInConfig,
+)
 from gesturecast.bridges.output_settings import parse_host_port
 from gesturecast.bridges.vrma import FOLDED, VRMA_BONES
 from gesturecast.bridges.ws_access import is_loopback
@@ -61,8 +67,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     add_generation_arguments(live)
     add_transcript_argument(live)
     add_output_arguments(live)
-    live.add_argument("--osc-in", metavar="[HOST:]PORT", help=f"fire gestures by OSC ({GESTURE_ADDRESS} NAME) from a "
-                      "Stream Deck, TouchOSC, VNyan or a game engine; loopback unless HOST is given (then the "
+    live.add_argument("--osc-in", metavar="[HOST:]PORT", help=f"fire gestures ({GESTURE_ADDRESS} NAME), set the "
+                      f"gesture size ({INTENSITY_ADDRESS} 0..2) or pause ({PAUSE_ADDRESS} 1, 0 resumes) by OSC from "
+                      "a Stream Deck, TouchOSC, VNyan or a game engine; loopback unless HOST is given (then the "
                       "token is the message's second string; docs/gestures.md)")
     live.set_defaults(func=run_live)
 
