@@ -235,6 +235,13 @@ def test_a_stream_waves_at_hello_given_as_words_or_as_a_words_control(speech):
         assert waving and waving[0] < 2.5 < waving[-1], send
 
 
+def test_a_gesture_by_its_old_name_plays_the_gesture_it_is_called_now(speech):
+    with gesturecast.Stream(paced=False, warm=False) as stream:
+        stream.gesture("bye")  # the shipped lexicon calls it hand-up now: what a person sees
+        frames = stream.push(speech, SAMPLE_RATE)
+    assert any(frame.gesture == "hand-up" for frame in frames)
+
+
 def test_a_gesture_needs_a_lexicon(speech):
     with gesturecast.Stream(paced=False, warm=False, gestures=None) as stream, pytest.raises(
             UserError, match="no gesture lexicon"):

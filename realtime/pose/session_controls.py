@@ -27,6 +27,7 @@ from gesturecast.models.motion.root_anchor import RootAnchor, RootMode
 from gesturecast.realtime.generation.generator import Generator
 from gesturecast.realtime.generation.style_mixture import align_mixtures, bound_blend_rows, drop_unused_rows
 from gesturecast.realtime.gestures.cues import CONTROL_SOURCE, Cue, CuePlan, CueRefused
+from gesturecast.realtime.gestures.lexicon import current_name
 from gesturecast.realtime.pose.gesture_size import FULL_SIZE
 from gesturecast.realtime.pose.transitions import DEFAULT_RAMP_S, Ramp
 from gesturecast.settings import SINGLE_STYLE
@@ -83,6 +84,7 @@ class SessionControls:
         one it cannot use raises UserError here (the caller answers the client) instead of failing the stream when
         applied. Returns what the ack may tell: for a gesture, about when its stroke shows
         (``{"gesture_stroke_in_ms": ...}``); else {}."""
+        controls = tuple(self._by_current_name(control) for control in controls)
         notes = {}
         for control in controls:
             self._check(control)
@@ -91,6 +93,13 @@ class SessionControls:
         with self._lock:
             self._inbox.append(tuple(controls))
         return notes
+
+    def _by_current_name(self, control: Control) -> Control:
+        """A gesture control naming a renamed shipped gesture by its old name (``bye``) names it as it is called
+        now (``hand-up``)."""
+        if not isinstance(control, Gesture) or self.gestures is None:
+            return control
+        return Gesture(current_name(control.name, self.gestures.cues.clips))
 
     def _check(self, control: Control) -> None:
         if isinstance(control, Gesture):
