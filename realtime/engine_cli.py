@@ -1,4 +1,8 @@
-"""``gesturecast live`` and ``gesturecast generate``: one session code path for both (and for ``demo``)."""
+"""``gesturecast live`` and ``gesturecast generate``: one session code path for both (and for ``demo``).
+
+The engine (the session, onnxruntime, the offline run, the batch runner) is imported when a command runs, not when
+its parser is built: ``gesturecast live --help`` answers without it.
+"""
 
 from __future__ import annotations
 
@@ -8,6 +12,7 @@ import logging
 import sys
 import time
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -32,6 +37,7 @@ from gesturecast.models.motion.motion import MOTION_FPS, Motion
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
 from gesturecast.realtime.audio.cli import add_source_arguments, open_source
 from gesturecast.realtime.cli_flags import (
+    add_batch_arguments,
     add_generation_arguments,
     add_output_arguments,
     add_transcript_argument,
@@ -40,23 +46,14 @@ from gesturecast.realtime.cli_flags import (
     settings_from_args,
 )
 from gesturecast.realtime.gestures.words import Word
-from gesturecast.realtime.jobs.batch_cli import add_batch_arguments, run_batch
-from gesturecast.realtime.pose.session import GestureSession
-from gesturecast.realtime.run.engine import EngineReport, LiveEngine
-from gesturecast.realtime.run.engine_setup import build_outputs, build_session
-from gesturecast.realtime.run.offline_generate import (
-    JSON_SUFFIX,
-    OUTPUT_SUFFIXES,
-    VRMA_SUFFIX,
-    body_only,
-    check_motion_path,
-    generate_to_files,
-    transcript_words,
-)
 from gesturecast.realtime.timing.clock import MonotonicClock
 from gesturecast.realtime.timing.scheduler import STAGE_END_TO_END, SchedulerConfig
 from gesturecast.realtime.timing.status import StatusLine
 from gesturecast.settings import DEFAULT_GESTURES_DIR
+
+if TYPE_CHECKING:
+    from gesturecast.realtime.pose.session import GestureSession
+    from gesturecast.realtime.run.engine import EngineReport
 
 logger = logging.getLogger(__name__)
 
@@ -93,6 +90,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def run_live(args: argparse.Namespace) -> int:
+    from gesturecast.realtime.run.engine import LiveEngine
+    from gesturecast.realtime.run.engine_setup import build_outputs, build_session
+    from gesturecast.realtime.run.offline_generate import transcript_words
+
     check_distinct([("--input", args.input)], [("--bvh", args.bvh)])
     settings, chosen = settings_from_args(args), outputs_from_args(args)
     if not chosen.any:
@@ -175,6 +176,10 @@ def raise_output_errors(outputs: BridgeFanout) -> None:
 
 
 def run_generate(args: argparse.Namespace) -> int:
+    from gesturecast.realtime.jobs.batch_cli import run_batch
+    from gesturecast.realtime.run.engine_setup import build_session
+    from gesturecast.realtime.run.offline_generate import body_only, generate_to_files, transcript_words
+
     if args.batch is not None:
         if args.vrma_bones != FOLDED:
             raise UserError("--vrma-bones full is for one file; a batch writes its .vrma files folded")
@@ -198,6 +203,8 @@ def run_generate(args: argparse.Namespace) -> int:
 
 def output_files(args: argparse.Namespace) -> tuple[list[Path], Path | None]:
     """``generate``'s motion files (-o as BVH or .vrma, --vrma) and pose-stream JSON (-o as .json, or --json)."""
+    from gesturecast.realtime.run.offline_generate import JSON_SUFFIX, OUTPUT_SUFFIXES, VRMA_SUFFIX, check_motion_path
+
     output = check_motion_path(args.output, "-o", OUTPUT_SUFFIXES)
     if output.suffix.lower() == JSON_SUFFIX and args.json is not None:
         raise UserError(f"-o {output} already writes the pose stream as JSON; drop --json {args.json}")

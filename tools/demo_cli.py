@@ -2,7 +2,7 @@
 
 It says what it does while it loads, prints the viewer's address before the sample plays, and ends with the sample
 (``make demo`` runs it and must end by itself); ``--loop`` keeps the viewer and VMC going with the sample replayed
-until Ctrl-C.
+until Ctrl-C. The engine is imported when the demo runs: ``gesturecast demo --help`` answers without it.
 """
 
 from __future__ import annotations
@@ -13,6 +13,7 @@ import logging
 import sys
 from dataclasses import replace
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import soundfile
 
@@ -27,13 +28,14 @@ from gesturecast.models.audio.files import PACKAGED_SAMPLE
 from gesturecast.realtime.audio.sources import PacedFileSource
 from gesturecast.realtime.cli_flags import add_generation_arguments, settings_from_args
 from gesturecast.realtime.engine_cli import exit_status, raise_output_errors, summary_line
-from gesturecast.realtime.pose.session import GestureSession
-from gesturecast.realtime.run.engine import EngineReport, LiveEngine
-from gesturecast.realtime.run.engine_setup import build_outputs, build_session
 from gesturecast.realtime.timing.clock import Clock, MonotonicClock
 from gesturecast.realtime.timing.scheduler import SchedulerConfig
 from gesturecast.realtime.timing.status import StatusLine
 from gesturecast.settings import Settings
+
+if TYPE_CHECKING:
+    from gesturecast.realtime.pose.session import GestureSession
+    from gesturecast.realtime.run.engine import EngineReport
 
 logger = logging.getLogger(__name__)
 
@@ -61,6 +63,8 @@ def run_demo(args: argparse.Namespace) -> int:
     --loop, then the sample again and again to the viewer and VMC until Ctrl-C.
 
     When nothing listens for VMC there, the VMC bridge says so once and counts the datagrams nobody received."""
+    from gesturecast.realtime.run.engine_setup import build_session
+
     settings, clock = settings_from_args(args), MonotonicClock()
     _say("loading the model and the gesture lexicon…")
     session = build_session(settings, clock)
@@ -80,6 +84,9 @@ def run_demo(args: argparse.Namespace) -> int:
 def _play_and_record(args: argparse.Namespace, settings: Settings, session: GestureSession, live: BridgeFanout,
                      clock: Clock) -> int:
     """The sample once to the live outputs and a BVH recording; then the preview and the latency JSON."""
+    from gesturecast.realtime.run.engine import LiveEngine
+    from gesturecast.realtime.run.engine_setup import build_outputs
+
     bvh = args.out / "demo.bvh"
     recorder = build_outputs(Outputs(bvh=bvh), settings, session, clock)
     outputs = BridgeFanout([*live.bridges, *recorder.bridges])
@@ -103,6 +110,8 @@ def _play_and_record(args: argparse.Namespace, settings: Settings, session: Gest
 
 def _replay_until_interrupted(session: GestureSession, live: BridgeFanout, clock: Clock) -> int:
     """The sample again and again to the viewer and VMC, each time from a fresh stream, until Ctrl-C (130)."""
+    from gesturecast.realtime.run.engine import LiveEngine
+
     _say(f"replaying the sample until Ctrl-C; viewer at {_viewer_url(live)}")
     while True:
         session.reset()
@@ -126,6 +135,8 @@ def _demo_outputs(outputs: Outputs, settings: Settings, session: GestureSession,
                   free_port: bool) -> BridgeFanout:
     """The demo's live outputs; with ``free_port`` (no --ws given), a taken viewer port moves the viewer to a free
     one instead of failing."""
+    from gesturecast.realtime.run.engine_setup import build_outputs
+
     try:
         return build_outputs(outputs, settings, session, clock)
     except UserError:
