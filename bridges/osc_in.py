@@ -1,12 +1,18 @@
-"""OSC input: gestures fired from a Stream Deck, TouchOSC, VNyan or a game engine (``live --osc-in [HOST:]PORT``).
+"""OSC input: gestures, gesture size and pause from a Stream Deck, TouchOSC, VNyan or a game engine
+(``live --osc-in [HOST:]PORT``).
 
-One address is understood: ``/gesturecast/gesture`` with the gesture's name as a string (``,s "wave"``), plus the
-shared token as a second string when the port listens beyond loopback (the same rule as the WebSocket controls:
-:func:`gesturecast.bridges.ws_access.check_exposure`). Bundles are unpacked. Anything else (another address, other
-arguments, a malformed datagram, a wrong token) is dropped and counted; the first of each kind is logged once. The
-message becomes the typed control ``Gesture(NAME)`` (checked by :func:`gesturecast.controls.parse_controls`, as every
-door's controls are) handed to ``on_control`` (the session's controls: the name checked against the lexicon there,
-carried out at the next latent), so an unknown name is logged and the stream goes on.
+Three addresses are understood, each with one value, plus the shared token as a second string when the port listens
+beyond loopback (the same rule as the WebSocket controls: :func:`gesturecast.bridges.ws_access.check_exposure`):
+
+- ``/gesturecast/gesture`` with the gesture's name as a string (``,s "wave"``);
+- ``/gesturecast/intensity`` with the gesture size as a number (``,f 0.5``: 0 stands and breathes, 1 as generated, 2);
+- ``/gesturecast/pause`` with 1 (or 1.0, a toggle's "on") to send the body to the idle pose, 0 to resume.
+
+Bundles are unpacked. Anything else (another address, other arguments, a malformed datagram, a wrong token) is
+dropped and counted; the first of each kind is logged once. A message becomes the typed control of its field
+(checked by :func:`gesturecast.controls.parse_controls`, as every door's controls are) handed to ``on_control`` (the
+session's controls: a gesture's name checked against the lexicon there, carried out at the next latent), so an
+unknown name or a size out of range is logged and the stream goes on.
 
 The decoder is the project's own: OSC 1.0 strings (NUL-terminated, padded to 4 bytes), ``i`` / ``f`` / ``s``
 arguments, ``#bundle`` elements, nothing else.
@@ -30,6 +36,9 @@ from gesturecast.errors import UserError
 logger = logging.getLogger(__name__)
 
 GESTURE_ADDRESS = "/gesturecast/gesture"
+INTENSITY_ADDRESS = "/gesturecast/intensity"
+PAUSE_ADDRESS = "/gesturecast/pause"
+CONTROL_ADDRESSES = {GESTURE_ADDRESS: "gesture", INTENSITY_ADDRESS: "intensity", PAUSE_ADDRESS: "pause"}  # -> field
 MAX_DATAGRAM = 65507  # the largest UDP payload
 MAX_BUNDLE_DEPTH = 4
 RECEIVE_TIMEOUT_S = 0.2  # how often the listener looks for close()
@@ -99,14 +108,21 @@ class OscInConfig:
     token: str | None = None  # needed beyond loopback, sent as the message's second string
 
 
+def control_value(field: str, argument: OscArgument) -> OscArgument | bool:
+    """The control value of a message's argument: a pause's number (0 / 1, a toggle's 0.0 / 1.0) as false / true."""
+    if field == "pause" and isinstance(argument, (int, float)):
+        return bool(argument)
+    return argument
+
+
 class OscControlListener:
-    """A UDP port whose ``/gesturecast/gesture`` messages become gesture controls (see the module docstring)."""
+    """A UDP port whose control messages become controls (see the module docstring)."""
 
     def __init__(self, config: OscInConfig, on_control: Callable[[tuple[Control, ...]], None]) -> None:
         check_exposure(config.host, config.token)
         self.config = config
         self.on_control = on_control
-        self.counts: Counter[str] = Counter()  # received, gestures, dropped kinds
+        self.counts: Counter[str] = Counter()  # received, controls, dropped kinds
         self._socket = socket.socket(socket.AF_INET6 if ":" in config.host else socket.AF_INET, socket.SOCK_DGRAM)
         try:
             self._socket.bind((config.host, config.port))
@@ -124,7 +140,8 @@ class OscControlListener:
 
     def start(self) -> OscControlListener:
         self._thread.start()
-        logger.info("gestures by OSC on %s:%d (%s NAME)", self.config.host, self.port, GESTURE_ADDRESS)
+        logger.info("controls by OSC on %s:%d (%s NAME, %s SIZE, %s 0|1)", self.config.host, self.port,
+                    GESTURE_ADDRESS, INTENSITY_ADDRESS, PAUSE_ADDRESS)
         return self
 
     def close(self) -> None:
@@ -155,23 +172,25 @@ class OscControlListener:
             self._message(address, arguments)
 
     def _message(self, address: str, arguments: list[OscArgument]) -> None:
-        if address != GESTURE_ADDRESS:
-            return self._drop("other_address", f"OSC address {address!r:.60} (only {GESTURE_ADDRESS} is read)")
+        field = CONTROL_ADDRESSES.get(address)
+        if field is None:
+            return self._drop("other_address", f"OSC address {address!r:.60} (only {', '.join(CONTROL_ADDRESSES)} "
+                              "are read)")
         wanted = 1 if self.config.token is None else 2
-        if len(arguments) != wanted or not all(isinstance(a, str) for a in arguments):
-            return self._drop("bad_arguments", f"{GESTURE_ADDRESS} wants the gesture's name"
-                              + (" and the token" if self.config.token else "") + " as strings")
+        if len(arguments) != wanted or not all(isinstance(a, str) for a in arguments[1:]):
+            return self._drop("bad_arguments", f"{address} wants one value"
+                              + (" and the token as a string" if self.config.token else ""))
         if self.config.token is not None and not tokens_match(arguments[1], self.config.token):
-            return self._drop("wrong_token", f"{GESTURE_ADDRESS} with a wrong token")
+            return self._drop("wrong_token", f"{address} with a wrong token")
         try:
-            self.on_control(parse_controls({"gesture": arguments[0]}))
+            self.on_control(parse_controls({field: control_value(field, arguments[0])}))
         except (UserError, ValueError) as error:
-            return self._drop("refused", f"gesture {arguments[0]!r:.40} refused: {error}")
-        self.counts["gestures"] += 1
+            return self._drop("refused", f"{field} {arguments[0]!r:.40} refused: {error}")
+        self.counts["controls"] += 1
 
     def dropped(self) -> dict[str, int]:
         """The messages dropped so far by kind, named for the run's summary and report (``osc_in_wrong_token``)."""
-        return {f"osc_in_{kind}": count for kind, count in self.counts.items() if kind not in ("received", "gestures")}
+        return {f"osc_in_{kind}": count for kind, count in self.counts.items() if kind not in ("received", "controls")}
 
     def _drop(self, kind: str, description: str) -> None:
         self.counts[kind] += 1

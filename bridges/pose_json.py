@@ -67,6 +67,11 @@ class PoseJsonWriter:
         head = json.dumps({**head, "frames": []})
         self._write(head[: -len("]}")])
 
+    @property
+    def num_frames(self) -> int:
+        """Frames written so far."""
+        return self._count
+
     def _write(self, text: str) -> None:
         try:
             self._file.write(text)

@@ -48,17 +48,19 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "eval-train": ("gesturecast.tools.eval.train_cli", "train the frozen FGD encoder and style classifier"),
     "style-fit": ("gesturecast.tools.style.cli", "fit the stylizer's styles and the style judge (Bandai takes)"),
 }
+NO_COMMAND = ""  # ``build_parser(only=NO_COMMAND)``: the parser of a command line naming no command imports none
 
 
 def build_parser(only: str | None = None) -> argparse.ArgumentParser:
-    """Every command's parser; with ``only`` (a command name), only that command's module is imported and the
+    """Every command's parser; with ``only`` (the command line's first word that is not an option), only that
+    command's module is imported, none when it names no command (``""``: ``--help``, ``--version``), and the
     others are listed by name and help line."""
     parser = OneLineParser(prog="gesturecast", description=DESCRIPTION, epilog=EPILOG,
                            formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("-v", "--verbose", action="store_true", help="debug logging")
     parser.add_argument("--version", action="version", version=f"gesturecast {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
-    wanted = COMMANDS[only][0] if only in COMMANDS else None
+    wanted = None if only is None else COMMANDS.get(only, (NO_COMMAND,))[0]
     for module_name in dict.fromkeys(module for module, _ in COMMANDS.values()):
         if wanted in (None, module_name):
             importlib.import_module(module_name).register(sub)
@@ -87,7 +89,7 @@ def tolerate_narrow_encodings() -> None:
 def main(argv: list[str] | None = None) -> int:
     tolerate_narrow_encodings()
     argv = sys.argv[1:] if argv is None else argv
-    args = build_parser(only=command_in(argv)).parse_args(argv)
+    args = build_parser(only=command_in(argv) or NO_COMMAND).parse_args(argv)
     level = logging.DEBUG if getattr(args, "verbose", False) else logging.INFO  # -v before or after the command
     logging.basicConfig(level=level, format="%(levelname)s %(name)s: %(message)s")
     with stop_signals.handled():  # SIGTERM / SIGHUP end the command as Ctrl-C does

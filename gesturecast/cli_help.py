@@ -35,7 +35,8 @@ HELP: dict[str, tuple[str, tuple[str, ...]]] = {
                   "gesturecast generate talk.wav --transcript words.json -o talk.vrma",
                   "gesturecast generate --batch lines.csv -o gestures/")),
     "demo": ("Play the bundled speech sample through the live engine: no microphone, arguments or network "
-             "needed.", ("gesturecast demo",)),
+             "needed; it ends with the sample, or with --loop replays it until Ctrl-C.",
+             ("gesturecast demo", "gesturecast demo --loop --ws 8800")),
     "serve": ("Drive many avatars from one server: clients send audio over a WebSocket and get poses back.",
               ("gesturecast serve --port 8766", "gesturecast serve --workers 4")),
     "eval": ("Score generated motion against real motion capture (speech following, realism, styles); writes JSON.",

@@ -5,7 +5,8 @@ Every door builds these from its wire form with :func:`parse_controls`: ``Stream
 A bad field is refused by the same one-line :class:`ControlError` whichever door it came through; the session reads
 only the typed values:
 
-- :class:`StyleChange`: style, second style, part styles, prompt, style strength, guidance, audio guidance, γ, root;
+- :class:`StyleChange`: style, second style, part styles, prompt, style strength, guidance, audio guidance, γ, root,
+  gesture size (``intensity``) and ``pause``;
 - :class:`Gesture`: a lexicon gesture, carried out as soon as the look-ahead allows;
 - :class:`Words`: words with stream times; trigger words cue gestures.
 
@@ -35,6 +36,7 @@ GUIDANCE_RANGE = (0.0, 10.0)  # classifier-free guidance s and audio guidance s_
 STYLE_STRENGTH_RANGE = (0.0, 2.0)  # 0: the generator's own motion, 1: the fitted style, 2: twice its change
 GAMMA_RANGE = (-2.0, 3.0)  # γ: interpolation in 0..1, extrapolation outside
 ROOT_MODES = ("bounded", "free", "locked")  # stays near where it started, the generated root motion, pinned
+INTENSITY_RANGE = (0.0, 2.0)  # gesture size: 0 stands and breathes, 1 the generated motion as it is, 2 twice as big
 
 
 class ControlError(ValueError):
@@ -115,6 +117,19 @@ class Choice:
         return {"type": "choice", "choices": list(self.choices)}
 
 
+@dataclass(frozen=True)
+class Switch:
+    """On or off: a JSON ``true`` / ``false`` (numbers and strings are not switches)."""
+
+    def check(self, name: str, value: object) -> bool:
+        if not isinstance(value, bool):
+            raise ControlError(f"{name} must be true or false")
+        return value
+
+    def describe(self) -> dict:
+        return {"type": "boolean"}
+
+
 PartStylePairs = tuple[tuple[str, str], ...]
 
 
@@ -140,7 +155,7 @@ class PartStyles:
         return {"type": "parts", "max_parts": MAX_PARTS, "style": self.style.describe()}
 
 
-def _setting(rule: Text | Number | Choice | PartStyles):
+def _setting(rule: Text | Number | Choice | PartStyles | Switch):
     """A :class:`StyleChange` field: None (unchanged) unless given, checked by ``rule``."""
     return field(default=None, metadata={"rule": rule})
 
@@ -154,6 +169,8 @@ class StyleChange:
     prompt: free-text style (wins over ``style``).
     style_strength: 0 (neutral) .. 1 (the model's default) .. 2; guidance: s; audio_guidance: s_a; gamma: γ.
     root: "bounded", "free" or "locked".
+    intensity: gesture size, 0 (stands, breathes and blinks) .. 1 (the motion as generated) .. 2 (twice as big).
+    pause: true sends the body to the idle, breathing pose (e.g. while the microphone is muted); false resumes.
     """
 
     style: str | None = _setting(Style(MAX_STYLE_CHARS))
@@ -165,6 +182,8 @@ class StyleChange:
     audio_guidance: float | None = _setting(Number(*GUIDANCE_RANGE))
     gamma: float | None = _setting(Number(*GAMMA_RANGE))
     root: str | None = _setting(Choice(ROOT_MODES))
+    intensity: float | None = _setting(Number(*INTENSITY_RANGE))
+    pause: bool | None = _setting(Switch())
 
     def changed(self) -> dict[str, object]:
         """The fields this change sets, by name."""
@@ -175,7 +194,7 @@ class StyleChange:
         return {name: dict(value) if name == "part_styles" else value for name, value in self.changed().items()}
 
 
-STYLE_SETTINGS: dict[str, Text | Number | Choice | PartStyles] = {
+STYLE_SETTINGS: dict[str, Text | Number | Choice | PartStyles | Switch] = {
     item.name: item.metadata["rule"] for item in fields(StyleChange)}
 
 

@@ -18,7 +18,7 @@ from importlib import resources
 from pathlib import Path
 
 from gesturecast.arguments import NumberLimit
-from gesturecast.controls import STYLE_SETTINGS, Choice, Number, StyleChange
+from gesturecast.controls import STYLE_SETTINGS, Choice, Number, StyleChange, Switch
 from gesturecast.errors import UserError
 from gesturecast.frames import FACE_NAMES, VISEME_NAMES
 from gesturecast.models.generator.style_prompt import PartStyles, StylePrompt, parse_part_styles
@@ -54,6 +54,7 @@ FACE_MODES = (FACE_OFF, FACE_BLINK, FACE_FULL)  # what the face does besides the
 OUTPUT_RATES = (30, 60)  # 60: slerp upsampling of the 30 fps motion
 DEFAULT_STYLE_STRENGTH = 1.0
 GENERATOR_STYLE = "speech"  # what the generator hears under the stylizer's styles (docs/voices.md)
+DEFAULT_INTENSITY = 1.0  # the generated gestures as they are
 SINGLE_STYLE = 1.0  # γ = 1: the first style only
 DEFAULT_AUDIO_GUIDANCE = 1.5  # docs/generator.md "Audio guidance": rests in pauses, follows the speech more
 DEFAULT_SMOOTHING_FRAMES = 1  # centred 3-frame window: jerk ≈ real motion's (docs/generator.md "Smoothing")
@@ -77,6 +78,7 @@ CHOICES: dict[str, tuple] = {
     "fps": OUTPUT_RATES,
     **{name: rule.choices for name, rule in STYLE_SETTINGS.items() if isinstance(rule, Choice)},
 }
+SWITCHES = tuple(name for name, rule in STYLE_SETTINGS.items() if isinstance(rule, Switch))  # True or False
 
 
 @dataclass(frozen=True)
@@ -107,6 +109,9 @@ class Settings:
     lipsync: viseme names "vrm0" (A I U E O), "vrm1" (aa ih ou ee oh) or "off".
     face: "full" (blinks and the style's expression), "blink" or "off"; named like ``lipsync`` (VRM 0.x when off).
     root: "bounded" (stays near where it started), "free" or "locked".
+    intensity: gesture size, 0 .. 2: each joint's rotation away from the idle, breathing pose is scaled by it (0:
+        stands, breathes and blinks; 1: the motion as generated, bit for bit; 2: twice as big).
+    pause: start with the body in the idle, breathing pose (a ``pause`` control turns it on and off live).
     gestures: the gesture lexicon that words and gesture controls draw on (the bundled one; a folder of the
         user's clips, docs/gestures.md), or None for none.
     fps: output rate, 30 or 60 (slerp upsampling).
@@ -135,6 +140,8 @@ class Settings:
     lipsync: str = "vrm0"
     face: str = FACE_FULL
     root: str = RootMode.BOUNDED.value
+    intensity: float = DEFAULT_INTENSITY
+    pause: bool = False
     fps: int = 30
     gestures: Path | None = DEFAULT_GESTURES_DIR
 
@@ -151,6 +158,9 @@ class Settings:
         for name, choices in CHOICES.items():
             if getattr(self, name) not in choices:
                 raise UserError(f"{name} must be one of {', '.join(map(str, choices))}, got {getattr(self, name)!r}")
+        for name in SWITCHES:
+            if not isinstance(getattr(self, name), bool):
+                raise UserError(f"{name} must be True or False, got {getattr(self, name)!r:.40}")
         self.style_prompt()  # an empty style or prompt is refused here
         if self.style2 is not None:
             StylePrompt.parse(self.style2)

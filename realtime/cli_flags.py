@@ -1,5 +1,6 @@
-"""The generation and output flags shared by ``live``, ``generate``, ``demo``, ``serve`` and the benchmarks, and
-their translation into :class:`Settings` and :class:`Outputs` (the only place flags become settings).
+"""The generation and output flags shared by ``live``, ``generate``, ``demo``, ``serve`` and the benchmarks (and
+``generate --batch``'s), and their translation into :class:`Settings` and :class:`Outputs` (the only place flags
+become settings). Nothing here loads the engine: a command's ``--help`` needs only these.
 
 Each numeric flag takes its range from :data:`gesturecast.settings.NUMBER_LIMITS`, so ``--steps 0`` and
 ``Settings(steps=0)`` are refused in the same words.
@@ -9,9 +10,10 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import os
 from pathlib import Path
 
-from gesturecast.arguments import port_number
+from gesturecast.arguments import int_at_least, port_number
 from gesturecast.bridges.avatar_file import AVATAR_ENV_VAR
 from gesturecast.bridges.coords import FRAMES
 from gesturecast.bridges.output_settings import VMC_ROLES, Outputs
@@ -61,6 +63,9 @@ def add_generation_arguments(parser: argparse.ArgumentParser) -> None:
                        help="the label the generator hears under the stylizer's styles: speech (the default) "
                             "follows the voice; neutral is the generator's own neutral, learned from motion without "
                             "speech (docs/voices.md)")
+    group.add_argument("--intensity", default=defaults.intensity, **_limited("intensity"),
+                       help="gesture size: 0 stands, breathes and blinks, 1 the gestures as generated (default), "
+                            "up to 2 twice as big; changes live with an intensity control")
     group.add_argument("--guidance", **_limited("guidance"),
                        help="how closely the motion follows the style and speech prompts; higher shows styles "
                             "more (4 is clear) but follows the speech less (default: the model's)")
@@ -110,6 +115,21 @@ def add_generation_arguments(parser: argparse.ArgumentParser) -> None:
 def gestures_folder(text: str) -> Path | None:
     """``--gestures``: a folder, or ``off`` (None: no lexicon)."""
     return None if text == GESTURES_OFF else Path(text)
+
+
+def add_batch_arguments(parser: argparse.ArgumentParser) -> None:
+    group = parser.add_argument_group("batch (many files)")
+    group.add_argument("--batch", type=Path, metavar="DIR_OR_CSV",
+                       help="every audio file under a folder, or the rows of a CSV (columns: path, style, prompt, "
+                            "style2, part_style, gamma, style_strength, guidance, audio_guidance, seed, "
+                            "transcript); -o is then the output folder")
+    group.add_argument("--workers", type=int_at_least(1), default=os.cpu_count() or 1,
+                       help="worker processes (or Ray actors) for --batch (default: every core)")
+    group.add_argument("--with-json", action="store_true", help="with --batch: also write NAME.json beside NAME.bvh")
+    group.add_argument("--with-vrma", action="store_true",
+                       help="with --batch: also write NAME.vrma (VRM Animation) beside NAME.bvh")
+    group.add_argument("--ray", action="store_true",
+                       help="with --batch: run on Ray Data (pip install 'gesturecast[scale]') instead of processes")
 
 
 def add_transcript_argument(parser: argparse.ArgumentParser) -> None:

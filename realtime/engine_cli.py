@@ -1,4 +1,8 @@
-"""``gesturecast live`` and ``gesturecast generate``: one session code path for both (and for ``demo``)."""
+"""``gesturecast live`` and ``gesturecast generate``: one session code path for both (and for ``demo``).
+
+The engine (the session, onnxruntime, the offline run, the batch runner) is imported when a command runs, not when
+its parser is built: ``gesturecast live --help`` answers without it.
+"""
 
 from __future__ import annotations
 
@@ -8,12 +12,19 @@ import logging
 import sys
 import time
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from gesturecast import stop_signals
 from gesturecast.bridges.fanout import BridgeFanout
-from gesturecast.bridges.osc_in import GESTURE_ADDRESS, OscControlListener, OscInConfig
+from gesturecast.bridges.osc_in import (
+    GESTURE_ADDRESS,
+    INTENSITY_ADDRESS,
+    PAUSE_ADDRESS,
+    OscControlListener,
+    OscInConfig,
+)
 from gesturecast.bridges.output_settings import parse_host_port
 from gesturecast.bridges.vrma import FOLDED, VRMA_BONES
 from gesturecast.bridges.ws_access import is_loopback
@@ -26,6 +37,7 @@ from gesturecast.models.motion.motion import MOTION_FPS, Motion
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
 from gesturecast.realtime.audio.cli import add_source_arguments, open_source
 from gesturecast.realtime.cli_flags import (
+    add_batch_arguments,
     add_generation_arguments,
     add_output_arguments,
     add_transcript_argument,
@@ -34,21 +46,14 @@ from gesturecast.realtime.cli_flags import (
     settings_from_args,
 )
 from gesturecast.realtime.gestures.words import Word
-from gesturecast.realtime.jobs.batch_cli import add_batch_arguments, run_batch
-from gesturecast.realtime.pose.session import GestureSession
-from gesturecast.realtime.run.engine import EngineReport, LiveEngine
-from gesturecast.realtime.run.engine_setup import build_outputs, build_session
-from gesturecast.realtime.run.offline_generate import (
-    VRMA_SUFFIX,
-    body_only,
-    check_motion_path,
-    generate_to_files,
-    transcript_words,
-)
 from gesturecast.realtime.timing.clock import MonotonicClock
 from gesturecast.realtime.timing.scheduler import STAGE_END_TO_END, SchedulerConfig
 from gesturecast.realtime.timing.status import StatusLine
 from gesturecast.settings import DEFAULT_GESTURES_DIR
+
+if TYPE_CHECKING:
+    from gesturecast.realtime.pose.session import GestureSession
+    from gesturecast.realtime.run.engine import EngineReport
 
 logger = logging.getLogger(__name__)
 
@@ -59,8 +64,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     add_generation_arguments(live)
     add_transcript_argument(live)
     add_output_arguments(live)
-    live.add_argument("--osc-in", metavar="[HOST:]PORT", help=f"fire gestures by OSC ({GESTURE_ADDRESS} NAME) from a "
-                      "Stream Deck, TouchOSC, VNyan or a game engine; loopback unless HOST is given (then the "
+    live.add_argument("--osc-in", metavar="[HOST:]PORT", help=f"fire gestures ({GESTURE_ADDRESS} NAME), set the "
+                      f"gesture size ({INTENSITY_ADDRESS} 0..2) or pause ({PAUSE_ADDRESS} 1, 0 resumes) by OSC from "
+                      "a Stream Deck, TouchOSC, VNyan or a game engine; loopback unless HOST is given (then the "
                       "token is the message's second string; docs/gestures.md)")
     live.set_defaults(func=run_live)
 
@@ -68,8 +74,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                                      "--batch: a folder or CSV of files → a folder of BVHs")
     generate.add_argument("audio", type=Path, nargs="?", help="speech file (any format soundfile reads)")
     generate.add_argument("-o", "--output", type=Path, required=True,
-                          help="BVH file to write, or a VRM Animation when it ends in .vrma (with --batch: the "
-                          "output folder)")
+                          help="file to write: .bvh (BVH), .vrma (VRM Animation) or .json (the pose stream); with "
+                          "--batch: the output folder")
     generate.add_argument("--json", type=Path, metavar="FILE", help="also write the pose stream as JSON")
     generate.add_argument("--vrma", type=Path, metavar="FILE", help="also write the motion as VRM Animation (.vrma)")
     generate.add_argument("--vrma-bones", choices=VRMA_BONES, default=FOLDED,
@@ -84,6 +90,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def run_live(args: argparse.Namespace) -> int:
+    from gesturecast.realtime.run.engine import LiveEngine
+    from gesturecast.realtime.run.engine_setup import build_outputs, build_session
+    from gesturecast.realtime.run.offline_generate import transcript_words
+
     check_distinct([("--input", args.input)], [("--bvh", args.bvh)])
     settings, chosen = settings_from_args(args), outputs_from_args(args)
     if not chosen.any:
@@ -166,6 +176,10 @@ def raise_output_errors(outputs: BridgeFanout) -> None:
 
 
 def run_generate(args: argparse.Namespace) -> int:
+    from gesturecast.realtime.jobs.batch_cli import run_batch
+    from gesturecast.realtime.run.engine_setup import build_session
+    from gesturecast.realtime.run.offline_generate import body_only, generate_to_files, transcript_words
+
     if args.batch is not None:
         if args.vrma_bones != FOLDED:
             raise UserError("--vrma-bones full is for one file; a batch writes its .vrma files folded")
@@ -173,22 +187,31 @@ def run_generate(args: argparse.Namespace) -> int:
     if args.audio is None:
         raise UserError("name an audio file, or a folder / CSV with --batch")
     check_distinct([("audio", args.audio)], [("-o", args.output), ("--json", args.json), ("--vrma", args.vrma)])
-    motion_paths = [check_motion_path(args.output, "-o")]
-    if args.vrma is not None:
-        if args.vrma.suffix.lower() != VRMA_SUFFIX:
-            raise UserError(f"--vrma {args.vrma}: name a .vrma file")
-        motion_paths.append(args.vrma)
+    motion_paths, json_path = output_files(args)
     settings = settings_from_args(args)
     words = transcript_words(args.transcript, settings)
     if not words and settings.gestures == DEFAULT_GESTURES_DIR:  # no words, no gesture: the bundled lexicon is
         settings = dataclasses.replace(settings, gestures=None)  # not encoded (0.1 s); a user's folder is still checked
-    session = build_session(body_only(settings, motion_paths, args.json), MonotonicClock())
+    session = build_session(body_only(settings, motion_paths, json_path), MonotonicClock())
     session.cue_words(words)
-    report = generate_to_files(session, args.audio, motion_paths, args.json, args.vrma_bones)
+    report = generate_to_files(session, args.audio, motion_paths, json_path, args.vrma_bones)
     process_cpu = time.process_time()  # the whole command: start-up, model, generation, files
     logger.info("process CPU %.2f s for %.1f s of audio: %.3f s per second", process_cpu, report.audio_seconds,
                 process_cpu / report.audio_seconds)
     return 0
+
+
+def output_files(args: argparse.Namespace) -> tuple[list[Path], Path | None]:
+    """``generate``'s motion files (-o as BVH or .vrma, --vrma) and pose-stream JSON (-o as .json, or --json)."""
+    from gesturecast.realtime.run.offline_generate import JSON_SUFFIX, OUTPUT_SUFFIXES, VRMA_SUFFIX, check_motion_path
+
+    output = check_motion_path(args.output, "-o", OUTPUT_SUFFIXES)
+    if output.suffix.lower() == JSON_SUFFIX and args.json is not None:
+        raise UserError(f"-o {output} already writes the pose stream as JSON; drop --json {args.json}")
+    motion_paths = [] if output.suffix.lower() == JSON_SUFFIX else [output]
+    if args.vrma is not None:
+        motion_paths.append(check_motion_path(args.vrma, "--vrma", (VRMA_SUFFIX,)))
+    return motion_paths, output if output.suffix.lower() == JSON_SUFFIX else args.json
 
 
 def scheduler_config(args: argparse.Namespace) -> SchedulerConfig:

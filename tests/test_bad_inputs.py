@@ -155,8 +155,9 @@ BAD_INPUTS: dict[str, BadInput] = {
     "margin 1e12": BadInput(f"{GENERATE} --margin-ms 1e12", "--margin-ms: must be a finite number ≥ 0 and ≤ 2000"),
     "guidance 1e308": BadInput(f"{GENERATE} --guidance 1e308", "--guidance: must be a finite number ≥ 0 and ≤ 10"),
     # outputs: the suffix picks the format, and an unknown one is refused rather than written as BVH text
-    "output glb": BadInput("generate {speech} -o {out}.glb", "name a .bvh or .vrma file"),
-    "output without suffix": BadInput("generate {speech} -o {out}.d/take", "name a .bvh or .vrma file"),
+    "output glb": BadInput("generate {speech} -o {out}.glb", "name a .bvh, .vrma or .json file"),
+    "output mp4": BadInput("generate {speech} -o {out}.mp4", "name a .bvh, .vrma or .json file"),
+    "output without suffix": BadInput("generate {speech} -o {out}.d/take", "name a .bvh, .vrma or .json file"),
     "vrma not vrma": BadInput("generate {speech} -o {out} --vrma {out}.glb", "--vrma"),
     "ws port 70000": BadInput("live --input {speech} --ws 70000", "--ws: must be an integer from 0 to 65535"),
     "serve port 70000": BadInput("serve --port 70000", "--port: must be an integer from 0 to 65535"),

@@ -1,5 +1,7 @@
 """`gesturecast --help` opens with one plain line saying what the product does."""
 
+import argparse
+import importlib
 import shlex
 import subprocess
 import sys
@@ -9,6 +11,7 @@ import pytest
 import gesturecast
 from gesturecast.cli import COMMANDS, build_parser, command_in
 from gesturecast.cli_help import HELP
+from gesturecast.tools.bench.cli import BENCHES
 
 
 def test_help_opens_with_one_line_about_the_product():
@@ -19,13 +22,17 @@ def test_help_opens_with_one_line_about_the_product():
 
 def subcommands(parser) -> dict[str, str]:
     """command -> its line in ``gesturecast --help``."""
-    action = next(a for a in parser._actions if a.__class__.__name__ == "_SubParsersAction")
+    return subcommands_of(next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction)))
+
+
+def subcommands_of(action) -> dict[str, str]:
+    """sub-command -> its help line, of a sub-parsers action."""
     return {choice.dest: choice.help for choice in action._choices_actions}
 
 
 def subcommand_parsers(parser) -> dict:
     """command -> its parser."""
-    action = next(a for a in parser._actions if a.__class__.__name__ == "_SubParsersAction")
+    action = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
     return dict(action.choices)
 
 
@@ -40,6 +47,39 @@ def test_running_one_command_imports_no_other_command_module():
             "'asyncio', 'websockets.asyncio', 'tqdm'))))")  # a server's and a progress bar's modules: not for a file
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert result.stdout.strip() == "[]"
+
+
+HEAVY_PACKAGES = ("scipy", "onnxruntime", "torch", "matplotlib")
+
+
+@pytest.mark.parametrize("argv", [["--version"], ["--help"], ["live", "--help"], ["generate", "--help"],
+                                  ["demo", "--help"], ["bench", "--help"], ["eval", "--help"]])
+def test_help_and_version_import_no_heavy_package(argv):
+    """``--help`` and ``--version`` name no command and import none; the help of the commands a newcomer runs first
+    loads no engine, and no command's help loads scipy or torch (`gesturecast bench startup` times them)."""
+    heavy = ("scipy", "torch", "matplotlib") if argv[0] == "eval" else HEAVY_PACKAGES
+    code = ("import contextlib, io, sys; from gesturecast.cli import main\n"
+            "with contextlib.suppress(SystemExit), contextlib.redirect_stdout(io.StringIO()):\n"
+            f"    main({argv!r})\n"
+            f"print(sorted({{m.split('.')[0] for m in sys.modules}} & set({heavy!r})))")
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert result.stdout.strip() == "[]"
+
+
+def test_the_bench_table_lists_every_bench_with_the_help_its_module_gives():
+    """`bench --help` lists the benches from the table; each module, imported when its bench runs, registers the
+    same line."""
+    registered = argparse.ArgumentParser().add_subparsers()
+    for module, _ in BENCHES.values():
+        importlib.import_module(module).register_bench(registered)
+    assert subcommands_of(registered) == {name: help_line for name, (_, help_line) in BENCHES.items()}
+    listed = subcommand_parsers(build_parser(only="bench"))["bench"]
+    assert list(subcommands(listed)) == [*BENCHES, "startup"]
+
+
+def test_a_named_bench_parses_its_own_flags():
+    args = build_parser(only="bench").parse_args(["bench", "cues", "--words", "10"])
+    assert args.bench == "cues" and args.words == [10] and callable(args.func)
 
 
 def test_command_in_finds_the_command_after_global_options():

@@ -16,6 +16,7 @@ from gesturecast.controls import (
     parse_controls,
     wire,
 )
+from gesturecast.errors import UserError
 from gesturecast.models.motion.root_anchor import RootMode
 from gesturecast.realtime.timing.clock import MonotonicClock
 from gesturecast.settings import CHOICES, NUMBER_LIMITS, Settings
@@ -38,6 +39,8 @@ def validate_control(message: dict) -> dict:
         ({"type": "control", "part_styles": {"arms": "happy", "legs": "text:tired"}},
          {"part_styles": {"arms": "happy", "legs": "text:tired"}}),
         ({"type": "control", "part_styles": {}}, {"part_styles": {}}),
+        ({"type": "control", "intensity": 0}, {"intensity": 0.0}),
+        ({"type": "control", "pause": True, "intensity": 2}, {"pause": True, "intensity": 2.0}),
     ],
 )
 def test_valid_controls(message, expected):
@@ -66,6 +69,9 @@ def test_valid_controls(message, expected):
         ({"type": "control", "part_styles": {"arms": "motion:/etc/passwd"}}, "part_styles.arms: motion prompts"),
         ({"type": "control", "part_styles": {" ": "happy"}}, "body part name must be"),
         ({"type": "control", "part_styles": {f"p{i}": "happy" for i in range(9)}}, "more than 8 body parts"),
+        ({"type": "control", "intensity": 2.5}, r"intensity must be within \[0, 2\], got 2.5"),
+        ({"type": "control", "pause": 1}, "pause must be true or false"),
+        ({"type": "control", "pause": "yes"}, "pause must be true or false"),
     ],
 )
 def test_invalid_controls(message, reason):
@@ -76,7 +82,9 @@ def test_invalid_controls(message, reason):
 def test_schema_lists_every_field():
     schema = control_schema()
     assert set(schema) == {"style", "style2", "part_styles", "prompt", "style_strength", "guidance", "audio_guidance",
-                           "gamma", "root", "gesture", "words"}
+                           "gamma", "root", "intensity", "pause", "gesture", "words"}
+    assert schema["intensity"] == {"type": "number", "min": 0.0, "max": 2.0}
+    assert schema["pause"] == {"type": "boolean"}
     assert schema["style_strength"] == {"type": "number", "min": 0.0, "max": 2.0}
     assert schema["part_styles"]["type"] == "parts" and schema["part_styles"]["max_parts"] == 8
     assert schema["root"] == {"type": "choice", "choices": ["bounded", "free", "locked"]}
@@ -135,6 +143,11 @@ def test_settings_and_the_schema_derive_from_the_one_declaration():
     assert STYLE_SETTINGS["root"].choices == tuple(mode.value for mode in RootMode)
 
 
+def test_settings_refuse_a_pause_that_is_not_true_or_false():
+    with pytest.raises(UserError, match="pause must be True or False, got 'no'"):
+        Settings(pause="no")
+
+
 def test_a_style_change_applies_to_settings_by_name():
     changed = Settings(prompt="calm").with_style(StyleChange(style="happy", gamma=0.5, part_styles=(("arms", "old"),)))
     assert (changed.style, changed.prompt, changed.gamma) == ("happy", None, 0.5)
@@ -148,13 +161,15 @@ def test_every_style_setting_reaches_the_generator_through_settings():
     from gesturecast.realtime.run.engine_setup import SessionFactory, generator_settings
 
     change = StyleChange(style="happy", style2="old", part_styles=(("arms", "sad"),), style_strength=0.5,
-                         guidance=2.0, audio_guidance=1.5, gamma=0.25, root="locked")
+                         guidance=2.0, audio_guidance=1.5, gamma=0.25, root="locked", intensity=0.5, pause=True)
     settings = Settings().with_style(change)
     factory = SessionFactory(settings.replace(gestures=None))
     made = generator_settings(settings, factory.bundle, factory.budget())
     assert (made.style, made.second_style) == (StylePrompt("label", "happy"), StylePrompt("label", "old"))
     assert made.part_styles == (("arms", StylePrompt("label", "sad")),)
     assert (made.style_strength, made.guidance, made.audio_guidance, made.gamma) == (0.5, 2.0, 1.5, 0.25)
-    assert factory.session(MonotonicClock()).config.root_mode.value == "locked"
+    session = factory.session(MonotonicClock())
+    assert session.config.root_mode.value == "locked"
+    assert (session.controls.intensity, session.controls.paused, session.controls.gesture_size) == (0.5, True, 0.0)
     assert set(STYLE_SETTINGS) - set(change.changed()) == {"prompt"}  # a prompt replaces the style:
     assert Settings().with_style(StyleChange(prompt="calm")).style_prompt() == StylePrompt("text", "calm")

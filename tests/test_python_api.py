@@ -20,8 +20,10 @@ import gesturecast
 from gesturecast.bridges.control import message_controls
 from gesturecast.controls import ControlError
 from gesturecast.errors import UserError
+from gesturecast.models.audio.dsp import frames_complete
 from gesturecast.models.audio.files import PACKAGED_SAMPLE, SAMPLE_RATE, load_audio
 from gesturecast.models.motion.bvh import read_bvh
+from gesturecast.models.motion.motion import MOTION_FPS
 
 SECONDS = 4
 
@@ -97,6 +99,35 @@ def test_a_stream_gives_the_bits_of_generate_whatever_the_block_size(motion, spe
     assert len(pushed) < motion.num_frames  # the look-ahead's last frames come from the close
     assert [frame.seq for frame in received] == list(range(motion.num_frames))
     assert np.array_equal(np.stack([frame.rotations for frame in received]), motion.rotations)
+
+
+def test_flush_hands_over_the_frames_owed_and_the_stream_goes_on(motion, speech):
+    """push() gives frames as they become ready; flush() the rest of the audio pushed so far, and the next block
+    follows the silence it added; close() the last ones."""
+    half = speech.shape[0] // 2
+    owed = frames_complete(half, SAMPLE_RATE, int(MOTION_FPS))
+    with gesturecast.Stream(style="happy", paced=False, warm=False) as stream:
+        pushed = stream.push(speech[:half], SAMPLE_RATE)
+        flushed = stream.flush()
+        assert stream.flush() == []  # nothing more is owed
+        later = stream.push(speech[half:], SAMPLE_RATE)
+        closing = stream.close()
+    assert len(pushed) < owed <= len(pushed) + len(flushed)
+    assert np.array_equal(np.stack([f.rotations for f in pushed]), motion.rotations[: len(pushed)])
+    frames = pushed + flushed + later + closing
+    assert [frame.seq for frame in frames] == list(range(len(frames)))
+    assert len(frames) > motion.num_frames  # the flush's silence is part of the stream
+
+
+def test_a_stream_sizes_and_pauses_its_gestures_live(speech):
+    with gesturecast.Stream(paced=False, warm=False, intensity=0.5) as stream:
+        stream.push(speech[:SAMPLE_RATE], SAMPLE_RATE)
+        stream.control(intensity=1.5, pause=True)
+        stream.push(speech[SAMPLE_RATE:], SAMPLE_RATE)
+        controls = stream.session.controls
+        assert (controls.intensity, controls.paused, controls.gesture_size) == (1.5, True, 0.0)
+        with pytest.raises(UserError, match=r"intensity must be within \[0, 2\]"):
+            stream.control(intensity=3)
 
 
 def test_a_stream_takes_controls_and_refuses_what_the_model_lacks(speech):
@@ -202,6 +233,13 @@ def test_a_stream_waves_at_hello_given_as_words_or_as_a_words_control(speech):
         frames += stream.close()
         waving = [frame.seq / 30 for frame in frames if frame.gesture == "wave"]
         assert waving and waving[0] < 2.5 < waving[-1], send
+
+
+def test_a_gesture_by_its_old_name_plays_the_gesture_it_is_called_now(speech):
+    with gesturecast.Stream(paced=False, warm=False) as stream:
+        stream.gesture("bye")  # the shipped lexicon calls it hand-up now: what a person sees
+        frames = stream.push(speech, SAMPLE_RATE)
+    assert any(frame.gesture == "hand-up" for frame in frames)
 
 
 def test_a_gesture_needs_a_lexicon(speech):

@@ -12,6 +12,7 @@ const FPS_WINDOW_S = 1.0;
 const DRAG_RADIANS_PER_PIXEL = 0.01;
 const MAX_PITCH = 1.4;
 const SLIDERS = ["style_strength", "guidance", "audio_guidance"];  // numeric control fields (ranges from the hello's control_schema)
+const NOW_SLIDERS = ["intensity"];  // numeric control fields sent as soon as the slider is let go (gesture size)
 
 const state = {
   hello: null, frame: null, pose: null, frames: 0, latencyMs: null, arrivals: [], avatar: null, gesture: "",
@@ -71,7 +72,7 @@ function onHello(hello) {
   const select = el("style-select");
   for (const choice of hello.style_choices) select.add(new Option(choice, choice));
   showStyle(hello.style);
-  for (const name of SLIDERS) {
+  for (const name of [...SLIDERS, ...NOW_SLIDERS]) {
     const range = hello.control_schema[name];
     if (range) Object.assign(el(name), { min: range.min, max: range.max });
   }
@@ -283,6 +284,11 @@ function enableControls() {
       state.touchedSliders.add(name);
     });
   }
+  for (const name of NOW_SLIDERS) {
+    el(name).addEventListener("input", () => { el(`${name}-value`).textContent = el(name).value; });
+    el(name).addEventListener("change", () => sendControl({ type: "control", [name]: Number(el(name).value) }));
+  }
+  el("pause").addEventListener("change", () => sendControl({ type: "control", pause: el("pause").checked }));
   el("show-stick").addEventListener("change", showView);
 }
 

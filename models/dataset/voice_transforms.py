@@ -33,7 +33,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.signal
 
 N_FFT = 1024  # 64 ms at 16 kHz: resolves harmonics of voices down to ~60 Hz
 HOP = 256
@@ -104,6 +103,8 @@ def add_white_noise(audio: np.ndarray, snr_db: float, rng: np.random.Generator) 
 
 
 def telephone_band(audio: np.ndarray, sample_rate: int) -> np.ndarray:
+    import scipy.signal  # here, not at the top: importing scipy takes seconds that a command's help never needs
+
     sos = scipy.signal.butter(TELEPHONE_ORDER, TELEPHONE_BAND_HZ, btype="bandpass", fs=sample_rate, output="sos")
     return scipy.signal.sosfiltfilt(sos, audio.astype(np.float64)).astype(np.float32)
 
@@ -124,6 +125,8 @@ def room_impulse_response(sample_rate: int, rt60_s: float, drr_db: float, rng: n
 def reverb(audio: np.ndarray, sample_rate: int, rng: np.random.Generator, rt60_s: float = 0.35,
            drr_db: float = 0.0) -> np.ndarray:
     """Small-room reverb, rescaled to the input's RMS."""
+    import scipy.signal
+
     wet = scipy.signal.fftconvolve(audio.astype(np.float64), room_impulse_response(sample_rate, rt60_s, drr_db, rng))
     wet = wet[: len(audio)]
     scale = np.sqrt(np.mean(audio.astype(np.float64) ** 2) / max(np.mean(wet**2), 1e-20))

@@ -24,7 +24,6 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.signal import argrelextrema
 
 from gesturecast.models.motion.skeleton import CANONICAL, Skeleton
 
@@ -62,6 +61,8 @@ def joint_speeds(positions: np.ndarray, fps: float) -> np.ndarray:
 
 def motion_beats(speed: np.ndarray, fps: float, config: BeatConsistencyConfig, mean_speed: float) -> np.ndarray:
     """Times (s) of the beats in one joint's speed curve (T,) (see the module docstring)."""
+    from scipy.signal import argrelextrema  # here, not at the top: the CLI's help imports this module (2 s)
+
     minima = argrelextrema(speed, np.less, order=config.minima_order)[0]
     moving = speed[minima] > config.min_relative_speed * mean_speed
     return minima[moving] / fps

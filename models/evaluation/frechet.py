@@ -13,7 +13,6 @@ The encoder that produces the features is a separate, frozen component.
 from __future__ import annotations
 
 import numpy as np
-from scipy import linalg
 
 
 def gaussian_statistics(features: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -26,6 +25,8 @@ def gaussian_statistics(features: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def _psd_sqrt(matrix: np.ndarray) -> np.ndarray:
     """Symmetric square root of a symmetric positive semi-definite matrix (eigenvalues clipped at 0)."""
+    from scipy import linalg  # here, not at the top: importing scipy takes seconds that a command's help never needs
+
     eigenvalues, eigenvectors = linalg.eigh(matrix)
     return (eigenvectors * np.sqrt(np.clip(eigenvalues, 0.0, None))) @ eigenvectors.T
 
@@ -37,6 +38,8 @@ def trace_sqrt_product(cov_a: np.ndarray, cov_b: np.ndarray) -> float:
     non-negative eigenvalues λ_i and the trace is Σ √λ_i. Unlike ``scipy.linalg.sqrtm`` of the
     non-symmetric product, this stays real and finite for singular (rank-deficient) covariances.
     """
+    from scipy import linalg
+
     root_a = _psd_sqrt(cov_a)
     eigenvalues = linalg.eigvalsh(root_a @ cov_b @ root_a)
     return float(np.sqrt(np.clip(eigenvalues, 0.0, None)).sum())

@@ -67,7 +67,8 @@ class GestureStyleFrame(DataFrame):
     """A style change for the avatar, in order with the audio around it.
 
     ``control`` holds the keys of a session control message: style, prompt, style2, part_styles, gamma,
-    style_strength, guidance, audio_guidance, root (the same as the WebSocket control messages, docs/bridges.md)."""
+    style_strength, guidance, audio_guidance, root, intensity, pause (the same as the WebSocket control messages,
+    docs/bridges.md)."""
 
     control: dict = field(default_factory=dict)
 

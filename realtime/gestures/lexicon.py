@@ -24,7 +24,7 @@ from __future__ import annotations
 import math
 import re
 import zipfile
-from collections.abc import Callable
+from collections.abc import Callable, Container
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -131,6 +131,16 @@ class GestureEntry:
     @property
     def stroke_time(self) -> float:
         return self.variant().stroke_time
+
+
+RENAMED = {"bye": "hand-up"}  # a shipped gesture's old name -> its name now (named by what it shows); both work
+
+
+def current_name(name: str, known: Container[str]) -> str:
+    """``name``, or the name a renamed shipped gesture has now when the lexicon (``known``) has that and not ``name``
+    (``bye`` → ``hand-up``; a user's own ``bye`` stays theirs)."""
+    renamed = RENAMED.get(name)
+    return renamed if name not in known and renamed in known else name
 
 
 @dataclass

@@ -1,7 +1,7 @@
 """Gesture cues decided from the phrase, not the word: is "thanks" a thank-you, or "thanks to the rain"?
 
 A cue is a speech act: a greeting (wave), thanks (bow), a farewell (a one-hand wave, ``wave-right``; Bandai's
-``bye`` holds the hand still, so it is the fallback), a celebration (raise-both), presenting something (guide) or
+``bye``, a hand held up (``hand-up``), is the fallback), a celebration (raise-both), presenting something (guide) or
 calling someone over (call). :data:`CANDIDATES` lists the phrases that can open one ("good
 morning", "see ya", "bye bye": "Bye-bye" as recognisers write it is two tokens). Each occurrence is then decided
 from the sentence around it:
@@ -47,7 +47,7 @@ from gesturecast.errors import UserError
 from gesturecast.realtime.gestures.phrasebook import ADDRESSEES, NOT_AFTER, PHRASEBOOK, placement
 
 INTENT_GESTURES = {  # intent -> the lexicon gestures that perform it, the first the lexicon has wins
-    "greeting": ("wave",), "thanks": ("bow",), "farewell": ("wave-right", "bye"), "celebration": ("raise-both",),
+    "greeting": ("wave",), "thanks": ("bow",), "farewell": ("wave-right", "hand-up"), "celebration": ("raise-both",),
     "presenting": ("guide",), "calling": ("call",)}
 MARKS = {"wave": "greeting", "bow": "thanks", "bye": "farewell", "raise-both": "celebration", "guide": "presenting",
          "call": "calling"}  # ``[mark]`` in marked sentences (training, benchmark) -> the intent it stands for

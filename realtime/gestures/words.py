@@ -29,7 +29,7 @@ SPAN = re.compile(rf"{TIMESTAMP.pattern}\s*-->\s*{TIMESTAMP.pattern}")
 NOT_A_LETTER = re.compile(r"[^\w']+")
 DEFAULT_TRIGGERS: dict[str, tuple[str, ...]] = {  # gesture -> English trigger phrases
     "wave": ("hello", "hi", "hey", "welcome"),
-    "bye": ("bye", "goodbye", "see you"),
+    "wave-right": ("bye", "goodbye", "see you"),
     "bow": ("thank you", "thanks"),
     "raise-both": ("hooray", "yay", "congratulations"),
     "guide": ("here", "there", "look at", "this"),

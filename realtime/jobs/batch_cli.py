@@ -1,18 +1,15 @@
-"""``gesturecast generate --batch DIR_OR_CSV -o OUTDIR``: the flags of a batch and its run with a progress bar
-(the work itself: :mod:`gesturecast.realtime.jobs.batch`)."""
+"""``gesturecast generate --batch DIR_OR_CSV -o OUTDIR``: a batch's run with a progress bar (its flags:
+:func:`gesturecast.realtime.cli_flags.add_batch_arguments`; the work itself: :mod:`gesturecast.realtime.jobs.batch`)."""
 
 from __future__ import annotations
 
 import argparse
 import json
 import logging
-import os
 import sys
 import time
 from collections.abc import Callable
-from pathlib import Path
 
-from gesturecast.arguments import int_at_least
 from gesturecast.errors import INTERRUPTED_EXIT, UserError
 from gesturecast.files import write_text_atomic
 from gesturecast.realtime.cli_flags import settings_from_args
@@ -31,23 +28,6 @@ from gesturecast.realtime.run.engine_setup import SessionFactory
 from gesturecast.settings import Settings
 
 logger = logging.getLogger(__name__)
-
-
-def add_batch_arguments(parser: argparse.ArgumentParser) -> None:
-    group = parser.add_argument_group("batch (many files)")
-    group.add_argument("--batch", type=Path, metavar="DIR_OR_CSV",
-                       help="every audio file under a folder, or the rows of a CSV (columns: path, style, prompt, "
-                            "style2, part_style, gamma, style_strength, guidance, audio_guidance, seed, "
-                            "transcript); -o is then the output folder")
-    group.add_argument("--workers", type=int_at_least(1), default=os.cpu_count() or 1,
-                       help="worker processes (or Ray actors) for --batch (default: every core)")
-    group.add_argument("--with-json", action="store_true", help="with --batch: also write NAME.json beside NAME.bvh")
-    group.add_argument("--with-vrma", action="store_true",
-                       help="with --batch: also write NAME.vrma (VRM Animation) beside NAME.bvh")
-    group.add_argument("--ray", action="store_true",
-                       help="with --batch: run on Ray Data (pip install 'gesturecast[scale]') instead of processes")
-
-
 
 
 def run_batch(args: argparse.Namespace) -> int:

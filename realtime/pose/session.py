@@ -6,6 +6,7 @@ arrived; then, in one burst, streaming features of
 the pending audio → normalised feature buffer → one generator step for latent ``i`` (K-step DDIM or
 DDPM, KV cache, CFG) → d motion-feature frames → root integration + 6D → quaternions → idle
 cross-fade in silence → the stylizer (the style's posture, amplitude, tempo: :mod:`gesturecast.realtime.pose.stylizer`)
+→ the gesture size (``intensity``, ``pause``: :mod:`gesturecast.realtime.pose.gesture_size`)
 → procedural fingers (:mod:`gesturecast.realtime.pose.hands`) → :class:`PoseFrame` with
 capture and presentation times, and the speaking flag and viseme weights of the frame's own audio instant
 (:mod:`gesturecast.models.audio.vad`, :mod:`gesturecast.models.audio.lipsync`, computed by the feature extractor
@@ -33,7 +34,7 @@ from typing import NamedTuple
 import numpy as np
 
 from gesturecast.frames import VISEME_NAMES, PoseFrame
-from gesturecast.models.audio.dsp import frame_boundary
+from gesturecast.models.audio.dsp import frame_boundary, frames_complete
 from gesturecast.models.audio.lipsync import LipSyncConfig
 from gesturecast.models.audio.streaming import StreamingFeatureExtractor, speaking_flags
 from gesturecast.models.generator.denoiser_config import audio_window_bounds, audio_window_end
@@ -50,6 +51,7 @@ from gesturecast.realtime.gestures.phrases import PhraseCues, PhraseListener, Ph
 from gesturecast.realtime.gestures.words import TriggerVocabulary, Word, WordListener
 from gesturecast.realtime.pose.face import Expressions, FaceAnimator, text_embedder
 from gesturecast.realtime.pose.feature_buffer import FeatureBuffer
+from gesturecast.realtime.pose.gesture_size import FULL_SIZE, GestureSize
 from gesturecast.realtime.pose.hands import HandPose
 from gesturecast.realtime.pose.idle import IdleMotion
 from gesturecast.realtime.pose.motion_smoother import MotionSmoother
@@ -72,8 +74,8 @@ IDLE = 0.0
 
 
 class PoseStyle(NamedTuple):
-    """The style in effect when a latent was generated, as its pose frames show it: the description they name and
-    the face's expression mix (x̂0 = γ·D(style) + (1 − γ)·D(second_style))."""
+    """The style in effect when a latent was generated, as its pose frames show it: the description they name, the
+    face's expression mix (x̂0 = γ·D(style) + (1 − γ)·D(second_style)) and the gesture size (0 while paused)."""
 
     description: str
     style: StylePrompt
@@ -81,6 +83,7 @@ class PoseStyle(NamedTuple):
     gamma: float
     part_styles: PartStyles = ()
     strength: float = 1.0
+    gesture_size: float = FULL_SIZE
 
 
 @dataclass(frozen=True)
@@ -95,6 +98,8 @@ class SessionConfig:
     lipsync: str = "vrm0"  # a key of VISEME_NAMES: fill PoseFrame.visemes (docs/lipsync.md); "off": None
     face: str = FACE_FULL  # blinks and expression in PoseFrame.face ("blink": blinks only; "off": None)
     style_params: Path | None = DEFAULT_STYLE_PARAMS  # the stylizer's styles (realtime/pose/stylizer.py); None: off
+    intensity: float = FULL_SIZE  # gesture size 0..2 around the idle pose (realtime/pose/gesture_size.py)
+    paused: bool = False  # the body in the idle pose until a pause control says otherwise
 
 
 class GestureSession:
@@ -124,7 +129,8 @@ class GestureSession:
         self.root = RootAnchor(self.config.root_mode, fps=self.fps)
         # the controls reach the session's cues through a weak proxy: no session <-> controls cycle, so a closed
         # stream's session is freed by reference counting at once (the controls die with it)
-        self.controls = SessionControls(generator, self.root, weakref.proxy(self))
+        self.controls = SessionControls(generator, self.root, weakref.proxy(self), self.config.intensity,
+                                        self.config.paused)
         self.smoother = MotionSmoother(budget.smoothing_frames)
         self.hands = HandPose(self.fps, seed=generator.settings.seed)
         self.face = None if self.config.face == FACE_OFF else FaceAnimator(
@@ -181,6 +187,7 @@ class GestureSession:
         self._speaking: deque[bool] = deque()  # voice-activity flag of the audio frames not yet posed, in order
         self._energy: deque[float] = deque()  # speech energy (dB) of the audio frames not yet posed, in order
         self.crossfade = PoseCrossfade(self.config.idle_fade_s, initial_weight_b=IDLE)
+        self.gesture_size = GestureSize(self.idle, self.controls.gesture_size)
         self.next_latent = 0
         self.frames_out = 0
         self.samples_in = 0
@@ -229,15 +236,28 @@ class GestureSession:
         audio_frames = self.extractor.frames_emitted
         if audio_frames == 0:
             return []
-        d = self.denoiser_config.frames_per_latent
-        needed = audio_window_end(math.ceil(audio_frames / d) - 1, self.denoiser_config)
-        padding = max(int(frame_boundary(needed, self.sample_rate, self.fps)) - self.samples_in, 0)
+        padding = self._samples_until_generated(audio_frames - 1)
         self._frame_limit = audio_frames
         start, time = self._anchor
         pad_time = time + (self.samples_in - start) / self.sample_rate
         frames = self.push(AudioChunk(np.zeros(padding, np.float32), self.samples_in, pad_time))
         with self.stats.time(STAGE_POSES):
             return frames + self._pose_frames(self.smoother.flush(self.bundle.motion_feature_dim), self._pose_style())
+
+    def silence_to_flush(self) -> int:
+        """Samples of silence that, pushed after the audio so far, bring out the pose of its every frame without ending
+        the stream: the look-ahead of the latent holding its last frame and the smoothing window after that frame
+        (the silence becomes part of the stream; its own poses come out too)."""
+        audio_frames = frames_complete(self.samples_in, self.sample_rate, self.fps)
+        if audio_frames == 0:
+            return 0
+        return self._samples_until_generated(audio_frames - 1 + self.smoother.half_width)
+
+    def _samples_until_generated(self, frame: int) -> int:
+        """Samples still to push until the latent holding ``frame`` can be generated (0 when it can now)."""
+        latent = frame // self.denoiser_config.frames_per_latent
+        needed = audio_window_end(latent, self.denoiser_config)
+        return max(int(frame_boundary(needed, self.sample_rate, self.fps)) - self.samples_in, 0)
 
     # ---- generation ----
     def _generate_ready(self) -> list[PoseFrame]:
@@ -269,7 +289,7 @@ class GestureSession:
         """What the pose frames of the latent just generated take from the style in effect."""
         settings = self.generator.settings
         return PoseStyle(self.controls.describe(), settings.style, settings.second_style, settings.gamma,
-                         settings.part_styles, settings.style_strength)
+                         settings.part_styles, settings.style_strength, self.controls.gesture_size)
 
     def _built_poses(self, batch: list[np.ndarray], style: PoseStyle) -> list[PoseFrame]:
         """The pose frames of the smoothed rows of a run of latents (list of (m, D)) in ``style``, in order."""
@@ -355,6 +375,8 @@ class GestureSession:
         times = frames / self.fps  # (n,) stream seconds
         bodies, roots = self._finite_poses(frames, smoothed[:wanted], [g for _, g, _ in rows[:wanted]])
         bodies = self._stylized(bodies, times, style)  # (n, J, 4)
+        self.gesture_size.set_size(style.gesture_size, float(times[0]))
+        bodies, roots = self.gesture_size.apply(bodies, roots, times)  # (n, J, 4), (n, 3)
         rotations = self.hands.extend(bodies, times)  # (n, J + 30, 4) on CANONICAL_WITH_HANDS
         faces = self._faces(times, speaking[:wanted], energy[:wanted], style)  # (n, 8) or None
         return [self._pose_frame(int(frame), rotations[k], roots[k], style.description, rows[k][2], speaking[k],

@@ -1,5 +1,5 @@
-"""Live changes of style, part styles, guidance, audio guidance, γ and root mode, blended in over a short stream
-time (no pop).
+"""Live changes of style, part styles, guidance, audio guidance, γ, root mode, gesture size and pause, blended in
+over a short stream time (no pop).
 
 Controls arrive from any thread (WebSocket clients, the CLI) and are applied by the session
 between latent steps. Numbers (guidance s, audio guidance s_a, γ) move along a smoothstep ramp. A new style with no
@@ -7,7 +7,9 @@ second style is blended with DiffuseStyleGesture's own mechanism: the generator 
 x̂0 = γ·D(new) + (1 − γ)·D(old) while γ ramps 0 → 1, then drops the old style. While body parts have their own
 prompts, style and part-style changes ramp the part mixture's channel weights W instead (a soft mask moving from
 the old prompts' channels to the new ones, generation/style_mixture.py), then drop the prompts no channel uses. A
-stream holds at most MAX_MIXTURE_ROWS style rows, also when part-style changes arrive faster than the fade.
+stream holds at most MAX_MIXTURE_ROWS style rows, also when part-style changes arrive faster than the fade. The gesture
+size (``intensity``, 0 while paused) is handed to the pose frames of each latent, which ramp it in along the same
+smoothstep (realtime/pose/gesture_size.py).
 """
 
 from __future__ import annotations
@@ -25,6 +27,8 @@ from gesturecast.models.motion.root_anchor import RootAnchor, RootMode
 from gesturecast.realtime.generation.generator import Generator
 from gesturecast.realtime.generation.style_mixture import align_mixtures, bound_blend_rows, drop_unused_rows
 from gesturecast.realtime.gestures.cues import CONTROL_SOURCE, Cue, CuePlan, CueRefused
+from gesturecast.realtime.gestures.lexicon import current_name
+from gesturecast.realtime.pose.gesture_size import FULL_SIZE
 from gesturecast.realtime.pose.transitions import DEFAULT_RAMP_S, Ramp
 from gesturecast.settings import SINGLE_STYLE
 
@@ -57,10 +61,12 @@ class SessionControls:
     """Holds the control inbox and the ramps; :meth:`advance` applies them at stream time ``t``."""
 
     def __init__(self, generator: Generator, root: RootAnchor, gestures: GestureDoor | None = None,
-                 fade_s: float = DEFAULT_RAMP_S) -> None:
+                 intensity: float = FULL_SIZE, paused: bool = False, fade_s: float = DEFAULT_RAMP_S) -> None:
         self.generator = generator
         self.root = root
         self.gestures = gestures
+        self.intensity = intensity
+        self.paused = paused
         self.fade_s = fade_s
         self._inbox: deque[tuple[Control, ...]] = deque(maxlen=MAX_PENDING_CONTROLS)
         self._lock = threading.Lock()
@@ -78,6 +84,7 @@ class SessionControls:
         one it cannot use raises UserError here (the caller answers the client) instead of failing the stream when
         applied. Returns what the ack may tell: for a gesture, about when its stroke shows
         (``{"gesture_stroke_in_ms": ...}``); else {}."""
+        controls = tuple(self._by_current_name(control) for control in controls)
         notes = {}
         for control in controls:
             self._check(control)
@@ -86,6 +93,13 @@ class SessionControls:
         with self._lock:
             self._inbox.append(tuple(controls))
         return notes
+
+    def _by_current_name(self, control: Control) -> Control:
+        """A gesture control naming a renamed shipped gesture by its old name (``bye``) names it as it is called
+        now (``hand-up``)."""
+        if not isinstance(control, Gesture) or self.gestures is None:
+            return control
+        return Gesture(current_name(control.name, self.gestures.cues.clips))
 
     def _check(self, control: Control) -> None:
         if isinstance(control, Gesture):
@@ -125,6 +139,11 @@ class SessionControls:
         if self._blending_from is None and self.generator.settings.second_style is not None:
             self.generator.set_gamma(float(self._gamma.value(t)))
 
+    @property
+    def gesture_size(self) -> float:
+        """The size of the body's motion around the idle pose in effect: the intensity, 0 while paused."""
+        return 0.0 if self.paused else self.intensity
+
     def describe(self) -> str:
         """The style in effect, for display (``happy``, ``text:calm``, ``happy→sad γ=0.5``)."""
         settings = self.generator.settings
@@ -157,6 +176,10 @@ class SessionControls:
     def _apply_style(self, change: StyleChange, t: float) -> None:
         if change.root is not None:
             self.root.set_mode(RootMode(change.root))  # re-anchored where the avatar stands: no jump
+        if change.intensity is not None:
+            self.intensity = change.intensity
+        if change.pause is not None:
+            self.paused = change.pause
         for value, ramp in ((change.guidance, self._guidance), (change.style_strength, self._style_strength),
                             (change.audio_guidance, self._audio_guidance), (change.gamma, self._gamma)):
             if value is not None:

@@ -136,11 +136,12 @@ def performed_variant(entry: GestureEntry, style: str | None) -> GestureVariant:
 
 
 def session_config(settings: Settings, bundle: ModelBundle) -> SessionConfig:
-    """What a session of these settings needs besides its generator: root mode, seed motion, lip sync, face and the
-    gesture lexicon in this model's latent space."""
+    """What a session of these settings needs besides its generator: root mode, seed motion, lip sync, face, gesture
+    size, pause and the gesture lexicon in this model's latent space."""
     seed = None if settings.seed_motion is None else load_seed_motion(settings.seed_motion, bundle)
     return SessionConfig(root_mode=RootMode(settings.root), seed_motion=seed, lipsync=settings.lipsync,
-                         face=settings.face, **gesture_setup(settings, bundle))
+                         face=settings.face, intensity=settings.intensity, paused=settings.pause,
+                         **gesture_setup(settings, bundle))
 
 
 class SessionFactory:

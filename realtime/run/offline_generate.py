@@ -36,6 +36,7 @@ BVH_SUFFIX = ".bvh"
 VRMA_SUFFIX = ".vrma"
 JSON_SUFFIX = ".json"
 MOTION_SUFFIXES = (BVH_SUFFIX, VRMA_SUFFIX)
+OUTPUT_SUFFIXES = (*MOTION_SUFFIXES, JSON_SUFFIX)  # what ``generate -o`` writes
 
 logger = logging.getLogger(__name__)
 
@@ -49,10 +50,12 @@ class BvhFrameWriter(CanonicalBvhWriter):
                         np.stack([f.root_position for f in frames]))  # (n, 3)
 
 
-def check_motion_path(path: Path, flag: str) -> Path:
-    """``path`` when its suffix names a motion format (.bvh, .vrma); a one-line error naming ``flag`` otherwise."""
-    if path.suffix.lower() not in MOTION_SUFFIXES:
-        raise UserError(f"{flag} {path}: name a .bvh or .vrma file (the suffix picks the format)")
+def check_motion_path(path: Path, flag: str, suffixes: tuple[str, ...] = MOTION_SUFFIXES) -> Path:
+    """``path`` when its suffix is one of ``suffixes`` (a motion format: .bvh, .vrma); a one-line error naming
+    ``flag`` and every suffix accepted otherwise."""
+    if path.suffix.lower() not in suffixes:
+        names = ", ".join(suffixes[:-1]) + f" or {suffixes[-1]}" if len(suffixes) > 1 else suffixes[0]
+        raise UserError(f"{flag} {path}: name a {names} file (the suffix picks the format)")
     return path
 
 
@@ -69,9 +72,7 @@ def frame_writer(path: Path, viseme_names: tuple[str, ...], face_names: tuple[st
     """A motion writer, or the pose-stream JSON writer for ``.json``; another suffix is a one-line error."""
     if path.suffix.lower() == JSON_SUFFIX:
         return PoseJsonWriter(path, viseme_names, face_names)
-    if path.suffix.lower() not in MOTION_SUFFIXES:
-        raise UserError(f"{path}: name a .bvh, .vrma or .json file (the suffix picks the format)")
-    return motion_writer(path)
+    return motion_writer(check_motion_path(path, "output", OUTPUT_SUFFIXES))
 
 
 def body_only(settings: Settings, motion_paths: list[Path], json_path: Path | None) -> Settings:
@@ -107,7 +108,7 @@ def generate_to_files(session: GestureSession, audio: Path, motion_paths: list[P
     report = make_report(session, source.stats(), {})
     logger.info("wrote %d frames (%.1f s) to %s; rtf %.3f (CPU of every stage per second of audio)",
                 writers[0].num_frames, writers[0].num_frames / MOTION_FPS,
-                ", ".join(str(path) for path in motion_paths), report.rtf)
+                ", ".join(str(path) for path in [*motion_paths, json_path] if path is not None), report.rtf)
     return report
 
 

@@ -112,6 +112,7 @@ class Stream:
                                      SchedulerConfig(output_fps=float(self.settings.fps), paced=paced))
         self._converter = AudioConverter()
         self._timeline = AudioTimeline()
+        self._flushed_end = 0  # stream samples at the end of the last flush's silence
         self._closed = False
         self._feeds = FeedSet()
         self.warm_up_s = warm_up(self.session, self.clock) if warm else 0.0
@@ -135,7 +136,9 @@ class Stream:
     @one_at_a_time
     def push(self, samples: np.ndarray, sample_rate: int = SAMPLE_RATE) -> list[PoseFrame]:
         """Feed one block: (n,) or (n, channels), float in [-1, 1] or int16, at ``sample_rate`` Hz; returns the
-        pose frames it completed (often none: one latent of d frames at a time)."""
+        pose frames it completed, as they become ready (often none: one latent of d frames at a time, once the
+        look-ahead's audio after it has arrived). The last frames of the audio pushed so far come from
+        :meth:`flush` (the stream goes on) or :meth:`close` (it ends)."""
         self._check_open()
         return self._generate(self._converter.convert_samples(samples, sample_rate))
 
@@ -157,8 +160,9 @@ class Stream:
         return self._generate(self._converter.convert(data, sample_rate, channels))
 
     def control(self, control: dict | None = None, **changes) -> None:
-        """Change style, prompt, style2, part_styles, gamma, style_strength, guidance, audio_guidance or root, blended
-        in from the next latent, or cue a ``gesture`` or ``words`` (thread-safe). The fields are checked here, by the
+        """Change style, prompt, style2, part_styles, gamma, style_strength, guidance, audio_guidance, root, intensity
+        (gesture size 0..2) or pause (True: the idle, breathing pose), blended in from the next latent, or cue a
+        ``gesture`` or ``words`` (thread-safe). The fields are checked here, by the
         same check as a WebSocket control message, and refused in the same one-line words (UserError); so is a style
         or gesture the model does not know."""
         self._check_open()
@@ -197,6 +201,21 @@ class Stream:
     def gesture(self, name: str) -> None:
         """Carry out a lexicon gesture (``"wave"``, ``"bow"``…) as soon as the look-ahead allows (thread-safe)."""
         self.control(gesture=name)
+
+    @one_at_a_time
+    def flush(self) -> list[PoseFrame]:
+        """The frames still owed for the audio pushed so far, without closing: the look-ahead (and smoothing window)
+        after it is filled with silence, which becomes part of the stream (about a third of a second: the next block
+        follows it, and the silence's own poses come out too); pending speech-act words are decided. For the end of
+        an utterance (a TTS reply, a push-to-talk release) when the stream goes on; returns the frames generated."""
+        self._check_open()
+        self.session.end_of_words()
+        frames = self._generate(self._converter.flush())
+        if self._timeline.samples == self._flushed_end:  # no audio since the last flush: nothing is owed
+            return frames
+        frames += self._generate(np.zeros(self.session.silence_to_flush(), np.float32))
+        self._flushed_end = self._timeline.samples
+        return frames
 
     @one_at_a_time
     def close(self) -> list[PoseFrame]:

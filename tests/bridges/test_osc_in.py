@@ -9,13 +9,15 @@ import pytest
 
 from gesturecast.bridges.osc_in import (
     GESTURE_ADDRESS,
+    INTENSITY_ADDRESS,
+    PAUSE_ADDRESS,
     OscControlListener,
     OscFormatError,
     OscInConfig,
     parse_datagram,
 )
 from gesturecast.bridges.osc_wire import bundle, osc_string
-from gesturecast.controls import Gesture
+from gesturecast.controls import Gesture, StyleChange
 from gesturecast.errors import UserError
 
 
@@ -46,7 +48,23 @@ def test_a_gesture_message_becomes_a_control_and_the_rest_is_counted():
     finally:
         listener.close()
     assert controls == [(Gesture("wave"),), (Gesture("bow"),)]
-    assert listener.counts == {"received": 5, "gestures": 2, "other_address": 1, "malformed": 1, "bad_arguments": 1}
+    assert listener.counts == {"received": 5, "controls": 2, "other_address": 1, "malformed": 1, "bad_arguments": 1}
+
+
+def test_gesture_size_and_pause_messages_become_their_controls():
+    controls = []
+    listener = OscControlListener(OscInConfig(port=0), controls.append)
+    size = osc_string(INTENSITY_ADDRESS) + osc_string(",f") + struct.pack(">f", 0.5)
+    pause, resume = (osc_string(PAUSE_ADDRESS) + osc_string(",i") + struct.pack(">i", on) for on in (1, 0))
+    toggle = osc_string(PAUSE_ADDRESS) + osc_string(",f") + struct.pack(">f", 1.0)
+    too_big = osc_string(INTENSITY_ADDRESS) + osc_string(",f") + struct.pack(">f", 3.0)
+    try:
+        received(listener, size, pause, resume, toggle, too_big, message(PAUSE_ADDRESS, "yes"))
+    finally:
+        listener.close()
+    assert controls == [(StyleChange(intensity=0.5),), (StyleChange(pause=True),), (StyleChange(pause=False),),
+                        (StyleChange(pause=True),)]
+    assert listener.counts == {"received": 6, "controls": 4, "refused": 2}
 
 
 def test_over_udp_from_another_program():
@@ -106,7 +124,7 @@ def test_live_waves_when_an_osc_gesture_arrives(cli_process, tmp_path):
     port = free_udp_port()
     live = cli_process(["live", "--input", str(tmp_path / "talk.wav"), "--bvh", str(tmp_path / "take.bvh"),
                         "--osc-in", str(port)])
-    live.wait_for_stderr("gestures by OSC on", 120)
+    live.wait_for_stderr("controls by OSC on", 120)
     with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as sender:
         sender.sendto(message(GESTURE_ADDRESS, "wave"), ("127.0.0.1", port))
     code, _, _ = live.wait(60)

@@ -21,7 +21,7 @@ def test_the_summary_line_shows_the_osc_messages_dropped(cli_process, tmp_path):
         port = probe.getsockname()[1]
     live = cli_process(["live", "--input", str(tmp_path / "talk.wav"), "--bvh", str(tmp_path / "take.bvh"),
                         "--osc-in", str(port)])
-    live.wait_for_stderr("gestures by OSC on", 120)
+    live.wait_for_stderr("controls by OSC on", 120)
     with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as sender:
         for datagram in (b"\x00garbage", message("/other/address", "x"), message("/other/address", "y"),
                          message(GESTURE_ADDRESS, "no-such-gesture")):

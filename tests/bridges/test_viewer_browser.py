@@ -12,6 +12,7 @@ from PIL import Image
 
 from gesturecast.bridges.websocket_server import WebSocketBridge, WebSocketConfig
 from gesturecast.controls import Gesture, wire
+from gesturecast.realtime.gestures.lexicon import load_lexicon
 
 SCREENSHOT_GAP_S = 0.6
 CHANGED_PIXEL_THRESHOLD = 40  # summed RGB difference that counts as a changed pixel
@@ -176,3 +177,43 @@ def test_unticking_the_stick_figure_without_an_avatar_hides_it(driver):
     assert figure_pixels(ticked) > 300 and figure_pixels(ticked_again) > 300
     assert not still_ticked and hint
     assert figure_pixels(unticked) == 0, "the stick figure is still drawn with its box unticked"
+
+
+def test_at_1280_by_800_the_gesture_buttons_and_the_size_dial_show_without_scrolling(driver):
+    """A laptop screen: every button of the bundled lexicon, the gesture size and the pause are in view (the picture
+    is left in SCREENSHOT_DIR as viewer-1280x800.png)."""
+    names = tuple(entry.name for entry in load_lexicon())
+    config = WebSocketConfig(port=0, style_choices=("neutral", "happy", "sad", "old"),
+                             body_parts=("arms", "torso", "legs"), gestures=names)
+    bridge = WebSocketBridge(config).start()
+    driver.execute_cdp_cmd("Emulation.setDeviceMetricsOverride",
+                           {"width": 1280, "height": 800, "deviceScaleFactor": 1, "mobile": False})
+    try:
+        with Feeder(bridge, lambda seq: moving_frame(seq, style="neutral")):
+            driver.get(bridge.url)
+            wait_for(lambda: driver.execute_script("return document.querySelectorAll('#gestures button').length")
+                     == len(names))
+            bottoms = driver.execute_script(
+                "return [...document.querySelectorAll('#gestures button, #intensity, #pause')]"
+                ".map(e => e.getBoundingClientRect().bottom)")
+            SCREENSHOT_DIR.mkdir(exist_ok=True)
+            driver.save_screenshot(str(SCREENSHOT_DIR / "viewer-1280x800.png"))
+    finally:
+        bridge.close()
+    assert len(bottoms) == len(names) + 2 and max(bottoms) <= 800
+
+
+def test_the_gesture_size_and_pause_are_sent_at_once(driver):
+    received: list[dict] = []
+    bridge = WebSocketBridge(WebSocketConfig(port=0, style_choices=("happy",)), on_control=received.append).start()
+    try:
+        driver.get(bridge.url)
+        wait_for(lambda: driver.execute_script("return document.getElementById('intensity').max") == "2")
+        driver.execute_script("const s = document.getElementById('intensity'); s.value = '0.25';"
+                              "s.dispatchEvent(new Event('input')); s.dispatchEvent(new Event('change'));")
+        driver.find_element("id", "pause").click()
+        driver.find_element("id", "pause").click()
+        wait_for(lambda: len(received) >= 3)
+    finally:
+        bridge.close()
+    assert [wire(control) for control in received] == [{"intensity": 0.25}, {"pause": True}, {"pause": False}]

@@ -4,6 +4,7 @@ inputs or each other are refused, FIFOs stay FIFOs, and a write failure keeps th
 from __future__ import annotations
 
 import hashlib
+import json
 import os
 import subprocess
 import sys
@@ -97,6 +98,14 @@ def test_generate_writes_files_with_the_umask_mode(tiny_model, speech, tmp_path)
         os.umask(previous)
     assert result.returncode == 0, result.stderr[-2000:]
     assert {p.name: oct(p.stat().st_mode & 0o777) for p in tmp_path.iterdir()} == {"a.bvh": "0o644", "a.json": "0o644"}
+
+
+def test_generate_writes_the_pose_stream_when_the_output_ends_in_json(tiny_model, speech, tmp_path):
+    result = run_cli("generate", str(speech), "-o", str(tmp_path / "a.json"), "--model", str(tiny_model[1]))
+    assert result.returncode == 0, result.stderr[-2000:]
+    poses = json.loads((tmp_path / "a.json").read_text())
+    assert len(poses["frames"]) == SPEECH_SECONDS * 30 and "visemes" in poses
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.json"]
 
 
 def test_generate_on_a_full_disk_keeps_the_old_files(tiny_model, speech, tmp_path):

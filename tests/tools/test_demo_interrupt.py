@@ -1,7 +1,10 @@
-"""Ctrl-C on a real `gesturecast demo` subprocess: it ends at once with the summary, latency.json and a valid BVH."""
+"""Ctrl-C on a real `gesturecast demo` subprocess: it ends at once with the summary, latency.json and a valid BVH;
+with --loop the viewer stays up after the first run until Ctrl-C."""
 
 import json
+import socket
 import time
+import urllib.request
 
 import pytest
 
@@ -9,6 +12,7 @@ from gesturecast.errors import UserError
 from gesturecast.models.motion.bvh import read_bvh
 
 START_BOUND_S = 90.0  # model load on a loaded 2-core machine
+SAMPLE_BOUND_S = 120.0  # the 25 s sample at real-time pace, then its preview, on a loaded machine
 INTERRUPT_BOUND_S = 5.0  # the demo ends in well under a second here; generous for shared CI cores
 POLL_S = 0.1
 
@@ -36,3 +40,33 @@ def test_ctrl_c_on_demo_ends_within_the_bound_with_summary_latency_json_and_bvh(
     report = json.loads((tmp_path / "latency.json").read_text())
     assert report["interrupted"] and report["frames"] >= read_bvh(tmp_path / "demo.bvh").motion.shape[0] > 0
     assert not (tmp_path / "demo.gif").exists()  # no preview after Ctrl-C: it would delay the exit
+
+
+def free_port() -> int:
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        return probe.getsockname()[1]
+
+
+def viewer_answers(url: str) -> bool:
+    try:
+        with urllib.request.urlopen(url, timeout=2) as page:
+            return page.status == 200
+    except OSError:
+        return False
+
+
+def test_demo_loop_keeps_the_viewer_up_after_the_first_run_until_ctrl_c(cli_process, tmp_path, wait_until):
+    """The files of the first run are written, the viewer still answers, Ctrl-C ends it (130); the loading lines come
+    before the viewer's address, which names the --ws port."""
+    port = free_port()
+    demo = cli_process(["demo", "--out", str(tmp_path), "--ws", str(port), "--loop"])
+    preview = tmp_path / "demo.gif"
+    assert wait_until(preview.exists, START_BOUND_S + SAMPLE_BOUND_S), demo.stderr_lines
+    assert wait_until(lambda: viewer_answers(f"http://127.0.0.1:{port}/"), START_BOUND_S)
+    status, _, stdout = demo.interrupt(INTERRUPT_BOUND_S)
+    assert status == 130
+    lines = stdout.splitlines()
+    loading = next(k for k, line in enumerate(lines) if line.startswith("loading the model"))
+    link = next(k for k, line in enumerate(lines) if f"open the viewer now: http://127.0.0.1:{port}/" in line)
+    assert loading < link and "replaying the sample until Ctrl-C" in stdout

@@ -3,7 +3,8 @@
 The live runtime reads what this writes (:mod:`gesturecast.realtime.gestures.lexicon`: the data types,
 ``load_lexicon``); nothing live imports this module. Numpy only (no torch).
 
-**Sources** (:data:`GESTURES`): Bandai Namco Research Motion Dataset 1 (``bow``, ``bye`` and ``byebye``, ``guide``,
+**Sources** (:data:`GESTURES`): Bandai Namco Research Motion Dataset 1 (``bow``, ``bye`` and ``byebye`` (our
+``hand-up``), ``guide``,
 ``call``, ``respond``; 15 styles, ``call`` and ``respond`` in normal only) and the gesture subset of dataset 2
 (``wave-*-hand(s)``, ``raise-up-*-hand(s)``; 7 styles, 50 to 200 takes per gesture and style). Every take is read
 and retargeted exactly as ``gesturecast data build`` reads it (:func:`read_take`: ``load_motion_file`` then
@@ -128,15 +129,16 @@ GESTURES: tuple[GestureSpec, ...] = (
     GestureSpec("wave", ("wave-both-hands",), ("arms",), "height", "both",
                 ("hello", "hi", "hey", "welcome"), "waves both hands above the shoulders"),
     GestureSpec("wave-left", ("wave-left-hand",), ("arms",), "height", "left", (), "waves the left hand"),
-    GestureSpec("wave-right", ("wave-right-hand",), ("arms",), "height", "right", (), "waves the right hand"),
+    GestureSpec("wave-right", ("wave-right-hand",), ("arms",), "height", "right", ("bye", "goodbye", "see you"),
+                "waves the right hand"),
     GestureSpec("raise-both", ("raise-up-both-hands",), ("arms",), "height", "both",
                 ("hooray", "yay", "congratulations"), "raises both hands up"),
     GestureSpec("raise-left", ("raise-up-left-hand",), ("arms",), "height", "left", (), "raises the left hand"),
     GestureSpec("raise-right", ("raise-up-right-hand",), ("arms",), "height", "right", (), "raises the right hand"),
     GestureSpec("bow", ("bow",), ("arms", "torso", "legs"), "bend", "both", ("thank you", "thanks"),
                 "bows from the waist, hands together in front"),
-    GestureSpec("bye", ("bye", "byebye"), ("arms",), "height", "either", ("bye", "goodbye", "see you"),
-                "waves goodbye"),
+    GestureSpec("hand-up", ("bye", "byebye"), ("arms",), "height", "either", (),
+                "holds a hand up at shoulder height"),  # Bandai's "bye": the hand is held, not waved
     GestureSpec("guide", ("guide",), ("arms", "torso"), "reach", "either", ("here", "there", "look at", "this"),
                 "shows the way with an open arm, the chest turned with it"),
     GestureSpec("call", ("call",), ("arms", "torso", "legs"), "bend", "both", ("come on", "come here"),

@@ -19,6 +19,7 @@ from pathlib import Path
 DEFAULT_OUT = Path("models/weights/gestures")
 DEFAULT_RAW = Path(".cache/raw")
 DEFAULT_ACTS = Path("models/weights/speech_acts.npz")
+PHRASES_SHOWN = 5  # of a speech act's phrases, in `gestures list`
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -37,7 +38,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     build.add_argument("--takes", type=int, default=None, metavar="N",
                        help="keep at most N takes per gesture and style (default 3)")
     build.set_defaults(func=run_build)
-    listing = commands.add_parser("list", help="print a lexicon: name, parts, duration, stroke, styles, triggers")
+    listing = commands.add_parser("list", help="print a lexicon: the gesture each speech act plays, then each "
+                                  "gesture's parts, duration, stroke, styles and what it shows (or its triggers)")
     listing.add_argument("--lexicon", type=Path, default=None, metavar="DIR",
                          help="a built lexicon or a folder of your clips with gestures.json (default: the shipped one)")
     listing.add_argument("--json", action="store_true", help="one JSON document instead of the table")
@@ -99,28 +101,63 @@ def run_build(args: argparse.Namespace) -> int:
     return 0
 
 
-def format_table(lexicon) -> str:
-    """A plain-text table: name, parts, duration, stroke, styles, triggers (the default style's clip's times)."""
-    header = ("name", "parts", "duration", "stroke", "styles", "triggers")
+def format_table(lexicon, last_column: str = "triggers") -> str:
+    """A plain-text table: name, parts, duration, stroke, styles (the default style's clip's times), then the trigger
+    words (a user's folder) or what a person sees (``last_column="shows"``, a built lexicon cued by speech acts)."""
+    header = ("name", "parts", "duration", "stroke", "styles", last_column)
     rows = [(e.name, "+".join(e.parts), f"{e.duration:.2f} s", f"{e.stroke_time:.2f} s", ", ".join(e.styles),
-             ", ".join(e.triggers) or "-") for e in lexicon]
-    widths = [max(len(str(row[i])) for row in (header, *rows)) for i in range(len(header) - 1)]
+             (", ".join(e.triggers) if last_column == "triggers" else e.description) or "-") for e in lexicon]
+    return aligned([header, *rows])
+
+
+def aligned(rows: list[tuple[str, ...]]) -> str:
+    """Rows of cells as columns padded to their widest cell (the last column as it is)."""
+    widths = [max(len(row[i]) for row in rows) for i in range(len(rows[0]) - 1)]
     lines = ["  ".join(cell.ljust(width) for cell, width in zip(row[:-1], widths, strict=True)) + "  " + row[-1]
-             for row in (header, *rows)]
+             for row in rows]
     return "\n".join(line.rstrip() for line in lines)
 
 
+def speech_acts(lexicon) -> dict[str, dict]:
+    """What a built lexicon plays for each speech act: {act: {"plays": gesture, "phrases": [...]}}, the acts it has a
+    gesture for, in the phrasebook's order."""
+    from gesturecast.realtime.gestures.phrasebook import PHRASEBOOK
+    from gesturecast.realtime.gestures.phrases import PhraseCues
+
+    cues = PhraseCues(lexicon.entries)
+    return {act: {"plays": cues.gesture_of(act), "phrases": list(phrases)} for act, phrases in PHRASEBOOK.items()
+            if cues.gesture_of(act) is not None}
+
+
+def speech_act_table(acts: dict[str, dict], lexicon) -> str:
+    """Speech act, the gesture it plays and some of its phrases; then the gestures no speech act plays."""
+    rows = [("speech act", "plays", "when someone says")]
+    rows += [(act, act_cue["plays"], ", ".join(act_cue["phrases"][:PHRASES_SHOWN]) + ", …")
+             for act, act_cue in acts.items()]
+    played = {act_cue["plays"] for act_cue in acts.values()}
+    on_request = [entry.name for entry in lexicon if entry.name not in played]
+    table = aligned(rows)
+    if not on_request:
+        return table
+    return table + ("\non request only (a gesture control: the viewer's buttons, OSC, Stream.gesture): "
+                    + ", ".join(on_request))
+
+
 def run_list(args: argparse.Namespace) -> int:
-    from gesturecast.realtime.gestures.lexicon import load_lexicon
+    from gesturecast.realtime.gestures.lexicon import LEXICON_FILE, default_lexicon_dir, load_lexicon
 
     lexicon = load_lexicon(args.lexicon)
+    built = (Path(args.lexicon or default_lexicon_dir()) / LEXICON_FILE).is_file()  # cued by speech acts
+    acts = speech_acts(lexicon) if built else {}
     if args.json:
-        print(json.dumps({"source": lexicon.source, "license": lexicon.license, "gestures": lexicon.summary()},
-                         indent=1))
-    else:
-        print(format_table(lexicon))
-        if lexicon.license:
-            print(lexicon.license)
+        print(json.dumps({"source": lexicon.source, "license": lexicon.license, "speech_acts": acts,
+                          "gestures": lexicon.summary()}, indent=1))
+        return 0
+    if built:
+        print(speech_act_table(acts, lexicon) + "\n")
+    print(format_table(lexicon, "shows" if built else "triggers"))
+    if lexicon.license:
+        print(lexicon.license)
     return 0
 
 

@@ -15,6 +15,8 @@ from gesturecast.models.motion.body_parts import PART_NAMES
 from gesturecast.models.motion.motion_features import FEATURE_DIM, features_to_motion
 from gesturecast.models.motion.retarget import motion_to_bvh
 from gesturecast.realtime.gestures import lexicon as gl
+from gesturecast.realtime.gestures.lexicon import current_name
+from gesturecast.realtime.gestures.phrases import PhraseCues
 from gesturecast.realtime.gestures.strokes import body_frame_positions, pose_distance, stroke_frame
 from gesturecast.tools.gestures import build
 
@@ -49,12 +51,19 @@ def test_the_shipped_lexicon_holds_every_gesture_as_small_float16_clips(shipped)
     assert "CC BY-NC 4.0" in shipped.license
 
 
+def test_a_farewell_plays_the_gesture_its_trigger_words_name_and_the_old_name_still_works(shipped):
+    """Named by what a person sees: Bandai's "bye" holds a hand up (``hand-up``); a farewell waves one hand."""
+    assert PhraseCues(shipped.entries).gesture_of("farewell") == "wave-right" == shipped.triggers()["goodbye"]
+    assert "bye" not in shipped and shipped["hand-up"].description == "holds a hand up at shoulder height"
+    assert current_name("bye", shipped.entries) == "hand-up" and current_name("bye", {"bye": 1}) == "bye"
+
+
 def test_the_shipped_triggers_name_the_gestures(shipped):
     triggers = shipped.triggers()
-    expected = {"hello": "wave", "hi": "wave", "hey": "wave", "welcome": "wave", "bye": "bye", "goodbye": "bye",
-                "see you": "bye", "thank you": "bow", "thanks": "bow", "hooray": "raise-both", "yay": "raise-both",
-                "congratulations": "raise-both", "here": "guide", "there": "guide", "look at": "guide",
-                "this": "guide", "come on": "call", "come here": "call"}
+    expected = {"hello": "wave", "hi": "wave", "hey": "wave", "welcome": "wave", "bye": "wave-right",
+                "goodbye": "wave-right", "see you": "wave-right", "thank you": "bow", "thanks": "bow",
+                "hooray": "raise-both", "yay": "raise-both", "congratulations": "raise-both", "here": "guide",
+                "there": "guide", "look at": "guide", "this": "guide", "come on": "call", "come here": "call"}
     assert {word: triggers.get(word) for word in expected} == expected
 
 

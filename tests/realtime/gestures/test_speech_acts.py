@@ -17,7 +17,7 @@ from gesturecast.realtime.gestures.speech_acts import (
 )
 from gesturecast.realtime.gestures.words import Word
 
-GESTURES = ("wave", "wave-right", "bye", "bow", "raise-both", "guide", "call")
+GESTURES = ("wave", "wave-right", "hand-up", "bow", "raise-both", "guide", "call")
 
 
 def words_of(text: str, step: float = 0.3) -> list[Word]:
@@ -117,7 +117,7 @@ def test_the_shipped_classifier_decides_from_the_phrase(phrases, text, cued):
 
 
 def test_the_lexicon_decides_which_gesture_performs_an_intent():
-    assert PhraseCues(("bye", "wave")).gesture_of("farewell") == "bye"
+    assert PhraseCues(("hand-up", "wave")).gesture_of("farewell") == "hand-up"
     assert PhraseCues(("wave",)).gesture_of("farewell") is None
 
 

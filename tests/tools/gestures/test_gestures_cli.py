@@ -28,14 +28,21 @@ def run_cli(argv: list[str]) -> int:
         return int(stop.code)
 
 
-def test_list_prints_every_shipped_gesture_with_its_parts_times_styles_and_triggers(capsys):
+def test_list_says_what_each_speech_act_plays_then_every_gesture_by_what_it_shows(capsys):
     assert run_cli(["gestures", "list"]) == 0
-    lines = capsys.readouterr().out.splitlines()
-    assert lines[0].split() == ["name", "parts", "duration", "stroke", "styles", "triggers"]
+    text = capsys.readouterr().out
+    acts, gestures = text.split("\n\n")
+    act_rows = {line.split()[0]: line.split()[1] for line in acts.splitlines()[1:-1]}
+    assert act_rows == {"greeting": "wave", "thanks": "bow", "farewell": "wave-right", "celebration": "raise-both",
+                        "presenting": "guide", "calling": "call"}
+    assert "bye, goodbye" in acts.splitlines()[3] and acts.splitlines()[-1].startswith("on request only")
+    assert "hand-up" in acts.splitlines()[-1]
+    lines = gestures.splitlines()
+    assert lines[0].split() == ["name", "parts", "duration", "stroke", "styles", "shows"]
     rows = {line.split()[0]: line for line in lines[1:len(GESTURE_NAMES) + 1]}
     assert set(rows) == set(GESTURE_NAMES)
-    assert "arms+torso" in rows["bow"] and "thank you, thanks" in rows["bow"] and "neutral" in rows["bow"]
-    assert "hello, hi, hey, welcome" in rows["wave"]
+    assert "arms+torso" in rows["bow"] and "bows from the waist" in rows["bow"] and "neutral" in rows["bow"]
+    assert rows["hand-up"].endswith("holds a hand up at shoulder height")
     assert "CC BY-NC 4.0" in lines[-1]
 
 
@@ -43,6 +50,8 @@ def test_list_json_matches_the_lexicon(capsys):
     assert run_cli(["gestures", "list", "--json"]) == 0
     listed = json.loads(capsys.readouterr().out)
     shipped = gl.load_lexicon()
+    assert listed["speech_acts"]["farewell"]["plays"] == "wave-right"
+    assert "goodbye" in listed["speech_acts"]["farewell"]["phrases"]
     assert [row["name"] for row in listed["gestures"]] == list(shipped.entries)
     wave = listed["gestures"][0]
     assert set(wave) >= {"name", "parts", "duration", "stroke", "styles", "triggers", "variants"}

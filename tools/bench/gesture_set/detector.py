@@ -84,7 +84,7 @@ class Detector:
         """(start, stop, stroke frame) of each detection of ``gesture``'s kind."""
         kind = gesture.split("-")[0]
         sides = {"left": ["Left"], "right": ["Right"]}.get(gesture.split("-")[-1], ["Left", "Right"])
-        if kind in ("wave", "bye"):
+        if kind in ("wave", "hand"):  # hand-up: Bandai's bye
             return [e for side in sides for e in self._waves(side)]
         if gesture == "raise-both":
             overhead = np.min([self.wrist[side][:, 1] - self.head[:, 1] for side in sides], axis=0)
