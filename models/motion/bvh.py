@@ -9,7 +9,8 @@ read them); other joints are translated by their OFFSET.
 
 Bad input raises :class:`~gesturecast.errors.UserError` with one line naming the problem. Every number
 must be finite, and every length (an OFFSET, an End Site, a position channel value) at most
-:data:`MAX_BVH_LENGTH` file units from zero.
+:data:`MAX_BVH_LENGTH` file units from zero. A rotation channel may hold any finite angle: one beyond a full turn is
+read modulo 360° (exactly, so 1e308° is as good a rotation as any).
 """
 
 from __future__ import annotations
@@ -36,6 +37,12 @@ MAX_JOINT_DEPTH = 256  # deeper nesting is no skeleton (and would exhaust the re
 # unit), 100 m in millimetres; no capture volume or skeleton is larger (metre files are bounded after
 # retargeting: MAX_ROOT_METRES)
 MAX_BVH_LENGTH = 1e5
+
+
+def within_a_turn(degrees: np.ndarray) -> np.ndarray:
+    """Angles beyond ±360° reduced modulo 360° (exact for any finite float: no overflow in the radians and sines
+    after); the others as they are."""
+    return np.where(np.abs(degrees) > 360.0, np.remainder(degrees, 360.0), degrees)
 
 
 @dataclass
@@ -84,7 +91,7 @@ class BvhData:
             rot = [(name[0].upper(), col) for name, col in pairs if name.endswith("rotation")]
             if rot:
                 order = "".join(axis for axis, _ in rot)
-                angles = np.deg2rad(self.motion[:, [col for _, col in rot]])  # (T, n_rot)
+                angles = np.deg2rad(within_a_turn(self.motion[:, [col for _, col in rot]]))  # (T, n_rot)
                 rotations[:, j] = quat_from_euler(angles, order)
         return rotations
 

@@ -35,6 +35,12 @@ def check_clip_header(fps: float, num_frames: int, source: str) -> None:
                         f"longer than the supported {MAX_CLIP_SECONDS / 3600:g} h")
 
 
+def check_rotations(rotations: np.ndarray, source: str) -> None:
+    """Refuse a loaded clip whose rotations (T, J, 4) are not finite."""
+    if not np.isfinite(rotations).all():
+        raise UserError(f"{source}: the joint rotations hold NaN or infinite values")
+
+
 def check_root_path(root_position: np.ndarray, source: str) -> None:
     """Refuse a loaded clip whose Hips path (T, 3), in metres, is not finite or leaves :data:`MAX_ROOT_METRES`."""
     if not np.isfinite(root_position).all():

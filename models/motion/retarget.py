@@ -36,6 +36,7 @@ from gesturecast.models.motion.motion import (
     check_clip_header,
     check_file_size,
     check_root_path,
+    check_rotations,
 )
 from gesturecast.models.motion.resample import resample_motion
 from gesturecast.models.motion.rest_alignment import (
@@ -288,6 +289,7 @@ def load_motion_file(path: str | Path, joint_map: Path | None = None, keep_hands
     else:
         raise UserError(f"{path}: unsupported motion file type '{path.suffix}' (expected .bvh or SMPL-X .npz)")
     check_root_path(motion.root_position, str(path))
+    check_rotations(motion.rotations, str(path))
     return resample_motion(motion, MOTION_FPS)
 
 

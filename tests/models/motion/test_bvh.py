@@ -123,3 +123,16 @@ def test_failed_write_leaves_no_file(odd_file: Path, tmp_path: Path) -> None:
     with pytest.raises(TypeError):
         write_bvh(data, out)
     assert list(tmp_path.iterdir()) == [odd_file]
+
+
+def test_rotation_channels_beyond_a_turn_are_read_modulo_360(odd_file: Path, tmp_path: Path) -> None:
+    """1e308° in a rotation channel gave NaN rotations (and NaN poses from a motion prompt); any finite angle is a
+    rotation, read modulo 360°."""
+    plain = read_bvh(odd_file)
+    turned = tmp_path / "turned.bvh"
+    turned.write_text(ODD_BVH.replace("10 1 20 2 30 3", "730 1 -1060 2 30 3"))  # + 2 turns, - 3 turns
+    np.testing.assert_allclose(np.abs(read_bvh(turned).local_rotations()), np.abs(plain.local_rotations()),
+                               atol=1e-9)
+    huge = tmp_path / "huge.bvh"
+    huge.write_text(ODD_BVH.replace("10 1 20 2 30 3", "1e308 1 -1e308 2 30 3"))
+    assert np.isfinite(read_bvh(huge).local_rotations()).all()
