@@ -208,3 +208,15 @@ def test_a_gesture_needs_a_lexicon(speech):
     with gesturecast.Stream(paced=False, warm=False, gestures=None) as stream, pytest.raises(
             UserError, match="no gesture lexicon"):
         stream.gesture("wave")
+
+
+def test_a_stream_left_open_at_exit_finishes_its_recording_and_says_so(tmp_path):
+    """Without ``with`` or close(), the BVH was lost (a hidden temporary left behind, no warning)."""
+    take = tmp_path / "noclose.bvh"
+    code = ("import numpy, gesturecast; "
+            f"stream = gesturecast.Stream(outputs=gesturecast.Outputs(bvh={str(take)!r}), paced=False, warm=False); "
+            "stream.push(numpy.zeros(16000, numpy.float32), 16000)")
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert read_bvh(take).num_frames == 30
+    assert [path.name for path in tmp_path.iterdir()] == [take.name]  # no temporary left
+    assert f"still open at exit: closing it and finishing its recording {take}" in result.stderr

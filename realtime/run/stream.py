@@ -17,6 +17,8 @@ instead of the engine reading a source.
 - :meth:`Stream.control` changes style, part styles, guidance, γ or root mode, blended in (no pop).
 - :meth:`Stream.close` ends the stream: the look-ahead's last poses, every frame released on time, the
   outputs closed (a BVH recording is written then). A ``with`` block closes it; an exception stops it at once.
+  A stream still open when Python exits is closed then, with a warning naming its recording: what was recorded is
+  kept.
 
 Any thread may push, send words or close: those calls take the stream one at a time (:func:`one_at_a_time`), so
 blocks pushed from two threads at once are heard one after the other, never interleaved inside the session.
@@ -24,7 +26,9 @@ blocks pushed from two threads at once are heard one after the other, never inte
 
 from __future__ import annotations
 
+import atexit
 import functools
+import logging
 import threading
 from collections.abc import Callable
 
@@ -44,6 +48,8 @@ from gesturecast.realtime.run.paced import AsyncFrameFeed, FeedSet, FrameFeed
 from gesturecast.realtime.timing.clock import Clock, MonotonicClock
 from gesturecast.realtime.timing.scheduler import SchedulerConfig
 from gesturecast.settings import Settings, with_overrides
+
+logger = logging.getLogger(__name__)
 
 FrameCallback = Callable[[PoseFrame], None]
 SPOKEN_WORD_S = 0.35  # a word's share of a sentence given without word times (about 170 words a minute)
@@ -116,6 +122,7 @@ class Stream:
         self._feeds = FeedSet()
         self.warm_up_s = warm_up(self.session, self.clock) if warm else 0.0
         self._release.start()
+        atexit.register(self._close_at_exit)
 
     @property
     def latency_ms(self) -> float:
@@ -241,12 +248,20 @@ class Stream:
         if self._on_frame is not None:
             self._on_frame(frame)
 
+    def _close_at_exit(self) -> None:
+        """Python is exiting with the stream open: close it, so that a recording is finished, not lost."""
+        recording = "" if self.outputs.bvh is None else f" and finishing its recording {self.outputs.bvh}"
+        logger.warning("a gesturecast.Stream was still open at exit: closing it%s (call close(), or use `with`)",
+                       recording)
+        self.close()
+
     def _check_open(self) -> None:
         if self._closed:
             raise UserError("this stream is closed; start a new gesturecast.Stream")
 
     def _shut(self) -> None:
         self._closed = True
+        atexit.unregister(self._close_at_exit)
         try:
             self._release.stop()
         finally:
