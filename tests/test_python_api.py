@@ -220,3 +220,25 @@ def test_a_stream_left_open_at_exit_finishes_its_recording_and_says_so(tmp_path)
     assert read_bvh(take).num_frames == 30
     assert [path.name for path in tmp_path.iterdir()] == [take.name]  # no temporary left
     assert f"still open at exit: closing it and finishing its recording {take}" in result.stderr
+
+
+def test_floats_at_int16_scale_and_bytes_are_refused_alike_at_every_door(speech, tmp_path):
+    loud = speech * 32767  # float32 at int16 scale: other motion than ``speech``, taken silently before
+    soundfile.write(tmp_path / "loud.wav", loud, SAMPLE_RATE, subtype="FLOAT")
+    with gesturecast.Stream(paced=False, warm=False) as stream:
+        for call in (lambda: stream.push(loud, SAMPLE_RATE), lambda: gesturecast.generate(loud, SAMPLE_RATE),
+                     lambda: gesturecast.generate(tmp_path / "loud.wav")):
+            with pytest.raises(UserError, match="far beyond full scale: float audio is in"):
+                call()
+        with pytest.raises(UserError, match="not bytes; 16-bit PCM bytes go to Stream.push_pcm16"):
+            stream.push(speech.tobytes(), SAMPLE_RATE)
+
+
+def test_push_pcm16_takes_mono_bytes_without_a_channel_count(speech):
+    pcm = np.round(speech * 32767).astype("<i2")  # (n,)
+    with gesturecast.Stream(paced=False, warm=False) as by_bytes, \
+            gesturecast.Stream(paced=False, warm=False) as by_array:
+        from_bytes, from_array = by_bytes.push_pcm16(pcm.tobytes(), SAMPLE_RATE), by_array.push(pcm, SAMPLE_RATE)
+    assert from_bytes and len(from_bytes) == len(from_array)
+    np.testing.assert_array_equal(np.stack([f.rotations for f in from_bytes]),
+                                  np.stack([f.rotations for f in from_array]))

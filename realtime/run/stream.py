@@ -141,8 +141,9 @@ class Stream:
 
     @one_at_a_time
     def push(self, samples: np.ndarray, sample_rate: int = SAMPLE_RATE) -> list[PoseFrame]:
-        """Feed one block: (n,) or (n, channels), float in [-1, 1] or int16, at ``sample_rate`` Hz; returns the
-        pose frames it completed (often none: one latent of d frames at a time)."""
+        """Feed one block: a numpy array (n,) or (n, channels), float in [-1, 1] or int16, at ``sample_rate`` Hz;
+        returns the pose frames it completed (often none: one latent of d frames at a time). Floats far beyond ±1
+        (int16 values as floats) are refused, as bytes are (they go to :meth:`push_pcm16`)."""
         self._check_open()
         return self._generate(self._converter.convert_samples(samples, sample_rate))
 
@@ -158,8 +159,9 @@ class Stream:
         return self._feeds.open(AsyncFrameFeed())
 
     @one_at_a_time
-    def push_pcm16(self, data: bytes, sample_rate: int, channels: int) -> list[PoseFrame]:
-        """:meth:`push` for interleaved 16-bit little-endian PCM bytes (what voice pipelines and network peers send)."""
+    def push_pcm16(self, data: bytes, sample_rate: int, channels: int = 1) -> list[PoseFrame]:
+        """:meth:`push` for 16-bit little-endian PCM bytes (what voice pipelines and network peers send), at
+        ``sample_rate`` Hz, ``channels`` interleaved (frame by frame: left, right, left, …; averaged to mono)."""
         self._check_open()
         return self._generate(self._converter.convert(data, sample_rate, channels))
 
