@@ -4,8 +4,9 @@ One server process runs every stream's Python work (features, pose building, the
 under one interpreter lock: it gets about one core for it whatever the machine has (docs/serve.md). With
 ``--workers N`` the command starts N processes, each a whole ``serve`` server (its own model, batched denoiser
 and ``--max-streams`` slots) without a port of its own. The parent process loads no model: it listens on the port,
-starts the workers, waits for each to be ready (a worker that fails names its error and stops the others), then
-deals each connection to the ready worker holding the fewest (:mod:`.dealer`) and prints where streams go.
+starts the workers, waits for each to be ready (a worker that fails before it was ever ready names its error and
+stops the others; one that ends after it was ready is started again), then deals each connection to the ready worker
+holding the fewest (:mod:`.dealer`) and prints where streams go.
 
 A worker that dies while serving (the OOM killer, a crash) loses its streams, and no connection goes to it; it is
 started again after a back-off (1 s, doubling while workers keep dying within :data:`STEADY_S` of being ready, at
@@ -122,8 +123,9 @@ class Workers:
         return [slot.process for slot in self.slots]
 
     def start(self) -> Workers:
-        """Start every worker, wait until each is ready, then deal connections; a failure stops the others and
-        raises its error."""
+        """Start every worker, wait until each is ready, then deal connections; a worker that ends before it was
+        ever ready stops the others and raises its error (one that ends after its ready report is started again,
+        as while serving)."""
         self.slots.extend(WorkerSlot(index, *self._spawn(index)) for index in range(self.count))
         deadline = time.monotonic() + READY_TIMEOUT_S
         try:
@@ -131,6 +133,7 @@ class Workers:
                 if time.monotonic() > deadline:
                     raise UserError(f"the workers were not all ready within {READY_TIMEOUT_S:.0f} s")
                 self._watch(WATCH_S)
+                self._respawn_due()
         except BaseException:
             self.stop()
             raise
@@ -221,8 +224,8 @@ class Workers:
                 slot.error = detail
 
     def _ended(self, slot: WorkerSlot) -> None:
-        """``slot``'s worker has ended: read what it reported last, then (while serving) schedule its replacement;
-        a worker that ends while starting stops the run with its error."""
+        """``slot``'s worker has ended: read what it reported last, then schedule its replacement; a worker that
+        ends before it was ever ready (a bad model, a port in use) stops the run with its error."""
         slot.process.join(KILL_TIMEOUT_S)
         if slot.process.is_alive():  # its channel ended but it did not: a replacement must not run beside it
             slot.process.kill()
@@ -241,7 +244,7 @@ class Workers:
             for connection in untaken:
                 connection.close()
         how = slot.error or how_it_ended(slot.process.exitcode)
-        if self._phase == "starting":
+        if self._phase == "starting" and slot.ready_at is None:
             raise UserError(slot.error or f"worker-{slot.index} ended before it was ready ({how})")
         if self._phase == "stopping":
             return
