@@ -35,6 +35,7 @@ from gesturecast.errors import UserError
 from gesturecast.realtime.serve.dealer import ConnectionDealer, WorkerLink, WorkerSlot
 from gesturecast.realtime.serve.launch import start_server
 from gesturecast.realtime.serve.server import ServeConfig
+from gesturecast.realtime.serve.shared_failures import shared_failures_file
 from gesturecast.realtime.timing.clock import MonotonicClock
 from gesturecast.settings import Settings
 
@@ -106,7 +107,8 @@ class Workers:
         self._context = multiprocessing.get_context("spawn")
         self._listener = listen_port(config.host, config.port)
         self.port = self._listener.getsockname()[1]
-        self._worker_args = (settings, replace(config, port=self.port, dealt=True),
+        self.token_failures = shared_failures_file()  # the wrong-token limit counts across the workers
+        self._worker_args = (settings, replace(config, port=self.port, dealt=True, token_failures=self.token_failures),
                              logging.getLogger().getEffectiveLevel())
         self.count = count
         self.lock = threading.Condition()  # the slots' state: the dealer reads it, the supervisor changes it
@@ -166,6 +168,7 @@ class Workers:
             slot.channel.close()
         for connection in [*self.dealer.returned, *(c for slot in self.slots for c in slot.untaken)]:
             connection.close()
+        self.token_failures.unlink(missing_ok=True)
         return self.served
 
     # ---- the supervisor (the caller's thread while starting and stopping, its own thread while serving) ----
