@@ -13,7 +13,8 @@ The ranges are measured on real motion capture (``models/weights/stylizer/joint_
 ``python -m gesturecast.tools.style.joint_ranges``): the Bandai dataset-1 takes (174 takes of 15 styles; bows,
 dances, punches and runs besides gestures), per joint and axis the 0.1st and 99.9th percentiles of the rotation
 vector's components and the 99.9th percentile of its angle (the rarest frames are left out: retargeting flips a few
-near 180°). Bandai's skeleton has one chest joint, so the canonical UpperChest takes the Chest's range.
+near 180°). Bandai's skeleton has one chest joint, so the canonical UpperChest takes the Chest's range; the hands keep
+only their angle (their axes differ between the generator's takes and Bandai's: ±π on each axis).
 """
 
 from __future__ import annotations

@@ -15,14 +15,21 @@ from gesturecast.tools.style.cli import DEFAULT_RAW, DEFAULT_TAKES, LICENSE_NOTE
 from gesturecast.tools.style.takes import Take, load_paired_takes, take_folder
 
 SHARED_CHEST = {"UpperChest": "Chest"}  # Bandai's one chest joint gives both canonical chest joints their range
+# the hands' axes differ between the generator's takes (ZeroEGGS: a rest orientation of their own, 150° at the 99th
+# percentile) and Bandai's, so a box of Bandai's axes would bend the generator's ordinary hands: only the angle holds
+ANGLE_ONLY = ("LeftHand", "RightHand")
 
 
 def measured_ranges(takes: list[Take]) -> JointRanges:
-    """The ranges of every take's styled joints, each joint of :data:`SHARED_CHEST` with its partner's."""
+    """The ranges of every take's styled joints, each joint of :data:`SHARED_CHEST` with its partner's, the joints of
+    :data:`ANGLE_ONLY` with no bound on the axes (±π)."""
     vectors = np.concatenate([rotation_vectors(take.motion.rotations) for take in takes])  # (T, S, 3)
     for joint, partner in SHARED_CHEST.items():
         vectors[:, STYLED_JOINTS.index(joint)] = vectors[:, STYLED_JOINTS.index(partner)]
-    return JointRanges.measured(vectors)
+    ranges = JointRanges.measured(vectors)
+    unboxed = [STYLED_JOINTS.index(joint) for joint in ANGLE_ONLY]
+    ranges.low[unboxed], ranges.high[unboxed] = -np.pi, np.pi
+    return ranges
 
 
 def main(argv: list[str] | None = None) -> int:
