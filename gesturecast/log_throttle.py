@@ -18,15 +18,15 @@ class ThrottledLog:
     """One kind of message to ``logger``, at most one line per ``interval_s`` of ``clock`` (module docstring)."""
 
     def __init__(self, logger: logging.Logger, interval_s: float = LOG_INTERVAL_S,
-                 clock: Callable[[], float] = time.monotonic) -> None:
+                 clock: Callable[[], float] | None = None) -> None:
         self.logger = logger
         self.interval_s = interval_s
-        self._clock = clock
+        self._clock = clock  # None: time.monotonic
         self._next_line = float("-inf")  # clock time from which the next message is logged
         self._held = 0  # messages not logged since the last line
 
     def log(self, level: int, message: str) -> None:
-        now = self._clock()
+        now = (self._clock or time.monotonic)()
         if now < self._next_line:
             self._held += 1
             return
