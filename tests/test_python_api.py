@@ -127,8 +127,9 @@ def test_a_stream_refuses_a_bad_control_at_the_call_in_the_websockets_words(spee
             assert str(call_error.value) == str(wire_error.value), fields
         frames = stream.push(speech, SAMPLE_RATE)
     assert frames and all(np.isfinite(frame.rotations).all() for frame in frames)
-    with pytest.raises(UserError, match=r"^gamma must be within \[-2, 3\], got 50$"):
-        gesturecast.Stream(paced=False, warm=False).control(gamma=50)
+    with gesturecast.Stream(paced=False, warm=False) as stream, pytest.raises(
+            UserError, match=r"^gamma must be within \[-2, 3\], got 50$"):
+        stream.control(gamma=50)
 
 
 def test_a_closed_stream_refuses_controls_gestures_and_words(speech):
@@ -242,3 +243,23 @@ def test_push_pcm16_takes_mono_bytes_without_a_channel_count(speech):
     assert from_bytes and len(from_bytes) == len(from_array)
     np.testing.assert_array_equal(np.stack([f.rotations for f in from_bytes]),
                                   np.stack([f.rotations for f in from_array]))
+
+
+STOPPED_CLOCK = """
+import threading
+class StoppedClock:  # a test's clock that only a test moves: waiting on it waits for ever
+    def now(self): return 0.0
+    def sleep_until(self, t): threading.Event().wait() if t > 0 else None
+    def wait_until(self, t, event): return event.wait() if t > 0 else event.is_set()
+"""
+
+
+def test_a_stream_on_a_stopped_clock_left_open_at_exit_does_not_hang_the_exit(tmp_path):
+    """Closing at exit waits for the last frames' times; on a clock that no longer moves it stops instead."""
+    take = tmp_path / "stopped.bvh"
+    code = (STOPPED_CLOCK + "import numpy, gesturecast\n"
+            f"stream = gesturecast.Stream(outputs=gesturecast.Outputs(bvh={str(take)!r}), clock=StoppedClock(), "
+            "warm=False)\nstream.push(numpy.zeros(16000, numpy.float32), 16000)\n")
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0 and "still open at exit" in result.stderr
+    assert [path.name for path in tmp_path.iterdir()] in ([], [take.name])  # no temporary left

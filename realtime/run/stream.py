@@ -251,11 +251,16 @@ class Stream:
             self._on_frame(frame)
 
     def _close_at_exit(self) -> None:
-        """Python is exiting with the stream open: close it, so that a recording is finished, not lost."""
+        """Python is exiting with the stream open: close it, so that a recording is finished, not lost. A stream on
+        another clock than the real one (a test's) is stopped instead: its last frames would wait for a time that no
+        longer passes; what was recorded is kept."""
         recording = "" if self.outputs.bvh is None else f" and finishing its recording {self.outputs.bvh}"
         logger.warning("a gesturecast.Stream was still open at exit: closing it%s (call close(), or use `with`)",
                        recording)
-        self.close()
+        if isinstance(self.clock, MonotonicClock):
+            self.close()
+        else:
+            self.stop()
 
     def _check_open(self) -> None:
         if self._closed:
