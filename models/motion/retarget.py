@@ -67,6 +67,7 @@ SMPLX_NOMINAL_HEIGHT_M = 1.70
 FLOOR_PERCENTILE = 5.0
 SMPLX_AXIS_ANGLE_DIM = 3 * len(SMPLX_JOINTS)
 MIN_BONE_LENGTH = 1e-9  # source units; shorter bones carry no direction
+MAX_POSE_RADIANS = 1e4  # an SMPL-X axis-angle value beyond this (1,600 turns) is no pose; 1e308 overflowed the angle
 
 
 @dataclass
@@ -253,6 +254,9 @@ def _read_smplx_npz(path: Path) -> Motion:
         raise UserError(f"{path}: SMPL-X file has zero frames")
     if not (np.isfinite(poses).all() and np.isfinite(trans).all()):
         raise UserError(f"{path}: SMPL-X poses or trans hold NaN or infinite values")
+    if np.abs(poses).max() > MAX_POSE_RADIANS:
+        raise UserError(f"{path}: an SMPL-X pose value of {np.abs(poses).max():g} rad is beyond the supported "
+                        f"±{MAX_POSE_RADIANS:g} (no joint turns that far)")
     check_clip_header(fps, len(poses), str(path))
     return retarget_smplx(poses, trans, fps)
 
