@@ -24,7 +24,7 @@ from websockets.asyncio.server import ServerConnection
 from websockets.datastructures import Headers
 from websockets.http11 import Request, Response
 
-from gesturecast.bridges.ws_access import AccessPolicy, client_address, tokens_match
+from gesturecast.bridges.ws_access import AccessPolicy, client_address, client_key, tokens_match
 
 logger = logging.getLogger(__name__)
 
@@ -144,7 +144,7 @@ class AvatarServer:
                 return plain_response(HTTPStatus.UNAUTHORIZED, b"this server needs a token: send "
                                       b"Authorization: Bearer TOKEN (or ?token=TOKEN)\n", TEXT, method)
             if not tokens_match(token, self.access.token or ""):
-                self.access.failures.record(client_address(connection))
+                self.access.failures.record(client_key(connection, request.headers))
                 return plain_response(HTTPStatus.FORBIDDEN, b"wrong token\n", TEXT, method)
         if self.avatar is None or not self.avatar.is_file():
             return plain_response(HTTPStatus.NOT_FOUND, b"no avatar on this server\n", TEXT, method)

@@ -36,7 +36,7 @@ from gesturecast.bridges.transport import ErrorThrottle
 from gesturecast.bridges.viewer_http import AvatarServer, ViewerConnection, is_websocket_upgrade, static_response
 from gesturecast.bridges.ws_access import AccessPolicy, send_refusal
 from gesturecast.bridges.ws_listener import ThreadedListener
-from gesturecast.controls import Control, ControlError, control_schema, wire
+from gesturecast.controls import Control, ControlError, acknowledged, control_schema
 from gesturecast.errors import UserError
 from gesturecast.frames import VISEME_NAMES, PoseFrame
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS, Skeleton
@@ -233,7 +233,8 @@ class WebSocketBridge:
             notes = await asyncio.to_thread(self.on_control, controls)
         except (ValueError, UserError) as error:
             raise ControlError(f"the engine refused it: {error}") from None
-        return json.dumps({"type": "ack", "applied": wire(controls), **(notes or {})})  # notes: when a gesture plays
+        # notes: when a gesture plays
+        return json.dumps({"type": "ack", "applied": acknowledged(controls), **(notes or {})})
 
     def _drain(self) -> None:
         with self._lock:

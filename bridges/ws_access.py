@@ -10,9 +10,14 @@ Shared by the viewer bridge (``live --ws``) and ``gesturecast serve``:
   hijacking). Host names are compared exactly, so a DNS-rebound name is not the server's origin.
 - **Token.** At least :data:`MIN_TOKEN_CHARS` characters with :data:`MIN_DISTINCT_TOKEN_CHARS`
   different ones; compared as UTF-8 bytes in constant time (any Unicode token works).
-- **Wrong tokens.** The connection that sent one is closed; an address that sent
+- **Wrong tokens.** The connection that sent one is closed; a client that sent
   :data:`MAX_TOKEN_FAILURES` wrong tokens within :data:`TOKEN_FAILURE_WINDOW_S` gets HTTP 429 on its
-  next connections until the window has passed.
+  next connections until the window has passed. Clients are told apart by :func:`client_key`: a remote
+  peer by its address; a peer on this machine (loopback or a Unix socket: a reverse proxy, or a local app) by the
+  address its proxy appended last to ``X-Forwarded-For`` (the client's own, which the client cannot forge: the
+  entries before it it can), or, without that header, by its ``User-Agent``, so one bad client behind a proxy,
+  or one bad local app, does not lock out the others. ``serve --workers`` counts across its workers
+  (:class:`gesturecast.realtime.serve.shared_failures.SharedFailedTokens`).
 """
 
 from __future__ import annotations
@@ -46,7 +51,9 @@ TOKEN_ENV_VAR = "GESTURECAST_TOKEN"
 MAX_TOKEN_FILE_BYTES = 4096  # a token is one short line; more is not a token file (``/dev/zero`` read 4.4 GB)
 MAX_TOKEN_FAILURES = 5
 TOKEN_FAILURE_WINDOW_S = 60.0
-MAX_TRACKED_ADDRESSES = 1024  # the failure table is bounded: the longest-quiet address is forgotten first
+MAX_TRACKED_ADDRESSES = 1024  # the failure table is bounded: the longest-quiet client is forgotten first
+MAX_CLIENT_KEY_CHARS = 200  # a User-Agent is the key of a local app: its first characters are enough
+FORWARDED_FOR = "X-Forwarded-For"
 LOOPBACK_ORIGIN_HOSTS = ("127.0.0.1", "localhost", "[::1]")
 ORIGIN_SCHEMES = ("http", "https")
 TOKEN_HINT = "e.g. python3 -c 'import secrets; print(secrets.token_urlsafe(24))'"
@@ -142,7 +149,7 @@ def refusal(status: HTTPStatus, reason: str) -> Response:
 
 
 class FailedTokens:
-    """Wrong tokens per client address within a sliding window (bounded table, injected clock)."""
+    """Wrong tokens per client (:func:`client_key`) within a sliding window (bounded table, injected clock)."""
 
     def __init__(self, clock: Callable[[], float], limit: int = MAX_TOKEN_FAILURES,
                  window_s: float = TOKEN_FAILURE_WINDOW_S) -> None:
@@ -173,13 +180,14 @@ class AccessPolicy:
     """Origin check, token and wrong-token limit for one listening port. :meth:`process_request` is the
     websockets handshake hook (a refusal, or None to go on); :meth:`verify_token` checks a message's token."""
 
-    def __init__(self, host: str, token: str | None, allow_origins: Iterable[str], clock: Callable[[], float]) -> None:
+    def __init__(self, host: str, token: str | None, allow_origins: Iterable[str], clock: Callable[[], float],
+                 failures: FailedTokens | None = None) -> None:
         check_exposure(host, token)
         self.host = host
         self.token = token
         self.loopback = is_loopback(host)
         self.allow_origins = frozenset(check_origins(allow_origins))
-        self.failures = FailedTokens(clock)
+        self.failures = failures or FailedTokens(clock)  # serve --workers: a table every worker shares
 
     @property
     def token_required(self) -> bool:
@@ -197,9 +205,9 @@ class AccessPolicy:
         if not self.origin_allowed(origin, local_port(connection)):
             return refusal(HTTPStatus.FORBIDDEN, f"origin {origin} is not allowed; start the server with "
                                                   f"--allow-origin {origin} to let its pages connect")
-        if self.failures.blocked(client_address(connection)):
+        if self.failures.blocked(client_key(connection, request.headers)):
             return refusal(HTTPStatus.TOO_MANY_REQUESTS,
-                           f"too many wrong tokens from this address; wait {TOKEN_FAILURE_WINDOW_S:g} s")
+                           f"too many wrong tokens from this client; wait {TOKEN_FAILURE_WINDOW_S:g} s")
         return None
 
     def verify_token(self, connection: ServerConnection, message: dict) -> None:
@@ -210,7 +218,7 @@ class AccessPolicy:
         if given is None:
             raise ControlError('this server needs a token: add "token" to the message')
         if not tokens_match(given, self.token or ""):
-            self.failures.record(client_address(connection))
+            self.failures.record(client_key(connection, connection.request.headers))
             raise WrongToken("wrong token; closing the connection")
 
 
@@ -232,3 +240,15 @@ def client_address(connection: ServerConnection) -> str:
     a peer without one (a Unix socket)."""
     address = connection.remote_address
     return str(address[0]) if isinstance(address, tuple) and address else "local"
+
+
+def client_key(connection: ServerConnection, headers: Headers) -> str:
+    """Whose wrong tokens a connection counts toward (module docstring): a remote peer's address; for a peer on this
+    machine the last address of ``X-Forwarded-For`` (what its proxy appended), else ``local|loopback UA``."""
+    address = client_address(connection)
+    if address != "local" and not is_loopback(address):
+        return address
+    forwarded = [part.strip() for line in headers.get_all(FORWARDED_FOR) for part in line.split(",") if part.strip()]
+    if forwarded:
+        return forwarded[-1][:MAX_CLIENT_KEY_CHARS]
+    return f"{address} {headers.get('User-Agent', '')}"[:MAX_CLIENT_KEY_CHARS]

@@ -39,6 +39,12 @@ ROOT_MODES = ("bounded", "free", "locked")  # stays near where it started, the g
 INTENSITY_RANGE = (0.0, 2.0)  # gesture size: 0 stands and breathes, 1 the generated motion as it is, 2 twice as big
 
 
+def exact_number(number: float) -> str:
+    """``number`` short when that is exact (50, 1e+300), else with every digit it needs (3.0000001: not "3")."""
+    short = f"{number:g}"
+    return short if float(short) == number else repr(number)
+
+
 class ControlError(ValueError):
     """A refused control; ``str(error)`` is the one-line reason every door gives (and the WebSocket sends back)."""
 
@@ -95,7 +101,7 @@ class Number:
         if not math.isfinite(number):
             raise ControlError(f"{name} must be a finite number")
         if not self.low <= number <= self.high:
-            raise ControlError(f"{name} must be within [{self.low:g}, {self.high:g}], got {number:g}")
+            raise ControlError(f"{name} must be within [{self.low:g}, {self.high:g}], got {exact_number(number)}")
         return number
 
     def describe(self) -> dict:
@@ -295,5 +301,13 @@ def parse_style_change(message: Mapping[str, object]) -> StyleChange:
 
 
 def wire(controls: tuple[Control, ...]) -> dict:
-    """The checked JSON form of a message's controls (what an ``ack`` reports as applied)."""
+    """The checked JSON form of a message's controls."""
     return {key: value for control in controls for key, value in control.wire().items()}
+
+
+def acknowledged(controls: tuple[Control, ...]) -> dict:
+    """What an ``ack`` reports as applied: the checked fields, ``words`` as their count (not 500 words echoed)."""
+    applied = wire(controls)
+    if "words" in applied:
+        applied["words"] = len(applied["words"])
+    return applied

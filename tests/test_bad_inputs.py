@@ -190,6 +190,10 @@ BAD_INPUTS: dict[str, BadInput] = {
                                        write_bvh_file(values="0 90 0 nan 0 0")),
     "motion prompt NPZ inf": BadInput(f"{GENERATE} --motion-prompt {{file}}", "NaN or infinite",
                                       write_npz(poses=np.full((NPZ_FRAMES, SMPLX_POSE_DIM), -np.inf))),
+    "motion prompt NPZ arm pose 1e308": BadInput(f"{GENERATE} --motion-prompt {{file}}",
+                                                 "an SMPL-X pose value of 1e+308 rad is beyond the supported",
+                                                 write_npz(poses=np.pad(np.full((NPZ_FRAMES, 3), 1e308),
+                                                                        ((0, 0), (60, SMPLX_POSE_DIM - 63))))),
     # seed motions and motion prompts: non-finite or absurd lengths (they reached every pose of every stream)
     "seed motion zero OFFSETs": BadInput(f"{GENERATE} --seed-motion {{file}}", "zero OFFSET on LeftUpperLeg",
                                          write_flat_skeleton),

@@ -1,6 +1,7 @@
 """The typed controls: one check for every door, the one-line refusals, the schema generated from the declaration."""
 
 import dataclasses
+import json
 
 import pytest
 
@@ -173,3 +174,21 @@ def test_every_style_setting_reaches_the_generator_through_settings():
     assert (session.controls.intensity, session.controls.paused, session.controls.gesture_size) == (0.5, True, 0.0)
     assert set(STYLE_SETTINGS) - set(change.changed()) == {"prompt"}  # a prompt replaces the style:
     assert Settings().with_style(StyleChange(prompt="calm")).style_prompt() == StylePrompt("text", "calm")
+
+
+def test_a_refused_number_shows_its_excess():
+    """``gamma=3.0000001`` was refused as "…got 3": the number format hid why."""
+    with pytest.raises(ControlError, match=r"^gamma must be within \[-2, 3\], got 3.0000001$"):
+        parse_controls({"gamma": 3.0000001})
+    with pytest.raises(ControlError, match=r"got 1e\+300$"):
+        parse_controls({"guidance": 1e300})
+
+
+def test_an_ack_counts_the_words_instead_of_echoing_them():
+    """Each ack repeated all 500 words of a message (about 30 KB)."""
+    from gesturecast.realtime.serve.protocol import ack
+
+    words = [{"word": f"w{i}", "start": i * 0.1} for i in range(500)]
+    reply = ack(message_controls({"type": "control", "words": words, "style": "happy"}))
+    assert json.loads(reply) == {"type": "ack", "applied": {"words": 500, "style": "happy"}}
+    assert len(reply) < 100

@@ -158,8 +158,9 @@ def test_a_stream_refuses_a_bad_control_at_the_call_in_the_websockets_words(spee
             assert str(call_error.value) == str(wire_error.value), fields
         frames = stream.push(speech, SAMPLE_RATE)
     assert frames and all(np.isfinite(frame.rotations).all() for frame in frames)
-    with pytest.raises(UserError, match=r"^gamma must be within \[-2, 3\], got 50$"):
-        gesturecast.Stream(paced=False, warm=False).control(gamma=50)
+    with gesturecast.Stream(paced=False, warm=False) as stream, pytest.raises(
+            UserError, match=r"^gamma must be within \[-2, 3\], got 50$"):
+        stream.control(gamma=50)
 
 
 def test_a_closed_stream_refuses_controls_gestures_and_words(speech):
@@ -246,3 +247,57 @@ def test_a_gesture_needs_a_lexicon(speech):
     with gesturecast.Stream(paced=False, warm=False, gestures=None) as stream, pytest.raises(
             UserError, match="no gesture lexicon"):
         stream.gesture("wave")
+
+
+def test_a_stream_left_open_at_exit_finishes_its_recording_and_says_so(tmp_path):
+    """Without ``with`` or close(), the BVH was lost (a hidden temporary left behind, no warning)."""
+    take = tmp_path / "noclose.bvh"
+    code = ("import numpy, gesturecast; "
+            f"stream = gesturecast.Stream(outputs=gesturecast.Outputs(bvh={str(take)!r}), paced=False, warm=False); "
+            "stream.push(numpy.zeros(16000, numpy.float32), 16000)")
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert read_bvh(take).num_frames == 30
+    assert [path.name for path in tmp_path.iterdir()] == [take.name]  # no temporary left
+    assert f"still open at exit: closing it and finishing its recording {take}" in result.stderr
+
+
+def test_floats_at_int16_scale_and_bytes_are_refused_alike_at_every_door(speech, tmp_path):
+    loud = speech * 32767  # float32 at int16 scale: other motion than ``speech``, taken silently before
+    soundfile.write(tmp_path / "loud.wav", loud, SAMPLE_RATE, subtype="FLOAT")
+    with gesturecast.Stream(paced=False, warm=False) as stream:
+        for call in (lambda: stream.push(loud, SAMPLE_RATE), lambda: gesturecast.generate(loud, SAMPLE_RATE),
+                     lambda: gesturecast.generate(tmp_path / "loud.wav")):
+            with pytest.raises(UserError, match="far beyond full scale: float audio is in"):
+                call()
+        with pytest.raises(UserError, match="not bytes; 16-bit PCM bytes go to Stream.push_pcm16"):
+            stream.push(speech.tobytes(), SAMPLE_RATE)
+
+
+def test_push_pcm16_takes_mono_bytes_without_a_channel_count(speech):
+    pcm = np.round(speech * 32767).astype("<i2")  # (n,)
+    with gesturecast.Stream(paced=False, warm=False) as by_bytes, \
+            gesturecast.Stream(paced=False, warm=False) as by_array:
+        from_bytes, from_array = by_bytes.push_pcm16(pcm.tobytes(), SAMPLE_RATE), by_array.push(pcm, SAMPLE_RATE)
+    assert from_bytes and len(from_bytes) == len(from_array)
+    np.testing.assert_array_equal(np.stack([f.rotations for f in from_bytes]),
+                                  np.stack([f.rotations for f in from_array]))
+
+
+STOPPED_CLOCK = """
+import threading
+class StoppedClock:  # a test's clock that only a test moves: waiting on it waits for ever
+    def now(self): return 0.0
+    def sleep_until(self, t): threading.Event().wait() if t > 0 else None
+    def wait_until(self, t, event): return event.wait() if t > 0 else event.is_set()
+"""
+
+
+def test_a_stream_on_a_stopped_clock_left_open_at_exit_does_not_hang_the_exit(tmp_path):
+    """Closing at exit waits for the last frames' times; on a clock that no longer moves it stops instead."""
+    take = tmp_path / "stopped.bvh"
+    code = (STOPPED_CLOCK + "import numpy, gesturecast\n"
+            f"stream = gesturecast.Stream(outputs=gesturecast.Outputs(bvh={str(take)!r}), clock=StoppedClock(), "
+            "warm=False)\nstream.push(numpy.zeros(16000, numpy.float32), 16000)\n")
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0 and "still open at exit" in result.stderr
+    assert [path.name for path in tmp_path.iterdir()] in ([], [take.name])  # no temporary left

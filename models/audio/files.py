@@ -37,6 +37,9 @@ SAMPLE_RATE = 16000  # the pipeline's rate: speech content is below 8 kHz
 DEFAULT_BLOCK_FRAMES = 65536  # file frames read per block (about 1.4 s at 48 kHz)
 CLIP_LEVEL = 0.999  # |x| at or above this counts as a clipped sample
 CLIP_WARN_FRACTION = 1e-3  # warn when more than 0.1 % of the samples are clipped
+# float samples beyond this are not audio at full scale ±1 but integers stored as floats (int16 speech peaks in the
+# thousands): refused, at every door (a file, an array, a pushed block), since they would give other motion
+FLOAT_SCALE_LIMIT = 2.0
 RESAMPLE_QUALITY = "HQ"
 # header limits, checked before anything is decoded: a crafted header cannot make the resampler
 # produce gigabytes from a small file (1 Hz -> 16 kHz multiplies every block by 16 000)
@@ -101,6 +104,7 @@ class AudioFileReader:
             raise UserError(
                 f"{self.path}: {bad} NaN/inf samples (first at {first_s:.2f} s); the file is corrupt, re-export it"
             )
+        check_float_scale(block, f"{self.path}: the samples")
         self.stats.clipped_samples += int(np.count_nonzero(np.abs(block).max(axis=1) >= CLIP_LEVEL))
         return block.mean(axis=1, dtype=np.float32) if block.shape[1] > 1 else block[:, 0]
 
@@ -112,6 +116,14 @@ class AudioFileReader:
                 self.path,
                 100.0 * self.stats.clipped_fraction,
             )
+
+
+def check_float_scale(samples: np.ndarray, source: str) -> None:
+    """Refuse float samples far beyond full scale ±1 (:data:`FLOAT_SCALE_LIMIT`): int16 values stored as floats."""
+    peak = float(np.abs(samples).max(initial=0.0))
+    if peak > FLOAT_SCALE_LIMIT:
+        raise UserError(f"{source} reach {peak:g}, far beyond full scale: float audio is in [-1, 1] "
+                        "(int16 values as floats? divide them by 32768, or pass int16)")
 
 
 def load_audio(path: str | Path) -> np.ndarray:

@@ -14,7 +14,9 @@ MOTION_FPS = 30.0
 MIN_FILE_FPS = 1.0  # a BVH ``Frame Time`` of at most 1 s
 MAX_FILE_FPS = 1000.0  # a ``Frame Time`` of at least 1 ms
 MAX_CLIP_SECONDS = 4 * 3600.0  # 4 h: 432 000 frames at 30 fps, about 300 MB of canonical rotations
-MAX_MOTION_FILE_BYTES = 1 << 30  # a BVH file, or one decompressed array of an .npz
+# a BVH file, or one decompressed array of an .npz: loading and retargeting take about 8 times a BVH's size at
+# their peak (a 68 MB BVH, 24 min of 52 joints: 0.5 GB), so 256 MiB stays near 2 GB; real takes are 1-30 MB
+MAX_MOTION_FILE_BYTES = 256 << 20
 MAX_ROOT_METRES = 1000.0  # the Hips path of a loaded clip (after scaling to the canonical skeleton): 1 km
 
 
@@ -33,6 +35,12 @@ def check_clip_header(fps: float, num_frames: int, source: str) -> None:
     if num_frames / fps > MAX_CLIP_SECONDS:
         raise UserError(f"{source}: {num_frames} frames at {fps:g} fps is {num_frames / fps / 3600:.1f} h, "
                         f"longer than the supported {MAX_CLIP_SECONDS / 3600:g} h")
+
+
+def check_rotations(rotations: np.ndarray, source: str) -> None:
+    """Refuse a loaded clip whose rotations (T, J, 4) are not finite."""
+    if not np.isfinite(rotations).all():
+        raise UserError(f"{source}: the joint rotations hold NaN or infinite values")
 
 
 def check_root_path(root_position: np.ndarray, source: str) -> None:

@@ -36,6 +36,7 @@ from gesturecast.models.motion.motion import (
     check_clip_header,
     check_file_size,
     check_root_path,
+    check_rotations,
 )
 from gesturecast.models.motion.resample import resample_motion
 from gesturecast.models.motion.rest_alignment import (
@@ -66,6 +67,7 @@ SMPLX_NOMINAL_HEIGHT_M = 1.70
 FLOOR_PERCENTILE = 5.0
 SMPLX_AXIS_ANGLE_DIM = 3 * len(SMPLX_JOINTS)
 MIN_BONE_LENGTH = 1e-9  # source units; shorter bones carry no direction
+MAX_POSE_RADIANS = 1e4  # an SMPL-X axis-angle value beyond this (1,600 turns) is no pose; 1e308 overflowed the angle
 
 
 @dataclass
@@ -252,6 +254,9 @@ def _read_smplx_npz(path: Path) -> Motion:
         raise UserError(f"{path}: SMPL-X file has zero frames")
     if not (np.isfinite(poses).all() and np.isfinite(trans).all()):
         raise UserError(f"{path}: SMPL-X poses or trans hold NaN or infinite values")
+    if np.abs(poses).max() > MAX_POSE_RADIANS:
+        raise UserError(f"{path}: an SMPL-X pose value of {np.abs(poses).max():g} rad is beyond the supported "
+                        f"±{MAX_POSE_RADIANS:g} (no joint turns that far)")
     check_clip_header(fps, len(poses), str(path))
     return retarget_smplx(poses, trans, fps)
 
@@ -288,6 +293,7 @@ def load_motion_file(path: str | Path, joint_map: Path | None = None, keep_hands
     else:
         raise UserError(f"{path}: unsupported motion file type '{path.suffix}' (expected .bvh or SMPL-X .npz)")
     check_root_path(motion.root_position, str(path))
+    check_rotations(motion.rotations, str(path))
     return resample_motion(motion, MOTION_FPS)
 
 

@@ -15,7 +15,7 @@ import numpy as np
 import soxr
 
 from gesturecast.errors import UserError
-from gesturecast.models.audio.files import MAX_FILE_RATE, MIN_FILE_RATE, make_resampler
+from gesturecast.models.audio.files import MAX_FILE_RATE, MIN_FILE_RATE, check_float_scale, make_resampler
 
 PCM16_FULL_SCALE = 32768.0  # int16 → [-1, 1)
 PCM16_BYTES = 2
@@ -32,8 +32,11 @@ def pcm16_to_mono(data: bytes, channels: int) -> np.ndarray:
 
 
 def samples_to_mono(samples: np.ndarray) -> np.ndarray:
-    """(n,) or (n, C) float, int16 or int32 samples → (n,) float32 mono (channels averaged); one-line UserError
-    for another shape or type, or for NaN / infinite samples."""
+    """(n,) or (n, C) float (in [-1, 1]), int16 or int32 samples → (n,) float32 mono (channels averaged); one-line
+    UserError for bytes, another shape or type, NaN / infinite samples, or floats at integer scale."""
+    if isinstance(samples, (bytes, bytearray, memoryview)):
+        raise UserError("audio samples must be an array, not bytes; 16-bit PCM bytes go to "
+                        "Stream.push_pcm16(data, sample_rate, channels=1)")
     samples = np.asarray(samples)
     if samples.ndim not in (1, 2) or (samples.ndim == 2 and not 0 < samples.shape[1] <= MAX_CHANNELS):
         raise UserError(f"audio samples must be (n,) or (n, channels) with at most {MAX_CHANNELS} channels, "
@@ -45,6 +48,7 @@ def samples_to_mono(samples: np.ndarray) -> np.ndarray:
     mono = (samples if samples.ndim == 1 else samples.mean(axis=1)).astype(np.float32, copy=False)  # (n,)
     if not np.isfinite(mono).all():
         raise UserError("audio samples hold NaN or infinite values")
+    check_float_scale(mono, "audio samples")
     return mono
 
 

@@ -30,6 +30,10 @@ than recorded), and the blend keeps their shape while the latents keep the neigh
   "hi"); one already returning is played again, after it;
 - ``dropped``: none of these fits (logged, counted).
 
+Every outcome is counted; those not on time are logged, a flood (a cue per OSC packet or per word) at most one line
+per 5 s for the dropped ones and one for the others, with the count of those not logged
+(:class:`~gesturecast.log_throttle.ThrottledLog`).
+
 A gesture may have several performances (:mod:`gesturecast.realtime.gestures.clips`: takes, hand, tempo and
 amplitude drawn from the seed); the plan plays them in turn. The plan is deterministic in stream time, so streaming and
 offline runs with the same cues give the same poses.
@@ -52,6 +56,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from gesturecast.errors import UserError
+from gesturecast.log_throttle import ThrottledLog
 from gesturecast.realtime.gestures.reattach import body_frame_roots, placed_roots, reattach
 
 logger = logging.getLogger(__name__)
@@ -277,6 +282,7 @@ class CuePlan:
         self.counts: Counter[str] = Counter()  # outcomes by status, over the whole stream
         self.outcomes: deque[CueOutcome] = deque(maxlen=MAX_OUTCOMES)
         self.max_defer = round(MAX_DEFER_S / seconds_per_latent)  # latents
+        self._drop_log, self._note_log = ThrottledLog(logger), ThrottledLog(logger)  # a cue flood: a line per interval
 
     @property
     def dropped(self) -> int:
@@ -305,7 +311,8 @@ class CuePlan:
 
     def place(self, cue: Cue, next_latent: int) -> CueOutcome:
         """Place ``cue`` no earlier than ``next_latent`` (the first latent not generated yet): on time, late,
-        blended with a playing gesture, merged into the same one, or dropped; logged unless on time, and counted.
+        blended with a playing gesture, merged into the same one, or dropped; logged unless on time (a flood
+        throttled), and counted.
         CueRefused for a time that is no stream time, or when the plan is full."""
         if not math.isfinite(cue.time) or cue.time > MAX_CUE_TIME_S:
             raise CueRefused(f"gesture {cue.gesture} at {cue.time!r} s: not a stream time (at most {MAX_CUE_TIME_S:g})")
@@ -480,9 +487,9 @@ class CuePlan:
         self.counts[outcome.status] += 1
         self.outcomes.append(outcome)
         if outcome.status == "dropped":
-            logger.warning(outcome.describe())
+            self._drop_log.log(logging.WARNING, outcome.describe())
         elif outcome.status != "on time" or outcome.cue.source == CONTROL_SOURCE:
-            logger.info(outcome.describe())
+            self._note_log.log(logging.INFO, outcome.describe())
         return outcome
 
     def imposition(self, latent: int) -> Imposition | None:

@@ -22,6 +22,7 @@ from typing import Protocol
 
 from gesturecast.controls import Control, Gesture, StyleChange, Word, Words
 from gesturecast.errors import UserError
+from gesturecast.log_throttle import ThrottledLog
 from gesturecast.models.generator.style_prompt import PartStyles, StylePrompt, parse_part_styles
 from gesturecast.models.motion.root_anchor import RootAnchor, RootMode
 from gesturecast.realtime.generation.generator import Generator
@@ -76,6 +77,7 @@ class SessionControls:
         self._gamma = Ramp(generator.settings.gamma, fade_s)
         self._blending_from: StylePrompt | None = None  # old style while a style change blends in
         self._mixture_ramp: Ramp | None = None  # W (R, C) flattened, while a part-style change blends in
+        self._refused_log = ThrottledLog(logger)  # a flood of gestures into a full plan: a line per interval
 
     def submit(self, controls: tuple[Control, ...]) -> dict:
         """Queue one message's typed controls (built by :func:`gesturecast.controls.parse_controls`, so their values
@@ -171,7 +173,7 @@ class SessionControls:
             else:  # on the words' own stream times (late by the wait when already generated)
                 self.gestures.cue_words(list(control.words))
         except CueRefused as error:  # the plan filled up since the submit: the stream goes on without them
-            logger.warning("gesture cues not kept: %s", error)
+            self._refused_log.log(logging.WARNING, f"gesture cues not kept: {error}")
 
     def _apply_style(self, change: StyleChange, t: float) -> None:
         if change.root is not None:

@@ -19,6 +19,9 @@ Every way to give a style reaches it:
 - per-part styles give each body part's joints the parameters of its own prompt;
 - the strength k (``style_strength``, 0..2) scales the change; at k = 0 the frames leave bit for bit as they came.
 
+Whatever the mix, parts and strength, the styled joints are then kept within a human range, softly
+(:mod:`gesturecast.models.style.joint_limits`): a γ of −2 or a doubled style bends a body no further than people do.
+
 A change of style or strength moves the parameters over :data:`DEFAULT_RAMP_S` (smoothstep) from the frame it
 first applies to. The state (the filter's centre and low-pass) always follows the input and depends only on the
 frames in order, so a stream gives the same bits whatever its chunking, live or offline.
@@ -33,6 +36,7 @@ import numpy as np
 
 from gesturecast.models.generator.style_prompt import PartStyles, StylePrompt
 from gesturecast.models.generator.styles import canonical_style
+from gesturecast.models.style.joint_limits import JointRanges
 from gesturecast.models.style.params import (
     StyleBook,
     StyleFilter,
@@ -87,10 +91,12 @@ def _unit(vector: np.ndarray) -> np.ndarray:
 class Stylizer:
     """One stream's stylizer: :meth:`set_style` then :meth:`apply` on its pose frames, in stream order."""
 
-    def __init__(self, codes: StyleCodes, fps: float, fade_s: float = DEFAULT_RAMP_S) -> None:
+    def __init__(self, codes: StyleCodes, fps: float, fade_s: float = DEFAULT_RAMP_S,
+                 ranges: JointRanges | None = None) -> None:
         self.codes = codes
         self.fps = fps
         self.fade_s = fade_s
+        self.ranges = ranges or JointRanges.load()
         self.filter = StyleFilter(fps, rotation_vectors(relaxed_pose(IdleConfig())))
         self.reset()
 
@@ -125,7 +131,8 @@ class Stylizer:
     def apply(self, rotations: np.ndarray, times: np.ndarray) -> np.ndarray:
         """Styled canonical rotations (n, J, 4) of frames (n, J, 4) at stream times (n,), in order."""
         values = np.stack([self._ramp.value(float(t)) for t in times])  # (n, S, CHANNELS)
-        styled = self.filter.run(rotation_vectors(rotations), values, times)  # (n, S, 3)
+        given = rotation_vectors(rotations)  # (n, S, 3)
+        styled = self.ranges.limit(self.filter.run(given, values, times), given)  # (n, S, 3)
         changed = values.reshape(len(times), -1).any(axis=1)  # (n,) frames with a style to show
         if not changed.any():
             return rotations

@@ -17,6 +17,8 @@ instead of the engine reading a source.
 - :meth:`Stream.control` changes style, part styles, guidance, γ or root mode, blended in (no pop).
 - :meth:`Stream.close` ends the stream: the look-ahead's last poses, every frame released on time, the
   outputs closed (a BVH recording is written then). A ``with`` block closes it; an exception stops it at once.
+  A stream still open when Python exits is closed then, with a warning naming its recording: what was recorded is
+  kept.
 
 Any thread may push, send words or close: those calls take the stream one at a time (:func:`one_at_a_time`), so
 blocks pushed from two threads at once are heard one after the other, never interleaved inside the session.
@@ -24,7 +26,9 @@ blocks pushed from two threads at once are heard one after the other, never inte
 
 from __future__ import annotations
 
+import atexit
 import functools
+import logging
 import threading
 from collections.abc import Callable
 
@@ -44,6 +48,8 @@ from gesturecast.realtime.run.paced import AsyncFrameFeed, FeedSet, FrameFeed
 from gesturecast.realtime.timing.clock import Clock, MonotonicClock
 from gesturecast.realtime.timing.scheduler import SchedulerConfig
 from gesturecast.settings import Settings, with_overrides
+
+logger = logging.getLogger(__name__)
 
 FrameCallback = Callable[[PoseFrame], None]
 SPOKEN_WORD_S = 0.35  # a word's share of a sentence given without word times (about 170 words a minute)
@@ -117,6 +123,7 @@ class Stream:
         self._feeds = FeedSet()
         self.warm_up_s = warm_up(self.session, self.clock) if warm else 0.0
         self._release.start()
+        atexit.register(self._close_at_exit)
 
     @property
     def latency_ms(self) -> float:
@@ -135,10 +142,11 @@ class Stream:
 
     @one_at_a_time
     def push(self, samples: np.ndarray, sample_rate: int = SAMPLE_RATE) -> list[PoseFrame]:
-        """Feed one block: (n,) or (n, channels), float in [-1, 1] or int16, at ``sample_rate`` Hz; returns the
-        pose frames it completed, as they become ready (often none: one latent of d frames at a time, once the
-        look-ahead's audio after it has arrived). The last frames of the audio pushed so far come from
-        :meth:`flush` (the stream goes on) or :meth:`close` (it ends)."""
+        """Feed one block: a numpy array (n,) or (n, channels), float in [-1, 1] or int16, at ``sample_rate`` Hz;
+        returns the pose frames it completed, as they become ready (often none: one latent of d frames at a time,
+        once the look-ahead's audio after it has arrived). The last frames of the audio pushed so far come from
+        :meth:`flush` (the stream goes on) or :meth:`close` (it ends). Floats far beyond ±1 (int16 values as
+        floats) are refused, as bytes are (they go to :meth:`push_pcm16`)."""
         self._check_open()
         return self._generate(self._converter.convert_samples(samples, sample_rate))
 
@@ -154,8 +162,9 @@ class Stream:
         return self._feeds.open(AsyncFrameFeed())
 
     @one_at_a_time
-    def push_pcm16(self, data: bytes, sample_rate: int, channels: int) -> list[PoseFrame]:
-        """:meth:`push` for interleaved 16-bit little-endian PCM bytes (what voice pipelines and network peers send)."""
+    def push_pcm16(self, data: bytes, sample_rate: int, channels: int = 1) -> list[PoseFrame]:
+        """:meth:`push` for 16-bit little-endian PCM bytes (what voice pipelines and network peers send), at
+        ``sample_rate`` Hz, ``channels`` interleaved (frame by frame: left, right, left, …; averaged to mono)."""
         self._check_open()
         return self._generate(self._converter.convert(data, sample_rate, channels))
 
@@ -260,12 +269,25 @@ class Stream:
         if self._on_frame is not None:
             self._on_frame(frame)
 
+    def _close_at_exit(self) -> None:
+        """Python is exiting with the stream open: close it, so that a recording is finished, not lost. A stream on
+        another clock than the real one (a test's) is stopped instead: its last frames would wait for a time that no
+        longer passes; what was recorded is kept."""
+        recording = "" if self.outputs.bvh is None else f" and finishing its recording {self.outputs.bvh}"
+        logger.warning("a gesturecast.Stream was still open at exit: closing it%s (call close(), or use `with`)",
+                       recording)
+        if isinstance(self.clock, MonotonicClock):
+            self.close()
+        else:
+            self.stop()
+
     def _check_open(self) -> None:
         if self._closed:
             raise UserError("this stream is closed; start a new gesturecast.Stream")
 
     def _shut(self) -> None:
         self._closed = True
+        atexit.unregister(self._close_at_exit)
         try:
             self._release.stop()
         finally:

@@ -20,6 +20,7 @@ import threading
 from collections import deque
 from contextlib import suppress
 from dataclasses import dataclass, field
+from pathlib import Path
 
 from websockets.asyncio.server import ServerConnection, broadcast
 from websockets.exceptions import ConnectionClosed
@@ -47,6 +48,7 @@ from gesturecast.realtime.serve.protocol import (
     stream_id_from_path,
 )
 from gesturecast.realtime.serve.setup import StreamSessions
+from gesturecast.realtime.serve.shared_failures import shared_failures
 from gesturecast.realtime.serve.stream import ServeStream, StreamConfig
 from gesturecast.realtime.timing.clock import Clock
 
@@ -77,6 +79,7 @@ class ServeConfig:
     start_timeout_s: float = START_TIMEOUT_S  # from the hello to a start (or the first audio)
     max_unstarted: int = MAX_UNSTARTED  # connections not started yet (they hold no --max-streams slot)
     dealt: bool = False  # no port of its own: serve --workers' parent accepts and deals connections (:meth:`adopt`)
+    token_failures: Path | None = None  # serve --workers: the wrong-token table all workers share (shared_failures)
 
 
 class LoopSender:
@@ -231,7 +234,8 @@ class GestureServer:
 
     def __init__(self, sessions: StreamSessions, clock: Clock, config: ServeConfig | None = None) -> None:
         self.config = config or ServeConfig()
-        self.access = AccessPolicy(self.config.host, self.config.token, self.config.allow_origins, clock.now)
+        self.access = AccessPolicy(self.config.host, self.config.token, self.config.allow_origins, clock.now,
+                                   shared_failures(self.config.token_failures, clock.now))
         self.sessions = sessions
         self.clock = clock
         self.coords = coordinate_frame(self.config.coordinate_frame)

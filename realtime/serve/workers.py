@@ -4,8 +4,9 @@ One server process runs every stream's Python work (features, pose building, the
 under one interpreter lock: it gets about one core for it whatever the machine has (docs/serve.md). With
 ``--workers N`` the command starts N processes, each a whole ``serve`` server (its own model, batched denoiser
 and ``--max-streams`` slots) without a port of its own. The parent process loads no model: it listens on the port,
-starts the workers, waits for each to be ready (a worker that fails names its error and stops the others), then
-deals each connection to the ready worker holding the fewest (:mod:`.dealer`) and prints where streams go.
+starts the workers, waits for each to be ready (a worker that fails before it was ever ready names its error and
+stops the others; one that ends after it was ready is started again), then deals each connection to the ready worker
+holding the fewest (:mod:`.dealer`) and prints where streams go.
 
 A worker that dies while serving (the OOM killer, a crash) loses its streams, and no connection goes to it; it is
 started again after a back-off (1 s, doubling while workers keep dying within :data:`STEADY_S` of being ready, at
@@ -34,6 +35,7 @@ from gesturecast.errors import UserError
 from gesturecast.realtime.serve.dealer import ConnectionDealer, WorkerLink, WorkerSlot
 from gesturecast.realtime.serve.launch import start_server
 from gesturecast.realtime.serve.server import ServeConfig
+from gesturecast.realtime.serve.shared_failures import shared_failures_file
 from gesturecast.realtime.timing.clock import MonotonicClock
 from gesturecast.settings import Settings
 
@@ -105,7 +107,8 @@ class Workers:
         self._context = multiprocessing.get_context("spawn")
         self._listener = listen_port(config.host, config.port)
         self.port = self._listener.getsockname()[1]
-        self._worker_args = (settings, replace(config, port=self.port, dealt=True),
+        self.token_failures = shared_failures_file()  # the wrong-token limit counts across the workers
+        self._worker_args = (settings, replace(config, port=self.port, dealt=True, token_failures=self.token_failures),
                              logging.getLogger().getEffectiveLevel())
         self.count = count
         self.lock = threading.Condition()  # the slots' state: the dealer reads it, the supervisor changes it
@@ -122,8 +125,9 @@ class Workers:
         return [slot.process for slot in self.slots]
 
     def start(self) -> Workers:
-        """Start every worker, wait until each is ready, then deal connections; a failure stops the others and
-        raises its error."""
+        """Start every worker, wait until each is ready, then deal connections; a worker that ends before it was
+        ever ready stops the others and raises its error (one that ends after its ready report is started again,
+        as while serving)."""
         self.slots.extend(WorkerSlot(index, *self._spawn(index)) for index in range(self.count))
         deadline = time.monotonic() + READY_TIMEOUT_S
         try:
@@ -131,6 +135,7 @@ class Workers:
                 if time.monotonic() > deadline:
                     raise UserError(f"the workers were not all ready within {READY_TIMEOUT_S:.0f} s")
                 self._watch(WATCH_S)
+                self._respawn_due()
         except BaseException:
             self.stop()
             raise
@@ -163,6 +168,7 @@ class Workers:
             slot.channel.close()
         for connection in [*self.dealer.returned, *(c for slot in self.slots for c in slot.untaken)]:
             connection.close()
+        self.token_failures.unlink(missing_ok=True)
         return self.served
 
     # ---- the supervisor (the caller's thread while starting and stopping, its own thread while serving) ----
@@ -221,8 +227,8 @@ class Workers:
                 slot.error = detail
 
     def _ended(self, slot: WorkerSlot) -> None:
-        """``slot``'s worker has ended: read what it reported last, then (while serving) schedule its replacement;
-        a worker that ends while starting stops the run with its error."""
+        """``slot``'s worker has ended: read what it reported last, then schedule its replacement; a worker that
+        ends before it was ever ready (a bad model, a port in use) stops the run with its error."""
         slot.process.join(KILL_TIMEOUT_S)
         if slot.process.is_alive():  # its channel ended but it did not: a replacement must not run beside it
             slot.process.kill()
@@ -241,7 +247,7 @@ class Workers:
             for connection in untaken:
                 connection.close()
         how = slot.error or how_it_ended(slot.process.exitcode)
-        if self._phase == "starting":
+        if self._phase == "starting" and slot.ready_at is None:
             raise UserError(slot.error or f"worker-{slot.index} ended before it was ready ({how})")
         if self._phase == "stopping":
             return

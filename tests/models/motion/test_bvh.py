@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -123,3 +125,33 @@ def test_failed_write_leaves_no_file(odd_file: Path, tmp_path: Path) -> None:
     with pytest.raises(TypeError):
         write_bvh(data, out)
     assert list(tmp_path.iterdir()) == [odd_file]
+
+
+def test_rotation_channels_beyond_a_turn_are_read_modulo_360(odd_file: Path, tmp_path: Path) -> None:
+    """1e308° in a rotation channel gave NaN rotations (and NaN poses from a motion prompt); any finite angle is a
+    rotation, read modulo 360°."""
+    plain = read_bvh(odd_file)
+    turned = tmp_path / "turned.bvh"
+    turned.write_text(ODD_BVH.replace("10 1 20 2 30 3", "730 1 -1060 2 30 3"))  # + 2 turns, - 3 turns
+    np.testing.assert_allclose(np.abs(read_bvh(turned).local_rotations()), np.abs(plain.local_rotations()),
+                               atol=1e-9)
+    huge = tmp_path / "huge.bvh"
+    huge.write_text(ODD_BVH.replace("10 1 20 2 30 3", "1e308 1 -1e308 2 30 3"))
+    assert np.isfinite(read_bvh(huge).local_rotations()).all()
+
+
+PEAK_MEMORY = ("import re, sys; from pathlib import Path; from gesturecast.models.motion.bvh import read_bvh; "
+               "peak = lambda: int(re.search(r'VmHWM:\\s*(\\d+)', Path('/proc/self/status').read_text()).group(1)); "
+               "before = peak(); read_bvh(sys.argv[1]); print(peak() - before)")
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads the peak memory from /proc")
+def test_reading_a_large_bvh_takes_a_few_times_its_size_in_memory(odd_file: Path, tmp_path: Path) -> None:
+    """A 70 MB motion prompt took about 13 times its size (945 MB): every value was a Python string at once. The
+    peak resident memory is a fresh process's (VmHWM: not inherited from this one, unlike ru_maxrss)."""
+    data = read_bvh(odd_file)
+    data.motion = np.tile(data.motion, (40000, 1))  # (80000, 15): about 11 MB of text
+    path = tmp_path / "large.bvh"
+    write_bvh(data, path)
+    result = subprocess.run([sys.executable, "-c", PEAK_MEMORY, str(path)], capture_output=True, text=True, check=True)
+    assert int(result.stdout) * 1024 < 4 * path.stat().st_size

@@ -295,3 +295,13 @@ def test_bandai_tpose_is_the_same_for_every_take(bandai: Path) -> None:
     for other in solved[1:]:
         angle = np.degrees(2 * np.arccos(np.clip(np.abs(np.sum(other * solved[0], axis=-1)), 0, 1)))
         assert angle.max() < 1.0
+
+
+def test_a_motion_prompt_with_huge_finite_rotations_loads_finite(tmp_path):
+    """Every 7th channel at 1e308 (a valid BVH) gave NaN rotations, so NaN poses from ``--motion-prompt``."""
+    motion = Motion(quat_from_axis_angle(np.full((4, CANONICAL.num_joints, 3), 0.3)), np.zeros((4, 3)) + 1.0)
+    motion_to_bvh(motion, tmp_path / "plain.bvh")
+    data = read_bvh(tmp_path / "plain.bvh")
+    data.motion[:, 3::7] = 1e308  # rotation channels only: positions stay within their bound
+    write_bvh(data, tmp_path / "huge.bvh")
+    assert np.isfinite(load_motion_file(tmp_path / "huge.bvh").rotations).all()

@@ -54,3 +54,26 @@ def test_a_rate_change_flushes_the_old_resampler_and_16k_passes_through():
 def test_a_block_of_partial_frames_is_one_clear_error(size, channels):
     with pytest.raises(UserError, match="does not hold whole 16-bit frames"):
         pcm16_to_mono(bytes(size), channels)
+
+
+def test_floats_at_int16_scale_are_refused_in_the_files_words(tmp_path):
+    """``push(samples * 32767)`` (float32) was taken silently and gave other motion than ``push(samples)``; a float
+    file at that scale only warned about clipping."""
+    import soundfile
+
+    from gesturecast.models.audio.files import load_audio
+
+    loud = (stereo_tone(RATE // 10) / PCM16_FULL_SCALE * 32767).astype(np.float32)  # (n, 2) floats at int16 scale
+    with pytest.raises(UserError, match=r"^audio samples reach \d+(\.\d+)?, far beyond full scale: float audio is in"):
+        AudioConverter().convert_samples(loud, RATE)
+    path = tmp_path / "loud.wav"
+    soundfile.write(path, loud, RATE, subtype="FLOAT")
+    with pytest.raises(UserError, match=r"the samples reach \d+(\.\d+)?, far beyond full scale: float audio is in"):
+        load_audio(path)
+    AudioConverter().convert_samples(loud / 32767 * 1.5, RATE)  # a mild over is audio (clipped), not refused
+
+
+def test_bytes_pushed_as_samples_name_the_pcm16_call():
+    """``push(bytes)`` failed with "…got shape ()"."""
+    with pytest.raises(UserError, match=r"^audio samples must be an array, not bytes; .*push_pcm16"):
+        AudioConverter().convert_samples(stereo_tone(10).tobytes(), RATE)

@@ -13,7 +13,15 @@ from gesturecast.models.generator.style_prompt import StylePrompt
 from gesturecast.models.motion.skeleton import NUM_JOINTS
 from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.models.style.descriptors import clip_descriptor
-from gesturecast.models.style.params import DEFAULT_STYLE_PARAMS, STYLED_JOINTS, TENSION, StyleBook, part_rows
+from gesturecast.models.style.joint_limits import MARGIN, JointRanges
+from gesturecast.models.style.params import (
+    DEFAULT_STYLE_PARAMS,
+    STYLED_INDEX,
+    STYLED_JOINTS,
+    TENSION,
+    StyleBook,
+    part_rows,
+)
 from gesturecast.realtime.audio.sources import FastFileSource, PacedFileSource
 from gesturecast.realtime.generation.generator import Generator, GeneratorSettings
 from gesturecast.realtime.pose.session import GestureSession, SessionConfig
@@ -193,3 +201,29 @@ def test_the_products_generator_hears_neutral_and_a_live_strength_of_zero_gives_
 
     assert not np.array_equal(bodies(calmed[:30]), bodies(plain[:30]))
     np.testing.assert_array_equal(bodies(calmed[settled:]), bodies(plain[settled:]))
+
+
+def largest_angles(frames) -> dict[str, float]:
+    """Each styled joint's largest local rotation angle over the frames, degrees."""
+    rotations = np.stack([f.rotations for f in frames])[:, STYLED_INDEX]  # (T, S, 4)
+    degrees = np.degrees(2 * np.arccos(np.abs(rotations[..., 3]).clip(0, 1))).max(axis=0)  # (S,)
+    return dict(zip(STYLED_JOINTS, degrees, strict=True))
+
+
+@pytest.mark.parametrize("door", ["settings", "live control"])
+def test_an_extrapolated_mix_keeps_every_joint_within_a_human_range(bundle, speech, door):
+    """γ = −2 of angry against tired turned the head backwards (neck and head at 179°), at every door: the session's
+    stylizer keeps each joint within its range (or the generator's own pose, if further) plus the margin."""
+    mix = {"style": "angry", "style2": "tired", "gamma": -2.0, "style_strength": 2.0}
+
+    def frames(stylizer: bool) -> list:
+        if door == "settings":
+            return run(make_session(bundle, "angry", stylizer=stylizer, second_style=StylePrompt.parse("tired"),
+                                    gamma=-2.0, style_strength=2.0), speech)
+        return run(make_session(bundle, "neutral", stylizer=stylizer), speech, 16000, [(0, mix)])
+
+    styled, given = largest_angles(frames(True)), largest_angles(frames(False))
+    limits = np.degrees(JointRanges.load().angle + MARGIN)
+    assert all(styled[joint] <= max(limit, given[joint] + np.degrees(MARGIN))
+               for joint, limit in zip(STYLED_JOINTS, limits, strict=True)), styled
+    assert styled["Neck"] < 90 and styled["Head"] < 90

@@ -2,10 +2,12 @@
 dies is never dealt to and is started again; every process ends on every signal (real processes)."""
 
 import json
+import multiprocessing
 import os
 import re
 import signal
 import socket
+from collections import Counter
 from contextlib import ExitStack
 from pathlib import Path
 
@@ -111,3 +113,40 @@ def test_a_workers_private_socket_cannot_be_reached_and_a_unix_peer_is_served(ti
             assert json.loads(connection.recv(timeout=30))["type"] == "hello"
     finally:
         server.close()
+
+
+def fake_worker(channel: socket.socket, ends_after_ready: bool, wait_for) -> None:
+    """A worker process without a model: waits for ``wait_for`` (an event, or None), reports ready, then ends at
+    once (``ends_after_ready``: as if killed) or serves until the parent shuts the channel."""
+    if wait_for is not None:
+        wait_for.wait()
+    channel.sendall(json.dumps(["ready", os.getpid()]).encode() + b"\n")
+    if not ends_after_ready:
+        channel.recv(1)
+
+
+def test_a_worker_killed_after_it_was_ready_is_started_again_while_the_others_start(monkeypatch):
+    """worker-0 ready, then killed while worker-1 still loads: that ended the whole server ("worker-0 ended before it
+    was ready"); only a worker that never came up may. worker-1 waits for worker-0's replacement, so the order holds."""
+    context = multiprocessing.get_context("fork")
+    replaced = context.Event()
+    lives: Counter[int] = Counter()
+
+    def spawn(self, index: int):
+        ours, theirs = socket.socketpair(socket.AF_UNIX, socket.SOCK_STREAM)
+        life = lives[index]
+        lives[index] += 1
+        if (index, life) == (0, 1):
+            replaced.set()
+        process = context.Process(target=fake_worker, args=(theirs, (index, life) == (0, 0),
+                                                             replaced if index == 1 else None))
+        process.start()
+        theirs.close()
+        return process, ours
+
+    monkeypatch.setattr(Workers, "_spawn", spawn)
+    workers = Workers(Settings(), ServeConfig(host="127.0.0.1", port=0), 2).start()
+    try:
+        assert all(slot.ready for slot in workers.slots) and workers.respawns == 1 and lives == {0: 2, 1: 1}
+    finally:
+        workers.stop()

@@ -143,3 +143,14 @@ def test_the_judge_reads_a_set_the_same_whatever_the_size_of_its_style_differenc
         np.testing.assert_allclose(a, b, atol=1e-3)  # up to the spread's 1e-6 guard
     with pytest.raises(ValueError, match="at least 3 clips"):
         centred(features[:2])
+
+
+def test_the_joint_ranges_are_measured_from_the_takes_and_written(takes_folder, tmp_path):
+    from gesturecast.models.style.joint_limits import JointRanges
+    from gesturecast.tools.style.joint_ranges import main
+
+    assert main(["--takes", str(takes_folder), "--out", str(tmp_path / "ranges.json")]) == 0
+    ranges = JointRanges.load(tmp_path / "ranges.json")
+    chest, upper = STYLED_JOINTS.index("Chest"), STYLED_JOINTS.index("UpperChest")
+    np.testing.assert_array_equal(ranges.high[upper], ranges.high[chest])  # Bandai's one chest joint gives both
+    assert np.all(ranges.low < ranges.high) and np.all(ranges.angle > 0)
