@@ -17,6 +17,7 @@ from gesturecast.bridges.osc_in import GESTURE_ADDRESS, OscControlListener, OscI
 from gesturecast.bridges.output_settings import parse_host_port
 from gesturecast.bridges.vrma import FOLDED, VRMA_BONES
 from gesturecast.bridges.ws_access import is_loopback
+from gesturecast.controls import Word
 from gesturecast.errors import INTERRUPTED_EXIT, UserError
 from gesturecast.files import check_distinct
 from gesturecast.frames import PoseFrame
@@ -33,7 +34,7 @@ from gesturecast.realtime.cli_flags import (
     server_token,
     settings_from_args,
 )
-from gesturecast.realtime.gestures.words import Word
+from gesturecast.realtime.gestures.transcripts import transcript_words
 from gesturecast.realtime.jobs.batch_cli import add_batch_arguments, run_batch
 from gesturecast.realtime.pose.session import GestureSession
 from gesturecast.realtime.run.engine import EngineReport, LiveEngine
@@ -43,7 +44,6 @@ from gesturecast.realtime.run.offline_generate import (
     body_only,
     check_motion_path,
     generate_to_files,
-    transcript_words,
 )
 from gesturecast.realtime.timing.clock import MonotonicClock
 from gesturecast.realtime.timing.scheduler import STAGE_END_TO_END, SchedulerConfig
@@ -145,9 +145,10 @@ def osc_listener(args: argparse.Namespace, address: tuple[str, int] | None,
     return OscControlListener(OscInConfig(host, port, token), session.controls.submit)
 
 
-def start_stream_inputs(session: GestureSession, words: list[Word], gestures_in: OscControlListener | None) -> None:
+def start_stream_inputs(session: GestureSession, words: tuple[Word, ...],
+                        gestures_in: OscControlListener | None) -> None:
     """Once the stages are warm and the stream starts: the transcript's cues, then the OSC gesture port."""
-    session.cue_words(words)
+    session.gestures.hear_words(words)
     if gestures_in is not None:
         gestures_in.start()
 
@@ -183,7 +184,7 @@ def run_generate(args: argparse.Namespace) -> int:
     if not words and settings.gestures == DEFAULT_GESTURES_DIR:  # no words, no gesture: the bundled lexicon is
         settings = dataclasses.replace(settings, gestures=None)  # not encoded (0.1 s); a user's folder is still checked
     session = build_session(body_only(settings, motion_paths, args.json), MonotonicClock())
-    session.cue_words(words)
+    session.gestures.hear_words(words)
     report = generate_to_files(session, args.audio, motion_paths, args.json, args.vrma_bones)
     process_cpu = time.process_time()  # the whole command: start-up, model, generation, files
     logger.info("process CPU %.2f s for %.1f s of audio: %.3f s per second", process_cpu, report.audio_seconds,
