@@ -127,7 +127,7 @@ PartStylePairs = tuple[tuple[str, str], ...]
 
 
 @dataclass(frozen=True)
-class PartStyles:
+class PartStyleRule:
     """``{"arms": "happy", "torso": "text:tired"}``: a style per body part (GestureDiffuCLIP §6.3); ``{}`` gives
     the whole body one style again. Part names are checked against the model when the control is submitted."""
 
@@ -148,7 +148,7 @@ class PartStyles:
         return {"type": "parts", "max_parts": MAX_PARTS, "style": self.style.describe()}
 
 
-def _setting(rule: Text | Number | Choice | PartStyles):
+def _setting(rule: Text | Number | Choice | PartStyleRule):
     """A :class:`StyleChange` field: None (unchanged) unless given, checked by ``rule``."""
     return field(default=None, metadata={"rule": rule})
 
@@ -166,7 +166,7 @@ class StyleChange:
 
     style: str | None = _setting(Style(MAX_STYLE_CHARS))
     style2: str | None = _setting(Style(MAX_STYLE_CHARS))
-    part_styles: PartStylePairs | None = _setting(PartStyles(Style(MAX_STYLE_CHARS)))
+    part_styles: PartStylePairs | None = _setting(PartStyleRule(Style(MAX_STYLE_CHARS)))
     prompt: str | None = _setting(Text(MAX_PROMPT_CHARS))
     style_strength: float | None = _setting(Number(*STYLE_STRENGTH_RANGE))
     guidance: float | None = _setting(Number(*GUIDANCE_RANGE))
@@ -183,7 +183,7 @@ class StyleChange:
         return {name: dict(value) if name == "part_styles" else value for name, value in self.changed().items()}
 
 
-STYLE_SETTINGS: dict[str, Text | Number | Choice | PartStyles] = {
+STYLE_SETTINGS: dict[str, Text | Number | Choice | PartStyleRule] = {
     item.name: item.metadata["rule"] for item in fields(StyleChange)}
 
 

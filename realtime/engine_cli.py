@@ -23,7 +23,7 @@ from gesturecast.files import check_distinct
 from gesturecast.frames import PoseFrame
 from gesturecast.models.audio.dsp import frame_boundary
 from gesturecast.models.audio.files import SAMPLE_RATE, AudioFileReader
-from gesturecast.models.motion.motion import MOTION_FPS, Motion
+from gesturecast.models.motion.motion import MOTION_FPS, SkeletonMotion
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
 from gesturecast.realtime.audio.cli import add_source_arguments, open_source
 from gesturecast.realtime.cli_flags import (
@@ -235,7 +235,7 @@ def root_summary(root: dict) -> str:
             f"facing max {root['max_facing_deg']:.0f}°")
 
 
-def frames_to_motion(frames: list[PoseFrame]) -> Motion:
+def frames_to_motion(frames: list[PoseFrame]) -> SkeletonMotion:
     rotations = np.stack([f.rotations for f in frames])  # (T, J, 4)
     roots = np.stack([f.root_position for f in frames])  # (T, 3)
-    return Motion(rotations, roots, MOTION_FPS, CANONICAL_WITH_HANDS)
+    return SkeletonMotion(rotations, roots, MOTION_FPS, CANONICAL_WITH_HANDS)
