@@ -25,7 +25,7 @@ from gesturecast.models.audio.dsp import frame_boundary
 from gesturecast.models.audio.files import SAMPLE_RATE, AudioFileReader
 from gesturecast.models.motion.motion import MOTION_FPS, SkeletonMotion
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
-from gesturecast.realtime.audio.cli import add_source_arguments, open_source
+from gesturecast.realtime.audio.source_flags import add_source_arguments, open_source
 from gesturecast.realtime.cli_flags import (
     add_generation_arguments,
     add_output_arguments,

@@ -246,16 +246,16 @@ def test_the_checks_catch_a_lazy_import_going_back_up_and_an_import_circle(tmp_p
     graph = _tree(tmp_path, {
         "realtime/cli_flags.py": "def config():\n    from gesturecast.realtime.serve.server import ServeConfig\n",
         "realtime/serve/server.py": "ServeConfig = None\n",
-        "realtime/serve/cli.py": "from gesturecast.realtime.serve.ray_cli import add_ray_arguments\n",
+        "realtime/serve/serve_command.py": "from gesturecast.realtime.serve.ray_cli import add_ray_arguments\n",
         "realtime/serve/ray_cli.py": "def app():\n    from gesturecast.realtime.serve.ray_replica import replica\n",
-        "realtime/serve/ray_replica.py": "from gesturecast.realtime.serve.cli import add_serve_arguments\n",
+        "realtime/serve/ray_replica.py": "from gesturecast.realtime.serve.serve_command import add_serve_arguments\n",
     })
     assert floor_violations(graph) == [
         "gesturecast.realtime.cli_flags (realtime.cli_flags) imports gesturecast.realtime.serve.server "
         "(realtime.serve, above it)",
     ]
-    assert import_cycles(graph) == [["gesturecast.realtime.serve.cli", "gesturecast.realtime.serve.ray_cli",
-                                     "gesturecast.realtime.serve.ray_replica"]]
+    assert import_cycles(graph) == [["gesturecast.realtime.serve.ray_cli", "gesturecast.realtime.serve.ray_replica",
+                                     "gesturecast.realtime.serve.serve_command"]]
 
 
 def test_the_check_catches_a_lazy_realtime_import_in_the_bridges(tmp_path):

@@ -9,7 +9,7 @@ from PIL import Image
 from gesturecast.errors import UserError
 from gesturecast.models.motion.rotations import quat_from_axis_angle
 from gesturecast.models.motion.skeleton import CANONICAL
-from gesturecast.tools.render import cli as render_cli
+from gesturecast.tools.render import render_command as render_cli
 
 
 def parse(argv: list[str]) -> argparse.Namespace:
