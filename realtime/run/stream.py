@@ -270,7 +270,6 @@ class Stream:
             self.stop()
 
 
-
 def spoken_words(text: str, start: float) -> tuple[Word, ...]:
     """The words of ``text`` from stream time ``start`` on, :data:`SPOKEN_WORD_S` each, checked as a words message's
     are (none for blank text)."""
