@@ -14,7 +14,6 @@ origins, wrong-token limit) is :mod:`ws_access`.
 
 from __future__ import annotations
 
-import asyncio
 import functools
 import json
 import logging
@@ -30,14 +29,13 @@ from websockets.exceptions import ConnectionClosed
 from websockets.http11 import Request, Response
 
 from gesturecast.bridges import ws_protocol
-from gesturecast.bridges.control import WORDS_MESSAGE, decode_client_message, message_controls
+from gesturecast.bridges.control import WORDS_MESSAGE, decode_client_message, submit_control
 from gesturecast.bridges.coords import coordinate_frame
 from gesturecast.bridges.transport import ErrorThrottle
 from gesturecast.bridges.viewer_http import AvatarServer, ViewerConnection, is_websocket_upgrade, static_response
 from gesturecast.bridges.ws_access import AccessPolicy, send_refusal
 from gesturecast.bridges.ws_listener import ThreadedListener
-from gesturecast.controls import Control, ControlError, acknowledged, control_schema
-from gesturecast.errors import UserError
+from gesturecast.controls import Control, ControlError, control_schema
 from gesturecast.frames import VISEME_NAMES, PoseFrame
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS, Skeleton
 
@@ -228,13 +226,7 @@ class WebSocketBridge:
 
     async def _control(self, message: dict) -> str:
         """Validate, hand to the engine (which resolves the styles, off the event loop), then ack."""
-        controls = message_controls(message)
-        try:
-            notes = await asyncio.to_thread(self.on_control, controls)
-        except (ValueError, UserError) as error:
-            raise ControlError(f"the engine refused it: {error}") from None
-        # notes: when a gesture plays
-        return json.dumps({"type": "ack", "applied": acknowledged(controls), **(notes or {})})
+        return await submit_control(message, self.on_control)
 
     def _drain(self) -> None:
         with self._lock:

@@ -12,12 +12,13 @@ from pathlib import Path
 
 import numpy as np
 
+from gesturecast.controls import Word
 from gesturecast.errors import UserError
 from gesturecast.frames import PoseFrame
 from gesturecast.models.motion.motion import MOTION_FPS
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
 from gesturecast.realtime.audio.sources import ArraySource, AudioSource, FastFileSource
-from gesturecast.realtime.gestures.words import Word, read_transcript, words_from_list
+from gesturecast.realtime.gestures.transcripts import read_transcript, words_from_list
 from gesturecast.realtime.run.engine import run_offline
 from gesturecast.realtime.run.engine_setup import build_session
 from gesturecast.realtime.run.offline_generate import frame_writer
@@ -125,16 +126,16 @@ def generate(audio: str | Path | np.ndarray, sample_rate: int | None = None, set
     settings = with_overrides(settings, overrides)
     source = _source(audio, sample_rate)
     session = build_session(settings, MonotonicClock())
-    session.cue_words(_words(transcript))
+    session.gestures.hear_words(_words(transcript))
     frames, _ = run_offline(session, source)
     if not frames:
         raise UserError("the audio is shorter than one motion frame (1/30 s)")
     return Motion.from_frames(frames, settings.lipsync_names, settings.face_names)
 
 
-def _words(transcript: str | Path | list[dict] | None) -> list[Word]:
+def _words(transcript: str | Path | list[dict] | None) -> tuple[Word, ...]:
     if transcript is None:
-        return []
+        return ()
     if isinstance(transcript, (str, Path)):
         return read_transcript(Path(transcript))
     return words_from_list(transcript, "transcript")

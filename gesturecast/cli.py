@@ -32,21 +32,24 @@ EPILOG = """examples:
 # order. Only the module of the command being run is imported: the others would cost seconds of imports
 # (scipy, matplotlib, torch) that the command never uses. tests/test_cli_help.py checks the lines match.
 COMMANDS: dict[str, tuple[str, str]] = {
-    "render": ("gesturecast.tools.render.cli", "draw a .bvh or SMPL-X .npz as a stick figure (front + side)"),
+    "render": ("gesturecast.tools.render.render_command",
+               "draw a .bvh or SMPL-X .npz as a stick figure (front + side)"),
     "data": ("gesturecast.tools.data_cli", "training data: build the dataset cache"),
-    "gestures": ("gesturecast.tools.gestures.cli", "the gesture lexicon: build it from the Bandai takes, list it"),
-    "devices": ("gesturecast.realtime.audio.cli", "list audio input devices (microphones)"),
-    "bench": ("gesturecast.tools.bench.cli", "speed benchmarks (print JSON)"),
+    "gestures": ("gesturecast.tools.gestures.gestures_command",
+                 "the gesture lexicon: build it from the Bandai takes, list it"),
+    "devices": ("gesturecast.realtime.audio.source_flags", "list audio input devices (microphones)"),
+    "bench": ("gesturecast.tools.bench.bench_command", "speed benchmarks (print JSON)"),
     "train": ("gesturecast.tools.train_cli", "train the gesture generator from the dataset cache"),
     "export": ("gesturecast.tools.export_cli", "export a training checkpoint as a model bundle (ONNX + JSON)"),
     "live": ("gesturecast.realtime.engine_cli", "speech in (microphone or --input FILE), gestures out, live"),
     "generate": ("gesturecast.realtime.engine_cli", "offline: audio file → BVH (same session code as live); "
                  "--batch: a folder or CSV of files → a folder of BVHs"),
     "demo": ("gesturecast.tools.demo_cli", "the bundled sample through the live engine (no arguments needed)"),
-    "serve": ("gesturecast.realtime.serve.cli", "many avatars: audio in / poses out over WebSocket, batched"),
-    "eval": ("gesturecast.tools.eval.cli", "objective evaluation suite (JSON + plots + table)"),
+    "serve": ("gesturecast.realtime.serve.serve_command", "many avatars: audio in / poses out over WebSocket, batched"),
+    "eval": ("gesturecast.tools.eval.eval_command", "objective evaluation suite (JSON + plots + table)"),
     "eval-train": ("gesturecast.tools.eval.train_cli", "train the frozen FGD encoder and style classifier"),
-    "style-fit": ("gesturecast.tools.style.cli", "fit the stylizer's styles and the style judge (Bandai takes)"),
+    "style-fit": ("gesturecast.tools.style.style_fit_command",
+                  "fit the stylizer's styles and the style judge (Bandai takes)"),
 }
 NO_COMMAND = ""  # ``build_parser(only=NO_COMMAND)``: the parser of a command line naming no command imports none
 

@@ -14,7 +14,11 @@ The style settings are declared once, by :class:`StyleChange`'s fields and their
 ``Settings`` takes its ranges and choices from it, ``serve``'s ``start`` message carries a :class:`StyleChange`, and
 the JSON schema that the hello message sends to clients is generated from it (:func:`control_schema`).
 
-This module is the ground floor: it imports nothing of the project.
+Words have one parser, :func:`parse_words`, with one set of limits and one error: a ``words`` message or control,
+``Stream.words`` and ``Stream.spoken`` (and through it the Pipecat processor), and transcripts (JSON word lists,
+.srt and .vtt files, lists given to ``gesturecast.generate``) all check their words with it.
+
+This module is the ground floor: it imports nothing of the project but its base error.
 """
 
 from __future__ import annotations
@@ -23,14 +27,17 @@ import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field, fields
 
+from gesturecast.errors import UserError
+
 MAX_STYLE_CHARS = 200
 MAX_PROMPT_CHARS = 500
 MAX_GESTURE_CHARS = 64
 MAX_PARTS = 8
 MAX_PART_NAME_CHARS = 32
-MAX_WORDS = 500  # words of one message: minutes of speech
+MAX_MESSAGE_WORDS = 500  # words of one words message or call: minutes of speech
+MAX_TRANSCRIPT_WORDS = 200_000  # words of a transcript given at once (a file or a list): a day of speech
 MAX_WORD_CHARS = 64
-MAX_STREAM_SECONDS = 1e6  # word times beyond this are not stream times (11 days)
+MAX_STREAM_SECONDS = 1e6  # times beyond this are not stream times (11 days)
 MOTION_PROMPT_PREFIX = "motion:"
 GUIDANCE_RANGE = (0.0, 10.0)  # classifier-free guidance s and audio guidance s_a
 STYLE_STRENGTH_RANGE = (0.0, 2.0)  # 0: the generator's own motion, 1: the fitted style, 2: twice its change
@@ -45,8 +52,9 @@ def exact_number(number: float) -> str:
     return short if float(short) == number else repr(number)
 
 
-class ControlError(ValueError):
-    """A refused control; ``str(error)`` is the one-line reason every door gives (and the WebSocket sends back)."""
+class ControlError(UserError, ValueError):
+    """A refused control or word; ``str(error)`` is the one-line reason every door gives (and the WebSocket sends
+    back)."""
 
 
 @dataclass(frozen=True)
@@ -140,7 +148,7 @@ PartStylePairs = tuple[tuple[str, str], ...]
 
 
 @dataclass(frozen=True)
-class PartStyles:
+class PartStyleRule:
     """``{"arms": "happy", "torso": "text:tired"}``: a style per body part (GestureDiffuCLIP §6.3); ``{}`` gives
     the whole body one style again. Part names are checked against the model when the control is submitted."""
 
@@ -161,7 +169,7 @@ class PartStyles:
         return {"type": "parts", "max_parts": MAX_PARTS, "style": self.style.describe()}
 
 
-def _setting(rule: Text | Number | Choice | PartStyles | Switch):
+def _setting(rule: Text | Number | Choice | PartStyleRule | Switch):
     """A :class:`StyleChange` field: None (unchanged) unless given, checked by ``rule``."""
     return field(default=None, metadata={"rule": rule})
 
@@ -181,7 +189,7 @@ class StyleChange:
 
     style: str | None = _setting(Style(MAX_STYLE_CHARS))
     style2: str | None = _setting(Style(MAX_STYLE_CHARS))
-    part_styles: PartStylePairs | None = _setting(PartStyles(Style(MAX_STYLE_CHARS)))
+    part_styles: PartStylePairs | None = _setting(PartStyleRule(Style(MAX_STYLE_CHARS)))
     prompt: str | None = _setting(Text(MAX_PROMPT_CHARS))
     style_strength: float | None = _setting(Number(*STYLE_STRENGTH_RANGE))
     guidance: float | None = _setting(Number(*GUIDANCE_RANGE))
@@ -200,7 +208,7 @@ class StyleChange:
         return {name: dict(value) if name == "part_styles" else value for name, value in self.changed().items()}
 
 
-STYLE_SETTINGS: dict[str, Text | Number | Choice | PartStyles | Switch] = {
+STYLE_SETTINGS: dict[str, Text | Number | Choice | PartStyleRule | Switch] = {
     item.name: item.metadata["rule"] for item in fields(StyleChange)}
 
 
@@ -225,30 +233,38 @@ class Word:
     end: float
 
 
+STREAM_TIME = Number(0.0, MAX_STREAM_SECONDS)
+WORD_TEXT = Text(MAX_WORD_CHARS)
+
+
+def parse_words(value: object, name: str = "words", max_words: int = MAX_MESSAGE_WORDS) -> tuple[Word, ...]:
+    """The one check of words, whichever door they come through: ``[{"word": "hello", "start": 1.2, "end": 1.5},
+    ...]``, 1 to ``max_words`` items (``end`` defaults to ``start``; other keys, such as a recogniser's confidence, are
+    ignored) → words with stream times; a one-line ControlError naming ``name`` and the item otherwise."""
+    if not isinstance(value, list) or not 0 < len(value) <= max_words:
+        raise ControlError(f"{name} must be a list of 1..{max_words} {{word, start, end}} objects")
+    return tuple(_word(f"{name}[{index}]", item) for index, item in enumerate(value))
+
+
+def _word(name: str, item: object) -> Word:
+    if not isinstance(item, Mapping):
+        raise ControlError(f"{name} must be an object with word, start and end")
+    text = WORD_TEXT.check(f"{name}.word", item.get("word"))
+    start, end = (STREAM_TIME.check(f"{name}.{key}", item.get(key, item.get("start"))) for key in ("start", "end"))
+    if end < start:
+        raise ControlError(f"{name}.end is before its start")
+    return Word(text, start, end)
+
+
 @dataclass(frozen=True)
 class WordList:
-    """``[{"word": "hello", "start": 1.2, "end": 1.5}, ...]`` (``end`` defaults to ``start``)."""
+    """The rule of a ``words`` field: :func:`parse_words` of at most :data:`MAX_MESSAGE_WORDS`."""
 
     def check(self, name: str, value: object) -> tuple[Word, ...]:
-        if not isinstance(value, list) or not 0 < len(value) <= MAX_WORDS:
-            raise ControlError(f"{name} must be a list of 1..{MAX_WORDS} {{word, start, end}} objects")
-        return tuple(self._word(f"{name}[{index}]", item) for index, item in enumerate(value))
-
-    @staticmethod
-    def _word(name: str, item: object) -> Word:
-        if not isinstance(item, Mapping) or set(item) - {"word", "start", "end"}:
-            raise ControlError(f"{name} must be an object with word, start and end only")
-        text = Text(MAX_WORD_CHARS).check(f"{name}.word", item.get("word"))
-        start, end = (STREAM_TIME.check(f"{name}.{key}", item.get(key, item.get("start"))) for key in ("start", "end"))
-        if end < start:
-            raise ControlError(f"{name}.end is before its start")
-        return Word(text, start, end)
+        return parse_words(value, name)
 
     def describe(self) -> dict:
-        return {"type": "words", "max_words": MAX_WORDS}
-
-
-STREAM_TIME = Number(0.0, MAX_STREAM_SECONDS)
+        return {"type": "words", "max_words": MAX_MESSAGE_WORDS}
 
 
 @dataclass(frozen=True)

@@ -19,8 +19,8 @@ from gesturecast.bridges.coords import FRAMES
 from gesturecast.bridges.output_settings import VMC_ROLES, Outputs
 from gesturecast.bridges.vmc_roles import MARIONETTE
 from gesturecast.bridges.ws_access import MIN_TOKEN_CHARS, TOKEN_ENV_VAR, token_from_sources
+from gesturecast.controls import ROOT_MODES
 from gesturecast.frames import VISEME_NAMES
-from gesturecast.models.motion.root_anchor import ROOT_MODES
 from gesturecast.settings import (
     DEFAULT_MODEL_DIR,
     FACE_MODES,

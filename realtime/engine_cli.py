@@ -28,14 +28,15 @@ from gesturecast.bridges.osc_in import (
 from gesturecast.bridges.output_settings import parse_host_port
 from gesturecast.bridges.vrma import FOLDED, VRMA_BONES
 from gesturecast.bridges.ws_access import is_loopback
+from gesturecast.controls import Word
 from gesturecast.errors import INTERRUPTED_EXIT, UserError
 from gesturecast.files import check_distinct
 from gesturecast.frames import PoseFrame
 from gesturecast.models.audio.dsp import frame_boundary
 from gesturecast.models.audio.files import SAMPLE_RATE, AudioFileReader
-from gesturecast.models.motion.motion import MOTION_FPS, Motion
+from gesturecast.models.motion.motion import MOTION_FPS, SkeletonMotion
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
-from gesturecast.realtime.audio.cli import add_source_arguments, open_source
+from gesturecast.realtime.audio.source_flags import add_source_arguments, open_source
 from gesturecast.realtime.cli_flags import (
     add_batch_arguments,
     add_generation_arguments,
@@ -45,7 +46,6 @@ from gesturecast.realtime.cli_flags import (
     server_token,
     settings_from_args,
 )
-from gesturecast.realtime.gestures.words import Word
 from gesturecast.realtime.timing.clock import MonotonicClock
 from gesturecast.realtime.timing.scheduler import STAGE_END_TO_END, SchedulerConfig
 from gesturecast.realtime.timing.status import StatusLine
@@ -90,9 +90,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def run_live(args: argparse.Namespace) -> int:
+    from gesturecast.realtime.gestures.transcripts import transcript_words
     from gesturecast.realtime.run.engine import LiveEngine
     from gesturecast.realtime.run.engine_setup import build_outputs, build_session
-    from gesturecast.realtime.run.offline_generate import transcript_words
 
     check_distinct([("--input", args.input)], [("--bvh", args.bvh)])
     settings, chosen = settings_from_args(args), outputs_from_args(args)
@@ -155,9 +155,10 @@ def osc_listener(args: argparse.Namespace, address: tuple[str, int] | None,
     return OscControlListener(OscInConfig(host, port, token), session.controls.submit)
 
 
-def start_stream_inputs(session: GestureSession, words: list[Word], gestures_in: OscControlListener | None) -> None:
+def start_stream_inputs(session: GestureSession, words: tuple[Word, ...],
+                        gestures_in: OscControlListener | None) -> None:
     """Once the stages are warm and the stream starts: the transcript's cues, then the OSC gesture port."""
-    session.cue_words(words)
+    session.gestures.hear_words(words)
     if gestures_in is not None:
         gestures_in.start()
 
@@ -176,9 +177,10 @@ def raise_output_errors(outputs: BridgeFanout) -> None:
 
 
 def run_generate(args: argparse.Namespace) -> int:
+    from gesturecast.realtime.gestures.transcripts import transcript_words
     from gesturecast.realtime.jobs.batch_cli import run_batch
     from gesturecast.realtime.run.engine_setup import build_session
-    from gesturecast.realtime.run.offline_generate import body_only, generate_to_files, transcript_words
+    from gesturecast.realtime.run.offline_generate import body_only, generate_to_files
 
     if args.batch is not None:
         if args.vrma_bones != FOLDED:
@@ -193,7 +195,7 @@ def run_generate(args: argparse.Namespace) -> int:
     if not words and settings.gestures == DEFAULT_GESTURES_DIR:  # no words, no gesture: the bundled lexicon is
         settings = dataclasses.replace(settings, gestures=None)  # not encoded (0.1 s); a user's folder is still checked
     session = build_session(body_only(settings, motion_paths, json_path), MonotonicClock())
-    session.cue_words(words)
+    session.gestures.hear_words(words)
     report = generate_to_files(session, args.audio, motion_paths, json_path, args.vrma_bones)
     process_cpu = time.process_time()  # the whole command: start-up, model, generation, files
     logger.info("process CPU %.2f s for %.1f s of audio: %.3f s per second", process_cpu, report.audio_seconds,
@@ -257,7 +259,7 @@ def root_summary(root: dict) -> str:
             f"facing max {root['max_facing_deg']:.0f}°")
 
 
-def frames_to_motion(frames: list[PoseFrame]) -> Motion:
+def frames_to_motion(frames: list[PoseFrame]) -> SkeletonMotion:
     rotations = np.stack([f.rotations for f in frames])  # (T, J, 4)
     roots = np.stack([f.root_position for f in frames])  # (T, 3)
-    return Motion(rotations, roots, MOTION_FPS, CANONICAL_WITH_HANDS)
+    return SkeletonMotion(rotations, roots, MOTION_FPS, CANONICAL_WITH_HANDS)

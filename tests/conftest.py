@@ -50,6 +50,24 @@ def tiny_model_full_lookahead(tmp_path_factory, shared_data):
 
 
 @pytest.fixture
+def cli_here(capsys, monkeypatch):
+    """``gesturecast ARGS`` run by ``gesturecast.cli.main`` in this process (optionally in folder ``cwd``), as a
+    CompletedProcess with its exit status and the lines it printed (its log lines go to pytest's log capture): for
+    tests where a process boundary is not the point, without an interpreter's start and imports per run."""
+    from gesturecast import cli
+
+    def run(*argv: str, cwd: Path | None = None) -> subprocess.CompletedProcess:
+        if cwd is not None:
+            monkeypatch.chdir(cwd)
+        capsys.readouterr()
+        status = cli.main(list(argv))
+        out, err = capsys.readouterr()
+        return subprocess.CompletedProcess(["gesturecast", *argv], status, out, err)
+
+    return run
+
+
+@pytest.fixture
 def virtual_mic():
     """A running private PulseAudio whose default source is a FIFO (tools/bench/virtual_mic.py), torn down
     after the test; skipped with the reason where its Debian packages are missing (`make test` installs them)."""

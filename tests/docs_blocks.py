@@ -70,6 +70,13 @@ class Block:
     def needs_microphone(self) -> bool:
         return "gesturecast devices" in self.code
 
+    @property
+    def runs(self) -> tuple[str, str]:
+        """What running the block does: its language and its lines without comments or repeated spaces (the same
+        commands written on two pages, commented differently, run the same)."""
+        lines = (" ".join(line.split(" # ", 1)[0].split()) for line in self.code.splitlines())
+        return self.language, "\n".join(line for line in lines if line)
+
 
 def page_blocks(page: str) -> list[Block]:
     """The fenced blocks of one page, in order."""
@@ -80,6 +87,14 @@ def page_blocks(page: str) -> list[Block]:
 
 def all_blocks() -> list[Block]:
     return [block for page in PAGES for block in page_blocks(page)]
+
+
+def distinct_runs(blocks: list[Block]) -> list[Block]:
+    """The first block of each distinct run (:attr:`Block.runs`): a command repeated on several pages runs once."""
+    first: dict[tuple[str, str], Block] = {}
+    for block in blocks:
+        first.setdefault(block.runs, block)
+    return list(first.values())
 
 
 def fence_count(page: str) -> int:

@@ -11,7 +11,7 @@ import pytest
 import gesturecast
 from gesturecast.cli import COMMANDS, build_parser, command_in
 from gesturecast.cli_help import HELP
-from gesturecast.tools.bench.cli import BENCHES
+from gesturecast.tools.bench.bench_command import BENCHES
 
 
 def test_help_opens_with_one_line_about_the_product():

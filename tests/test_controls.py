@@ -19,6 +19,7 @@ from gesturecast.controls import (
 )
 from gesturecast.errors import UserError
 from gesturecast.models.motion.root_anchor import RootMode
+from gesturecast.realtime.gestures.transcripts import read_transcript
 from gesturecast.realtime.timing.clock import MonotonicClock
 from gesturecast.settings import CHOICES, NUMBER_LIMITS, Settings
 
@@ -96,12 +97,29 @@ def test_schema_lists_every_field():
     ([], "must be a list of 1..500"),
     ([{"word": "hi", "start": 1.0, "end": 0.5}], r"words\[0\].end is before its start"),
     ([{"word": "hi", "start": float("nan")}], r"words\[0\].start must be a finite number"),
-    ([{"word": "hi", "start": 1.0, "speaker": 2}], "word, start and end only"),
+    ([{"word": "hi", "end": 1.0}], r"words\[0\].start must be a finite number"),
+    (["hi"], r"words\[0\] must be an object with word, start and end"),
     ([{"word": "", "start": 1.0}], r"words\[0\].word must not be blank"),
 ])
 def test_words_are_checked_before_they_reach_the_engine(words, reason):
     with pytest.raises(ControlError, match=reason):
         validate_control({"type": "control", "words": words})
+
+
+def test_a_recognisers_other_keys_are_ignored_by_messages_and_transcripts_alike(tmp_path):
+    items = [{"word": "hi", "start": 1.0, "end": 1.2, "probability": 0.9, "speaker": 2}]
+    (tmp_path / "words.json").write_text(json.dumps(items))
+    assert parse_controls({"words": items}) == (Words((Word("hi", 1.0, 1.2),)),)
+    assert read_transcript(tmp_path / "words.json") == (Word("hi", 1.0, 1.2),)
+
+
+def test_a_bad_word_is_refused_in_the_same_words_by_every_door(tmp_path):
+    items = [{"word": "hi", "start": 2.0, "end": 1.0}]
+    (tmp_path / "words.json").write_text(json.dumps(items))
+    with pytest.raises(ControlError, match=r"^words\[0\].end is before its start$"):
+        parse_controls({"words": items})
+    with pytest.raises(ControlError, match=r"\[0\].end is before its start$"):
+        read_transcript(tmp_path / "words.json")
 
 
 def test_a_word_without_an_end_ends_where_it_starts():

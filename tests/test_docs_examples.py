@@ -23,6 +23,7 @@ from docs_blocks import (
     build_folder,
     command_lines,
     command_words,
+    distinct_runs,
     fence_count,
     shared_data_folder,
     with_free_ports,
@@ -32,6 +33,7 @@ from gesturecast.models.motion.bvh import read_bvh
 
 BLOCKS = all_blocks()
 RUN = [block for block in BLOCKS if block.language in RUNNABLE and block.skip is None]
+DISTINCT_RUNS = distinct_runs(RUN)  # the same commands on two pages run once
 SKIP_REASONS = ("needs a microphone", "needs the network", "needs several machines", "runs this test suite")
 MAX_SKIPPED = 6
 TIMEOUT_S = 600
@@ -106,7 +108,7 @@ def test_commands_shown_as_text_name_only_flags_the_command_has(block):
         assert not missing, f"{block.name}: `gesturecast {' '.join(command)}` has no {missing}"
 
 
-@pytest.mark.parametrize("block", RUN, ids=lambda b: b.name)
+@pytest.mark.parametrize("block", DISTINCT_RUNS, ids=lambda b: b.name)
 def test_block_runs(block, folder, request):
     """Blocks that read the training data are skipped where it is absent (as the tests that need it are); the
     microphone that ``gesturecast devices`` lists is a virtual one (tests/conftest.py)."""

@@ -94,7 +94,7 @@ def test_the_wheel_holds_the_model_viewer_avatar_sample_and_licence_notes(names,
     assert {f"gesturecast/models/weights/default/{name}" for name in default} <= names
     assert {f"gesturecast/models/weights/eval/{name}" for name in files_under(source / "models/weights/eval")} <= names
     gestures = files_under(source / "models" / "weights" / "gestures")  # the gesture lexicon (docs/gestures.md)
-    assert gestures == {"lexicon.json", "clips.npz"}
+    assert gestures == {"lexicon.json", "clips.npz", "speech_acts.npz"}  # the lexicon and the speech-act classifier
     assert {f"gesturecast/models/weights/gestures/{name}" for name in gestures} <= names
     assert "gesturecast/models/weights/speech_embedding/embedding_frames.onnx" in names  # the default model hears it
     viewer = {name for name in files_under(source / "bridges" / "viewer") if "/" not in name}  # the page's own files

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 import soxr
 
-from gesturecast.models.motion.motion import Motion
+from gesturecast.models.motion.motion import SkeletonMotion
 from gesturecast.models.motion.motion_features import mirror_motion, speed_perturb
 
 
@@ -50,9 +50,9 @@ def slice_audio(audio: np.ndarray, start: int, stop: int, fps: float, sample_rat
 
 
 def speed_perturb_pair(
-    motion: Motion, audio: np.ndarray | None, factor: float, sample_rate: int
-) -> tuple[Motion, np.ndarray | None]:
-    """Motion and its audio both ``factor`` times faster; lengths stay frame-aligned."""
+    motion: SkeletonMotion, audio: np.ndarray | None, factor: float, sample_rate: int
+) -> tuple[SkeletonMotion, np.ndarray | None]:
+    """SkeletonMotion and its audio both ``factor`` times faster; lengths stay frame-aligned."""
     faster = speed_perturb(motion, factor)
     if audio is None:
         return faster, None
@@ -61,13 +61,13 @@ def speed_perturb_pair(
 
 
 def augmented_variants(
-    motion: Motion, audio: np.ndarray | None, config: AugmentConfig, sample_rate: int
-) -> list[tuple[str, Motion, np.ndarray | None]]:
+    motion: SkeletonMotion, audio: np.ndarray | None, config: AugmentConfig, sample_rate: int
+) -> list[tuple[str, SkeletonMotion, np.ndarray | None]]:
     """(tag, motion, audio) for the original and every configured variant (mirroring keeps audio)."""
     bases = [("", motion)]
     if config.mirror:
         bases.append(("mirror", mirror_motion(motion)))
-    variants: list[tuple[str, Motion, np.ndarray | None]] = []
+    variants: list[tuple[str, SkeletonMotion, np.ndarray | None]] = []
     for tag, base in bases:
         variants.append((tag, base, audio))
         for factor in config.speeds:

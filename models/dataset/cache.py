@@ -41,7 +41,7 @@ from gesturecast.models.dataset.augment import AugmentConfig, augmented_variants
 from gesturecast.models.dataset.sources import TakeSource
 from gesturecast.models.generator.styles import STYLE_SYNONYMS, STYLES
 from gesturecast.models.motion.body_parts import PART_NAMES, holds_every_part
-from gesturecast.models.motion.motion import MOTION_FPS, Motion
+from gesturecast.models.motion.motion import MOTION_FPS, SkeletonMotion
 from gesturecast.models.motion.motion_features import face_forward, motion_to_features
 from gesturecast.models.motion.retarget import load_motion_file, upright_from_camera
 from gesturecast.models.motion.world_poses import load_world_pose_motion
@@ -106,7 +106,7 @@ def take_segments(dataset: str, name: str, num_frames: int, has_audio: bool, spl
     return [{"split": which, "start": 0, "stop": num_frames}]
 
 
-def read_take(source: TakeSource) -> tuple[Motion, np.ndarray | None]:
+def read_take(source: TakeSource) -> tuple[SkeletonMotion, np.ndarray | None]:
     """Canonical motion faced forward, and its frame-aligned 16 kHz audio (None without audio)."""
     try:
         motion = (load_world_pose_motion(source.motion_path, source.reference_path) if source.reference_path
@@ -120,7 +120,7 @@ def read_take(source: TakeSource) -> tuple[Motion, np.ndarray | None]:
     return motion, fit_audio(load_audio(source.audio_path), motion.num_frames, motion.fps, SAMPLE_RATE)
 
 
-def _write_take(path: Path, motion: Motion, audio: np.ndarray | None, source: TakeSource) -> None:
+def _write_take(path: Path, motion: SkeletonMotion, audio: np.ndarray | None, source: TakeSource) -> None:
     path.parent.mkdir(parents=True, exist_ok=True)
     np.savez_compressed(
         path,
@@ -134,7 +134,7 @@ def _write_take(path: Path, motion: Motion, audio: np.ndarray | None, source: Ta
     )
 
 
-def _take_record(source: TakeSource, motion: Motion, has_audio: bool, split: SplitConfig) -> dict:
+def _take_record(source: TakeSource, motion: SkeletonMotion, has_audio: bool, split: SplitConfig) -> dict:
     return {
         "name": source.name,
         "dataset": source.dataset,
@@ -208,10 +208,10 @@ def is_full_body(record: dict) -> bool:
     return holds_every_part(record["parts"])
 
 
-def load_take(cache_dir: Path, record: dict) -> tuple[Motion, np.ndarray | None]:
+def load_take(cache_dir: Path, record: dict) -> tuple[SkeletonMotion, np.ndarray | None]:
     """The cached motion (float64) and audio (None when the take has none) of one index record."""
     with np.load(cache_dir / record["file"]) as data:
-        motion = Motion(
+        motion = SkeletonMotion(
             data["rotations"].astype(np.float64), data["root_position"].astype(np.float64), float(data["fps"])
         )
         audio = data["audio"] if record["has_audio"] else None
@@ -235,7 +235,7 @@ def load_dataset(
 
 
 def _segment_clips(
-    record: dict, segment: dict, motion: Motion, audio: np.ndarray | None, augment: AugmentConfig | None
+    record: dict, segment: dict, motion: SkeletonMotion, audio: np.ndarray | None, augment: AugmentConfig | None
 ) -> list[DatasetTake]:
     start, stop = segment["start"], segment["stop"]
     part = motion.slice(start, stop)

@@ -24,7 +24,7 @@ import soundfile
 import soxr
 
 from gesturecast.models.audio.files import SAMPLE_RATE
-from gesturecast.models.dataset.transcripts import Word
+from gesturecast.models.dataset.transcripts import RecognisedWord
 from gesturecast.programs import espeak
 
 TRIM_DB = 40.0  # a synthesised word's edges quieter than its peak by this much are cut
@@ -96,7 +96,7 @@ def _rms(audio: np.ndarray) -> float:
     return float(np.sqrt(np.mean(np.square(audio, dtype=np.float64)))) if len(audio) else 0.0
 
 
-def respeak(audio: np.ndarray, words: list[Word], voice: TtsVoice) -> np.ndarray:
+def respeak(audio: np.ndarray, words: list[RecognisedWord], voice: TtsVoice) -> np.ndarray:
     """(N,) 16 kHz take audio + its words → (N,) the same words in ``voice``, each on its own time and level."""
     out = np.zeros(len(audio), np.float32)
     for word in words:

@@ -24,7 +24,7 @@ ALTERNATE_PRONUNCIATION = re.compile(r"\(\d+\)$")  # "nice(2)": the dictionary's
 
 
 @dataclass(frozen=True)
-class Word:
+class RecognisedWord:
     text: str
     start_s: float
     end_s: float
@@ -38,7 +38,7 @@ def _decoder():
     return Decoder(samprate=SAMPLE_RATE, loglevel="FATAL")  # the project's audio rate
 
 
-def transcribe(audio: np.ndarray) -> list[Word]:
+def transcribe(audio: np.ndarray) -> list[RecognisedWord]:
     """(N,) 16 kHz mono float audio → its words in time order (fillers, silences and noises left out)."""
     decoder = _decoder()
     pcm = (np.clip(audio, -1.0, 1.0) * 32767.0).astype(np.int16).tobytes()
@@ -49,7 +49,7 @@ def transcribe(audio: np.ndarray) -> list[Word]:
     for segment in decoder.seg():
         text = ALTERNATE_PRONUNCIATION.sub("", segment.word)
         if text.isalpha() or "'" in text:  # not <s>, </s>, <sil>, [NOISE], ...
-            words.append(Word(text, segment.start_frame / SPHINX_FRAMES_PER_S,
+            words.append(RecognisedWord(text, segment.start_frame / SPHINX_FRAMES_PER_S,
                               (segment.end_frame + 1) / SPHINX_FRAMES_PER_S))
     return words
 
@@ -58,11 +58,11 @@ def words_path(cache_dir: Path, record: dict) -> Path:
     return (cache_dir / record["file"]).with_suffix(".words.json")
 
 
-def cached_words(cache_dir: Path, record: dict, audio: np.ndarray) -> list[Word]:
+def cached_words(cache_dir: Path, record: dict, audio: np.ndarray) -> list[RecognisedWord]:
     """The take's words: read from the cache, or transcribed once and written there."""
     path = words_path(cache_dir, record)
     if path.is_file():
-        return [Word(**word) for word in json.loads(path.read_text())]
+        return [RecognisedWord(**word) for word in json.loads(path.read_text())]
     words = transcribe(audio)
     path.write_text(json.dumps([asdict(word) for word in words]))
     return words

@@ -54,7 +54,7 @@ def check_root_path(root_position: np.ndarray, source: str) -> None:
 
 
 @dataclass
-class Motion:
+class SkeletonMotion:
     """A clip on the canonical skeleton.
 
     rotations: (T, J, 4) local XYZW rotations, identity = T-pose.
@@ -85,5 +85,5 @@ class Motion:
         """World joint positions (T, J, 3) in metres."""
         return self.skeleton.forward_kinematics(self.rotations, self.root_position)[1]
 
-    def slice(self, start: int, stop: int) -> Motion:
-        return Motion(self.rotations[start:stop], self.root_position[start:stop], self.fps, self.skeleton)
+    def slice(self, start: int, stop: int) -> SkeletonMotion:
+        return SkeletonMotion(self.rotations[start:stop], self.root_position[start:stop], self.fps, self.skeleton)

@@ -28,7 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from gesturecast.models.motion.motion import Motion
+from gesturecast.models.motion.motion import SkeletonMotion
 from gesturecast.models.motion.rotations import (
     quat_from_6d,
     quat_from_yaw,
@@ -72,7 +72,7 @@ def rotate_planar(vectors_xz: np.ndarray, yaw: np.ndarray) -> np.ndarray:
     return np.stack([cos * x + sin * z, -sin * x + cos * z], axis=-1)
 
 
-def motion_to_features(motion: Motion) -> np.ndarray:
+def motion_to_features(motion: SkeletonMotion) -> np.ndarray:
     """Per-frame features (T, D) float32 — a pure function of the motion (layout: module doc)."""
     rotations = motion.rotations  # (T, J, 4)
     num_frames = motion.num_frames
@@ -134,7 +134,7 @@ def features_to_motion(
     start_yaw: float = 0.0,
     fps: float = 30.0,
     skeleton: Skeleton = CANONICAL,
-) -> Motion:
+) -> SkeletonMotion:
     """Inverse of :func:`motion_to_features`: integrate the root, decode 6D rotations.
 
     ``start_position`` is the planar (x, z) hips position and ``start_yaw`` the facing yaw of the
@@ -144,10 +144,10 @@ def features_to_motion(
     steps = [integrator.step(frame) for frame in features]
     root_position = np.array([position for position, _ in steps]).reshape(-1, 3)  # (T, 3)
     yaw = np.array([yaw for _, yaw in steps])  # (T,)
-    return Motion(features_to_rotations(features, yaw), root_position, fps, skeleton)
+    return SkeletonMotion(features_to_rotations(features, yaw), root_position, fps, skeleton)
 
 
-def face_forward(motion: Motion) -> Motion:
+def face_forward(motion: SkeletonMotion) -> SkeletonMotion:
     """Rotate about +Y so the first frame faces +Z, and move its planar hips position to the origin."""
     yaw0 = facing_yaw(motion.rotations[0, 0])
     turn = quat_from_yaw(-yaw0)  # (4,)
@@ -156,10 +156,10 @@ def face_forward(motion: Motion) -> Motion:
     planar = motion.root_position[:, [0, 2]] - motion.root_position[0, [0, 2]]  # (T, 2)
     root = motion.root_position.copy()
     root[:, [0, 2]] = rotate_planar(planar, -yaw0)
-    return Motion(rotations, root, motion.fps, motion.skeleton)
+    return SkeletonMotion(rotations, root, motion.fps, motion.skeleton)
 
 
-def mirror_motion(motion: Motion) -> Motion:
+def mirror_motion(motion: SkeletonMotion) -> SkeletonMotion:
     """Left/right mirror: swap Left*/Right* joints and reflect the X axis (an exact involution).
 
     A reflection S = diag(-1, 1, 1) maps a rotation R to S R S, i.e. the quaternion
@@ -169,10 +169,10 @@ def mirror_motion(motion: Motion) -> Motion:
     swap = motion.skeleton.mirror_indices()
     rotations = motion.rotations[:, swap] * np.array([1.0, -1.0, -1.0, 1.0])
     root = motion.root_position * np.array([-1.0, 1.0, 1.0])
-    return Motion(rotations, root, motion.fps, motion.skeleton)
+    return SkeletonMotion(rotations, root, motion.fps, motion.skeleton)
 
 
-def speed_perturb(motion: Motion, factor: float) -> Motion:
+def speed_perturb(motion: SkeletonMotion, factor: float) -> SkeletonMotion:
     """Play the motion ``factor`` times faster (0.9 = slower, longer), resampled at the same fps.
 
     Frame i of the result samples the source at time i * factor (in frames): slerp for rotations,
@@ -188,4 +188,4 @@ def speed_perturb(motion: Motion, factor: float) -> Motion:
     joint_weight = np.broadcast_to(weight[:, None], (num_out, motion.skeleton.num_joints))  # (T', J)
     rotations = quat_slerp(motion.rotations[lower], motion.rotations[upper], joint_weight)  # (T', J, 4)
     root = motion.root_position[lower] * (1.0 - weight[:, None]) + motion.root_position[upper] * weight[:, None]
-    return Motion(rotations, root, motion.fps, motion.skeleton)
+    return SkeletonMotion(rotations, root, motion.fps, motion.skeleton)

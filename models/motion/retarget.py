@@ -1,4 +1,4 @@
-"""Loading mocap files of any supported skeleton as canonical :class:`Motion` at 30 fps.
+"""Loading mocap files of any supported skeleton as canonical :class:`SkeletonMotion` at 30 fps.
 
 ``.bvh``: a built-in joint map is detected from the joint names (ZeroEGGS, Mixamo, CMU,
 Bandai Namco), or a user JSON map is given; the source's T-pose is solved
@@ -32,7 +32,7 @@ from gesturecast.models.motion.joint_maps import (
 )
 from gesturecast.models.motion.motion import (
     MOTION_FPS,
-    Motion,
+    SkeletonMotion,
     check_clip_header,
     check_file_size,
     check_root_path,
@@ -79,7 +79,7 @@ class Retargeted:
     scale: source length units -> canonical metres.
     """
 
-    motion: Motion
+    motion: SkeletonMotion
     joint_map: JointMap
     scale: float
     source_skeleton: Skeleton
@@ -177,7 +177,7 @@ def retarget_bvh(data: BvhData, joint_map: JointMap | None = None, source: str =
     rotations = canonical_local_rotations(mapped, source_global, tpose, source_positions)
     root = source_positions[:, mapped.first[0]] * scale  # (T, 3)
     check_root_path(root, source)
-    motion = Motion(rotations, root, data.fps)
+    motion = SkeletonMotion(rotations, root, data.fps)
     return Retargeted(motion, joint_map, scale, _proportioned_skeleton(mapped, tpose, scale))
 
 
@@ -208,8 +208,8 @@ def _ground_root_height(rotations: np.ndarray, root: np.ndarray) -> np.ndarray:
     return root + np.array([0.0, rest[:, 1].min() - floor, 0.0])
 
 
-def retarget_smplx(poses: np.ndarray, trans: np.ndarray, fps: float) -> Motion:
-    """SMPL-X axis-angle poses (T, 165) and root translation (T, 3) metres -> canonical Motion at ``fps``.
+def retarget_smplx(poses: np.ndarray, trans: np.ndarray, fps: float) -> SkeletonMotion:
+    """SMPL-X axis-angle poses (T, 165) and root translation (T, 3) metres -> canonical SkeletonMotion at ``fps``.
 
     SMPL-X joint frames are world-aligned and its rest pose is a T-pose, so no alignment is needed.
     """
@@ -220,21 +220,21 @@ def retarget_smplx(poses: np.ndarray, trans: np.ndarray, fps: float) -> Motion:
     mapped = MappedSkeleton.build(skeleton, SMPLX)
     rotations = canonical_local_rotations(mapped, source_global, quat_identity((CANONICAL.num_joints,)))
     root = trans * (CANONICAL.height() / SMPLX_NOMINAL_HEIGHT_M)  # horizontal path; height set by grounding
-    return Motion(rotations, _ground_root_height(rotations, root), fps)
+    return SkeletonMotion(rotations, _ground_root_height(rotations, root), fps)
 
 
 CAMERA_TO_UPRIGHT = np.array([1.0, 0.0, 0.0, 0.0])  # 180 deg about X: OpenCV camera (y down, z away) to Y-up, +Z
 
 
-def upright_from_camera(motion: Motion) -> Motion:
+def upright_from_camera(motion: SkeletonMotion) -> SkeletonMotion:
     """A motion whose root is in an OpenCV camera frame (SHOW fits), turned Y-up and facing the camera, grounded."""
     rotations = motion.rotations.copy()
     rotations[:, 0] = quat_mul(np.broadcast_to(CAMERA_TO_UPRIGHT, rotations[:, 0].shape), rotations[:, 0])
     root = motion.root_position * np.array([1.0, -1.0, -1.0])  # (T, 3)
-    return Motion(rotations, _ground_root_height(rotations, root), motion.fps, motion.skeleton)
+    return SkeletonMotion(rotations, _ground_root_height(rotations, root), motion.fps, motion.skeleton)
 
 
-def _read_smplx_npz(path: Path) -> Motion:
+def _read_smplx_npz(path: Path) -> SkeletonMotion:
     try:
         with np.load(path, allow_pickle=False) as archive:
             missing = [key for key in ("poses", "trans") if key not in archive.files]
@@ -274,8 +274,8 @@ def _npz_frame_rate(archive: np.lib.npyio.NpzFile, path: Path) -> float:
     return fps
 
 
-def load_motion_file(path: str | Path, joint_map: Path | None = None, keep_hands: bool = False) -> Motion:
-    """Read a ``.bvh`` (any supported skeleton) or SMPL-X ``.npz`` as canonical Motion at 30 fps.
+def load_motion_file(path: str | Path, joint_map: Path | None = None, keep_hands: bool = False) -> SkeletonMotion:
+    """Read a ``.bvh`` (any supported skeleton) or SMPL-X ``.npz`` as canonical SkeletonMotion at 30 fps.
 
     joint_map: a user JSON map file for BVH skeletons that are not detected automatically.
     keep_hands: a BVH that gesturecast wrote (the joints of ``CANONICAL_WITH_HANDS``) is read as it is, fingers
@@ -297,13 +297,13 @@ def load_motion_file(path: str | Path, joint_map: Path | None = None, keep_hands
     return resample_motion(motion, MOTION_FPS)
 
 
-def _motion_with_hands(data: BvhData) -> Motion:
-    """Motion on ``CANONICAL_WITH_HANDS`` of a BVH with exactly its joints (our own output: T-pose rest, cm)."""
+def _motion_with_hands(data: BvhData) -> SkeletonMotion:
+    """SkeletonMotion on ``CANONICAL_WITH_HANDS`` of a BVH with exactly its joints (our own output: T-pose rest, cm)."""
     columns = [data.names.index(name) for name in CANONICAL_WITH_HANDS.names]  # file order → skeleton order
     root = data.local_translations()[:, columns[0]] / BVH_UNITS_PER_METRE  # (T, 3) metres
-    return Motion(data.local_rotations()[:, columns], root, data.fps, CANONICAL_WITH_HANDS)
+    return SkeletonMotion(data.local_rotations()[:, columns], root, data.fps, CANONICAL_WITH_HANDS)
 
 
-def motion_to_bvh(motion: Motion, path: str | Path) -> None:
+def motion_to_bvh(motion: SkeletonMotion, path: str | Path) -> None:
     """Write ``motion`` as a canonical-skeleton BVH in centimetres (Blender: import with Scale 0.01)."""
     write_bvh(canonical_bvh_data(motion.rotations, motion.root_position, motion.fps, motion.skeleton), path)

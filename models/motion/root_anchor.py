@@ -24,6 +24,7 @@ from enum import Enum
 
 import numpy as np
 
+from gesturecast.controls import ROOT_MODES
 from gesturecast.errors import UserError
 from gesturecast.models.motion.motion_features import (
     ROOT_HEIGHT,
@@ -33,14 +34,7 @@ from gesturecast.models.motion.motion_features import (
     wrap_angle,
 )
 
-
-class RootMode(str, Enum):
-    BOUNDED = "bounded"
-    FREE = "free"
-    LOCKED = "locked"
-
-
-ROOT_MODES = tuple(mode.value for mode in RootMode)
+RootMode = Enum("RootMode", {mode.upper(): mode for mode in ROOT_MODES}, type=str)  # BOUNDED, FREE, LOCKED
 
 
 def parse_root_mode(text: str) -> RootMode:

@@ -32,7 +32,7 @@ import numpy as np
 from gesturecast.errors import UserError
 from gesturecast.models.motion.body_parts import ARM_JOINTS
 from gesturecast.models.motion.bvh import read_bvh
-from gesturecast.models.motion.motion import Motion, check_clip_header
+from gesturecast.models.motion.motion import SkeletonMotion, check_clip_header
 from gesturecast.models.motion.resample import resample_motion
 from gesturecast.models.motion.retarget import retarget_bvh
 from gesturecast.models.motion.rotations import (
@@ -124,14 +124,14 @@ class ReferenceStatistics:
     skeleton: Skeleton  # the canonical hierarchy with the reference's bone lengths
 
 
-def world_poses_of(motion: Motion, skeleton: Skeleton) -> WorldPoses:
+def world_poses_of(motion: SkeletonMotion, skeleton: Skeleton) -> WorldPoses:
     """The 9 world joints of a canonical motion (as the format would store them with canonical rest frames)."""
     rotations, positions = skeleton.forward_kinematics(motion.rotations, motion.root_position)  # (T, J, 4), (T, J, 3)
     columns = [skeleton.index(SPINE2_STAND_IN.get(name, name)) for name in WORLD_JOINTS]
     return WorldPoses(positions[:, columns], rotations[:, columns])  # (T, 9, 3), (T, 9, 4)
 
 
-def reference_statistics(motion: Motion, skeleton: Skeleton) -> ReferenceStatistics:
+def reference_statistics(motion: SkeletonMotion, skeleton: Skeleton) -> ReferenceStatistics:
     poses = world_poses_of(motion, skeleton)
     means = {joint: local_means(poses.rotation(joint), joint_statistics(poses, joint)) for joint in SOLVED_JOINTS}
     return ReferenceStatistics(means, skeleton)
@@ -196,12 +196,13 @@ def read_world_poses(path: Path) -> WorldPoses:
     return WorldPoses(values[..., :3], quat_normalize(values[..., 3:]))
 
 
-def load_world_pose_motion(path: Path, reference_bvh: Path) -> Motion:
-    """A world-pose take as canonical Motion at 30 fps: arms solved against ``reference_bvh``, the rest identity."""
+def load_world_pose_motion(path: Path, reference_bvh: Path) -> SkeletonMotion:
+    """A world-pose take as canonical SkeletonMotion at 30 fps: arms solved against ``reference_bvh``, the rest
+    identity."""
     poses = read_world_poses(path)
     reference = bvh_reference(Path(reference_bvh))
     root = poses.position("Hips")  # (T, 3)
-    return resample_motion(Motion(arm_local_rotations(poses, reference), root, WORLD_POSE_FPS))
+    return resample_motion(SkeletonMotion(arm_local_rotations(poses, reference), root, WORLD_POSE_FPS))
 
 
 def angle_errors_deg(estimate: np.ndarray, truth: np.ndarray) -> np.ndarray:
@@ -210,14 +211,14 @@ def angle_errors_deg(estimate: np.ndarray, truth: np.ndarray) -> np.ndarray:
     return np.degrees(2.0 * np.arccos(np.clip(dot, -1.0, 1.0)))
 
 
-def measure_world_pose_fit(motion: Motion, skeleton: Skeleton, seed: int = 0) -> dict[str, float]:
+def measure_world_pose_fit(motion: SkeletonMotion, skeleton: Skeleton, seed: int = 0) -> dict[str, float]:
     """Median arm-joint error (°) of the whole procedure on a full-body take whose truth is known.
 
     The first half of ``motion`` is the reference; the second half is turned into world poses whose rotations
     carry random rest offsets (the solver must find them), solved, and compared with its own local rotations.
     """
     half = motion.num_frames // 2
-    first, second = (Motion(motion.rotations[s], motion.root_position[s], motion.fps)
+    first, second = (SkeletonMotion(motion.rotations[s], motion.root_position[s], motion.fps)
                      for s in (slice(0, half), slice(half, None)))
     poses = world_poses_of(second, skeleton)
     offsets = quat_normalize(np.random.default_rng(seed).normal(size=(len(WORLD_JOINTS), 4)))  # (9, 4)

@@ -24,7 +24,7 @@ from gesturecast.models.dataset.transcripts import cached_words
 from gesturecast.models.dataset.voice_transforms import random_voice
 from gesturecast.models.generator.styles import canonical_style
 from gesturecast.models.motion.body_parts import PART_NAMES, holds_every_part
-from gesturecast.models.motion.motion import Motion
+from gesturecast.models.motion.motion import SkeletonMotion
 from gesturecast.models.motion.motion_features import motion_to_features
 
 
@@ -84,7 +84,7 @@ def take_speakers(cache_dir: Path, record: dict, audio: np.ndarray | None,
                            for voice in TRAINING_VOICES[:respoken])]
 
 
-def variant_clips(record: dict, part: Motion, part_audio: np.ndarray | None, speaker_tag: str,
+def variant_clips(record: dict, part: SkeletonMotion, part_audio: np.ndarray | None, speaker_tag: str,
                   augment: AugmentConfig, copies: int, feature_config: FeatureConfig,
                   rng: np.random.Generator) -> list[TrainingClip]:
     """One segment in one speaker's audio: its augmented variants, each with ``copies`` waveform voice copies."""

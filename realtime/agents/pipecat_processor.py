@@ -129,7 +129,7 @@ class GesturecastProcessor(FrameProcessor):
         elif isinstance(frame, TTSTextFrame):
             self._style_of(frame)
         elif isinstance(frame, TTSStoppedFrame) and self._gestures:
-            self.session.end_of_words()  # the utterance ended: its last phrases need no more words
+            self.stream.end_of_words()  # the utterance ended: its last phrases need no more words
         elif isinstance(frame, EndFrame):
             await self._finish()
         elif isinstance(frame, CancelFrame):
@@ -158,7 +158,10 @@ class GesturecastProcessor(FrameProcessor):
             start = self.stream.audio_seconds + self._held_s
         else:
             start = self.stream.heard_time()
-        self.stream.spoken(frame.text, start)
+        try:
+            self.stream.spoken(frame.text, start)
+        except UserError as error:  # a word the words check refuses (e.g. longer than a word can be): no cue
+            logger.warning("words %r not cued: %s", frame.text[:80], error)
 
     def _submit(self, control: dict) -> None:
         """A style change from the pipeline; one the model cannot use is logged and the stream goes on."""

@@ -55,6 +55,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from gesturecast.controls import MAX_STREAM_SECONDS
 from gesturecast.errors import UserError
 from gesturecast.log_throttle import ThrottledLog
 from gesturecast.realtime.gestures.reattach import body_frame_roots, placed_roots, reattach
@@ -71,7 +72,6 @@ STATUSES = ("on time", "late", "blended", "merged", "dropped")
 CONTROL_SOURCE = "control"  # a cue from a gesture control (button, OSC): played as soon as it can
 MAX_PLACEMENTS = 20_000  # placed cues still to come (a transcript's hours of gestures); beyond: CueRefused
 MAX_AHEAD_S = 300.0  # words sent live (a TTS reply) are at most this far ahead of the stream
-MAX_CUE_TIME_S = 1e6  # a cue time beyond this (or not finite) is not a stream time (11 days)
 
 
 class CueRefused(UserError):
@@ -314,8 +314,9 @@ class CuePlan:
         blended with a playing gesture, merged into the same one, or dropped; logged unless on time (a flood
         throttled), and counted.
         CueRefused for a time that is no stream time, or when the plan is full."""
-        if not math.isfinite(cue.time) or cue.time > MAX_CUE_TIME_S:
-            raise CueRefused(f"gesture {cue.gesture} at {cue.time!r} s: not a stream time (at most {MAX_CUE_TIME_S:g})")
+        if not math.isfinite(cue.time) or cue.time > MAX_STREAM_SECONDS:
+            raise CueRefused(f"gesture {cue.gesture} at {cue.time!r} s: not a stream time "
+                             f"(at most {MAX_STREAM_SECONDS:g})")
         self._check_room()
         clip = self._performance(self.check(cue.gesture))
         wanted = math.floor(cue.time / self.seconds_per_latent)  # the stroke latent that covers the word

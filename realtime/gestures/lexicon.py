@@ -33,7 +33,7 @@ import numpy as np
 from gesturecast.errors import UserError
 from gesturecast.input_files import MIB
 from gesturecast.models.motion.body_parts import PART_NAMES
-from gesturecast.models.motion.motion import MOTION_FPS, Motion
+from gesturecast.models.motion.motion import MOTION_FPS, SkeletonMotion
 from gesturecast.models.motion.motion_features import FEATURE_DIM
 from gesturecast.realtime.gestures.lexicon_checks import (
     MIN_CLIP_S,
@@ -231,8 +231,8 @@ def read_built_lexicon(folder: Path) -> Lexicon:
     return Lexicon(entries, source=str(raw.get("source", "")), license=str(raw.get("license", "")), metadata=meta)
 
 
-def _default_reader(joint_map: Path | None) -> Callable[[Path], Motion]:
-    def read(path: Path) -> Motion:
+def _default_reader(joint_map: Path | None) -> Callable[[Path], SkeletonMotion]:
+    def read(path: Path) -> SkeletonMotion:
         from gesturecast.models.motion.motion_features import face_forward
         from gesturecast.models.motion.retarget import load_motion_file
 
@@ -241,7 +241,7 @@ def _default_reader(joint_map: Path | None) -> Callable[[Path], Motion]:
 
 
 def _user_entry(name: str, item: object, folder: Path, mapping: Path,
-                read: Callable[[Path], Motion]) -> GestureEntry:
+                read: Callable[[Path], SkeletonMotion]) -> GestureEntry:
     from gesturecast.models.generator.styles import canonical_style
     from gesturecast.models.motion.motion_features import motion_to_features
 
@@ -299,7 +299,7 @@ def _user_entry(name: str, item: object, folder: Path, mapping: Path,
                         str(item.get("description", "")))
 
 
-def read_user_lexicon(folder: Path, read: Callable[[Path], Motion] | None = None) -> Lexicon:
+def read_user_lexicon(folder: Path, read: Callable[[Path], SkeletonMotion] | None = None) -> Lexicon:
     """A user's folder: ``gestures.json`` (name → clip, triggers, parts, stroke, style; module docstring) and the
     clips it names, retargeted like the training data. Bad entries raise a one-line :class:`UserError`."""
     folder = Path(folder)

@@ -15,6 +15,7 @@ from collections.abc import Iterable
 from functools import cache
 from pathlib import Path
 
+from gesturecast.controls import Word
 from gesturecast.realtime.gestures.cues import Cue
 from gesturecast.realtime.gestures.speech_acts import (
     INTENT_GESTURES,
@@ -27,7 +28,6 @@ from gesturecast.realtime.gestures.speech_acts import (
     opens_talk,
     tokenize,
 )
-from gesturecast.realtime.gestures.words import Word
 
 MAX_HELD_WORDS = 24  # a sentence longer than this is read from its last 24 words
 

@@ -25,7 +25,7 @@ from the sentence around it:
    wordllama text embedding (numpy only) of the phrase's window, the words before and after it and the single
    words next to it, plus where it stands (opening the sentence or a clause, punctuation after it). It is trained
    on sentences written for it (:mod:`gesturecast.tools.gestures.speech_act_data`, ``gesturecast gestures
-   train-acts``), never on the benchmark's texts; its weights ship in ``models/weights/speech_acts.npz``.
+   train-acts``), never on the benchmark's texts; its weights ship in ``models/weights/gestures/speech_acts.npz``.
 
 The decision needs :data:`AFTER_TOKENS` words after the phrase, or the end of its sentence: what follows decides
 ("see you *walking*", "lights come *on*"). Words are only read inside their sentence, so a transcript given at once
@@ -532,7 +532,7 @@ class SpeechActModel:
 def default_weights() -> Path:
     from importlib import resources
 
-    return Path(str(resources.files("gesturecast.models"))) / "weights" / "speech_acts.npz"
+    return Path(str(resources.files("gesturecast.models"))) / "weights" / "gestures" / "speech_acts.npz"
 
 
 class SpeechActClassifier:

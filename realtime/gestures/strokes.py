@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from gesturecast.models.motion.motion import Motion
+from gesturecast.models.motion.motion import SkeletonMotion
 from gesturecast.models.motion.motion_features import facing_yaw, rotate_planar
 from gesturecast.models.motion.skeleton import CANONICAL
 
@@ -24,7 +24,7 @@ STROKE_TOLERANCE = 0.05
 RELEASE_LEVEL = 0.75  # a clip's hold ends at the last frame its wrists and head are this near their farthest
 
 
-def body_frame_positions(motion: Motion) -> np.ndarray:
+def body_frame_positions(motion: SkeletonMotion) -> np.ndarray:
     """(T, J, 3) joint positions relative to the hips in the hips' facing frame: x left, y up, z forward."""
     positions = motion.positions()
     relative = positions - positions[:, :1]

@@ -25,10 +25,11 @@ from dataclasses import asdict, dataclass, field
 
 from gesturecast import stop_signals
 from gesturecast.errors import UserError
+from gesturecast.realtime.gestures.transcripts import transcript_words
 from gesturecast.realtime.jobs.batch_jobs import BatchJob
 from gesturecast.realtime.pose.session import GestureSession
 from gesturecast.realtime.run.engine_setup import build_session, load_bundle
-from gesturecast.realtime.run.offline_generate import body_only, generate_to_files, transcript_words
+from gesturecast.realtime.run.offline_generate import body_only, generate_to_files
 from gesturecast.realtime.timing.clock import MonotonicClock
 from gesturecast.realtime.timing.latency import LatencyStats
 from gesturecast.settings import Settings
@@ -78,7 +79,7 @@ class BatchWorker:
             settings = job.settings(self.base)
             words = transcript_words(job.transcript, settings)
             session = self._session_for(body_only(settings, job.motion_paths(), job.json))
-            session.cue_words(words)
+            session.gestures.hear_words(words)
             report = generate_to_files(session, job.audio, job.motion_paths(), job.json)
         except UserError as error:
             return JobResult(str(job.audio), error=str(error))

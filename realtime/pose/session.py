@@ -25,7 +25,6 @@ from __future__ import annotations
 
 import logging
 import math
-import weakref
 from collections import deque
 from dataclasses import dataclass
 from pathlib import Path
@@ -46,9 +45,8 @@ from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.models.style.params import DEFAULT_STYLE_PARAMS
 from gesturecast.realtime.audio.sources import AudioChunk
 from gesturecast.realtime.generation.generator import Generator
-from gesturecast.realtime.gestures.cues import BLEND_LATENTS, Cue, CueOutcome, CuePlan, GestureClip
-from gesturecast.realtime.gestures.phrases import PhraseCues, PhraseListener, PhraseStream
-from gesturecast.realtime.gestures.words import TriggerVocabulary, Word, WordListener
+from gesturecast.realtime.gestures.director import GestureDirector
+from gesturecast.realtime.gestures.repertoire import GestureRepertoire
 from gesturecast.realtime.pose.face import Expressions, FaceAnimator, text_embedder
 from gesturecast.realtime.pose.feature_buffer import FeatureBuffer
 from gesturecast.realtime.pose.gesture_size import FULL_SIZE, GestureSize
@@ -92,9 +90,6 @@ class SessionConfig:
     silence_hold_s: float = 1.0  # silence this long after the last speech frame fades to idle
     root_mode: RootMode = RootMode.BOUNDED  # in place by default (models/motion/root_anchor.py)
     seed_motion: SeedMotion | None = None  # start from this motion's last pose, not idle (realtime/pose/seed_motion.py)
-    gesture_clips: tuple[GestureClip, ...] = ()  # the lexicon in this model's latent space, performances in turn
-    gesture_triggers: tuple[tuple[str, tuple[str, ...]], ...] = ()  # (gesture, phrases that always cue it)
-    speech_acts: bool = False  # cue the lexicon's gestures from the speech acts of words (greetings, thanks, …)
     lipsync: str = "vrm0"  # a key of VISEME_NAMES: fill PoseFrame.visemes (docs/lipsync.md); "off": None
     face: str = FACE_FULL  # blinks and expression in PoseFrame.face ("blink": blinks only; "off": None)
     style_params: Path | None = DEFAULT_STYLE_PARAMS  # the stylizer's styles (realtime/pose/stylizer.py); None: off
@@ -103,7 +98,8 @@ class SessionConfig:
 
 
 class GestureSession:
-    """Audio chunks in, timed pose frames out, for one stream (constant memory on any duration)."""
+    """Audio chunks in, timed pose frames out, for one stream (constant memory on any duration). ``gestures``: the
+    stream's gestures, which every door's words and gesture controls reach (none by default)."""
 
     def __init__(
         self,
@@ -113,6 +109,7 @@ class GestureSession:
         clock: Clock,
         config: SessionConfig | None = None,
         stats: LatencyStats | None = None,
+        gestures: GestureDirector | None = None,
     ) -> None:
         self.bundle = bundle
         self.generator = generator
@@ -127,19 +124,15 @@ class GestureSession:
         self.idle = IdleMotion(seed=generator.settings.seed)
         self._hold_frames = round(self.config.silence_hold_s * self.fps)
         self.root = RootAnchor(self.config.root_mode, fps=self.fps)
-        # the controls reach the session's cues through a weak proxy: no session <-> controls cycle, so a closed
-        # stream's session is freed by reference counting at once (the controls die with it)
-        self.controls = SessionControls(generator, self.root, weakref.proxy(self), self.config.intensity,
-                                        self.config.paused)
+        self.gestures = gestures or GestureDirector(
+            GestureRepertoire(), self.denoiser_config.frames_per_latent / self.fps, budget.total_s)
+        self.controls = SessionControls(generator, self.root, self.gestures, self.config.intensity, self.config.paused)
         self.smoother = MotionSmoother(budget.smoothing_frames)
         self.hands = HandPose(self.fps, seed=generator.settings.seed)
         self.face = None if self.config.face == FACE_OFF else FaceAnimator(
             self.config.face, generator.settings.seed, Expressions(text_embedder(generator.styles)))
         self.stylizer = None if self.config.style_params is None else Stylizer.from_file(
             self.config.style_params, generator.styles.embed, self.fps)
-        self.vocabulary = TriggerVocabulary(dict(self.config.gesture_triggers))
-        self.phrases = PhraseCues(clip.name for clip in self.config.gesture_clips) if self.config.speech_acts \
-            else None
         self.reset()
 
     @property
@@ -175,14 +168,7 @@ class GestureSession:
         if self.stylizer is not None:
             self.stylizer.reset()
         self._unsmoothed: deque[tuple[int, bool, str]] = deque()  # (frame, gesturing, gesture) inside the smoother
-        performances: dict[str, list[GestureClip]] = {}
-        for clip in self.config.gesture_clips:
-            performances.setdefault(clip.name, []).append(clip)
-        self.cues = CuePlan({name: clips[0] for name, clips in performances.items()},
-                            self.denoiser_config.frames_per_latent / self.fps, performances)
-        self.listener = WordListener(self.vocabulary)  # words reported one at a time (a TTS speaking)
-        self.phrase_listener = None if self.phrases is None else PhraseListener(self.phrases)
-        self.phrase_stream = None if self.phrases is None else PhraseStream(self.phrases)  # word messages
+        self.gestures.reset()
         self._visemes: deque[np.ndarray] = deque()  # (5,) weights of the audio frames not yet posed, in order
         self._speaking: deque[bool] = deque()  # voice-activity flag of the audio frames not yet posed, in order
         self._energy: deque[float] = deque()  # speech energy (dB) of the audio frames not yet posed, in order
@@ -204,6 +190,7 @@ class GestureSession:
         """Feed one chunk; returns the pose frames it completed (often none)."""
         self._anchor = (chunk.start_sample, chunk.capture_time)
         self.samples_in = chunk.start_sample + len(chunk.samples)
+        self.gestures.heard(self.samples_in / self.sample_rate)
         self._pending_audio.append(chunk.samples)
         if self.samples_in < self._samples_needed(self.next_latent):
             return []
@@ -231,7 +218,7 @@ class GestureSession:
     def finish(self) -> list[PoseFrame]:
         """End of stream: pad with silence for the look-ahead so every captured audio frame gets a pose (the words
         still waiting for what follows them are decided first)."""
-        self.end_of_words()
+        self.gestures.end_of_words()
         self._extract_pending()
         audio_frames = self.extractor.frames_emitted
         if audio_frames == 0:
@@ -298,55 +285,12 @@ class GestureSession:
         with self.stats.time(STAGE_POSES):
             return self._pose_frames(np.concatenate(batch), style)
 
-    def cue(self, cue: Cue) -> CueOutcome:
-        """Carry out a lexicon gesture with its stroke at ``cue.time`` (stream s), or as soon as the latents not yet
-        generated allow, blended after a gesture playing on the same body parts; the outcome says when its stroke
-        plays, or why it was dropped (logged and counted). Call it from the thread that pushes audio (live
-        controls go through :attr:`controls`)."""
-        return self.cues.place(cue, self.next_latent)
-
-    def check_cue_times(self, times: list[float]) -> None:
-        """CueRefused (one line) for a cue time too far ahead of the stream, or while the plan is full: what a live
-        door (a words message, :meth:`gesturecast.Stream.words`) checks before it sends words."""
-        self.cues.check_ahead(times, self.next_latent)
-
-    def control_stroke_lead_s(self) -> float:
-        """About how long from now until the stroke of a gesture control submitted now shows: it starts at the next
-        latent and approaches over :data:`BLEND_LATENTS`; a stream instant shows L after its audio arrived, and the
-        newest audio is at :attr:`samples_in`."""
-        d = self.denoiser_config.frames_per_latent
-        stroke_s = (self.next_latent + BLEND_LATENTS) * d / self.fps
-        return max(0.0, self.budget.total_s + stroke_s - self.samples_in / self.sample_rate)
-
-    def cue_words(self, words: list[Word]) -> list[CueOutcome]:
-        """Cue the gestures of the speech acts and forced trigger phrases in ``words`` (stream-time stamps), the
-        words after those of earlier calls (:class:`~gesturecast.realtime.gestures.phrases.PhraseStream`)."""
-        forced = self.vocabulary.cues(words)
-        acts = [] if self.phrase_stream is None else self.phrase_stream.cues(words)
-        return self._place(forced, acts)
-
-    def cue_spoken(self, word: Word) -> list[CueOutcome]:
-        """Cue what ``word`` completes, one of the words a TTS service reports as it speaks them (earlier words of
-        the phrase came in earlier calls; a speech act is decided once the words after it that tell arrive)."""
-        acts = [] if self.phrase_listener is None else self.phrase_listener.hear(word)
-        return self._place(self.listener.hear(word), acts)
-
-    def end_of_words(self) -> list[CueOutcome]:
-        """The words stopped (the speech ended): decide the phrases still waiting for the words after them."""
-        return self._place([], [] if self.phrase_listener is None else self.phrase_listener.flush())
-
-    def _place(self, forced: list[Cue], acts: list[Cue]) -> list[CueOutcome]:
-        """Place the cues in time order; a forced trigger wins over a speech act on the same word."""
-        taken = {cue.time for cue in forced}
-        cues = sorted(forced + [cue for cue in acts if cue.time not in taken], key=lambda cue: cue.time)
-        return [self.cue(cue) for cue in cues if cue.gesture in self.cues.clips]
-
     def _generate_latent(self, index: int) -> np.ndarray:
         """Latent ``index`` denoised and decoded; returns the smoothed motion rows (m, D) it pushed out."""
         d = self.denoiser_config.frames_per_latent
         self.controls.advance(index * d / self.fps)
         window = self.features.window(index, self.denoiser_config)  # (A', F)
-        imposed = self.cues.imposition(index)
+        imposed = self.gestures.play(index)
         with self.stats.time(STAGE_DENOISER):
             latent = self.generator.denoise(window, True, None if imposed is None else (imposed.target,
                                                                                        imposed.weights))  # (C,)
@@ -357,7 +301,6 @@ class GestureSession:
                 motion = imposed.blend(motion)
             gesture = "" if imposed is None else imposed.names
             gesturing = self._gesturing(index) or bool(gesture)  # a cued gesture shows in silence too
-            self.cues.forget_before(index)
             self._unsmoothed.extend((index * d + j, gesturing, gesture) for j in range(d))
             return self.smoother.push(motion)
 

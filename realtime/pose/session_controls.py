@@ -18,16 +18,15 @@ import logging
 import threading
 from collections import deque
 from dataclasses import replace
-from typing import Protocol
 
-from gesturecast.controls import Control, Gesture, StyleChange, Word, Words
-from gesturecast.errors import UserError
+from gesturecast.controls import Control, Gesture, StyleChange, Words
 from gesturecast.log_throttle import ThrottledLog
 from gesturecast.models.generator.style_prompt import PartStyles, StylePrompt, parse_part_styles
 from gesturecast.models.motion.root_anchor import RootAnchor, RootMode
 from gesturecast.realtime.generation.generator import Generator
 from gesturecast.realtime.generation.style_mixture import align_mixtures, bound_blend_rows, drop_unused_rows
-from gesturecast.realtime.gestures.cues import CONTROL_SOURCE, Cue, CuePlan, CueRefused
+from gesturecast.realtime.gestures.cues import CueRefused
+from gesturecast.realtime.gestures.director import GestureDirector
 from gesturecast.realtime.gestures.lexicon import current_name
 from gesturecast.realtime.pose.gesture_size import FULL_SIZE
 from gesturecast.realtime.pose.transitions import DEFAULT_RAMP_S, Ramp
@@ -42,26 +41,10 @@ MAX_PENDING_CONTROLS = 32  # bounded inbox: the oldest unapplied control is drop
 MAX_MIXTURE_ROWS = 8
 
 
-class GestureDoor(Protocol):
-    """Where ``gesture`` and ``words`` controls go: the session's cue plan (checked on submit, with the cue times
-    by ``check_cue_times``), ``cue`` and ``cue_words``; ``control_stroke_lead_s`` tells a gesture's ack when it
-    shows."""
-
-    cues: CuePlan
-
-    def check_cue_times(self, times: list[float]) -> None: ...
-
-    def cue(self, cue: Cue) -> object: ...
-
-    def control_stroke_lead_s(self) -> float: ...
-
-    def cue_words(self, words: list[Word]) -> object: ...
-
-
 class SessionControls:
     """Holds the control inbox and the ramps; :meth:`advance` applies them at stream time ``t``."""
 
-    def __init__(self, generator: Generator, root: RootAnchor, gestures: GestureDoor | None = None,
+    def __init__(self, generator: Generator, root: RootAnchor, gestures: GestureDirector,
                  intensity: float = FULL_SIZE, paused: bool = False, fade_s: float = DEFAULT_RAMP_S) -> None:
         self.generator = generator
         self.root = root
@@ -91,7 +74,7 @@ class SessionControls:
         for control in controls:
             self._check(control)
             if isinstance(control, Gesture):
-                notes["gesture_stroke_in_ms"] = round(self.gestures.control_stroke_lead_s() * 1e3)
+                notes["gesture_stroke_in_ms"] = round(self.gestures.stroke_lead_s() * 1e3)
         with self._lock:
             self._inbox.append(tuple(controls))
         return notes
@@ -99,17 +82,16 @@ class SessionControls:
     def _by_current_name(self, control: Control) -> Control:
         """A gesture control naming a renamed shipped gesture by its old name (``bye``) names it as it is called
         now (``hand-up``)."""
-        if not isinstance(control, Gesture) or self.gestures is None:
+        if not isinstance(control, Gesture):
             return control
-        return Gesture(current_name(control.name, self.gestures.cues.clips))
+        return Gesture(current_name(control.name, self.gestures.names))
 
     def _check(self, control: Control) -> None:
         if isinstance(control, Gesture):
-            self._check_gesture(control.name)
-            self.gestures.check_cue_times([])
+            self.gestures.check_gesture(control.name)
         elif isinstance(control, Words):
-            self._check_gesture(None)
-            self.gestures.check_cue_times([word.start for word in control.words])
+            self.gestures.check_lexicon()
+            self.gestures.check_live_words(control.words)
         else:
             for prompt in _prompts_of(control):
                 self.generator.styles.embed(prompt)
@@ -156,22 +138,15 @@ class SessionControls:
             return name
         return f"{name}→{_prompt_name(settings.second_style)} γ={settings.gamma:.2f}"
 
-    def _check_gesture(self, name: str | None) -> None:
-        """UserError unless the stream has a lexicon (and ``name``, when given, is in it)."""
-        if self.gestures is None or not self.gestures.cues.clips:
-            raise UserError("this stream has no gesture lexicon")
-        if name is not None:
-            self.gestures.cues.check(name)
-
     def _apply(self, control: Control, t: float) -> None:
         if isinstance(control, StyleChange):
             self._apply_style(control, t)
             return
         try:
             if isinstance(control, Gesture):  # as soon as possible: its stroke as early as it can be from this latent
-                self.gestures.cue(Cue(control.name, t, CONTROL_SOURCE))
+                self.gestures.cue_gesture(control.name, t)
             else:  # on the words' own stream times (late by the wait when already generated)
-                self.gestures.cue_words(list(control.words))
+                self.gestures.hear_words(control.words)
         except CueRefused as error:  # the plan filled up since the submit: the stream goes on without them
             self._refused_log.log(logging.WARNING, f"gesture cues not kept: {error}")
 

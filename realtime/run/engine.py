@@ -100,8 +100,7 @@ def warm_up(session: GestureSession, clock: Clock) -> float:
     kept, session.stats = session.stats, LatencyStats(clock)
     start = clock.now()
     try:
-        if session.phrases is not None:
-            session.phrases.warm()
+        session.gestures.warm()
         for chunk in warm_up_chunks(session.sample_rate):
             session.push(chunk)
     finally:
@@ -136,7 +135,7 @@ def make_report(session: GestureSession, audio: SourceStats, scheduler_stats: di
         interrupted=interrupted,
         warm_up_s=warm_up_s,
         root=session.travel.to_dict(),
-        gesture_cues=session.cues.summary(),
+        gesture_cues=session.gestures.cues.summary(),
     )
 
 

@@ -12,8 +12,6 @@ from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-import numpy as np
-
 from gesturecast.bridges.avatar_file import resolve_avatar
 from gesturecast.bridges.bvh_recorder import BvhRecorder
 from gesturecast.bridges.fanout import BridgeFanout
@@ -30,15 +28,8 @@ from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
 from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.models.style.params import DEFAULT_STYLE_PARAMS, StyleBook
 from gesturecast.realtime.generation.generator import Generator, GeneratorSettings
-from gesturecast.realtime.gestures.clips import ClipMotion, encode_clips, mirrorable, performances
-from gesturecast.realtime.gestures.lexicon import (
-    DEFAULT_STYLE,
-    LEXICON_FILE,
-    GestureEntry,
-    GestureVariant,
-    Lexicon,
-    load_lexicon,
-)
+from gesturecast.realtime.gestures.director import GestureDirector
+from gesturecast.realtime.gestures.repertoire import load_repertoire
 from gesturecast.realtime.pose.seed_motion import load_seed_motion
 from gesturecast.realtime.pose.session import GestureSession, SessionConfig
 from gesturecast.realtime.timing.clock import Clock
@@ -47,12 +38,6 @@ from gesturecast.settings import LATENCY_SETTINGS, LatencySetting, Settings
 
 if TYPE_CHECKING:  # the WebSocket server (and asyncio) load only where one runs: `generate` never needs them
     from gesturecast.bridges.websocket_server import WebSocketConfig
-
-MEANT_STYLES = {"raise-both": "active", "guide": "proud"}  # gesture -> the take that means it, where the neutral
-# one falls short: Bandai's neutral raise stops at the top of the head (all 74 neutral takes: wrists 5-19 cm above
-# the head joint), a cheer is the arms overhead (its active take: 34 cm); the neutral guide holds a bent arm below
-# the shoulder, presenting holds an open arm out at shoulder height (its proud take)
-
 
 def load_bundle(path: Path) -> ModelBundle:
     if not (path / "model.json").is_file():
@@ -98,61 +83,25 @@ def generator_settings(settings: Settings, bundle: ModelBundle, budget: LatencyB
     )
 
 
-def gesture_setup(settings: Settings, bundle: ModelBundle) -> dict:
-    """The session's gesture lexicon in this model's latent space: each gesture's takes in the style variant named
-    like the settings' style label (:func:`performed_variant`), as performances drawn from the seed. A built
-    lexicon's gestures are cued by the speech acts of words (:mod:`gesturecast.realtime.gestures.speech_acts`);
-    a user's folder's trigger phrases cue their gestures wherever they are said."""
-    if settings.gestures is None:
-        return {}
-    lexicon = load_lexicon(settings.gestures)
-    prompt = settings.style_prompt()
-    style = prompt.value if prompt.kind == "label" else None
-    built = (Path(settings.gestures) / LEXICON_FILE).is_file()  # the Bandai lexicon: cued by speech acts
-    motions = performed_motions(lexicon, style, settings.seed, mirror=built)
-    return {"gesture_clips": encode_clips(bundle, motions, settings.threads), "speech_acts": built,
-            "gesture_triggers": () if built else tuple((entry.name, entry.triggers) for entry in lexicon)}
-
-
-def performed_motions(lexicon: Lexicon, style: str | None, seed: int, mirror: bool = False) -> list[ClipMotion]:
-    """Every gesture's performances for a stream in ``style`` at ``seed``: the recorded takes of its performed
-    variant (:func:`performed_variant`) in turn, each at a tempo and amplitude drawn from the seed; with
-    ``mirror`` (the built lexicon, not a user's clips), every other one of a gesture that names no hand with the
-    other hand."""
-    motions: list[ClipMotion] = []
-    for entry in lexicon:
-        takes = [ClipMotion(entry.name, np.asarray(take.features, np.float32), take.stroke_frame, entry.parts,
-                            take.source) for take in entry.takes(performed_variant(entry, style).style)]
-        motions += performances(takes, seed, mirror=mirror and mirrorable(entry.name))
-    return motions
-
-
-def performed_variant(entry: GestureEntry, style: str | None) -> GestureVariant:
-    """The clip of ``entry`` a stream in ``style`` plays: the style's own, else the one of
-    :data:`MEANT_STYLES` where the neutral take falls short of what the gesture means, else the neutral one."""
-    variant = entry.variant(style)
-    meant = MEANT_STYLES.get(entry.name)
-    return entry.variant(meant) if variant.style == DEFAULT_STYLE and meant in entry.styles else variant
-
-
 def session_config(settings: Settings, bundle: ModelBundle) -> SessionConfig:
-    """What a session of these settings needs besides its generator: root mode, seed motion, lip sync, face, gesture
-    size, pause and the gesture lexicon in this model's latent space."""
+    """What a session of these settings needs besides its generator and gestures: root mode, seed motion, lip sync,
+    face, gesture size and pause."""
     seed = None if settings.seed_motion is None else load_seed_motion(settings.seed_motion, bundle)
     return SessionConfig(root_mode=RootMode(settings.root), seed_motion=seed, lipsync=settings.lipsync,
-                         face=settings.face, intensity=settings.intensity, paused=settings.pause,
-                         **gesture_setup(settings, bundle))
+                         face=settings.face, intensity=settings.intensity, paused=settings.pause)
 
 
 class SessionFactory:
-    """Sessions of one model from :class:`Settings`. What the sessions share is made once: the bundle (loaded
-    from ``settings.model`` unless given, e.g. a batch worker's or the server's shared-denoiser bundle), the seed
-    motion and gesture lexicon of ``settings``, and the latency budget of each latency setting asked for."""
+    """Sessions of one model from :class:`Settings`, each with its generator and its gestures
+    (:class:`GestureDirector`). What the sessions share is made once: the bundle (loaded from ``settings.model``
+    unless given, e.g. a batch worker's or the server's shared-denoiser bundle), the seed motion and the gesture
+    repertoire of ``settings``, and the latency budget of each latency setting asked for."""
 
     def __init__(self, settings: Settings, bundle: ModelBundle | None = None) -> None:
         self.settings = settings
         self.bundle = load_bundle(settings.model) if bundle is None else bundle
         self.config = session_config(settings, self.bundle)
+        self.repertoire = load_repertoire(settings, self.bundle)
         self._budgets: dict[tuple, LatencyBudget] = {}
 
     def budget(self, settings: Settings | None = None) -> LatencyBudget:
@@ -171,10 +120,15 @@ class SessionFactory:
 
     def session(self, clock: Clock, settings: Settings | None = None) -> GestureSession:
         """A fresh session. ``settings`` (default the factory's) may change what one stream chooses (the style
-        settings, seed, latency, root); the seed motion and the gesture lexicon stay the factory's."""
+        settings, seed, latency, root, gesture size, pause); the seed motion and the gesture repertoire stay the
+        factory's."""
         settings = self.settings if settings is None else settings
-        config = replace(self.config, root_mode=RootMode(settings.root))
-        return GestureSession(self.bundle, self.generator(settings), self.budget(settings), clock, config)
+        config = replace(self.config, root_mode=RootMode(settings.root), intensity=settings.intensity,
+                         paused=settings.pause)
+        budget = self.budget(settings)
+        gestures = GestureDirector(self.repertoire, self.bundle.frames_per_latent / self.bundle.feature_config.fps,
+                                   budget.total_s)
+        return GestureSession(self.bundle, self.generator(settings), budget, clock, config, gestures=gestures)
 
 
 def build_session(settings: Settings, clock: Clock, bundle: ModelBundle | None = None) -> GestureSession:
@@ -198,7 +152,7 @@ def websocket_config(outputs: Outputs, settings: Settings, session: GestureSessi
     token = token_from_sources(outputs.token, outputs.token_file)
     return WebSocketConfig(host=outputs.host, port=outputs.ws, token=token, fps=float(settings.fps),
                            style=session.controls.describe(), style_choices=tuple(session.bundle.styles.labels),
-                           body_parts=tuple(session.bundle.part_channels), gestures=tuple(session.cues.clips),
+                           body_parts=tuple(session.bundle.part_channels), gestures=session.gestures.names,
                            allow_origins=outputs.allow_origins,
                            avatar=resolve_avatar(outputs.avatar), lipsync=bool(settings.lipsync_names),
                            viseme_names=settings.lipsync_names or WebSocketConfig.viseme_names,

@@ -26,7 +26,6 @@ from gesturecast.models.motion.canonical_bvh import CanonicalBvhWriter
 from gesturecast.models.motion.motion import MOTION_FPS
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
 from gesturecast.realtime.audio.sources import FastFileSource
-from gesturecast.realtime.gestures.words import Word, read_transcript
 from gesturecast.realtime.pose.session import GestureSession
 from gesturecast.realtime.run.engine import EngineReport, make_report, offline_batches
 from gesturecast.realtime.timing.scheduler import STAGE_SINK
@@ -114,14 +113,6 @@ def generate_to_files(session: GestureSession, audio: Path, motion_paths: list[P
 
 def cue_report(session: GestureSession) -> dict:
     """The session's gesture cues by outcome, and a line for each recent one not on time."""
-    return {**session.cues.summary(),
-            "notes": [o.describe() for o in session.cues.outcomes if o.status != "on time"]}
+    cues = session.gestures.cues
+    return {**cues.summary(), "notes": [o.describe() for o in cues.outcomes if o.status != "on time"]}
 
-
-def transcript_words(path: Path | None, settings: Settings) -> list[Word]:
-    """The words of a transcript file (none without one); refused when gestures are off (nothing to cue)."""
-    if path is None:
-        return []
-    if settings.gestures is None:
-        raise UserError(f"the transcript {path} cues gestures, and --gestures is off")
-    return read_transcript(path)

@@ -35,7 +35,7 @@ from collections.abc import Callable
 import numpy as np
 
 from gesturecast.bridges.output_settings import Outputs
-from gesturecast.controls import STREAM_TIME, Control, ControlError, Word, parse_controls
+from gesturecast.controls import STREAM_TIME, Word, parse_controls, parse_words
 from gesturecast.errors import UserError
 from gesturecast.frames import PoseFrame
 from gesturecast.models.audio.files import SAMPLE_RATE
@@ -175,7 +175,7 @@ class Stream:
         same check as a WebSocket control message, and refused in the same one-line words (UserError); so is a style
         or gesture the model does not know."""
         self._check_open()
-        self.session.controls.submit(_controls({**(control or {}), **changes}))
+        self.session.controls.submit(parse_controls({**(control or {}), **changes}))
 
     @one_at_a_time
     def words(self, words: list[dict]) -> int:
@@ -184,21 +184,26 @@ class Stream:
         word (a quicker approach when the word's window is already generated); words more than five minutes ahead of
         the stream are refused (one line). Checked as a ``words`` message is; returns the cues that play."""
         self._check_open()
-        (checked,) = _controls({"words": words})
-        self.session.check_cue_times([word.start for word in checked.words])
-        return played(self.session.cue_words(list(checked.words)))
+        (checked,) = parse_controls({"words": words})
+        self.session.gestures.check_live_words(checked.words)
+        return played(self.session.gestures.hear_words(checked.words))
 
     @one_at_a_time
     def spoken(self, text: str, start: float | None = None) -> int:
         """Words as a TTS service reports them while speaking (one word, or a sentence without word times):
         ``start`` is the first word's stream time (default :meth:`heard_time`), further words follow at
         :data:`SPOKEN_WORD_S` each; a speech act cues its gesture once the words after it that tell have arrived.
-        Returns the cues that play."""
+        Returns the cues that play; the words are checked as a words message's are."""
         self._check_open()
-        start = self.heard_time() if start is None else _stream_time(start)
-        words = [Word(token, start + i * SPOKEN_WORD_S, start + (i + 1) * SPOKEN_WORD_S)
-                 for i, token in enumerate(text.split())]
-        return sum(played(self.session.cue_spoken(word)) for word in words)
+        start = self.heard_time() if start is None else STREAM_TIME.check("start", start)
+        return sum(played(self.session.gestures.hear_spoken(word)) for word in spoken_words(text, start))
+
+    @one_at_a_time
+    def end_of_words(self) -> int:
+        """The words reported by :meth:`spoken` stopped (the speech ended): the phrases still waiting for the words
+        after them are decided. Returns the cues that play."""
+        self._check_open()
+        return played(self.session.gestures.end_of_words())
 
     def heard_time(self, ahead_s: float = 0.0) -> float:
         """Stream time of the audio heard ``ahead_s`` seconds from now (unpaced: the end of the pushed audio)."""
@@ -218,7 +223,7 @@ class Stream:
         follows it, and the silence's own poses come out too); pending speech-act words are decided. For the end of
         an utterance (a TTS reply, a push-to-talk release) when the stream goes on; returns the frames generated."""
         self._check_open()
-        self.session.end_of_words()
+        self.session.gestures.end_of_words()
         frames = self._generate(self._converter.flush())
         if self._timeline.samples == self._flushed_end:  # no audio since the last flush: nothing is owed
             return frames
@@ -306,18 +311,9 @@ class Stream:
             self.stop()
 
 
-
-def _controls(fields: dict) -> tuple[Control, ...]:
-    """The typed controls of ``fields``; UserError with the WebSocket's one-line reason when a field is refused."""
-    try:
-        return parse_controls(fields)
-    except ControlError as error:
-        raise UserError(str(error)) from None
-
-
-def _stream_time(seconds: object) -> float:
-    """A word's stream time given by the caller (finite seconds ≥ 0), else the one-line UserError."""
-    try:
-        return STREAM_TIME.check("start", seconds)
-    except ControlError as error:
-        raise UserError(str(error)) from None
+def spoken_words(text: str, start: float) -> tuple[Word, ...]:
+    """The words of ``text`` from stream time ``start`` on, :data:`SPOKEN_WORD_S` each, checked as a words message's
+    are (none for blank text)."""
+    items = [{"word": token, "start": start + i * SPOKEN_WORD_S, "end": start + (i + 1) * SPOKEN_WORD_S}
+             for i, token in enumerate(text.split())]
+    return parse_words(items, "spoken words") if items else ()

@@ -26,7 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from gesturecast.controls import STYLE_SETTINGS, Control, ControlError, StyleChange, acknowledged, parse_style_change
+from gesturecast.controls import STYLE_SETTINGS, ControlError, StyleChange, parse_style_change
 from gesturecast.models.audio.files import SAMPLE_RATE
 from gesturecast.realtime.audio.pcm import PCM16_FULL_SCALE
 from gesturecast.settings import LATENCY_SETTINGS
@@ -125,11 +125,6 @@ def hello(viewer_hello: str, stream_id: str, latency_budget_ms: float) -> str:
 def started(stream_id: str, style: str, audio_format: str, latency_budget_ms: float) -> str:
     return json.dumps({"type": "started", "stream": stream_id, "style": style, "audio_format": audio_format,
                        "latency_budget_ms": latency_budget_ms})
-
-
-def ack(controls: tuple[Control, ...], notes: dict | None = None) -> str:
-    """The answer to a control; ``notes`` add what the session tells of it (when a gesture's stroke shows)."""
-    return json.dumps({"type": "ack", "applied": acknowledged(controls), **(notes or {})})
 
 
 def stats_message(stats: dict) -> str:

@@ -27,19 +27,17 @@ from websockets.exceptions import ConnectionClosed
 from websockets.frames import CloseCode
 
 from gesturecast.bridges import ws_protocol
-from gesturecast.bridges.control import WORDS_MESSAGE, decode_client_message, message_controls
+from gesturecast.bridges.control import WORDS_MESSAGE, decode_client_message, submit_control
 from gesturecast.bridges.coords import coordinate_frame
 from gesturecast.bridges.transport import ErrorThrottle
 from gesturecast.bridges.ws_access import AccessPolicy, send_refusal
 from gesturecast.bridges.ws_listener import ThreadedListener, private_listener
 from gesturecast.controls import ControlError, control_schema
-from gesturecast.errors import UserError
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
 from gesturecast.realtime.serve.heap import HeapTrimmer
 from gesturecast.realtime.serve.protocol import (
     DEFAULT_AUDIO_FORMAT,
     MAX_AUDIO_MESSAGE_BYTES,
-    ack,
     decode_audio,
     hello,
     parse_start,
@@ -175,12 +173,7 @@ class StreamConnection:
 
     async def _control(self, message: dict) -> str:
         """Acknowledged only once the session has resolved its styles (off the event loop)."""
-        controls = message_controls(message)
-        try:
-            notes = await asyncio.to_thread(self.stream.session.controls.submit, controls)
-        except UserError as error:
-            raise ControlError(str(error)) from None
-        return ack(controls, notes)
+        return await submit_control(message, self.stream.session.controls.submit)
 
     async def _start(self, message: dict) -> str:
         if self.stream is not None:

@@ -37,7 +37,7 @@ class StreamSessions:
     @property
     def gesture_names(self) -> tuple[str, ...]:
         """The lexicon's gestures every stream may be asked for (gesture controls)."""
-        return tuple(clip.name for clip in self.factory.config.gesture_clips)
+        return self.factory.repertoire.names
 
     def settings(self, options: StreamOptions) -> Settings:
         """The server's defaults with what the ``start`` message chose (a latency setting replaces the server's

@@ -9,7 +9,7 @@ import numpy as np
 from gesturecast.bridges.bvh_recorder import BvhRecorder
 from gesturecast.frames import PoseFrame
 from gesturecast.models.motion.bvh import read_bvh
-from gesturecast.models.motion.motion import Motion
+from gesturecast.models.motion.motion import SkeletonMotion
 from gesturecast.models.motion.retarget import motion_to_bvh
 from gesturecast.models.motion.rotations import quat_from_axis_angle
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
@@ -28,7 +28,7 @@ def test_recording_matches_offline_export(tmp_path: Path) -> None:
     with BvhRecorder(tmp_path / "live.bvh") as recorder:
         for k in range(NUM_FRAMES):
             recorder.send(PoseFrame(k, k / 30, k / 30 + 0.2, root[k], rotations[k]))
-    motion_to_bvh(Motion(rotations, root, skeleton=CANONICAL_WITH_HANDS), tmp_path / "offline.bvh")
+    motion_to_bvh(SkeletonMotion(rotations, root, skeleton=CANONICAL_WITH_HANDS), tmp_path / "offline.bvh")
     live, offline = read_bvh(tmp_path / "live.bvh"), read_bvh(tmp_path / "offline.bvh")
     assert live.num_frames == NUM_FRAMES and live.fps == offline.fps
     np.testing.assert_array_equal(live.motion, offline.motion)

@@ -55,45 +55,45 @@ def assert_one_line_error(result: subprocess.CompletedProcess, command: str, mes
     assert len(lines) == 1 and lines[0].startswith(f"gesturecast {command}: error: ") and message in lines[0], lines
 
 
-def test_live_with_a_bad_input_leaves_the_bvh_untouched(tiny_model, tmp_path):
+def test_live_with_a_bad_input_leaves_the_bvh_untouched(tiny_model, tmp_path, cli_here):
     take = tmp_path / "take.bvh"
     take.write_text(OLD_TAKE)
-    result = run_cli("live", "--input", str(tmp_path / "typo.wav"), "--bvh", str(take), "--model", str(tiny_model[1]))
+    result = cli_here("live", "--input", str(tmp_path / "typo.wav"), "--bvh", str(take), "--model", str(tiny_model[1]))
     assert_one_line_error(result, "live", "no such audio file")
     assert take.read_text() == OLD_TAKE
 
 
-def test_live_refuses_a_bvh_that_is_the_input(tiny_model, speech, tmp_path):
+def test_live_refuses_a_bvh_that_is_the_input(tiny_model, speech, tmp_path, cli_here):
     link = tmp_path / "same.wav"
     link.symlink_to(speech)
     before = digest(speech)
-    result = run_cli("live", "--input", str(speech), "--bvh", str(link), "--model", str(tiny_model[1]))
+    result = cli_here("live", "--input", str(speech), "--bvh", str(link), "--model", str(tiny_model[1]))
     assert_one_line_error(result, "live", "is the same file as --input")
     assert digest(speech) == before
 
 
 @pytest.mark.parametrize("outputs", [["-o", "{audio}"], ["-o", "{dir}/a.bvh", "--json", "{dir}/./a.bvh"]])
-def test_generate_refuses_an_output_that_is_an_input_or_another_output(tiny_model, speech, tmp_path, outputs):
+def test_generate_refuses_an_output_that_is_an_input_or_another_output(tiny_model, speech, tmp_path, outputs, cli_here):
     before = digest(speech)
     flags = [flag.format(audio=speech, dir=tmp_path) for flag in outputs]
-    result = run_cli("generate", str(speech), *flags, "--model", str(tiny_model[1]))
+    result = cli_here("generate", str(speech), *flags, "--model", str(tiny_model[1]))
     assert_one_line_error(result, "generate", "is the same file as")
     assert digest(speech) == before and not (tmp_path / "a.bvh").exists()
 
 
-def test_generate_refuses_to_replace_a_fifo(tiny_model, speech, tmp_path):
+def test_generate_refuses_to_replace_a_fifo(tiny_model, speech, tmp_path, cli_here):
     fifo = tmp_path / "out.bvh"
     os.mkfifo(fifo)
-    result = run_cli("generate", str(speech), "-o", str(fifo), "--model", str(tiny_model[1]))
+    result = cli_here("generate", str(speech), "-o", str(fifo), "--model", str(tiny_model[1]))
     assert_one_line_error(result, "generate", "not a regular file")
     assert fifo.is_fifo() and sorted(tmp_path.iterdir()) == [fifo]
 
 
-def test_generate_writes_files_with_the_umask_mode(tiny_model, speech, tmp_path):
+def test_generate_writes_files_with_the_umask_mode(tiny_model, speech, tmp_path, cli_here):
     previous = os.umask(0o022)
     try:
-        result = run_cli("generate", str(speech), "-o", str(tmp_path / "a.bvh"), "--json", str(tmp_path / "a.json"),
-                         "--model", str(tiny_model[1]))
+        result = cli_here("generate", str(speech), "-o", str(tmp_path / "a.bvh"), "--json", str(tmp_path / "a.json"),
+                          "--model", str(tiny_model[1]))
     finally:
         os.umask(previous)
     assert result.returncode == 0, result.stderr[-2000:]
@@ -129,11 +129,11 @@ def test_live_bvh_on_a_full_disk_fails_the_run_after_the_summary(tiny_model, spe
     assert take.read_text() == OLD_TAKE and sorted(tmp_path.iterdir()) == [take]
 
 
-def test_live_bvh_replaces_the_old_take_when_done(tiny_model, speech, tmp_path):
+def test_live_bvh_replaces_the_old_take_when_done(tiny_model, speech, tmp_path, cli_here):
     take = tmp_path / "take.bvh"
     take.write_text(OLD_TAKE)
-    result = run_cli("live", "--input", str(speech), "--pace", "fast", "--bvh", str(take),
-                     "--model", str(tiny_model[1]))
+    result = cli_here("live", "--input", str(speech), "--pace", "fast", "--bvh", str(take),
+                      "--model", str(tiny_model[1]))
     assert result.returncode == 0, result.stderr[-2000:]
     assert read_bvh(take).num_frames > 0 and sorted(tmp_path.iterdir()) == [take]
 
@@ -143,14 +143,15 @@ SHORT_INPUT_SAMPLES = 160  # 10 ms: less than one motion frame (533 samples)
 
 @pytest.mark.parametrize(("name", "message"), [("nan.wav", "NaN/inf samples"),
                                                ("short.wav", "shorter than one motion frame")])
-def test_live_input_that_gives_no_frame_is_an_error_and_keeps_the_old_take(tiny_model, tmp_path, name, message):
+def test_live_input_that_gives_no_frame_is_an_error_and_keeps_the_old_take(tiny_model, tmp_path, name, message,
+                                                                          cli_here):
     audio = np.full(SAMPLE_RATE if name == "nan.wav" else SHORT_INPUT_SAMPLES, 0.1, np.float32)  # (n,)
     if name == "nan.wav":
         audio[100] = np.nan  # in the first motion frame: the run fails before any frame
     soundfile.write(tmp_path / name, audio, SAMPLE_RATE, subtype="FLOAT")
     take = tmp_path / "take.bvh"
     take.write_text(OLD_TAKE)
-    result = run_cli("live", "--input", str(tmp_path / name), "--pace", "fast", "--bvh", str(take),
-                     "--model", str(tiny_model[1]))
+    result = cli_here("live", "--input", str(tmp_path / name), "--pace", "fast", "--bvh", str(take),
+                      "--model", str(tiny_model[1]))
     assert_one_line_error(result, "live", message)
     assert take.read_text() == OLD_TAKE and sorted(tmp_path.iterdir()) == sorted([take, tmp_path / name])

@@ -16,10 +16,10 @@ import time
 
 import numpy as np
 
+from gesturecast.controls import Word
 from gesturecast.models.audio.files import PACKAGED_SAMPLE, SAMPLE_RATE, load_audio
 from gesturecast.realtime.audio.sources import AudioChunk
 from gesturecast.realtime.cli_flags import add_generation_arguments, settings_from_args
-from gesturecast.realtime.gestures.words import Word
 from gesturecast.realtime.run.engine_setup import build_session
 from gesturecast.realtime.timing.clock import MonotonicClock
 
@@ -59,7 +59,7 @@ def measure(settings, audio: np.ndarray, count: int) -> dict:
     session.push(AudioChunk(audio[:lead], 0, 0.0))
     words = far_words(count, lead / SAMPLE_RATE + AHEAD_S)
     started = time.perf_counter()
-    placed = len(session.cue_words(words))
+    placed = len(session.gestures.hear_words(tuple(words)))
     place_s = time.perf_counter() - started
     push_ms = []
     for offset in range(lead, lead + int(TIMED_S * SAMPLE_RATE), per_latent):
@@ -69,7 +69,7 @@ def measure(settings, audio: np.ndarray, count: int) -> dict:
     plan_us = []
     for latent in range(session.next_latent, session.next_latent + PLAN_LATENTS):
         started = time.perf_counter()
-        session.cues.imposition(latent)
+        session.gestures.cues.imposition(latent)
         plan_us.append((time.perf_counter() - started) * 1e6)
     return {"words": count, "placed": placed, "place_us_per_word": place_s / count * 1e6,
             "push_ms_per_latent": percentiles(push_ms), "plan_us_per_latent": percentiles(plan_us)}

@@ -130,8 +130,9 @@ def generate(settings: Settings, story: Story, cued: bool) -> Run:
     log = logging.getLogger("gesturecast.realtime.gestures.cues")
     log.addHandler(lines)
     try:
-        outcomes = session.cue_words(story.words) if cued else []
-        decided = len(session.phrases.cues(story.words)) if cued and session.phrases else len(outcomes)
+        outcomes = session.gestures.hear_words(tuple(story.words)) if cued else []
+        phrases = session.gestures.phrases
+        decided = len(phrases.cues(story.words)) if cued and phrases else len(outcomes)
         frames, report = run_offline(session, ArraySource(story.audio, SAMPLE_RATE))
     finally:
         log.removeHandler(lines)
@@ -351,12 +352,12 @@ def summary(stories: list[dict], narrations: list[dict], floor: float) -> dict:
 def run(args: argparse.Namespace) -> int:
     settings = settings_from_args(args)
     probe = build_session(settings, MonotonicClock())
-    expected = {intent: probe.phrases.gesture_of(intent) for intent in ("greeting", "thanks", "farewell",
+    expected = {intent: probe.gestures.phrases.gesture_of(intent) for intent in ("greeting", "thanks", "farewell",
                                                                          "celebration", "presenting", "calling")}
     parts = {entry.name: entry.parts for entry in load_lexicon(settings.gestures)}
     cued_texts, narration_texts = STORY_SETS[args.stories]
     if args.decisions_only:
-        return run_decisions(args, probe.phrases, cued_texts, narration_texts)
+        return run_decisions(args, probe.gestures.phrases, cued_texts, narration_texts)
     stories = [story_result(settings, make_story(name, sentences), expected, parts)
                for name, sentences in cued_texts.items()]
     narrations = [narration_result(settings, make_story(name, texts)) for name, texts in narration_texts]

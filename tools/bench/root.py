@@ -15,8 +15,9 @@ from pathlib import Path
 
 import numpy as np
 
+from gesturecast.controls import ROOT_MODES
 from gesturecast.models.motion.motion_features import facing_yaw
-from gesturecast.models.motion.root_anchor import ROOT_MODES, RootTravel
+from gesturecast.models.motion.root_anchor import RootTravel
 from gesturecast.realtime.audio.sources import FastFileSource
 from gesturecast.realtime.cli_flags import add_generation_arguments, settings_from_args
 from gesturecast.realtime.run.engine import run_offline

@@ -68,7 +68,7 @@ from pathlib import Path
 
 import numpy as np
 
-from gesturecast.models.motion.motion import MOTION_FPS, Motion
+from gesturecast.models.motion.motion import MOTION_FPS, SkeletonMotion
 from gesturecast.models.motion.motion_features import FEATURE_DIM
 from gesturecast.models.motion.skeleton import CANONICAL
 from gesturecast.realtime.gestures.lexicon import (
@@ -309,7 +309,7 @@ def stroke_pose(body: np.ndarray, start: int, stop: int, stroke: int, fps: float
     return body[frames][:, [CANONICAL.index(name) for name in SPLICE_JOINTS]]
 
 
-def find_gesture(motion: Motion, spec: GestureSpec, max_seconds: float | None = MAX_SECONDS) -> GestureCut:
+def find_gesture(motion: SkeletonMotion, spec: GestureSpec, max_seconds: float | None = MAX_SECONDS) -> GestureCut:
     """Trim a take to its gesture, mark the stroke and, for a clip longer than ``max_seconds`` (None: never), find
     the part of its hold to cut out; keep its pose around the stroke (rules: module docstring)."""
     body = body_frame_positions(motion)
@@ -401,7 +401,7 @@ def spread_takes(cuts: Sequence[tuple[CandidateTake, GestureCut]], count: int = 
     return [ordered[i] for i in kept]
 
 
-def trimmed_variant(motion: Motion, cut: GestureCut, style: str, source: str, take: int = 0) -> GestureVariant:
+def trimmed_variant(motion: SkeletonMotion, cut: GestureCut, style: str, source: str, take: int = 0) -> GestureVariant:
     """The cut clip as take ``take`` of ``style``: faced forward from its own first frame, the removed part of a long
     hold spliced out, motion features in float16."""
     from gesturecast.models.motion.motion_features import face_forward, motion_to_features
@@ -413,7 +413,7 @@ def trimmed_variant(motion: Motion, cut: GestureCut, style: str, source: str, ta
                           cut.hand, cut.removed, take)
 
 
-def build_lexicon(candidates: Sequence[CandidateTake], read: Callable[[Path], Motion],
+def build_lexicon(candidates: Sequence[CandidateTake], read: Callable[[Path], SkeletonMotion],
                   progress: Callable[[Iterable], Iterable] | None = None,
                   max_variants: int = MAX_VARIANTS, max_takes: int = MAX_TAKES) -> Lexicon:
     """Read every candidate take, cut it, and keep per gesture the first ``max_variants`` styles of

@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from gesturecast.files import save_figure
-from gesturecast.models.motion.motion import Motion
+from gesturecast.models.motion.motion import SkeletonMotion
 from gesturecast.models.motion.motion_features import facing_yaw, rotate_planar
 from gesturecast.models.motion.skeleton import CANONICAL
 
@@ -43,7 +43,7 @@ class WristTrack:
         return np.ptp(self.wrists[..., 1], axis=0) * CM_PER_M
 
 
-def body_frame_wrists(motion: Motion) -> np.ndarray:
+def body_frame_wrists(motion: SkeletonMotion) -> np.ndarray:
     """(T, 2, 3) left and right wrist positions relative to the hips' ground point, turned to face +Z."""
     positions = motion.positions()  # (T, J, 3)
     wrists = positions[:, [CANONICAL.index(name) for name in WRISTS]]  # (T, 2, 3)

@@ -12,7 +12,7 @@ from pathlib import Path
 from gesturecast.errors import UserError
 from gesturecast.models.dataset.cache import read_take
 from gesturecast.models.dataset.sources import bandai_takes, unpack_archive
-from gesturecast.models.motion.motion import Motion
+from gesturecast.models.motion.motion import SkeletonMotion
 
 NEUTRAL = "neutral"
 
@@ -24,7 +24,7 @@ class Take:
     name: str
     content: str
     style: str
-    motion: Motion
+    motion: SkeletonMotion
 
 
 def content_of(name: str) -> str:

@@ -15,7 +15,7 @@ from gesturecast.models.dataset.augment import (
     speed_perturb_pair,
 )
 from gesturecast.models.dataset.sources import bandai_takes, beat_takes, show_takes, smplx_takes, zeggs_takes
-from gesturecast.models.motion.motion import Motion
+from gesturecast.models.motion.motion import SkeletonMotion
 from gesturecast.models.motion.rotations import quat_identity
 from gesturecast.models.motion.skeleton import NUM_JOINTS
 
@@ -75,8 +75,8 @@ def test_beat_pairs_bvh_with_wav(tmp_path):
     assert take.name == "1_wayne_0_1_1" and take.style == "neutral"
 
 
-def clip(num_frames: int) -> Motion:
-    return Motion(quat_identity((num_frames, NUM_JOINTS)), np.zeros((num_frames, 3)))
+def clip(num_frames: int) -> SkeletonMotion:
+    return SkeletonMotion(quat_identity((num_frames, NUM_JOINTS)), np.zeros((num_frames, 3)))
 
 
 def test_fit_and_slice_audio_follow_frame_boundaries():

@@ -12,7 +12,7 @@ from gesturecast.errors import UserError
 from gesturecast.models.audio.streaming import FeatureConfig
 from gesturecast.models.dataset import respeak as rs
 from gesturecast.models.dataset import transcripts
-from gesturecast.models.dataset.transcripts import Word
+from gesturecast.models.dataset.transcripts import RecognisedWord
 from gesturecast.models.training.arrays import load_training_clips
 from gesturecast.models.training.presets import get_preset
 from gesturecast.tools.bench.speech.voice_set import VOICES
@@ -35,7 +35,8 @@ def test_a_respoken_copy_speaks_each_word_in_its_span_at_its_level():
     audio = np.zeros(2 * SR, np.float32)
     audio[int(0.2 * SR):int(0.6 * SR)] = 0.2 * np.sin(np.arange(int(0.4 * SR)) * 0.2)
     audio[int(1.0 * SR):int(1.5 * SR)] = 0.05 * np.sin(np.arange(int(0.5 * SR)) * 0.3)
-    words = [Word("museum", 0.2, 0.6), Word("quiet", 1.0, 1.5), Word("nothing", 1.6, 1.9)]  # the last is silent
+    words = [RecognisedWord("museum", 0.2, 0.6), RecognisedWord("quiet", 1.0, 1.5),
+             RecognisedWord("nothing", 1.6, 1.9)]  # the last is silent
     copy = rs.respeak(audio, words, VOICE)
     assert copy.shape == audio.shape
     assert not np.any(copy[:int(0.2 * SR)]) and not np.any(copy[int(0.6 * SR):int(1.0 * SR)])
@@ -91,10 +92,11 @@ def test_respoken_copies_repeat_the_paired_motion_with_a_tts_voice(tiny_model, t
 def test_a_cached_transcript_is_read_not_decoded_again(tmp_path, monkeypatch):
     record = {"file": "takes/zeggs/take.npz"}
     (tmp_path / "takes" / "zeggs").mkdir(parents=True)
-    monkeypatch.setattr(transcripts, "transcribe", lambda audio: [Word("hello", 0.1, 0.4)])
+    monkeypatch.setattr(transcripts, "transcribe", lambda audio: [RecognisedWord("hello", 0.1, 0.4)])
     first = transcripts.cached_words(tmp_path, record, np.zeros(SR, np.float32))
     monkeypatch.setattr(transcripts, "transcribe", lambda audio: pytest.fail("decoded again"))
-    assert transcripts.cached_words(tmp_path, record, np.zeros(SR, np.float32)) == first == [Word("hello", 0.1, 0.4)]
+    again = transcripts.cached_words(tmp_path, record, np.zeros(SR, np.float32))
+    assert again == first == [RecognisedWord("hello", 0.1, 0.4)]
 
 
 def test_more_respoken_copies_than_voices_is_a_user_error():

@@ -9,7 +9,7 @@ from gesturecast.models.evaluation.beat_consistency import (
     beat_consistency,
     speech_onsets,
 )
-from gesturecast.models.motion.motion import Motion
+from gesturecast.models.motion.motion import SkeletonMotion
 from gesturecast.models.motion.rotations import quat_identity
 from gesturecast.models.motion.skeleton import CANONICAL
 
@@ -22,7 +22,7 @@ def pulsing_motion(num_frames: int = int(DURATION_S * FPS)) -> np.ndarray:
     t = np.arange(num_frames) / FPS
     x = t + 0.5 * np.sin(2 * np.pi * t) / (2 * np.pi)  # dx/dt = 1 + 0.5 cos(2πt)
     root = np.stack([x, np.full_like(t, CANONICAL.offsets[0, 1]), np.zeros_like(t)], axis=1)
-    return Motion(quat_identity((num_frames, CANONICAL.num_joints)), root).positions()
+    return SkeletonMotion(quat_identity((num_frames, CANONICAL.num_joints)), root).positions()
 
 
 BEAT_TIMES = np.arange(0.5, DURATION_S, 1.0)  # the speed minima of pulsing_motion

@@ -1,7 +1,7 @@
 import numpy as np
 import pytest
 
-from gesturecast.models.motion.motion import Motion
+from gesturecast.models.motion.motion import SkeletonMotion
 from gesturecast.models.motion.motion_features import (
     FEATURE_DIM,
     RootIntegrator,
@@ -17,7 +17,7 @@ from gesturecast.models.motion.rotations import quat_from_axis_angle, quat_from_
 from gesturecast.models.motion.skeleton import NUM_JOINTS
 
 
-def walking_motion(num_frames: int = 240, seed: int = 0) -> Motion:
+def walking_motion(num_frames: int = 240, seed: int = 0) -> SkeletonMotion:
     """A turning, walking clip with smooth random joint rotations (several full turns of yaw)."""
     rng = np.random.default_rng(seed)
     t = np.arange(num_frames) / 30.0
@@ -27,7 +27,7 @@ def walking_motion(num_frames: int = 240, seed: int = 0) -> Motion:
     yaw = 1.5 + 2.5 * t  # turns past +-pi several times
     rotations[:, 0] = quat_mul(quat_from_yaw(yaw), rotations[:, 0])
     root = np.stack([np.cumsum(0.02 * np.sin(yaw)) + 3.0, 0.9 + 0.05 * np.sin(5 * t), np.cumsum(0.02 * np.cos(yaw))], 1)
-    return Motion(rotations, root)
+    return SkeletonMotion(rotations, root)
 
 
 def same_rotations(a: np.ndarray, b: np.ndarray, atol: float) -> bool:

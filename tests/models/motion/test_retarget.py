@@ -11,7 +11,7 @@ import pytest
 from gesturecast.errors import UserError
 from gesturecast.models.motion.bvh import BvhData, read_bvh, write_bvh
 from gesturecast.models.motion.joint_maps import SMPLX_PARENTS, load_joint_map
-from gesturecast.models.motion.motion import Motion
+from gesturecast.models.motion.motion import SkeletonMotion
 from gesturecast.models.motion.resample import resample_motion
 from gesturecast.models.motion.retarget import load_motion_file, motion_to_bvh, retarget_bvh, source_forward_kinematics
 from gesturecast.models.motion.rotations import quat_from_axis_angle, quat_rotate, quat_to_axis_angle
@@ -258,11 +258,11 @@ def test_resample_slerps_and_keeps_span() -> None:
     angles = np.linspace(0, 1.0, 61)[:, None, None] * np.array([0.0, 1.0, 0.0])  # (61, 1, 3) 1 rad over 1 s
     rotations = np.repeat(quat_from_axis_angle(angles), CANONICAL.num_joints, axis=1)
     root = np.linspace(0, 2.0, 61)[:, None] * np.array([1.0, 0.0, 0.0])
-    out = resample_motion(Motion(rotations, root, fps=60.0), 30.0)
+    out = resample_motion(SkeletonMotion(rotations, root, fps=60.0), 30.0)
     assert out.num_frames == 31 and out.fps == 30.0
     np.testing.assert_allclose(quat_to_axis_angle(out.rotations[:, 0])[:, 1], np.linspace(0, 1.0, 31), atol=1e-9)
     np.testing.assert_allclose(out.root_position[:, 0], np.linspace(0, 2.0, 31), atol=1e-12)
-    slow = resample_motion(Motion(rotations[:25], root[:25], fps=24.0), 30.0)
+    slow = resample_motion(SkeletonMotion(rotations[:25], root[:25], fps=24.0), 30.0)
     assert slow.num_frames == 31  # 1 s at 24 fps -> 1 s at 30 fps
     np.testing.assert_allclose(quat_to_axis_angle(slow.rotations[:, 0])[:, 1], np.linspace(0, 24 / 60, 31), atol=1e-9)
 
@@ -271,7 +271,7 @@ def test_motion_to_bvh_round_trip(tmp_path: Path) -> None:
     rotations = quat_from_axis_angle(rng.normal(0, 0.5, size=(10, CANONICAL.num_joints, 3)))
     root = rng.normal(0, 1, size=(10, 3))
     path = tmp_path / "canonical.bvh"
-    motion_to_bvh(Motion(rotations, root), path)
+    motion_to_bvh(SkeletonMotion(rotations, root), path)
     data = read_bvh(path)
     assert data.names == list(CANONICAL.names)
     np.testing.assert_allclose(data.offsets, CANONICAL.offsets * 100)  # centimetres
@@ -299,7 +299,7 @@ def test_bandai_tpose_is_the_same_for_every_take(bandai: Path) -> None:
 
 def test_a_motion_prompt_with_huge_finite_rotations_loads_finite(tmp_path):
     """Every 7th channel at 1e308 (a valid BVH) gave NaN rotations, so NaN poses from ``--motion-prompt``."""
-    motion = Motion(quat_from_axis_angle(np.full((4, CANONICAL.num_joints, 3), 0.3)), np.zeros((4, 3)) + 1.0)
+    motion = SkeletonMotion(quat_from_axis_angle(np.full((4, CANONICAL.num_joints, 3), 0.3)), np.zeros((4, 3)) + 1.0)
     motion_to_bvh(motion, tmp_path / "plain.bvh")
     data = read_bvh(tmp_path / "plain.bvh")
     data.motion[:, 3::7] = 1e308  # rotation channels only: positions stay within their bound

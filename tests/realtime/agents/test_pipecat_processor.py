@@ -196,7 +196,7 @@ def test_word_frames_that_come_with_their_audio_get_their_strokes_on_the_words_w
         processor = GesturecastProcessor(stream=Stream(Settings(), paced=False), hold_s=hold_s)
         recorder = Recorder()
         asyncio.run(asyncio.wait_for(run_pipeline([processor, recorder], frames), PIPELINE_BOUND_S))
-        outcomes = list(processor.session.cues.outcomes)
+        outcomes = list(processor.session.gestures.cues.outcomes)
         assert [o.cue.gesture for o in outcomes] == ["wave", "bow"]
         delays[hold_s] = [None if o.stroke_time is None else o.stroke_time - o.cue.time for o in outcomes]
         assert [id(f) for f in recorder.frames if isinstance(f, OutputAudioRawFrame)] == [id(f) for f in audio]

@@ -1,6 +1,6 @@
 import argparse
 
-from gesturecast.realtime.audio import cli as audio_cli
+from gesturecast.realtime.audio import source_flags as audio_cli
 from gesturecast.realtime.audio.sources import FastFileSource, PacedFileSource
 
 

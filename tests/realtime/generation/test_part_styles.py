@@ -16,6 +16,8 @@ from gesturecast.realtime.generation.style_mixture import (
     part_mixture,
     row_layout,
 )
+from gesturecast.realtime.gestures.director import GestureDirector
+from gesturecast.realtime.gestures.repertoire import GestureRepertoire
 from gesturecast.realtime.pose.session_controls import MAX_MIXTURE_ROWS, SessionControls
 
 STEPS = 4
@@ -34,6 +36,12 @@ def bundle(tiny_model):
 def audio(bundle):
     rng = np.random.default_rng(11)
     return rng.standard_normal((STEPS, bundle.audio_window, bundle.denoiser_config.audio_dim)).astype(np.float32)
+
+
+def no_gestures(generator: Generator) -> GestureDirector:
+    """The gestures of a stream without a lexicon (these controls change only the style)."""
+    config = generator.audio_config
+    return GestureDirector(GestureRepertoire(), config.frames_per_latent / generator.bundle.feature_config.fps, 0.0)
 
 
 def latents(generator: Generator, audio: np.ndarray) -> np.ndarray:
@@ -124,7 +132,7 @@ def test_each_part_moves_as_its_prompt_moves_a_whole_body_latent_after_latent(bu
 
 def test_a_live_part_style_change_blends_in_and_then_drops_the_old_prompt(bundle, audio):
     generator = make(bundle, style=NEUTRAL)
-    controls = SessionControls(generator, root=None, fade_s=0.5)
+    controls = SessionControls(generator, None, no_gestures(generator), fade_s=0.5)
     controls.submit(parse_controls({"part_styles": {"arms": "happy"}}))
     weights_over_time = []
     for step, t in enumerate(np.linspace(0.0, 0.75, 7)):
@@ -148,7 +156,7 @@ def test_an_unknown_style_inside_part_styles_is_refused_when_submitted(bundle):
     """The styles inside part_styles are resolved before the control is accepted, so a misspelt label is the
     submitter's one-line error instead of a failure of the stream when the control is applied."""
     generator = make(bundle, style=NEUTRAL)
-    controls = SessionControls(generator, root=None, fade_s=0.5)
+    controls = SessionControls(generator, None, no_gestures(generator), fade_s=0.5)
     with pytest.raises(UserError, match="hapy"):
         controls.submit(parse_controls({"part_styles": {"arms": "hapy"}}))
     controls.advance(0.0)  # nothing was queued: the stream goes on with its mixture
@@ -159,7 +167,7 @@ def test_part_style_controls_faster_than_the_fade_keep_the_rows_bounded(bundle, 
     """New text prompts every tenth of the fade: the rows stay within MAX_MIXTURE_ROWS, W stays a partition of every
     channel, and once the fade is over only the prompts in use are left."""
     generator = make(bundle, style=NEUTRAL)
-    controls = SessionControls(generator, root=None, fade_s=1.0)
+    controls = SessionControls(generator, None, no_gestures(generator), fade_s=1.0)
     rows = []
     for step in range(30):
         parts = {"arms": f"text:waving number {step}", "legs": f"text:stepping {step}"}

@@ -2,8 +2,6 @@
 committed latents hold the clip's channels where the weight is 1), the other parts stay generated, frames name
 the gesture, and streaming = offline holds with cues."""
 
-import dataclasses
-
 import numpy as np
 import pytest
 
@@ -11,7 +9,8 @@ from gesturecast.controls import parse_controls
 from gesturecast.models.audio.files import PACKAGED_SAMPLE, SAMPLE_RATE, load_audio
 from gesturecast.realtime.audio.sources import AudioChunk
 from gesturecast.realtime.gestures.cues import RAMP_LATENTS, Cue, GestureClip
-from gesturecast.realtime.run.engine_setup import build_session
+from gesturecast.realtime.gestures.repertoire import GestureRepertoire
+from gesturecast.realtime.run.engine_setup import SessionFactory, build_session
 from gesturecast.realtime.timing.clock import MonotonicClock
 from gesturecast.settings import Settings
 
@@ -24,10 +23,9 @@ def speech() -> np.ndarray:
 
 
 def session_with(clip: GestureClip):
-    session = build_session(Settings(), MonotonicClock())
-    session.config = dataclasses.replace(session.config, gesture_clips=(clip,))
-    session.reset()
-    return session
+    factory = SessionFactory(Settings(gestures=None))
+    factory.repertoire = GestureRepertoire((clip,))
+    return factory.session(MonotonicClock())
 
 
 def run(session, speech: np.ndarray, block: int) -> list:
@@ -39,7 +37,7 @@ def run(session, speech: np.ndarray, block: int) -> list:
 
 @pytest.fixture(scope="module")
 def clip() -> GestureClip:
-    session = build_session(Settings(), MonotonicClock())
+    session = build_session(Settings(gestures=None), MonotonicClock())
     channels = np.zeros(session.generator.latent_dim, bool)
     channels[session.bundle.part_channels["arms"]] = True
     latents = np.random.default_rng(1).normal(0.0, 1.5, (12, session.generator.latent_dim)).astype(np.float32)
@@ -49,8 +47,8 @@ def clip() -> GestureClip:
 
 def test_the_clip_channels_are_committed_and_the_other_parts_stay_generated(clip, speech):
     session = session_with(clip)
-    assert session.cue(Cue("raise", 2.0, "hooray")).status == "on time"
-    (placement,) = session.cues.placements
+    assert session.gestures.cue(Cue("raise", 2.0, "hooray")).status == "on time"
+    (placement,) = session.gestures.cues.placements
     run(session, speech, 512)
     history = [h.latent for h in session.generator.history]  # the last window of committed latents
     first = placement.first - (session.next_latent - len(history))
@@ -65,7 +63,7 @@ def test_frames_name_the_gesture_and_streaming_equals_offline_with_cues(clip, sp
     runs = []
     for block in (SAMPLE_RATE, 333):
         session = session_with(clip)
-        session.cue(Cue("raise", 2.0, "hooray"))
+        session.gestures.cue(Cue("raise", 2.0, "hooray"))
         runs.append(run(session, speech, block))
     assert np.array_equal(np.stack([f.rotations for f in runs[0]]), np.stack([f.rotations for f in runs[1]]))
     named = [f.seq for f in runs[0] if f.gesture == "raise"]

@@ -21,8 +21,8 @@ from gesturecast.realtime.gestures.clips import (
     symmetric,
 )
 from gesturecast.realtime.gestures.lexicon import load_lexicon
+from gesturecast.realtime.gestures.repertoire import performed_motions
 from gesturecast.realtime.gestures.strokes import body_frame_positions, release_frame
-from gesturecast.realtime.run.engine_setup import performed_motions
 
 D = 136
 

@@ -4,6 +4,7 @@ the phrasings users write, and words heard one at a time deciding the same as a 
 import numpy as np
 import pytest
 
+from gesturecast.controls import Word
 from gesturecast.realtime.gestures.phrases import PhraseCues, PhraseListener, PhraseStream
 from gesturecast.realtime.gestures.speech_acts import (
     ADDRESS_SENTENCES,
@@ -15,7 +16,6 @@ from gesturecast.realtime.gestures.speech_acts import (
     rule,
     tokenize,
 )
-from gesturecast.realtime.gestures.words import Word
 
 GESTURES = ("wave", "wave-right", "hand-up", "bow", "raise-both", "guide", "call")
 

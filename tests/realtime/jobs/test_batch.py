@@ -53,7 +53,7 @@ def read_summary(folder: Path) -> dict:
     return json.loads((folder / SUMMARY_NAME).read_text())
 
 
-def test_a_folder_batch_writes_what_generate_writes_lists_bad_files_and_resumes(tiny_model, clips, tmp_path):
+def test_a_folder_batch_writes_what_generate_writes_lists_bad_files_and_resumes(tiny_model, clips, tmp_path, cli_here):
     out = tmp_path / "out"
     model = ["--model", str(tiny_model[1])]
     result = run_cli("generate", "--batch", str(clips), "-o", str(out), "--with-json", "--with-vrma", "--workers", "2",
@@ -69,8 +69,8 @@ def test_a_folder_batch_writes_what_generate_writes_lists_bad_files_and_resumes(
 
     single = tmp_path / "single"
     for audio, name in ((clips / "a.wav", "a"), (clips / "sub" / "b.wav", "sub/b")):
-        assert run_cli("generate", str(audio), "-o", f"{single}/{name}.bvh", "--json", f"{single}/{name}.json",
-                       "--vrma", f"{single}/{name}.vrma", *model).returncode == 0
+        assert cli_here("generate", str(audio), "-o", f"{single}/{name}.bvh", "--json", f"{single}/{name}.json",
+                        "--vrma", f"{single}/{name}.vrma", *model).returncode == 0
         for suffix in (".bvh", ".json", ".vrma"):
             assert (out / f"{name}{suffix}").read_bytes() == (single / f"{name}{suffix}").read_bytes()
 
@@ -81,7 +81,7 @@ def test_a_folder_batch_writes_what_generate_writes_lists_bad_files_and_resumes(
     assert {p: p.stat().st_mtime_ns for p in out.rglob("*.bvh")} == finished
 
 
-def test_csv_rows_set_each_file_s_style_and_seed(tiny_model, clips, tmp_path):
+def test_csv_rows_set_each_file_s_style_and_seed(tiny_model, clips, tmp_path, cli_here):
     table = tmp_path / "lines.csv"
     (tmp_path / "x.wav").symlink_to(clips / "a.wav")
     (tmp_path / "y.wav").symlink_to(clips / "a.wav")
@@ -94,16 +94,16 @@ def test_csv_rows_set_each_file_s_style_and_seed(tiny_model, clips, tmp_path):
     assert read_summary(out)["generated"] == 3
     styled = tmp_path / "styled.bvh"
     plain = tmp_path / "plain.bvh"
-    assert run_cli("generate", str(clips / "a.wav"), "-o", str(styled), "--style", "old", "--seed", "3",
-                   "--part-style", "arms=happy", "legs=neutral", *model).returncode == 0
-    assert run_cli("generate", str(clips / "a.wav"), "-o", str(plain), "--style", "neutral", *model).returncode == 0
+    assert cli_here("generate", str(clips / "a.wav"), "-o", str(styled), "--style", "old", "--seed", "3",
+                    "--part-style", "arms=happy", "legs=neutral", *model).returncode == 0
+    assert cli_here("generate", str(clips / "a.wav"), "-o", str(plain), "--style", "neutral", *model).returncode == 0
     assert (out / "a.bvh").read_bytes() == styled.read_bytes()  # outside the CSV's folder: named by the file
     assert (out / "x.bvh").read_bytes() == plain.read_bytes()  # empty cells: the command's flags
     assert (out / "y.bvh").read_bytes() == plain.read_bytes()  # x's session, reset, writes what a new one writes
     assert styled.read_bytes() != plain.read_bytes()
 
 
-def test_a_csv_transcript_column_cues_gestures_as_generate_transcript_does(tiny_model, clips, tmp_path):
+def test_a_csv_transcript_column_cues_gestures_as_generate_transcript_does(tiny_model, clips, tmp_path, cli_here):
     words = tmp_path / "a.words.json"
     words.write_text(json.dumps([{"word": "Hello", "start": 0.5, "end": 0.8}]))
     (tmp_path / "b.wav").symlink_to(clips / "a.wav")
@@ -117,8 +117,8 @@ def test_a_csv_transcript_column_cues_gestures_as_generate_transcript_does(tiny_
     assert Path(failure["path"]).name == "b.wav" and "cannot read the transcript" in failure["error"]
     assert "missing.json" in failure["error"]
     single = tmp_path / "single"
-    assert run_cli("generate", str(clips / "a.wav"), "-o", f"{single}.bvh", "--json", f"{single}.json",
-                   "--transcript", str(words), *model).returncode == 0
+    assert cli_here("generate", str(clips / "a.wav"), "-o", f"{single}.bvh", "--json", f"{single}.json",
+                    "--transcript", str(words), *model).returncode == 0
     assert (tmp_path / "out" / "a.json").read_bytes() == Path(f"{single}.json").read_bytes()
     assert '"gesture": "wave"' in Path(f"{single}.json").read_text()
 
@@ -132,11 +132,11 @@ def test_a_csv_transcript_column_cues_gestures_as_generate_transcript_does(tiny_
     ("path\na.wav\n", ["--vrma", "x.vrma"], "use --with-vrma"),
     ("path\na.wav\n", ["a.wav"], "not both"),
 ])
-def test_bad_batch_input_is_one_line_before_any_work(tiny_model, tmp_path, table, extra, message):
+def test_bad_batch_input_is_one_line_before_any_work(tiny_model, tmp_path, table, extra, message, cli_here):
     (tmp_path / "sub").mkdir()
     (tmp_path / "lines.csv").write_text(table)
-    result = run_cli("generate", "--batch", str(tmp_path / "lines.csv"), "-o", str(tmp_path / "out"), *extra,
-                     "--model", str(tiny_model[1]))
+    result = cli_here("generate", "--batch", str(tmp_path / "lines.csv"), "-o", str(tmp_path / "out"), *extra,
+                      "--model", str(tiny_model[1]))
     lines = [line for line in result.stderr.splitlines() if not line.startswith(("INFO", "WARNING"))]
     assert result.returncode == 2 and len(lines) == 1, result.stderr[-2000:]
     assert lines[0].startswith("gesturecast generate: error: ") and message in lines[0], lines

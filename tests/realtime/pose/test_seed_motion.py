@@ -26,8 +26,8 @@ from gesturecast.realtime.generation.generator import Generator, GeneratorSettin
 from gesturecast.realtime.pose.seed_motion import load_seed_motion
 from gesturecast.realtime.pose.session import GestureSession, SessionConfig
 from gesturecast.realtime.run.engine import run_offline
-from gesturecast.realtime.serve.cli import build_server
 from gesturecast.realtime.serve.cli_args import add_serve_arguments
+from gesturecast.realtime.serve.serve_command import build_server
 from gesturecast.realtime.timing.clock import FakeClock, MonotonicClock
 from gesturecast.realtime.timing.latency import LatencyBudget
 from gesturecast.tools.bench.serve_client import stream_audio

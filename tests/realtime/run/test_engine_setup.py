@@ -75,7 +75,8 @@ def test_one_factory_makes_every_stream_sharing_the_model_lexicon_and_each_budge
     first, second, third = factory.session(clock, low), factory.session(clock, low), factory.session(clock)
     assert first.budget is second.budget and third.budget is factory.budget() and first.budget is not third.budget
     assert first.bundle is second.bundle is third.bundle is factory.bundle
-    assert first.config.gesture_clips is third.config.gesture_clips == factory.config.gesture_clips != ()
+    assert first.gestures.repertoire is third.gestures.repertoire is factory.repertoire and factory.repertoire.clips
+    assert first.gestures is not second.gestures  # each stream its own cue plan
     assert first.generator is not second.generator and first.generator.lookahead == low_lookahead(factory)
     assert factory.session(clock, Settings(root="free")).config.root_mode.value == "free"
 

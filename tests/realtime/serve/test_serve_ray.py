@@ -24,7 +24,6 @@ from websockets.frames import CloseCode
 
 from gesturecast.errors import UserError
 from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
-from gesturecast.realtime.serve.cli import build_server
 from gesturecast.realtime.serve.cli_args import add_serve_arguments
 from gesturecast.realtime.serve.ray_cli import (
     APP_NAME,
@@ -36,6 +35,7 @@ from gesturecast.realtime.serve.ray_cli import (
     deployment_options,
 )
 from gesturecast.realtime.serve.ray_proxy import REPLICA_LOST_CODE, REPLICA_LOST_REASON, install_proxy_callback
+from gesturecast.realtime.serve.serve_command import build_server
 from gesturecast.realtime.timing.clock import MonotonicClock
 from gesturecast.tools.bench.serve_client import stream_audio
 

@@ -7,7 +7,7 @@ import numpy as np
 import soundfile
 
 from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
-from gesturecast.tools.bench import cli as bench_cli
+from gesturecast.tools.bench import bench_command as bench_cli
 from gesturecast.tools.bench.features import tile_file
 
 

@@ -1,7 +1,7 @@
 """``gesturecast bench startup`` times every command's help and ``--version`` as separate processes."""
 
 from gesturecast.cli import COMMANDS
-from gesturecast.tools.bench.cli import command_lines, command_names, timing
+from gesturecast.tools.bench.bench_command import command_lines, command_names, timing
 
 
 def test_every_command_line_is_timed_help_and_version_first():

@@ -10,7 +10,7 @@ import pytest
 
 from gesturecast.models.dataset.cache import read_take
 from gesturecast.models.dataset.sources import TakeSource, bandai_takes, unpack_archive
-from gesturecast.models.motion.motion import Motion
+from gesturecast.models.motion.motion import SkeletonMotion
 from gesturecast.models.motion.motion_features import FEATURE_DIM, features_to_motion
 from gesturecast.models.motion.skeleton import CANONICAL
 from gesturecast.realtime.gestures import lexicon as gl
@@ -31,7 +31,7 @@ def bandai(shared_data) -> dict[str, TakeSource]:
     return {take.name: take for take in takes}
 
 
-def motion_of(bandai: dict[str, TakeSource], name: str) -> Motion:
+def motion_of(bandai: dict[str, TakeSource], name: str) -> SkeletonMotion:
     return read_take(bandai[name])[0]
 
 
@@ -95,13 +95,13 @@ def test_a_guide_stroke_holds_the_arm_out(bandai):
     assert reach[cut.stroke] > 0.3 and reach[cut.stroke] > reach[cut.start] + 0.15
 
 
-def pad_with_stillness(motion: Motion, frames: int) -> Motion:
+def pad_with_stillness(motion: SkeletonMotion, frames: int) -> SkeletonMotion:
     """The take with its first pose held ``frames`` frames before it and its last pose held after it."""
     rotations = np.concatenate([np.repeat(motion.rotations[:1], frames, 0), motion.rotations,
                                 np.repeat(motion.rotations[-1:], frames, 0)])
     root = np.concatenate([np.repeat(motion.root_position[:1], frames, 0), motion.root_position,
                            np.repeat(motion.root_position[-1:], frames, 0)])
-    return Motion(rotations, root, motion.fps)
+    return SkeletonMotion(rotations, root, motion.fps)
 
 
 @pytest.mark.parametrize(("name", "gesture"), [("dataset-2_raise-up-left-hand_normal_001", "raise-left"),
@@ -153,7 +153,7 @@ def test_a_small_build_keeps_resting_takes_and_reads_back_the_same(bandai, tmp_p
     candidates = build.bandai_gesture_takes([bandai[name] for name in names])
     assert {c.gesture for c in candidates} == {"wave", "bow", "guide"}
 
-    def read(path: Path) -> Motion:
+    def read(path: Path) -> SkeletonMotion:
         return read_take(next(t for t in bandai.values() if t.motion_path == path))[0]
 
     lexicon = build.build_lexicon(candidates, read)

@@ -5,7 +5,7 @@ import pytest
 from PIL import Image
 
 from gesturecast.errors import UserError
-from gesturecast.models.motion.motion import Motion
+from gesturecast.models.motion.motion import SkeletonMotion
 from gesturecast.models.motion.rotations import quat_from_axis_angle, quat_identity
 from gesturecast.models.motion.skeleton import CANONICAL
 from gesturecast.tools.render.animation import RenderConfig, gif_delays_ms, render_positions, sheet_indices
@@ -22,7 +22,7 @@ def waving_positions(num_frames: int, root_path: np.ndarray | None = None) -> np
     angle = -1.2 * np.sin(2 * np.pi * t)[:, None]  # (T, 1)
     rotations[:, CANONICAL.index("LeftUpperArm")] = quat_from_axis_angle(angle * np.array([0.0, 0.0, 1.0]))
     root = root_path if root_path is not None else np.tile(CANONICAL.offsets[0], (num_frames, 1))
-    return Motion(rotations, root).positions()
+    return SkeletonMotion(rotations, root).positions()
 
 
 def render_png_array(positions: np.ndarray, tmp_path, name: str = "one.png") -> np.ndarray:

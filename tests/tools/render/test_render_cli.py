@@ -9,7 +9,7 @@ from PIL import Image
 from gesturecast.errors import UserError
 from gesturecast.models.motion.rotations import quat_from_axis_angle
 from gesturecast.models.motion.skeleton import CANONICAL
-from gesturecast.tools.render import cli as render_cli
+from gesturecast.tools.render import render_command as render_cli
 
 
 def parse(argv: list[str]) -> argparse.Namespace:
@@ -60,12 +60,12 @@ def test_joint_map_file_renders_a_skeleton_that_is_not_detected(tmp_path):
     import json
     import re
 
-    from gesturecast.models.motion.motion import Motion
+    from gesturecast.models.motion.motion import SkeletonMotion
     from gesturecast.models.motion.retarget import motion_to_bvh
 
     rotations = quat_from_axis_angle(np.random.default_rng(3).normal(0, 0.3, size=(6, CANONICAL.num_joints, 3)))
     canonical = tmp_path / "canonical.bvh"
-    motion_to_bvh(Motion(rotations, np.tile(CANONICAL.offsets[0], (6, 1))), canonical)
+    motion_to_bvh(SkeletonMotion(rotations, np.tile(CANONICAL.offsets[0], (6, 1))), canonical)
     custom = tmp_path / "custom.bvh"
     custom.write_text(re.sub(r"(ROOT|JOINT) (\w+)", r"\1 rig_\2", canonical.read_text()))
     with pytest.raises(UserError, match="unknown skeleton layout"):
@@ -79,14 +79,14 @@ def test_joint_map_file_renders_a_skeleton_that_is_not_detected(tmp_path):
 def test_focus_on_a_hand_of_our_own_bvh_draws_its_fingers_zoomed(tmp_path):
     """A BVH written by gesturecast keeps its 52 joints when drawn; --focus LeftHand draws the hand alone, so it
     fills the panel (the whole figure's hand is a few pixels wide); an unknown joint is a one-line error."""
-    from gesturecast.models.motion.motion import Motion
+    from gesturecast.models.motion.motion import SkeletonMotion
     from gesturecast.models.motion.retarget import motion_to_bvh
     from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
 
     rng = np.random.default_rng(5)
     rotations = quat_from_axis_angle(rng.normal(0.0, 0.2, size=(6, CANONICAL_WITH_HANDS.num_joints, 3)))
     root = np.tile(CANONICAL_WITH_HANDS.offsets[0], (6, 1))  # (T, 3)
-    motion_to_bvh(Motion(rotations, root, skeleton=CANONICAL_WITH_HANDS), tmp_path / "hands.bvh")
+    motion_to_bvh(SkeletonMotion(rotations, root, skeleton=CANONICAL_WITH_HANDS), tmp_path / "hands.bvh")
     ink = {}
     for focus in (None, "LeftHand"):
         out = tmp_path / f"{focus}.png"
@@ -105,7 +105,7 @@ def test_focus_on_a_hand_of_our_own_bvh_draws_its_fingers_zoomed(tmp_path):
 def test_compare_draws_one_row_per_file_at_the_same_times(tmp_path):
     """Two clips → a PNG of two rows of N frames; the still clip's row differs from the moving one's only
     where the arm moves; mismatched labels and non-PNG outputs are one-line errors."""
-    from gesturecast.models.motion.motion import Motion
+    from gesturecast.models.motion.motion import SkeletonMotion
     from gesturecast.models.motion.retarget import motion_to_bvh
 
     frames = 20
@@ -113,8 +113,8 @@ def test_compare_draws_one_row_per_file_at_the_same_times(tmp_path):
     raised = np.zeros((frames, CANONICAL.num_joints, 3))
     raised[:, CANONICAL.index("LeftUpperArm"), 2] = np.linspace(0.0, 1.2, frames)  # the left arm rises
     root = np.tile(CANONICAL.offsets[0], (frames, 1))
-    motion_to_bvh(Motion(still, root), tmp_path / "still.bvh")
-    motion_to_bvh(Motion(quat_from_axis_angle(raised), root), tmp_path / "raise.bvh")
+    motion_to_bvh(SkeletonMotion(still, root), tmp_path / "still.bvh")
+    motion_to_bvh(SkeletonMotion(quat_from_axis_angle(raised), root), tmp_path / "raise.bvh")
     out = tmp_path / "compare.png"
     inputs = [str(tmp_path / "still.bvh"), str(tmp_path / "raise.bvh")]
     args = parse([*inputs, "-o", str(out), "--compare", "--sheet-frames", "3", "--labels", "still,raise"])

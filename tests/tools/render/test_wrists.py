@@ -8,7 +8,7 @@ from PIL import Image
 
 from gesturecast.cli import main
 from gesturecast.errors import USER_ERROR_EXIT_CODE
-from gesturecast.models.motion.motion import Motion
+from gesturecast.models.motion.motion import SkeletonMotion
 from gesturecast.models.motion.retarget import load_motion_file, motion_to_bvh
 from gesturecast.models.motion.rotations import quat_from_axis_angle, quat_from_yaw, quat_mul
 from gesturecast.models.motion.skeleton import CANONICAL
@@ -21,13 +21,13 @@ def test_walking_and_turning_do_not_move_the_body_frame_wrists():
     rng = np.random.default_rng(3)
     frames = 20
     pose = quat_from_axis_angle(rng.normal(scale=0.3, size=(frames, CANONICAL.num_joints, 3)))  # (T, J, 4)
-    still = Motion(pose, np.tile([0.0, 0.9, 0.0], (frames, 1)), 30.0, CANONICAL)
+    still = SkeletonMotion(pose, np.tile([0.0, 0.9, 0.0], (frames, 1)), 30.0, CANONICAL)
     turned_pose = pose.copy()
     turned_pose[:, 0] = quat_mul(quat_from_yaw(np.linspace(0.0, 3.0, frames)), pose[:, 0])
     walking = np.column_stack([np.linspace(0, 2, frames), np.full(frames, 0.9), np.linspace(0, -1, frames)])
-    moved = Motion(turned_pose, walking, 30.0, CANONICAL)
+    moved = SkeletonMotion(turned_pose, walking, 30.0, CANONICAL)
     np.testing.assert_allclose(body_frame_wrists(moved), body_frame_wrists(still), atol=1e-9)
-    left_x = body_frame_wrists(Motion(np.tile([0.0, 0.0, 0.0, 1.0], (1, CANONICAL.num_joints, 1)),
+    left_x = body_frame_wrists(SkeletonMotion(np.tile([0.0, 0.0, 0.0, 1.0], (1, CANONICAL.num_joints, 1)),
                                       np.array([[0.0, 0.9, 0.0]]), 30.0, CANONICAL))[0, 0, 0]
     assert left_x > 0.5  # T-pose: the left wrist is far out on +X
 

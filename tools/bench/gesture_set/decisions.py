@@ -10,9 +10,9 @@ dropped cues) and the detector are the full benchmark's.
 
 from __future__ import annotations
 
+from gesturecast.controls import Word
 from gesturecast.realtime.gestures.phrases import PhraseCues
 from gesturecast.realtime.gestures.speech_acts import MARKS
-from gesturecast.realtime.gestures.words import Word
 from gesturecast.tools.gestures.speech_act_training import parse_marked
 
 

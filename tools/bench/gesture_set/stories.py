@@ -14,9 +14,9 @@ from pathlib import Path
 
 import numpy as np
 
+from gesturecast.controls import Word
 from gesturecast.models.audio.files import SAMPLE_RATE
 from gesturecast.realtime.gestures.speech_acts import MARKS
-from gesturecast.realtime.gestures.words import Word
 from gesturecast.tools.bench.speech.espeak_words import spoken
 from gesturecast.tools.gestures.speech_act_training import parse_marked
 

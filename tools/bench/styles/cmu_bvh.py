@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from gesturecast.models.motion.bvh import BvhData, rotation_channel_values, write_bvh
-from gesturecast.models.motion.motion import Motion
+from gesturecast.models.motion.motion import SkeletonMotion
 from gesturecast.models.motion.resample import resample_motion
 from gesturecast.models.motion.rest_alignment import hip_height
 from gesturecast.models.motion.rotations import quat_identity
@@ -65,7 +65,7 @@ def rest_hip_height(skeleton: Skeleton) -> float:
     return hip_height(positions)
 
 
-def cmu_bvh_data(motion: Motion, fps: float = CMU_FPS) -> BvhData:
+def cmu_bvh_data(motion: SkeletonMotion, fps: float = CMU_FPS) -> BvhData:
     """Canonical ``motion`` (any rate) resampled to ``fps`` on the CMU skeleton."""
     resampled = resample_motion(motion, fps)
     skeleton = cmu_skeleton()
@@ -82,6 +82,6 @@ def cmu_bvh_data(motion: Motion, fps: float = CMU_FPS) -> BvhData:
                    end_sites)
 
 
-def write_cmu_bvh(motion: Motion, path: Path, fps: float = CMU_FPS) -> Path:
+def write_cmu_bvh(motion: SkeletonMotion, path: Path, fps: float = CMU_FPS) -> Path:
     write_bvh(cmu_bvh_data(motion, fps), path)
     return path

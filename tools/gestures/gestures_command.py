@@ -18,7 +18,7 @@ from pathlib import Path
 
 DEFAULT_OUT = Path("models/weights/gestures")
 DEFAULT_RAW = Path(".cache/raw")
-DEFAULT_ACTS = Path("models/weights/speech_acts.npz")
+DEFAULT_ACTS = Path("models/weights/gestures/speech_acts.npz")
 PHRASES_SHOWN = 5  # of a speech act's phrases, in `gestures list`
 
 

@@ -1,0 +1,89 @@
+"""Transcripts: the words of a whole recording with their times, from a file (JSON word list, SRT, WebVTT) or a list.
+
+A word list is what word-timestamp speech recognisers and TTS services give: ``[{"word": "Hello", "start": 0.42,
+"end": 0.71}, ...]`` in seconds (also as ``{"words": [...]}``). SRT and WebVTT cues carry a span per line of text;
+their words are spread evenly over it. Either way the items are checked by :func:`gesturecast.controls.parse_words`,
+the one check of every word whichever door it comes through (at most
+:data:`~gesturecast.controls.MAX_TRANSCRIPT_WORDS` of them), and refused by the same one-line ``ControlError``.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+from collections.abc import Mapping
+from pathlib import Path
+
+from gesturecast.controls import MAX_TRANSCRIPT_WORDS, Word, parse_words
+from gesturecast.errors import UserError
+from gesturecast.input_files import read_bounded
+from gesturecast.settings import Settings
+
+MAX_TRANSCRIPT_BYTES = 16 << 20  # a day of speech is a few MB of word JSON
+SUBTITLE_SUFFIXES = (".srt", ".vtt")
+TIMESTAMP = re.compile(r"(?:(\d{1,5}):)?(\d{1,2}):(\d{2})[.,](\d{1,3})")
+SPAN = re.compile(rf"{TIMESTAMP.pattern}\s*-->\s*{TIMESTAMP.pattern}")
+
+
+def transcript_words(path: Path | None, settings: Settings) -> tuple[Word, ...]:
+    """The words of a transcript file (none without one); refused when gestures are off (nothing to cue)."""
+    if path is None:
+        return ()
+    if settings.gestures is None:
+        raise UserError(f"the transcript {path} cues gestures, and --gestures is off")
+    return read_transcript(path)
+
+
+def words_from_list(items: object, source: str) -> tuple[Word, ...]:
+    """``[{"word", "start", "end"}, ...]`` (or ``{"words": [...]}``) → words; one-line ControlError naming ``source``
+    and the item for anything else."""
+    return parse_words(items.get("words") if isinstance(items, Mapping) else items, source, MAX_TRANSCRIPT_WORDS)
+
+
+def read_transcript(path: Path) -> tuple[Word, ...]:
+    """The words of a ``.json`` word list or an ``.srt`` / ``.vtt`` subtitle file (a regular file of at most
+    MAX_TRANSCRIPT_BYTES)."""
+    data = read_bounded(path, MAX_TRANSCRIPT_BYTES, "the transcript", regular_only=True)
+    try:
+        text = data.decode("utf-8-sig")
+    except UnicodeDecodeError as error:
+        raise UserError(f"{path}: cannot read the transcript (not UTF-8 at byte {error.start})") from None
+    if path.suffix.lower() in SUBTITLE_SUFFIXES:
+        return words_from_list(subtitle_items(text, str(path)), str(path))
+    try:
+        items = json.loads(text)
+    except json.JSONDecodeError as error:
+        raise UserError(f"{path}: not a JSON word list ({error.msg} at line {error.lineno}); subtitles need a "
+                        f"{' or '.join(SUBTITLE_SUFFIXES)} suffix") from None
+    except (ValueError, RecursionError) as error:  # an integer of thousands of digits, nesting thousands deep
+        raise UserError(f"{path}: not a JSON word list ({type(error).__name__}: {str(error)[:80]})") from None
+    return words_from_list(items, str(path))
+
+
+def _seconds(hours: str | None, minutes: str, seconds: str, fraction: str) -> float:
+    return int(hours or 0) * 3600 + int(minutes) * 60 + int(seconds) + int(fraction.ljust(3, "0")) / 1000
+
+
+def _span(line: str, where: str) -> tuple[float, float]:
+    """(start, end) seconds of a cue's ``00:00:01,000 --> 00:00:02,500`` line; UserError for minutes or seconds
+    beyond 59."""
+    times = SPAN.search(line).groups()
+    if any(int(field) > 59 for field in (*times[1:3], *times[5:7])):
+        raise UserError(f"{where}: {line.strip()!r} has minutes or seconds beyond 59")
+    return _seconds(*times[:4]), _seconds(*times[4:])
+
+
+def subtitle_items(text: str, source: str = "subtitles") -> list[dict]:
+    """SRT / WebVTT cues → word items (``{"word", "start", "end"}``) spread evenly over each cue's span."""
+    items: list[dict] = []
+    for number, block in enumerate(re.split(r"\n\s*\n", text.replace("\r\n", "\n")), 1):
+        lines = block.strip().split("\n")
+        span_line = next((i for i, line in enumerate(lines) if SPAN.search(line)), None)
+        if span_line is None:
+            continue
+        start, end = _span(lines[span_line], f"{source} block {number}")
+        tokens = " ".join(lines[span_line + 1 :]).split()
+        step = (end - start) / max(len(tokens), 1)
+        items += [{"word": token, "start": start + i * step, "end": start + (i + 1) * step}
+                  for i, token in enumerate(tokens)]
+    return items
