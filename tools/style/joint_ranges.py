@@ -11,7 +11,7 @@ import numpy as np
 
 from gesturecast.models.style.joint_limits import DEFAULT_JOINT_RANGES, JointRanges
 from gesturecast.models.style.params import STYLED_JOINTS, rotation_vectors
-from gesturecast.tools.style.cli import DEFAULT_RAW, DEFAULT_TAKES, LICENSE_NOTE
+from gesturecast.tools.style.style_fit_command import DEFAULT_RAW, DEFAULT_TAKES, LICENSE_NOTE
 from gesturecast.tools.style.takes import Take, load_paired_takes, take_folder
 
 SHARED_CHEST = {"UpperChest": "Chest"}  # Bandai's one chest joint gives both canonical chest joints their range
