@@ -204,7 +204,7 @@ def test_a_refused_number_shows_its_excess():
 
 def test_an_ack_counts_the_words_instead_of_echoing_them():
     """Each ack repeated all 500 words of a message (about 30 KB)."""
-    from gesturecast.realtime.serve.protocol import ack
+    from gesturecast.bridges.control import ack
 
     words = [{"word": f"w{i}", "start": i * 0.1} for i in range(500)]
     reply = ack(message_controls({"type": "control", "words": words, "style": "happy"}))

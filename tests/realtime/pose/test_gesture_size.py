@@ -3,14 +3,12 @@ monotonic in between and up to 2; both change live without a pop."""
 
 import numpy as np
 import pytest
-import soundfile
 
 from gesturecast.controls import parse_controls
-from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
+from gesturecast.models.audio.files import SAMPLE_RATE
 from gesturecast.models.generator.diffusion import SamplerConfig
 from gesturecast.models.motion.rotations import quat_conj, quat_mul, quat_to_axis_angle
 from gesturecast.models.motion.skeleton import CANONICAL, CANONICAL_WITH_HANDS
-from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.realtime.audio.sources import FastFileSource
 from gesturecast.realtime.generation.generator import Generator, GeneratorSettings
 from gesturecast.realtime.pose.idle import IdleMotion
@@ -18,26 +16,10 @@ from gesturecast.realtime.pose.session import GestureSession, SessionConfig
 from gesturecast.realtime.timing.clock import FakeClock
 from gesturecast.realtime.timing.latency import LatencyBudget
 
-SECONDS = 4.0
 SEED = 1
 ARMS = ("LeftUpperArm", "LeftLowerArm", "RightUpperArm", "RightLowerArm")
 CHUNK = 1600  # 0.1 s
 FPS = 30.0
-
-
-@pytest.fixture(scope="module")
-def bundle(tiny_model):
-    return ModelBundle.load(tiny_model[1])
-
-
-@pytest.fixture(scope="module")
-def speech(tmp_path_factory, shared_data):
-    """4 s of real speech (ZeroEGGS 067 from 3 s) as a 16 kHz WAV."""
-    audio = load_audio(shared_data / "zeggs" / "067_Speech_2_x_1_0.wav")
-    audio = audio[3 * SAMPLE_RATE :][: int(SECONDS * SAMPLE_RATE)]
-    path = tmp_path_factory.mktemp("speech") / "speech.wav"
-    soundfile.write(path, audio, SAMPLE_RATE, subtype="FLOAT")
-    return path
 
 
 def make_session(bundle, **config) -> GestureSession:

@@ -13,7 +13,6 @@ from gesturecast.models.generator.style_prompt import StylePrompt
 from gesturecast.models.motion.root_anchor import RootMode
 from gesturecast.models.motion.rotations import quat_conj, quat_mul, quat_to_axis_angle
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS, NUM_JOINTS
-from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.realtime.audio.sources import FastFileSource, PacedFileSource
 from gesturecast.realtime.generation.generator import Generator, GeneratorSettings
 from gesturecast.realtime.pose.session import GestureSession, SessionConfig
@@ -23,24 +22,9 @@ from gesturecast.realtime.timing.clock import FakeClock, MonotonicClock
 from gesturecast.realtime.timing.latency import LatencyBudget
 from gesturecast.settings import LATENCY_SETTINGS, Settings
 
-SECONDS = 4.0
+SECONDS = 4.0  # the speech fixture's length (conftest.py)
 MIN_MEAN_FINGER_BEND_DEG = 5.0  # a relaxed hand: its finger joints bend by more than this on average
 MIN_FINGER_MOTION_DEG = 0.5  # and move by more than this (standard deviation over the clip)
-
-
-@pytest.fixture(scope="module")
-def bundle(tiny_model):
-    return ModelBundle.load(tiny_model[1])
-
-
-@pytest.fixture(scope="module")
-def speech(tmp_path_factory, shared_data):
-    """4 s of real speech (ZeroEGGS 067 from 3 s) as a 16 kHz WAV."""
-    audio = load_audio(shared_data / "zeggs" / "067_Speech_2_x_1_0.wav")
-    audio = audio[3 * SAMPLE_RATE :][: int(SECONDS * SAMPLE_RATE)]
-    path = tmp_path_factory.mktemp("speech") / "speech.wav"
-    soundfile.write(path, audio, SAMPLE_RATE, subtype="FLOAT")
-    return path
 
 
 def make_session(bundle, clock=None, smoothing_frames=0, root_mode=RootMode.BOUNDED, lipsync="vrm0",

@@ -9,17 +9,17 @@ from gesturecast.realtime.pose.session_controls import SessionControls
 
 
 class FullPlan:
-    """A gesture door whose plan is full once the controls are applied (checks pass, the cue is refused)."""
+    """A stream's gestures whose plan is full once the controls are applied (checks pass, the cue is refused)."""
 
-    cues = SimpleNamespace(clips={"wave": object()}, check=lambda name: None)
+    names = ("wave",)
 
-    def check_cue_times(self, times):
+    def check_gesture(self, name):
         pass
 
-    def control_stroke_lead_s(self):
+    def stroke_lead_s(self):
         return 0.5
 
-    def cue(self, cue):
+    def cue_gesture(self, name, t):
         raise CueRefused("the stream already holds 256 gestures to come")
 
 

@@ -14,8 +14,8 @@ from gesturecast.realtime.timing.clock import FakeClock
 from gesturecast.settings import Settings
 from gesturecast.tools.bench.following import register_bench as register_following
 from gesturecast.tools.bench.speech.voices import register_bench as register_voices
-from gesturecast.tools.eval.eval_command import register as register_eval
 from gesturecast.tools.eval.condition import DEFAULT_CONDITION, Condition
+from gesturecast.tools.eval.eval_command import register as register_eval
 from gesturecast.tools.eval.generate import _session, eval_settings
 
 
