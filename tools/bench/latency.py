@@ -41,6 +41,7 @@ from gesturecast.realtime.timing.clock import Clock, MonotonicClock
 from gesturecast.realtime.timing.latency import MS_PER_S
 from gesturecast.settings import Settings
 from gesturecast.tools.bench.latency_sweep import latency_sweep
+from gesturecast.tools.bench.load import add_load_argument, competing_load
 
 SWEEP_STEPS = (1, 2, 4, 8, 16)
 PERCENTILES = ("p50", "p95", "p99", "max")
@@ -66,6 +67,7 @@ def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--sweep-models", type=Path, nargs="*", default=[], help="extra bundles for the sweeps")
     parser.add_argument("--out", type=Path, default=Path("out/bench"), help="folder for the sweep table and plot")
     parser.add_argument("--block-size", type=int, default=DEFAULT_CHUNK, help="samples per audio chunk (16 kHz)")
+    add_load_argument(parser)
     add_generation_arguments(parser)
     parser.set_defaults(func=run_bench_latency)
 
@@ -73,25 +75,29 @@ def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
 def run_bench_latency(args: argparse.Namespace) -> int:
     if (args.audio is None) == (args.device is None):
         raise UserError("give a speech FILE or --device NAME (one of them)")
+    if args.device is not None and (args.sweep or args.sweep_steps):
+        raise UserError("the sweeps run on a file; drop --device")
+    with competing_load(args.load) as load:
+        result = _measured(args)
+    result["load"] = load
+    sys.stdout.write(json.dumps(result, indent=None if args.json else 2) + "\n")
+    return 0
+
+
+def _measured(args: argparse.Namespace) -> dict:
+    """The microphone run, the sweep asked, or one run on the file."""
     if args.device is not None:
-        if args.sweep or args.sweep_steps:
-            raise UserError("the sweeps run on a file; drop --device")
-        result = measure(args, None)
-        sys.stdout.write(json.dumps(result, indent=None if args.json else 2) + "\n")
-        return 0
+        return measure(args, None)
     with tempfile.TemporaryDirectory() as scratch:
         audio = _trimmed(args.audio, args.seconds, Path(scratch))
         if args.sweep:
-            result = latency_sweep(args, audio, measure_with_frames)
-        elif args.sweep_steps:
+            return latency_sweep(args, audio, measure_with_frames)
+        if args.sweep_steps:
             rows = _sweep(args, audio)
             _write_sweep(rows, args.out)
-            result = {"sweep": rows, "table": str(args.out / "latency_sweep.md"),
-                      "plot": str(args.out / "latency_sweep.png")}
-        else:
-            result = measure(args, audio)
-    sys.stdout.write(json.dumps(result, indent=None if args.json else 2) + "\n")
-    return 0
+            return {"sweep": rows, "table": str(args.out / "latency_sweep.md"),
+                    "plot": str(args.out / "latency_sweep.png")}
+        return measure(args, audio)
 
 
 def _trimmed(path: Path, seconds: float | None, scratch: Path) -> Path:
