@@ -149,16 +149,16 @@ class FrameRelease:
     """A session's frames released to ``sink`` at their presentation times by one scheduler worker thread
     (the live engine's, and a pushed :class:`~gesturecast.realtime.run.stream.Stream`'s).
 
-    Paced with a compute margin, each burst's share of the margin used moves the degradation ladder
-    (:mod:`gesturecast.realtime.timing.ladder`), which sets the rung the next latent is generated at."""
+    Paced with a compute margin (and ``adapt``, the default), each burst's share of the margin used moves the
+    degradation ladder (:mod:`gesturecast.realtime.timing.ladder`), which sets the rung of the next latent."""
 
     def __init__(self, session: GestureSession, sink: Sink, clock: Clock,
-                 config: SchedulerConfig | None = None) -> None:
+                 config: SchedulerConfig | None = None, adapt: bool = True) -> None:
         self.session = session
         self.clock = clock
         self.scheduler = FrameScheduler(clock, sink, config, stats=session.stats)
         self.worker = SchedulerWorker(self.scheduler)
-        adapts = self.scheduler.config.paced and session.budget.compute_margin_ms > 0
+        adapts = adapt and self.scheduler.config.paced and session.budget.compute_margin_ms > 0
         self.ladder = DegradationLadder(len(RUNGS)) if adapts else None
 
     def start(self) -> None:
@@ -200,7 +200,7 @@ class LiveEngine:
     skips it, for measuring what it saves). Ctrl-C (KeyboardInterrupt on the caller's thread) ends the
     run at once: the source is closed (a microphone within a bounded time), frames not yet due are
     dropped, and :meth:`run` returns the report of what was sent, with ``interrupted`` set; the caller
-    decides the exit status.
+    decides the exit status. ``adapt=False`` keeps the degradation ladder off (to measure what it does).
     """
 
     def __init__(
@@ -213,13 +213,14 @@ class LiveEngine:
         status: StatusLine | None = None,
         warm: bool = True,
         on_warm: Callable[[], object] | None = None,
+        adapt: bool = True,
     ) -> None:
         self.session = session
         self.warm = warm
         self.on_warm = on_warm  # runs once the stages are warm and the stream is reset, before the source opens
         self.source = source
         self.clock = clock
-        self.release = FrameRelease(session, sink, clock, scheduler_config)
+        self.release = FrameRelease(session, sink, clock, scheduler_config, adapt)
         self.scheduler = self.release.scheduler
         self.status = status
         self._last_frame: PoseFrame | None = None

@@ -67,6 +67,8 @@ def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--sweep-models", type=Path, nargs="*", default=[], help="extra bundles for the sweeps")
     parser.add_argument("--out", type=Path, default=Path("out/bench"), help="folder for the sweep table and plot")
     parser.add_argument("--block-size", type=int, default=DEFAULT_CHUNK, help="samples per audio chunk (16 kHz)")
+    parser.add_argument("--no-ladder", dest="ladder", action="store_false",
+                        help="keep the degradation ladder off (the full work on every latent, late or not)")
     add_load_argument(parser)
     add_generation_arguments(parser)
     parser.set_defaults(func=run_bench_latency)
@@ -173,7 +175,7 @@ def measure_with_frames(args: argparse.Namespace, audio: Path | None, keep_frame
     log = ReleaseLog(outputs.send, clock, keep_frames)
     try:
         source = open_bench_source(args, audio, clock)
-        report = LiveEngine(session, source, log.send, clock, warm=args.warm_up).run()
+        report = LiveEngine(session, source, log.send, clock, warm=args.warm_up, adapt=args.ladder).run()
     finally:
         outputs.close()
     return {**benchmark_json(report, args, settings, session.generator.guidance), **log.windows()}, log.frames
@@ -189,6 +191,7 @@ def benchmark_json(report: EngineReport, args: argparse.Namespace, settings: Set
         "margin_used_ms": {p: stages.get(STAGE_MARGIN_USED, {}).get(p) for p in PERCENTILES},
         "rtf": report.rtf,
         "deadline_misses": report.scheduler.get("deadline_misses", 0),
+        "degradation": report.degradation,
         "audio_drops": report.audio["dropped_samples"],
         "untimed_audio_blocks": report.audio["untimed_blocks"],
         "warm_up_ms": report.warm_up_s * MS_PER_S,
