@@ -26,6 +26,7 @@ from gesturecast.realtime.pose.session import (
 )
 from gesturecast.realtime.timing.clock import Clock
 from gesturecast.realtime.timing.ladder import DegradationLadder
+from gesturecast.realtime.timing.late_warning import LateWarning
 from gesturecast.realtime.timing.latency import MS_PER_S, LatencyStats
 from gesturecast.realtime.timing.scheduler import STAGE_SINK, FrameScheduler, SchedulerConfig, SchedulerWorker
 from gesturecast.realtime.timing.status import StatusLine, build_snapshot
@@ -160,17 +161,20 @@ class FrameRelease:
         self.worker = SchedulerWorker(self.scheduler)
         adapts = adapt and self.scheduler.config.paced and session.budget.compute_margin_ms > 0
         self.ladder = DegradationLadder(len(RUNGS)) if adapts else None
+        self.late_warning = LateWarning(clock)
 
     def start(self) -> None:
         self.worker.start()
 
     def submit(self, frames: list[PoseFrame]) -> None:
         """Queue a burst; paced, record how much of the compute margin its first frame used (audio block wait +
-        compute + wake-up: docs/latency.md "Latency settings") and let the ladder set the next latent's rung."""
+        compute + wake-up: docs/latency.md "Latency settings"), warn when frames stay late, and let the ladder set
+        the next latent's rung."""
         if frames and self.scheduler.config.paced:
             margin_s = self.session.budget.compute_margin_ms / MS_PER_S
             used = self.clock.now() - (frames[0].presentation_time - margin_s)
             self.session.stats.record(STAGE_MARGIN_USED, used)
+            self.late_warning.observe(used - margin_s)
             if self.ladder is not None:
                 self._step_ladder(used / margin_s)
         self.worker.submit(frames)

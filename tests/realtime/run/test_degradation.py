@@ -61,12 +61,12 @@ def charge_compute(session: GestureSession, clock: FakeClock, busy: callable) ->
     generator.denoise = timed
 
 
-def paced_run(bundle, speech, busy) -> tuple[list, FrameRelease]:
+def paced_run(bundle, speech, busy, adapt: bool = True) -> tuple[list, FrameRelease]:
     """Chunks arrive at their capture time (the clock waits for them unless the work made it late)."""
     clock = FakeClock()
     session = make_session(bundle, clock)
     charge_compute(session, clock, busy)
-    release = FrameRelease(session, lambda frame: None, clock, SchedulerConfig(paced=True))
+    release = FrameRelease(session, lambda frame: None, clock, SchedulerConfig(paced=True), adapt)
     frames = []
     for chunk in FastFileSource(speech, chunk_samples=CHUNK):
         clock.sleep_until(chunk.capture_time + len(chunk.samples) / SAMPLE_RATE)
@@ -112,6 +112,12 @@ def test_it_climbs_back_to_the_asked_settings_when_the_machine_is_free_again_wit
     unchanged, _ = run_offline(make_session(bundle, FakeClock()), FastFileSource(speech, chunk_samples=CHUNK))
     # the rung changes add no jump beyond what the motion itself does from frame to frame
     assert max_step_degrees(frames).max() < 1.5 * max_step_degrees(unchanged).max() + 1.0
+
+
+def test_without_the_ladder_a_machine_too_slow_stays_late_and_says_so(bundle, speech):
+    _, release = paced_run(bundle, speech, busy=lambda t: True, adapt=False)
+    assert release.ladder is None and release.session.generator.rung == RUNGS[0]
+    assert release.late_warning.warnings >= 1
 
 
 def test_an_unpaced_run_never_degrades(bundle, speech):
