@@ -55,6 +55,7 @@ class EngineReport:
     root: dict = field(default_factory=dict)  # RootTravel: max distance and net travel (m), max facing (°)
     gesture_cues: dict = field(default_factory=dict)  # cues by outcome (on time, late, blended, merged, dropped)
     degradation: dict = field(default_factory=dict)  # the ladder's rung and bursts per rung (paced runs only)
+    deferred_word_steps: int = 0  # words left queued by a latent step's speech-act budget, summed over the steps
 
     @property
     def rtf(self) -> float:
@@ -77,6 +78,7 @@ class EngineReport:
             "root": self.root,
             "gesture_cues": self.gesture_cues,
             "degradation": self.degradation,
+            "deferred_word_steps": self.deferred_word_steps,
         }
 
 
@@ -143,6 +145,7 @@ def make_report(session: GestureSession, audio: SourceStats, scheduler_stats: di
         root=session.travel.to_dict(),
         gesture_cues=session.cues.summary(),
         degradation=degradation or {},
+        deferred_word_steps=session.controls.deferred_word_steps,
     )
 
 
