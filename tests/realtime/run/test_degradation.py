@@ -133,5 +133,5 @@ def test_each_rung_drops_its_work_and_rung_0_restores_what_was_asked(bundle):
     for rung in (1, 2, 1, 0):
         generator.degrade(RUNGS[rung])
         seen.append((generator.audio_guidance, len(generator._plan), generator.layout.batch))
-    assert seen == [(1.0, 2, 2), (1.0, 1, 2), (1.0, 2, 2), (1.5, 2, 3)]
+    assert seen == [(1.5, 1, 3), (1.0, 1, 2), (1.5, 1, 3), (1.5, 2, 3)]
     assert generator.settings == Generator(bundle, GeneratorSettings(**ASKED)).settings
