@@ -14,6 +14,7 @@ import asyncio
 import json
 from collections.abc import Callable
 
+from gesturecast.bridges.message_rate import MessageRate
 from gesturecast.controls import Control, ControlError, acknowledged, parse_controls
 from gesturecast.errors import UserError
 
@@ -45,11 +46,14 @@ def message_controls(message: dict) -> tuple[Control, ...]:
     return parse_controls(message, ENVELOPE_FIELDS)
 
 
-async def submit_control(message: dict, submit: Callable[[tuple[Control, ...]], dict | None]) -> str:
-    """Check a decoded control message, hand its typed controls to ``submit`` (a session's, off the event loop: it
-    resolves the styles) and return the ``ack``; ControlError (one line) for a bad field, or with the session's own
-    words for what only the model can refuse (a style or gesture it does not know)."""
+async def submit_control(message: dict, submit: Callable[[tuple[Control, ...]], dict | None],
+                         rate: MessageRate) -> str:
+    """Check a decoded control message and the connection's ``rate``, hand its typed controls to ``submit`` (a
+    session's, off the event loop: it resolves the styles) and return the ``ack``; ControlError (one line) for a bad
+    field, a message over the rate limit, or with the session's own words for what only the model can refuse (a
+    style or gesture it does not know)."""
     controls = message_controls(message)
+    rate.admit(controls)
     try:
         notes = await asyncio.to_thread(submit, controls)
     except (UserError, ValueError) as error:  # ControlError and CueRefused are UserErrors

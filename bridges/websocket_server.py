@@ -31,6 +31,7 @@ from websockets.http11 import Request, Response
 from gesturecast.bridges import ws_protocol
 from gesturecast.bridges.control import WORDS_MESSAGE, decode_client_message, submit_control
 from gesturecast.bridges.coords import coordinate_frame
+from gesturecast.bridges.message_rate import MessageRate, RateLimits
 from gesturecast.bridges.transport import ErrorThrottle
 from gesturecast.bridges.viewer_http import AvatarServer, ViewerConnection, is_websocket_upgrade, static_response
 from gesturecast.bridges.ws_access import AccessPolicy, send_refusal
@@ -67,11 +68,13 @@ class WebSocketConfig:
     face_names: tuple[str, ...] = ()  # frames carry these face weights (blinks, expressions) after the visemes
     avatar: Path | None = None  # the VRM file the viewer page shows (avatar_file.resolve_avatar); None: stick figure
     clock: Callable[[], float] = field(default=time.monotonic, compare=False)  # the engine's clock
+    rate_limits: RateLimits = field(default_factory=RateLimits)  # per client: control and words messages
 
 
 @dataclass
 class ClientState:
     address: str
+    rate: MessageRate  # its control and words messages
     wants_json: bool = False
     skipped_frames: int = 0
 
@@ -183,7 +186,7 @@ class WebSocketBridge:
         return static_response(request.path, request.method)
 
     async def _handle(self, connection: ServerConnection) -> None:
-        client = ClientState(address=str(connection.remote_address))
+        client = ClientState(str(connection.remote_address), MessageRate(self.config.clock, self.config.rate_limits))
         try:
             await connection.send(self._hello())
             self._clients[connection] = client
@@ -214,7 +217,7 @@ class WebSocketBridge:
             return self._subscribe(client, decoded)
         if kind in ("control", WORDS_MESSAGE):  # a words message is a control holding only words
             self.access.verify_token(connection, decoded)
-            return await self._control({**decoded, "type": "control"})
+            return await self._control(client, {**decoded, "type": "control"})
         raise ControlError(f"unknown message type {kind!r}; use 'subscribe', 'control' or 'words'")
 
     def _subscribe(self, client: ClientState, message: dict) -> str:
@@ -224,9 +227,10 @@ class WebSocketBridge:
         client.wants_json = wire_format == "json"
         return json.dumps({"type": "subscribed", "format": wire_format})
 
-    async def _control(self, message: dict) -> str:
-        """Validate, hand to the engine (which resolves the styles, off the event loop), then ack."""
-        return await submit_control(message, self.on_control)
+    async def _control(self, client: ClientState, message: dict) -> str:
+        """Validate, check the client's rate, hand to the engine (which resolves the styles, off the event loop),
+        then ack."""
+        return await submit_control(message, self.on_control, client.rate)
 
     def _drain(self) -> None:
         with self._lock:

@@ -47,6 +47,7 @@ from gesturecast.models.generator.styles import canonical_style
 from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.models.runtime.denoiser_runtime import FrameInputs, roll_cache
 from gesturecast.models.runtime.ort_session import DEFAULT_THREADS
+from gesturecast.realtime.generation.degradation import RUNGS, Rung
 from gesturecast.realtime.generation.style_mixture import (
     NO_GUIDANCE,
     RowLayout,
@@ -140,7 +141,8 @@ class Generator:
         self.history: deque[HistoryFrame] = deque(maxlen=self.config.window)
         self._second = None if self.settings.second_style is None else self._heard(self.settings.second_style)
         self._set_mixture_values(*self.part_mixture(self.settings.style, self.settings.part_styles))
-        self._plan = sampling_plan(self.schedule.num_timesteps, self.settings.sampler)
+        self.rung = RUNGS[0]  # the degradation ladder's: the work as asked
+        self._plan = self._sampling_plan()
         self.layout = self._make_layout()
         self._prepared = PreparedConditions()
         self.reset(self.settings.seed)
@@ -192,7 +194,7 @@ class Generator:
 
     def _make_layout(self) -> RowLayout:
         return row_layout(self._mixture_embeddings, self._second, self.settings.gamma, self.guidance,
-                          self.settings.audio_guidance)
+                          self.audio_guidance)
 
     def part_mixture(self, style: StylePrompt, part_styles: PartStyles) -> tuple[list[StylePrompt], np.ndarray]:
         """The mixture (prompts, W) of a base style and per-part prompts for this model's body parts; UserError
@@ -302,7 +304,25 @@ class Generator:
 
     def set_sampler(self, sampler: SamplerConfig) -> None:
         self.settings = replace(self.settings, sampler=sampler)
-        self._plan = sampling_plan(self.schedule.num_timesteps, sampler)
+        self._plan = self._sampling_plan()
+
+    @property
+    def audio_guidance(self) -> float:
+        """s_a in use: as set, or 1 (no audio-null row) on a rung that drops it."""
+        return self.settings.audio_guidance if self.rung.audio_guidance else NO_GUIDANCE
+
+    def degrade(self, rung: Rung) -> None:
+        """Do the work of ``rung`` from the next latent on (the settings, history and caches stay; rung 0 is the
+        work the settings ask for): :mod:`gesturecast.realtime.generation.degradation`."""
+        self.rung = rung
+        self._plan = self._sampling_plan()
+        self._apply_layout()
+
+    def _sampling_plan(self) -> list[tuple[int, int]]:
+        sampler = self.settings.sampler
+        if sampler.kind == "ddim" and self.rung.steps is not None:
+            sampler = replace(sampler, steps=min(sampler.steps, self.rung.steps))
+        return sampling_plan(self.schedule.num_timesteps, sampler)
 
     def _noise(self, t_prev: int) -> np.ndarray | None:
         sampler = self.settings.sampler
@@ -325,7 +345,7 @@ class Generator:
         for t, t_prev in self._plan:
             x0_rows = self.denoiser.step(x[trajectory], t, condition)  # (B, C)
             x0 = guide_trajectories(x0_rows, layout, self.settings.gamma, self.guidance,
-                                    self.settings.audio_guidance)  # (R, C)
+                                    self.audio_guidance)  # (R, C)
             if imposed is not None:
                 target, weights = imposed
                 x0 = x0 + weights * (target - x0)  # (R, C)

@@ -35,6 +35,9 @@ from gesturecast.settings import SINGLE_STYLE
 logger = logging.getLogger(__name__)
 
 MAX_PENDING_CONTROLS = 32  # bounded inbox: the oldest unapplied control is dropped first
+# words a latent step decides speech acts for (about 1 ms a word on the stream's thread, out of a 133 ms latent):
+# the words after them wait in the inbox for the next steps, in order (counted in ``deferred_word_steps``)
+WORDS_PER_LATENT = 40
 # style rows of one stream while part styles blend (each is a row of every denoiser call): a mixture of the default
 # model's 3 body parts has at most 4 rows, so a blend from one full mixture to another fits; part-style controls
 # faster than the fade fold the oldest rows in instead of growing the batch
@@ -61,6 +64,7 @@ class SessionControls:
         self._blending_from: StylePrompt | None = None  # old style while a style change blends in
         self._mixture_ramp: Ramp | None = None  # W (R, C) flattened, while a part-style change blends in
         self._refused_log = ThrottledLog(logger)  # a flood of gestures into a full plan: a line per interval
+        self.deferred_word_steps = 0  # words left queued by a step's :data:`WORDS_PER_LATENT`, summed over the steps
 
     def submit(self, controls: tuple[Control, ...]) -> dict:
         """Queue one message's typed controls (built by :func:`gesturecast.controls.parse_controls`, so their values
@@ -103,12 +107,8 @@ class SessionControls:
 
     def advance(self, t: float) -> None:
         """Apply queued controls and move the ramps to stream time ``t`` (called once per latent)."""
-        with self._lock:
-            pending = list(self._inbox)
-            self._inbox.clear()
-        for controls in pending:
-            for control in controls:
-                self._apply(control, t)
+        for control in self._take(WORDS_PER_LATENT):
+            self._apply(control, t)
         self._update_style_blend(t)
         self._update_mixture_blend(t)
         guidance = float(self._guidance.value(t))
@@ -127,6 +127,24 @@ class SessionControls:
     def gesture_size(self) -> float:
         """The size of the body's motion around the idle pose in effect: the intensity, 0 while paused."""
         return 0.0 if self.paused else self.intensity
+
+    def _take(self, word_budget: int) -> list[Control]:
+        """The queued controls, in order, up to ``word_budget`` words: a words control past the budget is split and
+        its later words, with the rest of the inbox, stay queued for the next steps."""
+        taken: list[Control] = []
+        with self._lock:
+            while self._inbox:
+                message = self._inbox.popleft()
+                for index, control in enumerate(message):
+                    count = len(control.words) if isinstance(control, Words) else 0
+                    if count > word_budget:
+                        taken.append(Words(control.words[:word_budget]))
+                        self._inbox.appendleft((Words(control.words[word_budget:]), *message[index + 1 :]))
+                        self.deferred_word_steps += sum(_word_count(queued) for queued in self._inbox)
+                        return taken
+                    word_budget -= count
+                    taken.append(control)
+        return taken
 
     def describe(self) -> str:
         """The style in effect, for display (``happy``, ``text:calm``, ``happy→sad γ=0.5``)."""
@@ -224,6 +242,10 @@ def _style_from_control(change: StyleChange) -> StylePrompt | None:
     if change.style is not None:
         return StylePrompt.parse(change.style)
     return None
+
+
+def _word_count(message: tuple[Control, ...]) -> int:
+    return sum(len(control.words) for control in message if isinstance(control, Words))
 
 
 def _prompts_of(change: StyleChange) -> list[StylePrompt]:

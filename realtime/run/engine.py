@@ -16,6 +16,7 @@ import numpy as np
 
 from gesturecast.frames import PoseFrame
 from gesturecast.realtime.audio.sources import DEFAULT_CHUNK, AudioChunk, AudioSource, SourceStats
+from gesturecast.realtime.generation.degradation import RUNGS
 from gesturecast.realtime.pose.session import (
     STAGE_DECODER,
     STAGE_DENOISER,
@@ -24,6 +25,8 @@ from gesturecast.realtime.pose.session import (
     GestureSession,
 )
 from gesturecast.realtime.timing.clock import Clock
+from gesturecast.realtime.timing.ladder import DegradationLadder
+from gesturecast.realtime.timing.late_warning import LateWarning
 from gesturecast.realtime.timing.latency import MS_PER_S, LatencyStats
 from gesturecast.realtime.timing.scheduler import STAGE_SINK, FrameScheduler, SchedulerConfig, SchedulerWorker
 from gesturecast.realtime.timing.status import StatusLine, build_snapshot
@@ -51,6 +54,8 @@ class EngineReport:
     warm_up_s: float = 0.0  # spent warming the stages up before the source opened
     root: dict = field(default_factory=dict)  # RootTravel: max distance and net travel (m), max facing (°)
     gesture_cues: dict = field(default_factory=dict)  # cues by outcome (on time, late, blended, merged, dropped)
+    degradation: dict = field(default_factory=dict)  # the ladder's rung and bursts per rung (paced runs only)
+    deferred_word_steps: int = 0  # words left queued by a latent step's speech-act budget, summed over the steps
 
     @property
     def rtf(self) -> float:
@@ -72,6 +77,8 @@ class EngineReport:
             "warm_up_ms": self.warm_up_s * MS_PER_S,
             "root": self.root,
             "gesture_cues": self.gesture_cues,
+            "degradation": self.degradation,
+            "deferred_word_steps": self.deferred_word_steps,
         }
 
 
@@ -116,7 +123,7 @@ def compute_seconds(session: GestureSession) -> float:
 
 
 def make_report(session: GestureSession, audio: SourceStats, scheduler_stats: dict,
-                interrupted: bool = False, warm_up_s: float = 0.0) -> EngineReport:
+                interrupted: bool = False, warm_up_s: float = 0.0, degradation: dict | None = None) -> EngineReport:
     """The report of a run whose audio came in as ``audio`` (an :class:`AudioSource`'s stats).
 
     ``frames`` counts what reached the outputs: with a scheduler, the frames it released (after Ctrl-C the
@@ -136,31 +143,52 @@ def make_report(session: GestureSession, audio: SourceStats, scheduler_stats: di
         warm_up_s=warm_up_s,
         root=session.travel.to_dict(),
         gesture_cues=session.gestures.cues.summary(),
+        degradation=degradation or {},
+        deferred_word_steps=session.controls.deferred_word_steps,
     )
 
 
 class FrameRelease:
     """A session's frames released to ``sink`` at their presentation times by one scheduler worker thread
-    (the live engine's, and a pushed :class:`~gesturecast.realtime.run.stream.Stream`'s)."""
+    (the live engine's, and a pushed :class:`~gesturecast.realtime.run.stream.Stream`'s).
+
+    Paced with a compute margin (and ``adapt``, the default), each burst's share of the margin used moves the
+    degradation ladder (:mod:`gesturecast.realtime.timing.ladder`), which sets the rung of the next latent."""
 
     def __init__(self, session: GestureSession, sink: Sink, clock: Clock,
-                 config: SchedulerConfig | None = None) -> None:
+                 config: SchedulerConfig | None = None, adapt: bool = True) -> None:
         self.session = session
         self.clock = clock
         self.scheduler = FrameScheduler(clock, sink, config, stats=session.stats)
         self.worker = SchedulerWorker(self.scheduler)
+        adapts = adapt and self.scheduler.config.paced and session.budget.compute_margin_ms > 0
+        self.ladder = DegradationLadder(len(RUNGS)) if adapts else None
+        self.late_warning = LateWarning(clock)
 
     def start(self) -> None:
         self.worker.start()
 
     def submit(self, frames: list[PoseFrame]) -> None:
         """Queue a burst; paced, record how much of the compute margin its first frame used (audio block wait +
-        compute + wake-up: docs/latency.md "Latency settings")."""
+        compute + wake-up: docs/latency.md "Latency settings"), warn when frames stay late, and let the ladder set
+        the next latent's rung."""
         if frames and self.scheduler.config.paced:
-            budget = self.session.budget
-            used = self.clock.now() - (frames[0].presentation_time - budget.compute_margin_ms / MS_PER_S)
+            margin_s = self.session.budget.compute_margin_ms / MS_PER_S
+            used = self.clock.now() - (frames[0].presentation_time - margin_s)
             self.session.stats.record(STAGE_MARGIN_USED, used)
+            self.late_warning.observe(used - margin_s)
+            if self.ladder is not None:
+                self._step_ladder(used / margin_s)
         self.worker.submit(frames)
+
+    def _step_ladder(self, margin_share: float) -> None:
+        rung = self.ladder.rung
+        if self.ladder.observe(margin_share) != rung:
+            self.session.generator.degrade(RUNGS[self.ladder.rung])
+
+    def ladder_report(self) -> dict:
+        """The ladder's rung and bursts per rung ({} when the run does not adapt)."""
+        return {} if self.ladder is None else self.ladder.to_dict()
 
     def drain(self, on_wait: Callable[[], None] | None = None) -> None:
         """Wait until every queued frame is released; re-raises the error that stopped the worker."""
@@ -178,7 +206,7 @@ class LiveEngine:
     skips it, for measuring what it saves). Ctrl-C (KeyboardInterrupt on the caller's thread) ends the
     run at once: the source is closed (a microphone within a bounded time), frames not yet due are
     dropped, and :meth:`run` returns the report of what was sent, with ``interrupted`` set; the caller
-    decides the exit status.
+    decides the exit status. ``adapt=False`` keeps the degradation ladder off (to measure what it does).
     """
 
     def __init__(
@@ -191,13 +219,14 @@ class LiveEngine:
         status: StatusLine | None = None,
         warm: bool = True,
         on_warm: Callable[[], object] | None = None,
+        adapt: bool = True,
     ) -> None:
         self.session = session
         self.warm = warm
         self.on_warm = on_warm  # runs once the stages are warm and the stream is reset, before the source opens
         self.source = source
         self.clock = clock
-        self.release = FrameRelease(session, sink, clock, scheduler_config)
+        self.release = FrameRelease(session, sink, clock, scheduler_config, adapt)
         self.scheduler = self.release.scheduler
         self.status = status
         self._last_frame: PoseFrame | None = None
@@ -228,7 +257,7 @@ class LiveEngine:
             if self.status is not None:
                 self.status.close()
         return make_report(self.session, self.source.stats(), self.scheduler.stats.to_dict(), interrupted,
-                           warm_up_s)
+                           warm_up_s, self.release.ladder_report())
 
     def _submit(self, frames: list[PoseFrame]) -> None:
         self.release.submit(frames)
@@ -247,6 +276,7 @@ class LiveEngine:
             self.source.stats().dropped_samples,
             last.style if last else "",
             bool(last and last.speaking),
+            self.release.ladder,
         )
         self.status.update(snapshot)
 

@@ -254,7 +254,8 @@ class Stream:
     def report(self) -> EngineReport:
         """What the stream measured so far (stage timings, rtf, scheduler counters, outputs)."""
         audio = SourceStats(samples=self._timeline.samples)
-        report = make_report(self.session, audio, self._release.scheduler.stats.to_dict(), warm_up_s=self.warm_up_s)
+        report = make_report(self.session, audio, self._release.scheduler.stats.to_dict(), warm_up_s=self.warm_up_s,
+                             degradation=self._release.ladder_report())
         report.outputs = self.bridges.counters()
         return report
 

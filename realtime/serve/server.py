@@ -29,6 +29,7 @@ from websockets.frames import CloseCode
 from gesturecast.bridges import ws_protocol
 from gesturecast.bridges.control import WORDS_MESSAGE, decode_client_message, submit_control
 from gesturecast.bridges.coords import coordinate_frame
+from gesturecast.bridges.message_rate import MessageRate, RateLimits
 from gesturecast.bridges.transport import ErrorThrottle
 from gesturecast.bridges.ws_access import AccessPolicy, send_refusal
 from gesturecast.bridges.ws_listener import ThreadedListener, private_listener
@@ -78,6 +79,7 @@ class ServeConfig:
     max_unstarted: int = MAX_UNSTARTED  # connections not started yet (they hold no --max-streams slot)
     dealt: bool = False  # no port of its own: serve --workers' parent accepts and deals connections (:meth:`adopt`)
     token_failures: Path | None = None  # serve --workers: the wrong-token table all workers share (shared_failures)
+    rate_limits: RateLimits = field(default_factory=RateLimits)  # per connection: control and words messages
 
 
 class LoopSender:
@@ -138,6 +140,7 @@ class StreamConnection:
         self.holds_slot = False  # from the moment a start is accepted: counts against --max-streams
         self.evicted = False  # closed unstarted to make room for a newer connection (GestureServer._make_room)
         self.audio_format = DEFAULT_AUDIO_FORMAT
+        self.rate = MessageRate(server.clock.now, server.config.rate_limits)  # its control and words messages
         self._closed = False
 
     async def answer(self, message: bytes | str) -> None:
@@ -152,6 +155,10 @@ class StreamConnection:
             return
         if reply is not None:
             await self.websocket.send(reply)
+
+    def counters(self) -> dict[str, int]:
+        """What this connection did not deliver or apply (in the stream's stats)."""
+        return {**self.sender.counters(), "rate_limited_messages": self.rate.refused}
 
     async def _reply_to(self, message: bytes | str) -> str | None:
         if isinstance(message, bytes):
@@ -172,8 +179,9 @@ class StreamConnection:
         raise ControlError(f"unknown message type {kind!r}; use start, control, words or end (audio: binary)")
 
     async def _control(self, message: dict) -> str:
-        """Acknowledged only once the session has resolved its styles (off the event loop)."""
-        return await submit_control(message, self.stream.session.controls.submit)
+        """Checked against the connection's rate, then acknowledged only once the session has resolved its styles
+        (off the event loop)."""
+        return await submit_control(message, self.stream.session.controls.submit, self.rate)
 
     async def _start(self, message: dict) -> str:
         if self.stream is not None:
@@ -189,7 +197,7 @@ class StreamConnection:
         self.audio_format = options.audio_format
         self.stream = ServeStream(self.stream_id, session, self.server.clock, self.sender.send, self.server.coords,
                                   self.server.config.stream, on_finished=self.sender.close_when_sent,
-                                  delivery_counters=self.sender.counters).start()
+                                  delivery_counters=self.counters).start()
         logger.info("stream %s started (%s)", self.stream_id, session.controls.describe())
         return started(self.stream_id, session.controls.describe(), self.audio_format, session.budget.total_ms)
 

@@ -181,6 +181,7 @@ class ServeStream:
             "scheduler_overflow_drops": self.scheduler.stats.overflow_drops,
             "audio_dropped_samples": self.dropped_samples,
             "nonfinite_poses": self.session.nonfinite_poses,
+            "deferred_word_steps": self.session.controls.deferred_word_steps,
             **(self.delivery_counters() if self.delivery_counters is not None else {}),
             "error": self.error,
         }

@@ -12,6 +12,7 @@ from dataclasses import dataclass
 from typing import TextIO
 
 from gesturecast.realtime.timing.clock import Clock
+from gesturecast.realtime.timing.ladder import DegradationLadder
 from gesturecast.realtime.timing.latency import LatencyBudget, LatencyStats
 from gesturecast.realtime.timing.scheduler import STAGE_END_TO_END, SchedulerStats
 
@@ -32,6 +33,8 @@ class StatusSnapshot:
     late_releases: int = 0
     style: str = ""
     speaking: bool = False
+    rung: int = 0  # the degradation ladder's rung (0: full work)
+    bursts_per_rung: tuple[int, ...] = ()  # () when the run does not adapt
 
 
 def build_snapshot(
@@ -42,13 +45,15 @@ def build_snapshot(
     audio_drops: int,
     style: str = "",
     speaking: bool = False,
+    ladder: DegradationLadder | None = None,
 ) -> StatusSnapshot:
     """The current status: end-to-end percentiles over the output frames of the last :data:`RECENT_SECONDS`
     (at ``output_fps``: 60 fps sends twice as many frames per second as 30 fps)."""
     recent_frames = round(RECENT_SECONDS * output_fps)
     p50, p95 = stats.percentiles_ms(STAGE_END_TO_END, (50.0, 95.0), last=recent_frames)
+    rung, counts = (0, ()) if ladder is None else (ladder.rung, tuple(ladder.counts))
     return StatusSnapshot(budget.total_ms, p50, p95, scheduler_stats.deadline_misses, audio_drops,
-                          scheduler_stats.late_releases, style, speaking)
+                          scheduler_stats.late_releases, style, speaking, rung, counts)
 
 
 def _ms(value: float) -> str:
@@ -56,18 +61,27 @@ def _ms(value: float) -> str:
 
 
 def format_status(snapshot: StatusSnapshot) -> str:
-    """One line, e.g. ``L 500 ms | e2e p50 480 p95 495 ms | misses 0 late 0 | audio drops 0 | style happy | speaking``
-    (misses: late computation; late: frames released more than half a frame after their time)."""
+    """One line, e.g. ``L 500 ms | e2e p50 480 p95 495 ms | misses 0 late 0 | rung 1 (412/9/0) | audio drops 0 |
+    style happy | speaking`` (misses: late computation; late: frames released more than half a frame after their
+    time; rung: the degradation ladder's, with the bursts generated at each rung; left out when the run does not
+    adapt)."""
     style = snapshot.style if len(snapshot.style) <= MAX_STYLE_CHARS else snapshot.style[: MAX_STYLE_CHARS - 1] + "…"
     parts = [
         f"L {snapshot.latency_budget_ms:.0f} ms",
         f"e2e p50 {_ms(snapshot.end_to_end_p50_ms)} p95 {_ms(snapshot.end_to_end_p95_ms)} ms",
         f"misses {snapshot.deadline_misses} late {snapshot.late_releases}",
+        *_rung(snapshot),
         f"audio drops {snapshot.audio_drops}",
         f"style {style or '-'}",
         "speaking" if snapshot.speaking else "silent",
     ]
     return " | ".join(parts)
+
+
+def _rung(snapshot: StatusSnapshot) -> list[str]:
+    if not snapshot.bursts_per_rung:
+        return []
+    return [f"rung {snapshot.rung} ({'/'.join(str(count) for count in snapshot.bursts_per_rung)})"]
 
 
 class StatusLine:

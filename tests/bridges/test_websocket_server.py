@@ -13,6 +13,7 @@ from websockets.exceptions import ConnectionClosed, InvalidStatus
 from websockets.sync.client import connect
 
 from gesturecast.bridges.coords import UNREAL
+from gesturecast.bridges.message_rate import RateLimits
 from gesturecast.bridges.websocket_server import WebSocketBridge, WebSocketConfig
 from gesturecast.bridges.ws_protocol import BINARY_HEADER
 from gesturecast.controls import StyleChange
@@ -288,3 +289,26 @@ def test_clients_see_the_gesture_playing_in_json_frames_and_a_side_message_on_ea
     assert [f["gesture"] for f in frames] == ["", "wave", "wave", ""]
     assert changes == [(["wave"], [], 1), ([], ["wave"], 3)]
     assert [json.loads(m)["playing"] for m in side if json.loads(m)["type"] == "gesture"] == ["wave", ""]
+
+
+def test_a_client_over_its_message_rate_is_told_so_and_its_stream_goes_on(controls):
+    limits = RateLimits(messages_per_s=0.001, message_burst=2)  # two now, the next in about 17 minutes
+    bridge = WebSocketBridge(WebSocketConfig(port=0, rate_limits=limits), on_control=controls.append).start()
+    try:
+        with connect(ws_url(bridge)) as client, connect(ws_url(bridge)) as other:
+            hello_of(client)
+            hello_of(other)
+            replies = []
+            for _ in range(3):
+                client.send(json.dumps({"type": "control", "guidance": 2.0}))
+                replies.append(json.loads(client.recv(TIMEOUT_S)))
+            other.send(json.dumps({"type": "control", "guidance": 3.0}))  # each connection has its own limit
+            other_reply = json.loads(other.recv(TIMEOUT_S))
+            bridge.send(moving_frame(1))
+            assert next_binary(client)[:4] == b"GCPF"  # the limited client still gets the stream
+    finally:
+        bridge.close()
+    assert [reply["type"] for reply in replies] == ["ack", "ack", "error"]
+    assert "rate limit" in replies[2]["message"] and "the stream goes on" in replies[2]["message"]
+    assert other_reply["type"] == "ack"
+    assert len(controls) == 3

@@ -41,6 +41,7 @@ from gesturecast.realtime.timing.clock import Clock, MonotonicClock
 from gesturecast.realtime.timing.latency import MS_PER_S
 from gesturecast.settings import Settings
 from gesturecast.tools.bench.latency_sweep import latency_sweep
+from gesturecast.tools.bench.load import add_load_argument, competing_load
 
 SWEEP_STEPS = (1, 2, 4, 8, 16)
 PERCENTILES = ("p50", "p95", "p99", "max")
@@ -66,6 +67,9 @@ def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--sweep-models", type=Path, nargs="*", default=[], help="extra bundles for the sweeps")
     parser.add_argument("--out", type=Path, default=Path("out/bench"), help="folder for the sweep table and plot")
     parser.add_argument("--block-size", type=int, default=DEFAULT_CHUNK, help="samples per audio chunk (16 kHz)")
+    parser.add_argument("--no-ladder", dest="ladder", action="store_false",
+                        help="keep the degradation ladder off (the full work on every latent, late or not)")
+    add_load_argument(parser)
     add_generation_arguments(parser)
     parser.set_defaults(func=run_bench_latency)
 
@@ -73,25 +77,29 @@ def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
 def run_bench_latency(args: argparse.Namespace) -> int:
     if (args.audio is None) == (args.device is None):
         raise UserError("give a speech FILE or --device NAME (one of them)")
+    if args.device is not None and (args.sweep or args.sweep_steps):
+        raise UserError("the sweeps run on a file; drop --device")
+    with competing_load(args.load) as load:
+        result = _measured(args)
+    result["load"] = load
+    sys.stdout.write(json.dumps(result, indent=None if args.json else 2) + "\n")
+    return 0
+
+
+def _measured(args: argparse.Namespace) -> dict:
+    """The microphone run, the sweep asked, or one run on the file."""
     if args.device is not None:
-        if args.sweep or args.sweep_steps:
-            raise UserError("the sweeps run on a file; drop --device")
-        result = measure(args, None)
-        sys.stdout.write(json.dumps(result, indent=None if args.json else 2) + "\n")
-        return 0
+        return measure(args, None)
     with tempfile.TemporaryDirectory() as scratch:
         audio = _trimmed(args.audio, args.seconds, Path(scratch))
         if args.sweep:
-            result = latency_sweep(args, audio, measure_with_frames)
-        elif args.sweep_steps:
+            return latency_sweep(args, audio, measure_with_frames)
+        if args.sweep_steps:
             rows = _sweep(args, audio)
             _write_sweep(rows, args.out)
-            result = {"sweep": rows, "table": str(args.out / "latency_sweep.md"),
-                      "plot": str(args.out / "latency_sweep.png")}
-        else:
-            result = measure(args, audio)
-    sys.stdout.write(json.dumps(result, indent=None if args.json else 2) + "\n")
-    return 0
+            return {"sweep": rows, "table": str(args.out / "latency_sweep.md"),
+                    "plot": str(args.out / "latency_sweep.png")}
+        return measure(args, audio)
 
 
 def _trimmed(path: Path, seconds: float | None, scratch: Path) -> Path:
@@ -167,7 +175,7 @@ def measure_with_frames(args: argparse.Namespace, audio: Path | None, keep_frame
     log = ReleaseLog(outputs.send, clock, keep_frames)
     try:
         source = open_bench_source(args, audio, clock)
-        report = LiveEngine(session, source, log.send, clock, warm=args.warm_up).run()
+        report = LiveEngine(session, source, log.send, clock, warm=args.warm_up, adapt=args.ladder).run()
     finally:
         outputs.close()
     return {**benchmark_json(report, args, settings, session.generator.guidance), **log.windows()}, log.frames
@@ -183,6 +191,7 @@ def benchmark_json(report: EngineReport, args: argparse.Namespace, settings: Set
         "margin_used_ms": {p: stages.get(STAGE_MARGIN_USED, {}).get(p) for p in PERCENTILES},
         "rtf": report.rtf,
         "deadline_misses": report.scheduler.get("deadline_misses", 0),
+        "degradation": report.degradation,
         "audio_drops": report.audio["dropped_samples"],
         "untimed_audio_blocks": report.audio["untimed_blocks"],
         "warm_up_ms": report.warm_up_s * MS_PER_S,

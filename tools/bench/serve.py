@@ -42,6 +42,7 @@ from gesturecast.realtime.serve.server import GestureServer
 from gesturecast.realtime.serve.workers import Workers
 from gesturecast.realtime.timing.clock import MonotonicClock
 from gesturecast.realtime.timing.latency import MS_PER_S
+from gesturecast.tools.bench.load import add_load_argument, competing_load
 from gesturecast.tools.bench.memory import PROC_STATUS, rss_mb
 from gesturecast.tools.bench.serve_client import ClientResult, stream_audio
 
@@ -77,6 +78,7 @@ def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
                              "machines: the server gets the cores first (default 0)")
     parser.add_argument("--url", help="measure a server that is already running (e.g. serve --ray: "
                                       "ws://127.0.0.1:8766/stream/); rtf then counts only the clients' CPU")
+    add_load_argument(parser)
     add_serve_arguments(parser)
     parser.set_defaults(func=run_bench_serve)
 
@@ -94,7 +96,8 @@ def run_bench_serve(args: argparse.Namespace) -> int:
         result = measure_churn(args, speech[: int(CHURN_SECONDS * SAMPLE_RATE)], args.churn, args.concurrency)
         sys.stdout.write(json.dumps(result, indent=None if args.json else 2) + "\n")
         return 0
-    runs = [measure_streams(args, n, speech, seconds) for n in args.streams]
+    with competing_load(args.load) as load:
+        runs = [measure_streams(args, n, speech, seconds) for n in args.streams]
     cores = usable_cores()
     clean = [r["streams"] for r in runs if r["deadline_misses"] == 0 and not r["errors"] and not r["audio_drops"]]
     best = max(clean, default=0)
@@ -106,6 +109,7 @@ def run_bench_serve(args: argparse.Namespace) -> int:
         "settings": {"steps": args.steps, "guidance": runs[0]["guidance"], "threads": args.threads,
                      "client_niceness": args.client_niceness,
                      "model": str(args.model), "seconds": seconds, "chunk_samples": CHUNK_SAMPLES},
+        "load": load,
         "machine": {"platform": platform.platform(), "python": platform.python_version()},
     }
     sys.stdout.write(json.dumps(result, indent=None if args.json else 2) + "\n")

@@ -5,6 +5,7 @@ import io
 import pytest
 
 from gesturecast.realtime.timing.clock import FakeClock
+from gesturecast.realtime.timing.ladder import DegradationLadder
 from gesturecast.realtime.timing.latency import LatencyBudget, LatencyStats
 from gesturecast.realtime.timing.scheduler import STAGE_END_TO_END, SchedulerStats
 from gesturecast.realtime.timing.status import RECENT_SECONDS, StatusLine, StatusSnapshot, build_snapshot, format_status
@@ -21,6 +22,15 @@ SNAPSHOT = StatusSnapshot(500.0, 481.4, 497.6, 2, 1, late_releases=5, style="hap
 def test_format_shows_every_field():
     line = format_status(SNAPSHOT)
     assert line == "L 500 ms | e2e p50 481 p95 498 ms | misses 2 late 5 | audio drops 1 | style happy | speaking"
+
+
+def test_an_adapting_run_shows_its_rung_and_the_bursts_at_each_rung():
+    ladder = DegradationLadder(3)
+    for share in (0.2, 1.5, 0.3):
+        ladder.observe(share)
+    snapshot = build_snapshot(LatencyBudget(4, 8, 100.0), LatencyStats(FakeClock()), SchedulerStats(), 30.0, 0,
+                              ladder=ladder)
+    assert "| misses 0 late 0 | rung 1 (2/1/0) | audio drops 0 |" in format_status(snapshot)
 
 
 def test_unmeasured_latency_and_long_style_are_readable():
