@@ -14,9 +14,9 @@ import asyncio
 import json
 from collections.abc import Callable
 
-from gesturecast.bridges.message_rate import MessageRate
 from gesturecast.controls import Control, ControlError, acknowledged, parse_controls
 from gesturecast.errors import UserError
+from gesturecast.message_rate import MessageRate
 
 ENVELOPE_FIELDS = frozenset({"type", "token"})
 WORDS_MESSAGE = "words"  # {"type": "words", "words": [...]}: the same as a control with only words

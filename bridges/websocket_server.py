@@ -31,13 +31,13 @@ from websockets.http11 import Request, Response
 from gesturecast.bridges import ws_protocol
 from gesturecast.bridges.control import WORDS_MESSAGE, decode_client_message, submit_control
 from gesturecast.bridges.coords import coordinate_frame
-from gesturecast.bridges.message_rate import MessageRate, RateLimits
 from gesturecast.bridges.transport import ErrorThrottle
 from gesturecast.bridges.viewer_http import AvatarServer, ViewerConnection, is_websocket_upgrade, static_response
 from gesturecast.bridges.ws_access import AccessPolicy, send_refusal
 from gesturecast.bridges.ws_listener import ThreadedListener
 from gesturecast.controls import Control, ControlError, control_schema
 from gesturecast.frames import VISEME_NAMES, PoseFrame
+from gesturecast.message_rate import MessageRate, RateLimits
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS, Skeleton
 
 logger = logging.getLogger(__name__)

@@ -20,6 +20,7 @@ import threading
 from collections import deque
 from contextlib import suppress
 from dataclasses import dataclass, field
+from functools import partial
 from pathlib import Path
 
 from websockets.asyncio.server import ServerConnection, broadcast
@@ -29,11 +30,11 @@ from websockets.frames import CloseCode
 from gesturecast.bridges import ws_protocol
 from gesturecast.bridges.control import WORDS_MESSAGE, decode_client_message, submit_control
 from gesturecast.bridges.coords import coordinate_frame
-from gesturecast.bridges.message_rate import MessageRate, RateLimits
 from gesturecast.bridges.transport import ErrorThrottle
 from gesturecast.bridges.ws_access import AccessPolicy, send_refusal
 from gesturecast.bridges.ws_listener import ThreadedListener, private_listener
 from gesturecast.controls import ControlError, control_schema
+from gesturecast.message_rate import MessageRate, RateLimits
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
 from gesturecast.realtime.serve.heap import HeapTrimmer
 from gesturecast.realtime.serve.protocol import (
@@ -80,6 +81,11 @@ class ServeConfig:
     dealt: bool = False  # no port of its own: serve --workers' parent accepts and deals connections (:meth:`adopt`)
     token_failures: Path | None = None  # serve --workers: the wrong-token table all workers share (shared_failures)
     rate_limits: RateLimits = field(default_factory=RateLimits)  # per connection: control and words messages
+
+
+def connection_counters(sender: LoopSender, rate: MessageRate) -> dict[str, int]:
+    """What a connection did not deliver or apply (in its stream's stats)."""
+    return {**sender.counters(), "rate_limited_messages": rate.refused}
 
 
 class LoopSender:
@@ -156,10 +162,6 @@ class StreamConnection:
         if reply is not None:
             await self.websocket.send(reply)
 
-    def counters(self) -> dict[str, int]:
-        """What this connection did not deliver or apply (in the stream's stats)."""
-        return {**self.sender.counters(), "rate_limited_messages": self.rate.refused}
-
     async def _reply_to(self, message: bytes | str) -> str | None:
         if isinstance(message, bytes):
             return await self._audio(message)
@@ -197,7 +199,9 @@ class StreamConnection:
         self.audio_format = options.audio_format
         self.stream = ServeStream(self.stream_id, session, self.server.clock, self.sender.send, self.server.coords,
                                   self.server.config.stream, on_finished=self.sender.close_when_sent,
-                                  delivery_counters=self.counters).start()
+                                  # not a method of the connection: the stream must not hold it (no reference cycle,
+                                  # so a closed stream's session is freed at once)
+                                  delivery_counters=partial(connection_counters, self.sender, self.rate)).start()
         logger.info("stream %s started (%s)", self.stream_id, session.controls.describe())
         return started(self.stream_id, session.controls.describe(), self.audio_format, session.budget.total_ms)
 

@@ -2,8 +2,8 @@
 
 import pytest
 
-from gesturecast.bridges.message_rate import MessageRate, RateLimits
 from gesturecast.controls import ControlError, StyleChange, Word, Words
+from gesturecast.message_rate import MessageRate, RateLimits
 
 LIMITS = RateLimits(messages_per_s=2.0, message_burst=4, words_per_s=10.0, word_burst=30)
 CONTROL = (StyleChange(guidance=2.0),)

@@ -13,11 +13,11 @@ from websockets.exceptions import ConnectionClosed, InvalidStatus
 from websockets.sync.client import connect
 
 from gesturecast.bridges.coords import UNREAL
-from gesturecast.bridges.message_rate import RateLimits
 from gesturecast.bridges.websocket_server import WebSocketBridge, WebSocketConfig
 from gesturecast.bridges.ws_protocol import BINARY_HEADER
 from gesturecast.controls import StyleChange
 from gesturecast.errors import UserError
+from gesturecast.message_rate import RateLimits
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
 
 TIMEOUT_S = 5.0

@@ -33,7 +33,7 @@ BENCHES: dict[str, tuple[str, str]] = {
     "bridges": ("gesturecast.tools.bench.bridges", "bytes per frame and send cost per bridge"),
     "denoiser": ("gesturecast.tools.bench.denoiser", "denoiser parameters and ONNX per-latent latency"),
     "vq": ("gesturecast.tools.bench.vq", "VQ-VAE parameters and ONNX decoder-step latency"),
-    "latency": ("gesturecast.tools.bench.latency", "end-to-end latency of the live engine (file or microphone)"),
+    "latency": ("gesturecast.tools.bench.timing.latency", "end-to-end latency of the live engine (file or microphone)"),
     "generator": ("gesturecast.tools.bench.generator", "per-latent-step generator latency (DDIM K, DDPM 1000)"),
     "serve": ("gesturecast.tools.bench.serve", "streams per core of `gesturecast serve` (JSON)"),
     "memory": ("gesturecast.tools.bench.memory", "RSS of one session over hours of audio (JSON + plot)"),

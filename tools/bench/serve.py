@@ -42,9 +42,9 @@ from gesturecast.realtime.serve.server import GestureServer
 from gesturecast.realtime.serve.workers import Workers
 from gesturecast.realtime.timing.clock import MonotonicClock
 from gesturecast.realtime.timing.latency import MS_PER_S
-from gesturecast.tools.bench.load import add_load_argument, competing_load
 from gesturecast.tools.bench.memory import PROC_STATUS, rss_mb
 from gesturecast.tools.bench.serve_client import ClientResult, stream_audio
+from gesturecast.tools.bench.timing.load import add_load_argument, competing_load
 
 DEFAULT_AUDIO = Path(__file__).resolve().parents[3] / "shared" / "data" / "zeggs" / "067_Speech_2_x_1_0.wav"
 DEFAULT_STREAMS = (1, 2, 4)

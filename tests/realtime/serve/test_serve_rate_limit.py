@@ -7,7 +7,7 @@ import json
 import pytest
 from websockets.asyncio.client import connect
 
-from gesturecast.bridges.message_rate import RateLimits
+from gesturecast.message_rate import RateLimits
 from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
 from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.realtime.serve.server import GestureServer, ServeConfig

@@ -5,7 +5,7 @@ import subprocess
 import pytest
 
 from gesturecast.errors import UserError
-from gesturecast.tools.bench import load
+from gesturecast.tools.bench.timing import load
 
 
 @pytest.fixture

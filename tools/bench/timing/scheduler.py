@@ -5,7 +5,7 @@ would have arrived, each with presentation_time = capture_time + L; a :class:`Sc
 them to a no-op sink. Reports release lateness percentiles (OS wake-up jitter on this machine), deadline
 misses and the worker's CPU use.
 
-    python -m gesturecast.tools.bench.scheduler --seconds 10 --output-fps 60
+    python -m gesturecast.tools.bench.timing.scheduler --seconds 10 --output-fps 60
 """
 
 from __future__ import annotations

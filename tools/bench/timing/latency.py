@@ -8,7 +8,7 @@ card, ``python -m gesturecast.tools.bench.virtual_mic SPEECH -- gesturecast benc
 pulse`` provides one. The first ``START_WINDOW_S`` seconds of frames are reported apart (``start``),
 to show whether the run misses deadlines while it starts; ``--no-warm-up`` skips the engine's
 warm-up, to measure what it saves. ``--sweep`` repeats the run for every ``--latency`` setting of the
-model (and of each ``--sweep-models`` bundle; :mod:`gesturecast.tools.bench.latency_sweep`);
+model (and of each ``--sweep-models`` bundle; :mod:`gesturecast.tools.bench.timing.latency_sweep`);
 ``--sweep-steps`` repeats it for K ∈ {1, 2, 4, 8, 16} (and each ``--sweep-models`` bundle, e.g. bundles
 trained with other look-aheads δa). Both write a Markdown table and a plot.
 """
@@ -40,8 +40,8 @@ from gesturecast.realtime.run.engine_setup import build_session
 from gesturecast.realtime.timing.clock import Clock, MonotonicClock
 from gesturecast.realtime.timing.latency import MS_PER_S
 from gesturecast.settings import Settings
-from gesturecast.tools.bench.latency_sweep import latency_sweep
-from gesturecast.tools.bench.load import add_load_argument, competing_load
+from gesturecast.tools.bench.timing.latency_sweep import latency_sweep
+from gesturecast.tools.bench.timing.load import add_load_argument, competing_load
 
 SWEEP_STEPS = (1, 2, 4, 8, 16)
 PERCENTILES = ("p50", "p95", "p99", "max")
