@@ -282,6 +282,13 @@ class Generator:
         self._set_mixture_values(prompts, weights)
         self._apply_layout()
 
+    def blend_part_styles(self, prompts: list[StylePrompt], weights: np.ndarray, style: StylePrompt,
+                          part_styles: PartStyles) -> None:
+        """A part-style blend starts: the mixture rows ``prompts`` (R) with ``weights`` (R, C) now, toward ``style``
+        and ``part_styles``, the styles asked from the next layout on."""
+        self.set_mixture(prompts, weights)
+        self.settings = replace(self.settings, style=style, part_styles=tuple(part_styles))
+
     def set_gamma(self, gamma: float) -> None:
         """Move γ of x̂0 = γ·D(c1) + (1 − γ)·D(c2) without re-embedding the styles (used by smooth changes)."""
         self.settings = replace(self.settings, gamma=gamma)

@@ -54,7 +54,7 @@ from gesturecast.realtime.pose.hands import HandPose
 from gesturecast.realtime.pose.idle import IdleMotion
 from gesturecast.realtime.pose.motion_smoother import MotionSmoother
 from gesturecast.realtime.pose.seed_motion import SeedMotion
-from gesturecast.realtime.pose.session_controls import SessionControls
+from gesturecast.realtime.pose.session_controls import SessionControls, StyleState
 from gesturecast.realtime.pose.stylizer import Stylizer
 from gesturecast.realtime.pose.transitions import PoseCrossfade
 from gesturecast.realtime.timing.clock import Clock
@@ -95,6 +95,7 @@ class SessionConfig:
     style_params: Path | None = DEFAULT_STYLE_PARAMS  # the stylizer's styles (realtime/pose/stylizer.py); None: off
     intensity: float = FULL_SIZE  # gesture size 0..2 around the idle pose (realtime/pose/gesture_size.py)
     paused: bool = False  # the body in the idle pose until a pause control says otherwise
+    style: StyleState | None = None  # the stream's style, from Settings (None: what the generator was made with)
 
 
 class GestureSession:
@@ -126,7 +127,8 @@ class GestureSession:
         self.root = RootAnchor(self.config.root_mode, fps=self.fps)
         self.gestures = gestures or GestureDirector(
             GestureRepertoire(), self.denoiser_config.frames_per_latent / self.fps, budget.total_s)
-        self.controls = SessionControls(generator, self.root, self.gestures, self.config.intensity, self.config.paused)
+        self.controls = SessionControls(generator, self.root, self.gestures, self.config.intensity, self.config.paused,
+                                        style=self.config.style)
         self.smoother = MotionSmoother(budget.smoothing_frames)
         self.hands = HandPose(self.fps, seed=generator.settings.seed)
         self.face = None if self.config.face == FACE_OFF else FaceAnimator(
@@ -274,9 +276,9 @@ class GestureSession:
 
     def _pose_style(self) -> PoseStyle:
         """What the pose frames of the latent just generated take from the style in effect."""
-        settings = self.generator.settings
-        return PoseStyle(self.controls.describe(), settings.style, settings.second_style, settings.gamma,
-                         settings.part_styles, settings.style_strength, self.controls.gesture_size)
+        style = self.controls.style
+        return PoseStyle(self.controls.describe(), style.style, style.second_style, style.gamma, style.part_styles,
+                         style.strength, self.controls.gesture_size)
 
     def _built_poses(self, batch: list[np.ndarray], style: PoseStyle) -> list[PoseFrame]:
         """The pose frames of the smoothed rows of a run of latents (list of (m, D)) in ``style``, in order."""

@@ -17,20 +17,20 @@ from __future__ import annotations
 import logging
 import threading
 from collections import deque
-from dataclasses import replace
+from dataclasses import dataclass, replace
 
 from gesturecast.controls import Control, Gesture, StyleChange, Words
 from gesturecast.log_throttle import ThrottledLog
 from gesturecast.models.generator.style_prompt import PartStyles, StylePrompt, parse_part_styles
 from gesturecast.models.motion.root_anchor import RootAnchor, RootMode
-from gesturecast.realtime.generation.generator import Generator
+from gesturecast.realtime.generation.generator import Generator, GeneratorSettings
 from gesturecast.realtime.generation.style_mixture import align_mixtures, bound_blend_rows, drop_unused_rows
 from gesturecast.realtime.gestures.cues import CueRefused
 from gesturecast.realtime.gestures.director import GestureDirector
 from gesturecast.realtime.gestures.lexicon import current_name
 from gesturecast.realtime.pose.gesture_size import FULL_SIZE
 from gesturecast.realtime.pose.transitions import DEFAULT_RAMP_S, Ramp
-from gesturecast.settings import SINGLE_STYLE
+from gesturecast.settings import DEFAULT_STYLE_STRENGTH, SINGLE_STYLE
 
 logger = logging.getLogger(__name__)
 
@@ -44,12 +44,33 @@ WORDS_PER_LATENT = 40
 MAX_MIXTURE_ROWS = 8
 
 
+@dataclass(frozen=True)
+class StyleState:
+    """The style a stream is in, owned by its controls: what the stylizer and the face perform, and what the
+    generator is told (it hears the labels it learned with speech itself, and its generator style for the rest)."""
+
+    style: StylePrompt
+    second_style: StylePrompt | None = None  # c2 of x̂0 = γ·D(style) + (1 − γ)·D(second_style), also while blending
+    gamma: float = SINGLE_STYLE
+    part_styles: PartStyles = ()
+    strength: float = DEFAULT_STYLE_STRENGTH
+
+    @staticmethod
+    def of(settings: GeneratorSettings) -> StyleState:
+        """The style the settings a generator was made with ask for."""
+        return StyleState(settings.style, settings.second_style, settings.gamma, tuple(settings.part_styles),
+                          settings.style_strength)
+
+
 class SessionControls:
-    """Holds the control inbox and the ramps; :meth:`advance` applies them at stream time ``t``."""
+    """Holds the control inbox, the ramps and the stream's style (:class:`StyleState`, which the generator is told);
+    :meth:`advance` applies them at stream time ``t``."""
 
     def __init__(self, generator: Generator, root: RootAnchor, gestures: GestureDirector,
-                 intensity: float = FULL_SIZE, paused: bool = False, fade_s: float = DEFAULT_RAMP_S) -> None:
+                 intensity: float = FULL_SIZE, paused: bool = False, fade_s: float = DEFAULT_RAMP_S,
+                 style: StyleState | None = None) -> None:
         self.generator = generator
+        self.style = StyleState.of(generator.settings) if style is None else style  # the session's, from Settings
         self.root = root
         self.gestures = gestures
         self.intensity = intensity
@@ -58,9 +79,9 @@ class SessionControls:
         self._inbox: deque[tuple[Control, ...]] = deque(maxlen=MAX_PENDING_CONTROLS)
         self._lock = threading.Lock()
         self._guidance = Ramp(generator.base_guidance, fade_s)
-        self._style_strength = Ramp(generator.settings.style_strength, fade_s)
+        self._style_strength = Ramp(self.style.strength, fade_s)
         self._audio_guidance = Ramp(generator.settings.audio_guidance, fade_s)
-        self._gamma = Ramp(generator.settings.gamma, fade_s)
+        self._gamma = Ramp(self.style.gamma, fade_s)
         self._blending_from: StylePrompt | None = None  # old style while a style change blends in
         self._mixture_ramp: Ramp | None = None  # W (R, C) flattened, while a part-style change blends in
         self._refused_log = ThrottledLog(logger)  # a flood of gestures into a full plan: a line per interval
@@ -101,7 +122,7 @@ class SessionControls:
                 self.generator.styles.embed(prompt)
             if control.part_styles is not None:
                 parts = parse_part_styles(control.part_styles)
-                self.generator.part_mixture(self.generator.settings.style, parts)  # unknown body parts
+                self.generator.part_mixture(self.style.style, parts)  # unknown body parts
                 for _, prompt in parts:  # unknown styles (e.g. a misspelt label) inside part_styles
                     self.generator.styles.embed(prompt)
 
@@ -115,13 +136,14 @@ class SessionControls:
         if guidance != self.generator.base_guidance:
             self.generator.set_guidance(guidance)
         strength = float(self._style_strength.value(t))
-        if strength != self.generator.settings.style_strength:
+        if strength != self.style.strength:
+            self.style = replace(self.style, strength=strength)
             self.generator.set_style_strength(strength)
         audio_guidance = float(self._audio_guidance.value(t))
         if audio_guidance != self.generator.settings.audio_guidance:
             self.generator.set_audio_guidance(audio_guidance)
-        if self._blending_from is None and self.generator.settings.second_style is not None:
-            self.generator.set_gamma(float(self._gamma.value(t)))
+        if self._blending_from is None and self.style.second_style is not None:
+            self._set_gamma(float(self._gamma.value(t)))
 
     @property
     def gesture_size(self) -> float:
@@ -148,13 +170,13 @@ class SessionControls:
 
     def describe(self) -> str:
         """The style in effect, for display (``happy``, ``text:calm``, ``happy→sad γ=0.5``)."""
-        settings = self.generator.settings
-        name = _prompt_name(settings.style)
-        if settings.part_styles:
-            name += " " + " ".join(f"{part}={_prompt_name(prompt)}" for part, prompt in settings.part_styles)
-        if settings.second_style is None or self._blending_from is not None:
+        style = self.style
+        name = _prompt_name(style.style)
+        if style.part_styles:
+            name += " " + " ".join(f"{part}={_prompt_name(prompt)}" for part, prompt in style.part_styles)
+        if style.second_style is None or self._blending_from is not None:
             return name
-        return f"{name}→{_prompt_name(settings.second_style)} γ={settings.gamma:.2f}"
+        return f"{name}→{_prompt_name(style.second_style)} γ={style.gamma:.2f}"
 
     def _apply(self, control: Control, t: float) -> None:
         if isinstance(control, StyleChange):
@@ -180,38 +202,48 @@ class SessionControls:
             if value is not None:
                 ramp.set_target(float(value), t)
         new_style = _style_from_control(change)
-        if change.part_styles is not None or (self.generator.settings.part_styles and new_style is not None):
+        if change.part_styles is not None or (self.style.part_styles and new_style is not None):
             parts = None if change.part_styles is None else parse_part_styles(change.part_styles)
-            self._start_mixture_blend(new_style or self.generator.settings.style, parts, t)
+            self._start_mixture_blend(new_style or self.style.style, parts, t)
         elif change.style2 is not None:
             self._blending_from = None
-            style = new_style or self.generator.settings.style
-            self.generator.set_style(style, StylePrompt.parse(change.style2), float(self._gamma.value(t)))
-        elif new_style is not None and new_style != self.generator.settings.style:
+            second = StylePrompt.parse(change.style2)
+            self._set_style(new_style or self.style.style, second, float(self._gamma.value(t)))
+        elif new_style is not None and new_style != self.style.style:
             self._start_style_blend(new_style, t)
 
+    def _set_style(self, style: StylePrompt, second_style: StylePrompt | None = None,
+                   gamma: float = SINGLE_STYLE) -> None:
+        """The stream's style, second style and γ (the generator is told)."""
+        self.style = replace(self.style, style=style, second_style=second_style, gamma=gamma)
+        self.generator.set_style(style, second_style, gamma)
+
+    def _set_gamma(self, gamma: float) -> None:
+        self.style = replace(self.style, gamma=gamma)
+        self.generator.set_gamma(gamma)
+
     def _start_style_blend(self, new_style: StylePrompt, t: float) -> None:
-        settings = self.generator.settings
-        if settings.second_style is not None:  # a user γ mix is active: keep its second style, ramp as usual
-            self.generator.set_style(new_style, settings.second_style, settings.gamma)
+        style = self.style
+        if style.second_style is not None:  # a user γ mix is active: keep its second style, ramp as usual
+            self._set_style(new_style, style.second_style, style.gamma)
             return
-        self._blending_from = settings.style
+        self._blending_from = style.style
         self._blend = Ramp(0.0, self.fade_s, t)
         self._blend.set_target(SINGLE_STYLE, t)
-        self.generator.set_style(new_style, self._blending_from, 0.0)
+        self._set_style(new_style, self._blending_from, 0.0)
 
     def _start_mixture_blend(self, style: StylePrompt, part_styles: PartStyles | None, t: float) -> None:
         """Ramp W from the mixture in effect to the one of ``style`` and ``part_styles`` (None: keep the parts)."""
         generator = self.generator
-        parts = generator.settings.part_styles if part_styles is None else part_styles
+        parts = tuple(self.style.part_styles if part_styles is None else part_styles)
         if self._blending_from is not None:  # a γ style blend still running ends here
             self._blending_from = None
-            generator.set_style(generator.settings.style)
+            self._set_style(self.style.style)
         old_prompts, old_weights = generator.mixture
         union, start, target = bound_blend_rows(
             *align_mixtures(old_prompts, old_weights, *generator.part_mixture(style, parts)), MAX_MIXTURE_ROWS)
-        generator.set_mixture(union, start)
-        generator.settings = replace(generator.settings, style=style, part_styles=tuple(parts))
+        generator.blend_part_styles(union, start, style, parts)
+        self.style = replace(self.style, style=style, part_styles=parts)
         self._mixture_ramp = Ramp(start, self.fade_s, t)
         self._mixture_ramp.set_target(target, t)
 
@@ -221,8 +253,7 @@ class SessionControls:
         weights = self._mixture_ramp.value(t).astype("float32")  # (R, C)
         if self._mixture_ramp.done(t):
             self._mixture_ramp = None
-            self.generator.set_mixture(*drop_unused_rows(self.generator.mixture[0], weights,
-                                                         self.generator.settings.style))
+            self.generator.set_mixture(*drop_unused_rows(self.generator.mixture[0], weights, self.style.style))
         else:
             self.generator.set_mixture_weights(weights)
 
@@ -231,9 +262,9 @@ class SessionControls:
             return
         if self._blend.done(t):
             self._blending_from = None
-            self.generator.set_style(self.generator.settings.style)
+            self._set_style(self.style.style)
         else:
-            self.generator.set_gamma(float(self._blend.value(t)))
+            self._set_gamma(float(self._blend.value(t)))
 
 
 def _style_from_control(change: StyleChange) -> StylePrompt | None:

@@ -32,6 +32,7 @@ from gesturecast.realtime.gestures.director import GestureDirector
 from gesturecast.realtime.gestures.repertoire import load_repertoire
 from gesturecast.realtime.pose.seed_motion import load_seed_motion
 from gesturecast.realtime.pose.session import GestureSession, SessionConfig
+from gesturecast.realtime.pose.session_controls import StyleState
 from gesturecast.realtime.timing.clock import Clock
 from gesturecast.realtime.timing.latency import LatencyBudget
 from gesturecast.settings import LATENCY_SETTINGS, LatencySetting, Settings
@@ -88,7 +89,14 @@ def session_config(settings: Settings, bundle: ModelBundle) -> SessionConfig:
     face, gesture size and pause."""
     seed = None if settings.seed_motion is None else load_seed_motion(settings.seed_motion, bundle)
     return SessionConfig(root_mode=RootMode(settings.root), seed_motion=seed, lipsync=settings.lipsync,
-                         face=settings.face, intensity=settings.intensity, paused=settings.pause)
+                         face=settings.face, intensity=settings.intensity, paused=settings.pause,
+                         style=style_state(settings))
+
+
+def style_state(settings: Settings) -> StyleState:
+    """The style a stream of these settings starts in: the session's controls own it from then on."""
+    return StyleState(settings.style_prompt(), settings.second_style(), settings.gamma, settings.part_styles,
+                      settings.style_strength)
 
 
 class SessionFactory:
@@ -124,7 +132,7 @@ class SessionFactory:
         factory's."""
         settings = self.settings if settings is None else settings
         config = replace(self.config, root_mode=RootMode(settings.root), intensity=settings.intensity,
-                         paused=settings.pause)
+                         paused=settings.pause, style=style_state(settings))
         budget = self.budget(settings)
         gestures = GestureDirector(self.repertoire, self.bundle.frames_per_latent / self.bundle.feature_config.fps,
                                    budget.total_s)

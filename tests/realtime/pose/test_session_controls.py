@@ -4,6 +4,7 @@ import logging
 from types import SimpleNamespace
 
 from gesturecast.controls import Gesture
+from gesturecast.realtime.generation.generator import GeneratorSettings
 from gesturecast.realtime.gestures.cues import CueRefused
 from gesturecast.realtime.pose.session_controls import SessionControls
 
@@ -25,7 +26,7 @@ class FullPlan:
 
 def test_a_flood_of_refused_gesture_controls_writes_one_line(caplog, monkeypatch):
     monkeypatch.setattr("gesturecast.log_throttle.time", SimpleNamespace(monotonic=lambda: 0.0))  # one interval
-    settings = SimpleNamespace(style_strength=1.0, audio_guidance=1.5, gamma=1.0, second_style=None)
+    settings = GeneratorSettings(audio_guidance=1.5)
     controls = SessionControls(SimpleNamespace(base_guidance=1.5, settings=settings), root=None, gestures=FullPlan())
     with caplog.at_level(logging.WARNING):
         for latent in range(100):  # a gesture per OSC packet, each applied at its latent

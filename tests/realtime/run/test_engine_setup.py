@@ -129,3 +129,26 @@ def test_every_door_and_a_live_style_change_keep_the_speech_label(latency):
     finally:
         stream.close()
         served.close()
+
+
+def test_the_stylizer_and_the_face_take_the_style_the_session_holds_not_the_generators():
+    """The session's controls own the style (from Settings, then live changes); the generator is told it but is not
+    read back: a generator holding another style label changes nothing the pose frames show."""
+    from dataclasses import replace
+
+    from gesturecast.realtime.audio.sources import AudioChunk
+
+    audio = np.random.default_rng(0).normal(0.0, 0.1, 32000).astype(np.float32)  # 2 s of noise the VAD calls speech
+
+    def frames(session):
+        return session.push(AudioChunk(audio, 0, 0.0)) + session.finish()
+
+    settings = Settings(style="happy", gestures=None)
+    plain = frames(build_session(settings, MonotonicClock()))
+    session = build_session(settings, MonotonicClock())
+    session.generator.settings = replace(session.generator.settings, style=StylePrompt("label", "sad"))
+    assert session.controls.style.style == StylePrompt("label", "happy")
+    told = frames(session)
+    assert [frame.style for frame in told] == [frame.style for frame in plain]
+    np.testing.assert_array_equal(np.stack([f.rotations for f in told]), np.stack([f.rotations for f in plain]))
+    np.testing.assert_array_equal(np.stack([f.face for f in told]), np.stack([f.face for f in plain]))
