@@ -5,17 +5,11 @@ from gesturecast.errors import UserError
 from gesturecast.models.generator.diffusion import SamplerConfig
 from gesturecast.models.generator.style_prompt import StylePrompt
 from gesturecast.models.motion.motion_features import FEATURE_DIM
-from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.realtime.generation.generator import Generator, GeneratorSettings, row_layout
 
 STEPS = 4
 HAPPY = StylePrompt("label", "happy")
 OLD = StylePrompt("label", "old")
-
-
-@pytest.fixture(scope="module")
-def bundle(tiny_model):
-    return ModelBundle.load(tiny_model[1])
 
 
 @pytest.fixture(scope="module")

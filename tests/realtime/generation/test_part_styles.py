@@ -6,7 +6,6 @@ import pytest
 from gesturecast.controls import parse_controls
 from gesturecast.errors import UserError
 from gesturecast.models.generator.style_prompt import StylePrompt, parse_part_styles
-from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.realtime.generation.generator import Generator, GeneratorSettings
 from gesturecast.realtime.generation.style_mixture import (
     align_mixtures,
@@ -25,11 +24,6 @@ NEUTRAL = StylePrompt("label", "neutral")
 HAPPY = StylePrompt("label", "happy")
 OLD = StylePrompt("label", "old")
 CHANNELS = {"arms": slice(0, 2), "torso": slice(2, 3), "legs": slice(3, 5)}
-
-
-@pytest.fixture(scope="module")
-def bundle(tiny_model):
-    return ModelBundle.load(tiny_model[1])
 
 
 @pytest.fixture(scope="module")

@@ -20,7 +20,6 @@ from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
 from gesturecast.models.generator.diffusion import SamplerConfig
 from gesturecast.models.motion.motion_features import ROOT_DIM, motion_to_features
 from gesturecast.models.motion.retarget import load_motion_file
-from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.realtime.audio.sources import FastFileSource, PacedFileSource
 from gesturecast.realtime.generation.generator import Generator, GeneratorSettings
 from gesturecast.realtime.pose.seed_motion import load_seed_motion
@@ -59,11 +58,6 @@ def speech(tmp_path_factory, shared_data) -> Path:
     path = tmp_path_factory.mktemp("seed_speech") / "speech.wav"
     soundfile.write(path, audio, SAMPLE_RATE, subtype="FLOAT")
     return path
-
-
-@pytest.fixture(scope="module")
-def bundle(tiny_model):
-    return ModelBundle.load(tiny_model[1])
 
 
 def rotation_features(bvh: Path) -> np.ndarray:

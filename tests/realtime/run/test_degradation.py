@@ -5,12 +5,10 @@ plus the compute the test charges per denoiser call, so whether a latent is late
 
 import numpy as np
 import pytest
-import soundfile
 
-from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
+from gesturecast.models.audio.files import SAMPLE_RATE
 from gesturecast.models.generator.diffusion import SamplerConfig
 from gesturecast.models.motion.rotations import quat_conj, quat_mul, quat_to_axis_angle
-from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.realtime.audio.sources import FastFileSource
 from gesturecast.realtime.generation.degradation import RUNGS
 from gesturecast.realtime.generation.generator import Generator, GeneratorSettings
@@ -29,17 +27,8 @@ BUSY_UNTIL_S = 2.0  # in the busy-then-idle run, work costs that much until this
 
 
 @pytest.fixture(scope="module")
-def bundle(tiny_model):
-    return ModelBundle.load(tiny_model[1])
-
-
-@pytest.fixture(scope="module")
-def speech(tmp_path_factory, shared_data):
-    audio = load_audio(shared_data / "zeggs" / "067_Speech_2_x_1_0.wav")
-    audio = audio[3 * SAMPLE_RATE :][: int(SECONDS * SAMPLE_RATE)]
-    path = tmp_path_factory.mktemp("speech") / "speech.wav"
-    soundfile.write(path, audio, SAMPLE_RATE, subtype="FLOAT")
-    return path
+def speech(speech_cut):
+    return speech_cut(SECONDS)
 
 
 def make_session(bundle, clock) -> GestureSession:

@@ -7,7 +7,6 @@ import pytest
 
 from gesturecast.models.generator.diffusion import SamplerConfig
 from gesturecast.models.generator.style_prompt import StylePrompt
-from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.realtime.generation.generator import Generator, GeneratorSettings
 from gesturecast.realtime.serve.batched_denoiser import (
     BatchPort,
@@ -20,11 +19,6 @@ from gesturecast.realtime.serve.batched_denoiser import (
 
 # (style, guidance, seed, latents already generated): different rows (1 or 2) and cache lengths
 STREAMS = [("neutral", 1.5, 1, 0), ("old", 1.0, 2, 2), ("neutral", 2.0, 3, 6)]
-
-
-@pytest.fixture(scope="module")
-def bundle(tiny_model):
-    return ModelBundle.load(tiny_model[1])
 
 
 class RecordingSession:

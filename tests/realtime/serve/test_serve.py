@@ -14,7 +14,6 @@ from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
 from gesturecast.models.generator.diffusion import SamplerConfig
 from gesturecast.models.generator.style_prompt import StylePrompt, parse_part_styles
 from gesturecast.models.motion.root_anchor import RootMode
-from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.realtime.audio.sources import AudioChunk
 from gesturecast.realtime.generation.generator import Generator, GeneratorSettings
 from gesturecast.realtime.pose.session import GestureSession, SessionConfig
@@ -33,11 +32,6 @@ TIMEOUT_S = 60.0  # a broken server fails the test instead of hanging it
 
 def run(coroutine):
     return asyncio.run(asyncio.wait_for(coroutine, TIMEOUT_S))
-
-
-@pytest.fixture(scope="module")
-def bundle(tiny_model):
-    return ModelBundle.load(tiny_model[1])
 
 
 @pytest.fixture(scope="module")

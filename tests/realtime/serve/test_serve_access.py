@@ -18,7 +18,6 @@ from websockets.exceptions import ConnectionClosed, InvalidStatus
 from gesturecast.bridges.ws_access import MAX_TOKEN_FAILURES, TOKEN_ENV_VAR, TOKEN_FAILURE_WINDOW_S
 from gesturecast.errors import UserError
 from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
-from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.realtime.serve.server import GestureServer, ServeConfig
 from gesturecast.realtime.serve.setup import StreamSessions
 from gesturecast.realtime.timing.clock import FakeClock, MonotonicClock
@@ -35,11 +34,6 @@ CLI_START_TIMEOUT_S = 120.0
 
 def run(coroutine):
     return asyncio.run(asyncio.wait_for(coroutine, TIMEOUT_S))
-
-
-@pytest.fixture(scope="module")
-def bundle(tiny_model):
-    return ModelBundle.load(tiny_model[1])
 
 
 @pytest.fixture(scope="module")

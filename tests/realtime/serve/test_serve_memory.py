@@ -7,10 +7,7 @@ import gc
 import weakref
 from contextlib import contextmanager
 
-import pytest
-
 from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
-from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.realtime.serve import heap
 from gesturecast.realtime.serve.heap import HeapTrimmer, glibc_malloc_trim
 from gesturecast.realtime.serve.server import GestureServer, ServeConfig
@@ -22,11 +19,6 @@ from gesturecast.tools.bench.serve_client import stream_audio
 DEFAULTS = Settings(steps=2, guidance=1.5, seed=0, audio_guidance=1.0, smoothing=0, gestures=None)  # L: δa, 100 ms
 TIMEOUT_S = 60.0
 CHUNK = 4000
-
-
-@pytest.fixture(scope="module")
-def bundle(tiny_model):
-    return ModelBundle.load(tiny_model[1])
 
 
 @contextmanager

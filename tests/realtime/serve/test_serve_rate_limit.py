@@ -4,12 +4,10 @@ count the refusals."""
 import asyncio
 import json
 
-import pytest
 from websockets.asyncio.client import connect
 
 from gesturecast.message_rate import RateLimits
 from gesturecast.models.audio.files import SAMPLE_RATE, load_audio
-from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.realtime.serve.server import GestureServer, ServeConfig
 from gesturecast.realtime.serve.setup import StreamSessions
 from gesturecast.realtime.timing.clock import MonotonicClock
@@ -20,11 +18,6 @@ CHUNK = 8000
 DEFAULTS = Settings(steps=2, guidance=1.5, seed=0, audio_guidance=1.0, smoothing=0, gestures=None)
 LIMITS = RateLimits(messages_per_s=0.001, message_burst=2)  # two now, the next in about 17 minutes
 TIMEOUT_S = 60.0
-
-
-@pytest.fixture(scope="module")
-def bundle(tiny_model):
-    return ModelBundle.load(tiny_model[1])
 
 
 async def limited_client(url: str, audio) -> tuple[list[dict], list[bytes], dict]:
