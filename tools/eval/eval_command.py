@@ -81,7 +81,7 @@ def run_eval(args: argparse.Namespace) -> int:
     unseen_paths = args.unseen if args.unseen else default_unseen_paths(args.shared)
     sets = EvalSets(
         held_out=[c.crop(config.held_out_seconds) for c in held_out_clips(args.cache)],
-        unseen=unseen_clips(unseen_paths, "neutral", config.unseen_seconds),
+        unseen=unseen_clips(unseen_paths, config.condition.style, config.unseen_seconds),
         styles=requested_styles(config, bundle.styles.trained, networks.classifier),
     )
     runner = SuiteRunner(bundle, networks, sets, config)

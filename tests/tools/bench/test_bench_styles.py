@@ -145,9 +145,9 @@ def test_the_stylizer_part_reports_fk_distances_judges_following_jerk_face_and_c
             assert set(judged["per_style"]) == set(styles)
             assert all(0.0 <= value <= 1.0 for value in judged["per_style"].values())
         following = section["following"]
-        assert following["baseline"]["style"] == "speech"
+        assert following["baseline"]["settings"] == "Settings()"
         speech = following["baseline"]["following"]
-        for style, ratio in following["ratio_to_speech"].items():  # within what the 3-decimal rounding allows
+        for style, ratio in following["ratio_to_default"].items():  # within what the 3-decimal rounding allows
             value = following["per_style"][style]
             low, high = sorted([(value - rounding) / (speech + rounding), (value + rounding) / (speech - rounding)])
             assert low - rounding <= ratio <= high + rounding

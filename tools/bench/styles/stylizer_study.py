@@ -13,8 +13,8 @@ stylizer existed). Per variant:
   windows judged as the style asked for, and their mean; ``classifier``: the same with the frozen classifier of
   ``gesturecast eval`` (kept for continuity; it knows 16 labels);
 - ``following``: the ``bench voices`` measure (best correlation of upper-body speed with speech energy within
-  ±0.5 s) per style, mean over seeds, and its ratio to the speech baseline's (the ``speech`` label, which the
-  generator learned with its audio, heard as asked and not restyled: the motion that follows the voice best);
+  ±0.5 s) per style, mean over seeds, and its ratio to the product's default's (``Settings()``: the default style
+  through the stylizer, the generator hearing its generator style);
 - ``jerk``: GENEA jerk of root-relative positions (m/s³) per style, and as a ratio to real motion capture of the
   same voice (ZeroEGGS 067, the whole take);
 - ``face``: per style, the expression weight's correlation with speech energy (dB, per frame), its standard
@@ -54,6 +54,7 @@ from gesturecast.models.style.judge import JUDGED_STYLES, StyleJudge
 from gesturecast.models.style.params import DEFAULT_STYLE_PARAMS
 from gesturecast.realtime.pose.face import BLINK_SHAPES
 from gesturecast.realtime.pose.stylizer import Stylizer
+from gesturecast.settings import Settings
 from gesturecast.tools.bench.styles.judge_voices import accuracy, judge_on_voices, judged_windows, scores
 from gesturecast.tools.eval.clips import EvalClip
 from gesturecast.tools.eval.generate import Generated, generate_offline
@@ -62,21 +63,20 @@ HELD_OUT_SPEECH = "zeggs/037_Flirty_1_x_1_0.wav"
 REAL_MOTION = "zeggs/067_Speech_2_x_1_0.bvh"
 DEFAULT_JUDGE = DEFAULT_STYLE_PARAMS.parent / "judge.json"
 CLOSED = 0.5  # lid closure that counts as a blink
-BASELINE_STYLE = "speech"  # following is measured against this label's motion
+DEFAULT_STYLE = Settings().style  # following is measured against the product's default motion (a judged style)
 GRID_TIMES = (8.0, 20.0, 32.0, 44.0, 56.0)  # seconds of the grid's columns (those past the clip are left out)
 Clips = dict[tuple[str, int], Generated]
 
 
 def held_out_speech(data: Path, seconds: float) -> EvalClip:
     audio = load_audio(data / HELD_OUT_SPEECH)[: int(seconds * SAMPLE_RATE)]
-    return EvalClip("zeggs/037_Flirty_1[speech only]", audio, "neutral")
+    return EvalClip("zeggs/037_Flirty_1[speech only]", audio, DEFAULT_STYLE)
 
 
-def _generate(bundle: ModelBundle, clip: EvalClip, seeds: tuple[int, ...], stylize: bool,
-              styles: tuple[str, ...] = JUDGED_STYLES) -> Clips:
+def _generate(bundle: ModelBundle, clip: EvalClip, seeds: tuple[int, ...], stylize: bool) -> Clips:
     sampler = SamplerConfig("ddim", bundle.default_steps)
     return {(style, seed): generate_offline(bundle, sampler, clip, style, seed, stylize=stylize)
-            for style in styles for seed in seeds}
+            for style in JUDGED_STYLES for seed in seeds}
 
 
 def _descriptor(generated: Generated) -> np.ndarray:
@@ -115,12 +115,12 @@ def mean_following(clips: Clips, style: str, seeds: tuple[int, ...], audio: np.n
 
 
 def following_section(clips: Clips, seeds: tuple[int, ...], audio: np.ndarray, baseline: Clips) -> dict:
-    """Each style's following and its ratio to the ``baseline`` clips' (the speech label's)."""
+    """Each style's following and its ratio to the default style's in the ``baseline`` clips (the product's)."""
     per_style = {style: mean_following(clips, style, seeds, audio) for style in JUDGED_STYLES}
-    speech = mean_following(baseline, BASELINE_STYLE, seeds, audio)
-    ratios = {style: value / speech for style, value in per_style.items()}
-    return {"per_style": _rounded(per_style), "baseline": {"style": BASELINE_STYLE, "following": round(speech, 3)},
-            "ratio_to_speech": _rounded(ratios), "min_ratio": round(min(ratios.values()), 3)}
+    default = mean_following(baseline, DEFAULT_STYLE, seeds, audio)
+    ratios = {style: value / default for style, value in per_style.items()}
+    return {"per_style": _rounded(per_style), "baseline": {"settings": "Settings()", "following": round(default, 3)},
+            "ratio_to_default": _rounded(ratios), "min_ratio": round(min(ratios.values()), 3)}
 
 
 def real_jerk(data: Path) -> float:
@@ -196,21 +196,23 @@ def stylizer_report(bundle: ModelBundle, data: Path, seconds: float, seeds: tupl
     judge, classifier, real = StyleJudge.load(DEFAULT_JUDGE), StyleClassifier.load(), real_jerk(data)
     report = {"speech": {"clip": clip.name, "seconds": round(clip.seconds, 2), "seeds": list(seeds)},
               "styles": list(JUDGED_STYLES)}
-    baseline = _generate(bundle, clip, seeds, True, (BASELINE_STYLE,))
-    for variant, stylize in (("generator", False), ("styled", True)):
-        clips = _generate(bundle, clip, seeds, stylize)
+    variants = {variant: _generate(bundle, clip, seeds, stylize)
+                for variant, stylize in (("generator", False), ("styled", True))}
+    for variant, clips in variants.items():  # the styled default's clips are the product's: the following baseline
+        stylize = variant == "styled"
         if grid is not None:
             path = grid if stylize else grid.with_name(f"{grid.stem}_generator{grid.suffix}")
             report.setdefault("grid", []).append(str(style_grid(clips, seeds[0], path)))
         report[variant] = {"fk": fk_section(clips, seeds), "judge": judge_section(clips, seeds, judge),
                            "classifier": classifier_section(clips, seeds, classifier),
-                           "following": following_section(clips, seeds, clip.audio, baseline),
+                           "following": following_section(clips, seeds, clip.audio, variants["styled"]),
                            "jerk": jerk_section(clips, seeds, real)}
+    styled = variants["styled"]
     if voices:
         report["judge_voices"] = judge_on_voices(bundle, data, seeds, judge, lambda *a: _generate(*a, stylize=True),
-                                                 judged_windows(clips, seeds, judge))
-    report["face"] = face_section(clips, seeds, clip.audio)
-    report["cost"] = stylizer_cost(bundle, clips[("angry", seeds[0])], "angry")
+                                                 judged_windows(styled, seeds, judge))
+    report["face"] = face_section(styled, seeds, clip.audio)
+    report["cost"] = stylizer_cost(bundle, styled[("angry", seeds[0])], "angry")
     return report
 
 
