@@ -37,6 +37,7 @@ MAX_PART_NAME_CHARS = 32
 MAX_MESSAGE_WORDS = 500  # words of one words message or call: minutes of speech
 MAX_TRANSCRIPT_WORDS = 200_000  # words of a transcript given at once (a file or a list): a day of speech
 MAX_WORD_CHARS = 64
+MAX_SENTENCE_CHARS = 2000  # a sentence (or a few) without word times, one text control or Stream.spoken call
 MAX_STREAM_SECONDS = 1e6  # times beyond this are not stream times (11 days)
 MOTION_PROMPT_PREFIX = "motion:"
 GUIDANCE_RANGE = (0.0, 10.0)  # classifier-free guidance s and audio guidance s_a
@@ -279,13 +280,31 @@ class Words:
         return {"words": [{"word": word.text, "start": word.start, "end": word.end} for word in self.words]}
 
 
-Control = StyleChange | Gesture | Words
-CONTROL_FIELDS = (*STYLE_SETTINGS, "gesture", "words")  # every field a control message may carry
+SENTENCE_TEXT = Text(MAX_SENTENCE_CHARS)
+
+
+@dataclass(frozen=True)
+class Sentence:
+    """Text without word times (``{"text": "Hello everyone!", "start": 1.2}``): its words get times from its own
+    speech, forced-aligned once that has arrived; ``start`` / ``end`` (stream seconds, optional) bound that speech."""
+
+    text: str
+    start: float | None = None
+    end: float | None = None
+
+    def wire(self) -> dict:
+        bounds = {key: value for key, value in (("start", self.start), ("end", self.end)) if value is not None}
+        return {"text": self.text, **bounds}
+
+
+Control = StyleChange | Gesture | Words | Sentence
+CONTROL_FIELDS = (*STYLE_SETTINGS, "gesture", "words", "text", "start", "end")  # every field a message may carry
 
 
 def control_schema() -> dict:
     """The schema of control fields as plain JSON-able data (sent in the hello so clients can build controls)."""
-    rules = {**STYLE_SETTINGS, "gesture": Gesture.RULE, "words": Words.RULE}
+    rules = {**STYLE_SETTINGS, "gesture": Gesture.RULE, "words": Words.RULE, "text": SENTENCE_TEXT,
+             "start": STREAM_TIME, "end": STREAM_TIME}
     return {name: rules[name].describe() for name in CONTROL_FIELDS}
 
 
@@ -304,6 +323,12 @@ def parse_controls(message: Mapping[str, object], envelope: frozenset[str] = fro
         controls.append(Gesture(Gesture.RULE.check("gesture", values["gesture"])))
     if "words" in values:
         controls.append(Words(Words.RULE.check("words", values["words"])))
+    if "text" in values:
+        controls.append(Sentence(SENTENCE_TEXT.check("text", values["text"]),
+                                 *(STREAM_TIME.check(key, values[key]) if key in values else None
+                                   for key in ("start", "end"))))
+    elif "start" in values or "end" in values:
+        raise ControlError("start and end bound a text's speech; they need a text field")
     style = {name: rule.check(name, values[name]) for name, rule in STYLE_SETTINGS.items() if name in values}
     if style:
         controls.append(StyleChange(**style))

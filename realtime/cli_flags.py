@@ -134,8 +134,9 @@ def add_batch_arguments(parser: argparse.ArgumentParser) -> None:
 
 def add_transcript_argument(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--transcript", type=Path, metavar="FILE",
-                        help="words with times (JSON [{word, start, end}], .srt or .vtt) of the audio: trigger "
-                             "words cue their gestures with the stroke on the word (docs/gestures.md)")
+                        help="the words of the audio: with times (JSON [{word, start, end}], .srt, .vtt) or a "
+                             "plain-text script (.txt, placed on the audio; a NAME.txt beside the audio is read "
+                             "without this flag): speech acts cue gestures on their words (docs/gestures.md)")
 
 
 def add_output_arguments(parser: argparse.ArgumentParser) -> None:

@@ -90,7 +90,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def run_live(args: argparse.Namespace) -> int:
-    from gesturecast.realtime.gestures.transcripts import transcript_words
+    from gesturecast.realtime.gestures.transcripts import transcript_beside, transcript_words
     from gesturecast.realtime.run.engine import LiveEngine
     from gesturecast.realtime.run.engine_setup import build_outputs, build_session
 
@@ -101,7 +101,7 @@ def run_live(args: argparse.Namespace) -> int:
     if args.transcript is not None and not args.input:
         raise UserError("--transcript gives the words of an --input file (a microphone's words come as they are "
                         "spoken: send them as a words message)")
-    words = transcript_words(args.transcript, settings)
+    words = transcript_words(args.transcript or transcript_beside(args.input), settings, args.input)
     osc_in = osc_in_address(args.osc_in)  # checked before any output file is opened
     clock = MonotonicClock()
     session = build_session(settings, clock)
@@ -177,7 +177,7 @@ def raise_output_errors(outputs: BridgeFanout) -> None:
 
 
 def run_generate(args: argparse.Namespace) -> int:
-    from gesturecast.realtime.gestures.transcripts import transcript_words
+    from gesturecast.realtime.gestures.transcripts import transcript_beside, transcript_words
     from gesturecast.realtime.jobs.batch_cli import run_batch
     from gesturecast.realtime.run.engine_setup import build_session
     from gesturecast.realtime.run.offline_generate import body_only, generate_to_files
@@ -191,7 +191,7 @@ def run_generate(args: argparse.Namespace) -> int:
     check_distinct([("audio", args.audio)], [("-o", args.output), ("--json", args.json), ("--vrma", args.vrma)])
     motion_paths, json_path = output_files(args)
     settings = settings_from_args(args)
-    words = transcript_words(args.transcript, settings)
+    words = transcript_words(args.transcript or transcript_beside(args.audio), settings, args.audio)
     if not words and settings.gestures == DEFAULT_GESTURES_DIR:  # no words, no gesture: the bundled lexicon is
         settings = dataclasses.replace(settings, gestures=None)  # not encoded (0.1 s); a user's folder is still checked
     session = build_session(body_only(settings, motion_paths, json_path), MonotonicClock())

@@ -14,12 +14,17 @@ decide reach the plan through :meth:`GestureDirector.place_word_cues`, whichever
 
 from __future__ import annotations
 
-from gesturecast.controls import Word
+import numpy as np
+
+from gesturecast.controls import Word, parse_words
 from gesturecast.errors import UserError
 from gesturecast.realtime.gestures.cues import BLEND_LATENTS, CONTROL_SOURCE, Cue, CueOutcome, CuePlan, Imposition
 from gesturecast.realtime.gestures.phrases import PhraseCues, PhraseListener, PhraseStream
 from gesturecast.realtime.gestures.repertoire import GestureRepertoire
 from gesturecast.realtime.gestures.triggers import TriggerVocabulary, WordListener
+from gesturecast.realtime.words.aligner import Alignment, SentenceAligner
+from gesturecast.realtime.words.live import LiveSentences
+from gesturecast.realtime.words.outcomes import AlignmentCounts
 
 
 class GestureDirector:
@@ -32,6 +37,7 @@ class GestureDirector:
         self.latency_s = latency_s
         self.vocabulary = TriggerVocabulary(dict(repertoire.triggers))
         self.phrases = PhraseCues(repertoire.names) if repertoire.speech_acts else None
+        self.aligner = SentenceAligner()  # sentences without word times, placed on their own speech
         self.reset()
 
     def reset(self) -> None:
@@ -43,6 +49,8 @@ class GestureDirector:
         self.phrase_stream = None if self.phrases is None else PhraseStream(self.phrases)  # word messages
         self.next_latent = 0  # the first latent not generated yet
         self.heard_s = 0.0  # stream seconds of audio arrived
+        self.alignments = AlignmentCounts()
+        self.sentences = LiveSentences(self.aligner, self.alignments)  # sentences waiting for their audio
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -55,9 +63,14 @@ class GestureDirector:
             self.phrases.warm()
 
     # ---- what the session tells ----
-    def heard(self, seconds: float) -> None:
-        """The stream's audio has arrived up to ``seconds`` (stream time)."""
+    def heard(self, seconds: float, samples: np.ndarray | None = None) -> list[CueOutcome]:
+        """The stream's audio has arrived up to ``seconds`` (stream time), ``samples`` ((n,) float32, 16 kHz) the
+        audio that arrived since the last call; the sentences waiting for it are placed (their cues returned)."""
         self.heard_s = seconds
+        if samples is None:
+            return []
+        self.sentences.hear(samples)
+        return self._hear_aligned(self.sentences.ready() if self.sentences.pending else [])
 
     def play(self, latent: int) -> Imposition | None:
         """What the placed clips impose on ``latent``, generated now (None when none does); the placements that
@@ -113,9 +126,26 @@ class GestureDirector:
         acts = [] if self.phrase_listener is None else self.phrase_listener.hear(word)
         return self.place_word_cues(self.listener.hear(word), acts)
 
+    def hear_sentence(self, text: str, start: float | None = None, end: float | None = None) -> list[CueOutcome]:
+        """A sentence without word times (at least one token): its words get times from its own speech once that has
+        arrived (:mod:`gesturecast.realtime.words.live`: ``start`` / ``end`` bound it when known), then are heard as
+        :meth:`hear_words` hears words. Returns the cues of the sentences placed now (this one, if its audio is
+        already here)."""
+        return self._hear_aligned(self.sentences.add(text, start, end))
+
     def end_of_words(self) -> list[CueOutcome]:
-        """The words stopped (the speech ended): decide the phrases still waiting for the words after them."""
-        return self.place_word_cues([], [] if self.phrase_listener is None else self.phrase_listener.flush())
+        """The words stopped (the speech ended): the sentences still waiting are placed on the audio that arrived,
+        and the phrases still waiting for the words after them are decided."""
+        outcomes = self._hear_aligned(self.sentences.ready(final=True))
+        return outcomes + self.place_word_cues([], [] if self.phrase_listener is None else self.phrase_listener.flush())
+
+    def _hear_aligned(self, alignments: list[Alignment]) -> list[CueOutcome]:
+        """Hear the words of placed sentences, checked as every door's words are."""
+        outcomes = []
+        for alignment in alignments:
+            items = [{"word": w.text, "start": w.start, "end": w.end} for w in alignment.words]
+            outcomes += self.hear_words(parse_words(items, "sentence words"))
+        return outcomes
 
     def place_word_cues(self, forced: list[Cue], acts: list[Cue]) -> list[CueOutcome]:
         """The cues that words decided, placed in time order: a forced trigger wins over a speech act on the same

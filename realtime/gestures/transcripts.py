@@ -1,4 +1,5 @@
-"""Transcripts: the words of a whole recording with their times, from a file (JSON word list, SRT, WebVTT) or a list.
+"""Transcripts: the words of a whole recording with their times, from a file (JSON word list, SRT, WebVTT, or a
+plain-text script placed on its audio) or a list.
 
 A word list is what word-timestamp speech recognisers and TTS services give: ``[{"word": "Hello", "start": 0.42,
 "end": 0.71}, ...]`` in seconds (also as ``{"words": [...]}``). SRT and WebVTT cues carry a span per line of text;
@@ -10,6 +11,7 @@ the one check of every word whichever door it comes through (at most
 from __future__ import annotations
 
 import json
+import logging
 import re
 from collections.abc import Mapping
 from pathlib import Path
@@ -19,19 +21,59 @@ from gesturecast.errors import UserError
 from gesturecast.input_files import read_bounded
 from gesturecast.settings import Settings
 
+logger = logging.getLogger(__name__)
 MAX_TRANSCRIPT_BYTES = 16 << 20  # a day of speech is a few MB of word JSON
 SUBTITLE_SUFFIXES = (".srt", ".vtt")
+SCRIPT_SUFFIX = ".txt"  # plain text without times: placed on its audio
 TIMESTAMP = re.compile(r"(?:(\d{1,5}):)?(\d{1,2}):(\d{2})[.,](\d{1,3})")
 SPAN = re.compile(rf"{TIMESTAMP.pattern}\s*-->\s*{TIMESTAMP.pattern}")
 
 
-def transcript_words(path: Path | None, settings: Settings) -> tuple[Word, ...]:
-    """The words of a transcript file (none without one); refused when gestures are off (nothing to cue)."""
+def transcript_words(path: Path | None, settings: Settings, audio: Path | None = None) -> tuple[Word, ...]:
+    """The words of a transcript file (none without one); refused when gestures are off (nothing to cue). A plain-text
+    script (``.txt``) is placed on ``audio``, the recording it was read in (:func:`script_words`)."""
     if path is None:
         return ()
     if settings.gestures is None:
         raise UserError(f"the transcript {path} cues gestures, and --gestures is off")
+    if path.suffix.lower() == SCRIPT_SUFFIX:
+        if audio is None:
+            raise UserError(f"the script {path} has no times: it is placed on an audio file (--input / the audio)")
+        return script_words(path, audio)
     return read_transcript(path)
+
+
+def transcript_beside(audio: Path | None) -> Path | None:
+    """The plain-text script beside an audio file (``talk.wav`` → ``talk.txt``), when there is one."""
+    script = None if audio is None else audio.with_suffix(SCRIPT_SUFFIX)
+    if script is None or not script.is_file():
+        return None
+    logger.info("gesture cues from the script beside the audio: %s", script)
+    return script
+
+
+def script_words(path: Path, audio: Path) -> tuple[Word, ...]:
+    """The words of the plain-text script ``path`` with times from ``audio``, sentence by sentence
+    (:func:`gesturecast.realtime.words.script.place_script`); how each sentence was placed is logged."""
+    from gesturecast.models.audio.files import load_audio
+    from gesturecast.realtime.words.aligner import SentenceAligner
+    from gesturecast.realtime.words.outcomes import AlignmentCounts
+    from gesturecast.realtime.words.script import place_script
+
+    text = _text(read_bounded(path, MAX_TRANSCRIPT_BYTES, "the script", regular_only=True), path)
+    if not text.split():
+        raise UserError(f"{path}: the script has no words")
+    counts = AlignmentCounts()
+    words = place_script(text, load_audio(audio), SentenceAligner(), counts)
+    logger.info("script %s: sentences %s", path.name, " ".join(f"{k}={v}" for k, v in counts.to_dict().items()))
+    return words_from_list([{"word": w.text, "start": w.start, "end": w.end} for w in words], str(path))
+
+
+def _text(data: bytes, path: Path) -> str:
+    try:
+        return data.decode("utf-8-sig")
+    except UnicodeDecodeError as error:
+        raise UserError(f"{path}: cannot read the transcript (not UTF-8 at byte {error.start})") from None
 
 
 def words_from_list(items: object, source: str) -> tuple[Word, ...]:
@@ -43,11 +85,7 @@ def words_from_list(items: object, source: str) -> tuple[Word, ...]:
 def read_transcript(path: Path) -> tuple[Word, ...]:
     """The words of a ``.json`` word list or an ``.srt`` / ``.vtt`` subtitle file (a regular file of at most
     MAX_TRANSCRIPT_BYTES)."""
-    data = read_bounded(path, MAX_TRANSCRIPT_BYTES, "the transcript", regular_only=True)
-    try:
-        text = data.decode("utf-8-sig")
-    except UnicodeDecodeError as error:
-        raise UserError(f"{path}: cannot read the transcript (not UTF-8 at byte {error.start})") from None
+    text = _text(read_bounded(path, MAX_TRANSCRIPT_BYTES, "the transcript", regular_only=True), path)
     if path.suffix.lower() in SUBTITLE_SUFFIXES:
         return words_from_list(subtitle_items(text, str(path)), str(path))
     try:

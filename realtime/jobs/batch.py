@@ -25,7 +25,7 @@ from dataclasses import asdict, dataclass, field
 
 from gesturecast import stop_signals
 from gesturecast.errors import UserError
-from gesturecast.realtime.gestures.transcripts import transcript_words
+from gesturecast.realtime.gestures.transcripts import transcript_beside, transcript_words
 from gesturecast.realtime.jobs.batch_jobs import BatchJob
 from gesturecast.realtime.pose.session import GestureSession
 from gesturecast.realtime.run.engine_setup import build_session, load_bundle
@@ -77,7 +77,7 @@ class BatchWorker:
         """One file: never raises for a bad file, so the batch goes on."""
         try:
             settings = job.settings(self.base)
-            words = transcript_words(job.transcript, settings)
+            words = transcript_words(job.transcript or transcript_beside(job.audio), settings, job.audio)
             session = self._session_for(body_only(settings, job.motion_paths(), job.json))
             session.gestures.hear_words(words)
             report = generate_to_files(session, job.audio, job.motion_paths(), job.json)

@@ -192,7 +192,7 @@ class GestureSession:
         """Feed one chunk; returns the pose frames it completed (often none)."""
         self._anchor = (chunk.start_sample, chunk.capture_time)
         self.samples_in = chunk.start_sample + len(chunk.samples)
-        self.gestures.heard(self.samples_in / self.sample_rate)
+        self.gestures.heard(self.samples_in / self.sample_rate, chunk.samples)
         self._pending_audio.append(chunk.samples)
         if self.samples_in < self._samples_needed(self.next_latent):
             return []

@@ -19,7 +19,7 @@ import threading
 from collections import deque
 from dataclasses import dataclass, replace
 
-from gesturecast.controls import Control, Gesture, StyleChange, Words
+from gesturecast.controls import Control, Gesture, Sentence, StyleChange, Words
 from gesturecast.log_throttle import ThrottledLog
 from gesturecast.models.generator.style_prompt import PartStyles, StylePrompt, parse_part_styles
 from gesturecast.models.motion.root_anchor import RootAnchor, RootMode
@@ -117,6 +117,8 @@ class SessionControls:
         elif isinstance(control, Words):
             self.gestures.check_lexicon()
             self.gestures.check_live_words(control.words)
+        elif isinstance(control, Sentence):
+            self.gestures.check_lexicon()
         else:
             for prompt in _prompts_of(control):
                 self.generator.styles.embed(prompt)
@@ -185,6 +187,8 @@ class SessionControls:
         try:
             if isinstance(control, Gesture):  # as soon as possible: its stroke as early as it can be from this latent
                 self.gestures.cue_gesture(control.name, t)
+            elif isinstance(control, Sentence):  # placed on its own speech once that has arrived
+                self.gestures.hear_sentence(control.text, control.start, control.end)
             else:  # on the words' own stream times (late by the wait when already generated)
                 self.gestures.hear_words(control.words)
         except CueRefused as error:  # the plan filled up since the submit: the stream goes on without them

@@ -35,7 +35,7 @@ from collections.abc import Callable
 import numpy as np
 
 from gesturecast.bridges.output_settings import Outputs
-from gesturecast.controls import STREAM_TIME, Word, parse_controls, parse_words
+from gesturecast.controls import SENTENCE_TEXT, STREAM_TIME, Word, parse_controls, parse_words
 from gesturecast.errors import UserError
 from gesturecast.frames import PoseFrame
 from gesturecast.models.audio.files import SAMPLE_RATE
@@ -189,14 +189,21 @@ class Stream:
         return played(self.session.gestures.hear_words(checked.words))
 
     @one_at_a_time
-    def spoken(self, text: str, start: float | None = None) -> int:
-        """Words as a TTS service reports them while speaking (one word, or a sentence without word times):
-        ``start`` is the first word's stream time (default :meth:`heard_time`), further words follow at
-        :data:`SPOKEN_WORD_S` each; a speech act cues its gesture once the words after it that tell have arrived.
-        Returns the cues that play; the words are checked as a words message's are."""
+    def spoken(self, text: str, start: float | None = None, end: float | None = None) -> int:
+        """Text a TTS service speaks or a listener said, without word times. One word with ``start`` is a word a TTS
+        service reports as it speaks it (placed at ``start``). Anything else is a sentence: its words get their times
+        from its own speech, forced-aligned once that audio has arrived (the stream keeps its last 30 s, so text that
+        comes after its audio is placed too): its speech begins at ``start`` (stream time) when given, else at the
+        first voiced audio after the previous sentence's end; it ends by ``end`` when given, else at the first pause
+        after about its length. A speech act cues its gesture once the words after it that tell have arrived. Returns
+        the cues that play now (a sentence whose audio is still to come plays its cues when it arrives)."""
         self._check_open()
-        start = self.heard_time() if start is None else STREAM_TIME.check("start", start)
-        return sum(played(self.session.gestures.hear_spoken(word)) for word in spoken_words(text, start))
+        start = None if start is None else STREAM_TIME.check("start", start)
+        end = None if end is None else STREAM_TIME.check("end", end)
+        tokens = SENTENCE_TEXT.check("text", text).split() if text.strip() else []
+        if start is not None and end is None and len(tokens) == 1:
+            return sum(played(self.session.gestures.hear_spoken(word)) for word in spoken_words(text, start))
+        return played(self.session.gestures.hear_sentence(" ".join(tokens), start, end)) if tokens else 0
 
     @one_at_a_time
     def end_of_words(self) -> int:

@@ -1,0 +1,145 @@
+"""Sentences without word times placed as a live stream's audio arrives.
+
+The stream's last :data:`HISTORY_S` seconds of 16 kHz audio are kept, so a sentence whose text comes after its
+speech (a recogniser's transcript, a TTS service reporting what it said) is aligned on audio already heard, and one
+whose text comes first (a TTS service's sentence before its audio) waits for its audio. Sentences are placed in the
+order they were given:
+
+- its speech begins at ``start`` when given; else at the first voiced audio after the end of the sentence placed
+  before it (the stream's start for the first);
+- it ends at ``end`` when given; else at the first pause (:data:`~.voicing.MIN_PAUSE_S` unvoiced) after half its
+  expected length (:data:`LETTER_S` a letter), or at twice its expected length without one;
+- it is aligned once the audio up to its end has arrived, or at the end of the words (:meth:`LiveSentences.ready`
+  with ``final``), on what has arrived.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from dataclasses import dataclass
+
+import numpy as np
+
+from gesturecast.realtime.words.aligner import Alignment, SentenceAligner
+from gesturecast.realtime.words.outcomes import AlignmentCounts
+from gesturecast.realtime.words.voicing import FRAME_S, SAMPLE_RATE, letters, pauses, voiced_frames
+
+HISTORY_S = 30.0  # the audio kept for sentences given after their speech
+LETTER_S = 0.06  # expected speaking time per letter (about 170 words a minute)
+ONSET_LEAD_S = 0.1  # a sentence's window starts this long before its first voiced frame
+MAX_PENDING_SENTENCES = 64  # sentences waiting for their audio; an older one is placed at once when more come
+
+
+@dataclass(frozen=True)
+class PendingSentence:
+    text: str
+    start: float | None  # stream seconds its speech begins at (None: after the sentence before it)
+    end: float | None  # stream seconds its speech ends by (None: found in the audio)
+
+    @property
+    def expected_s(self) -> float:
+        return LETTER_S * sum(letters(token) for token in self.text.split())
+
+
+class AudioHistory:
+    """The last ``seconds`` of a stream's 16 kHz audio in a ring (no copy of the whole history per chunk)."""
+
+    def __init__(self, seconds: float = HISTORY_S) -> None:
+        self.ring = np.zeros(int(seconds * SAMPLE_RATE), np.float32)  # (H,)
+        self.samples = 0  # stream samples heard
+
+    @property
+    def heard_s(self) -> float:
+        return self.samples / SAMPLE_RATE
+
+    @property
+    def oldest_s(self) -> float:
+        return max(0, self.samples - len(self.ring)) / SAMPLE_RATE
+
+    def append(self, samples: np.ndarray) -> None:
+        samples = samples[-len(self.ring) :]
+        at = self.samples % len(self.ring)
+        first = min(len(samples), len(self.ring) - at)
+        self.ring[at : at + first] = samples[:first]
+        self.ring[: len(samples) - first] = samples[first:]
+        self.samples += len(samples)
+
+    def span(self, start: float, end: float) -> tuple[np.ndarray, float]:
+        """(the kept samples from ``start`` to ``end`` seconds, the stream time of the first), clipped to what is
+        kept."""
+        first = max(int(start * SAMPLE_RATE), self.samples - len(self.ring), 0)
+        last = max(min(int(end * SAMPLE_RATE), self.samples), first)
+        indices = np.arange(first, last) % len(self.ring)
+        return self.ring[indices], first / SAMPLE_RATE
+
+
+class LiveSentences:
+    """The sentences of one live stream waiting for their audio (module docstring)."""
+
+    def __init__(self, aligner: SentenceAligner, counts: AlignmentCounts) -> None:
+        self.aligner = aligner
+        self.counts = counts
+        self.audio = AudioHistory()
+        self.pending: deque[PendingSentence] = deque()
+        self.cursor = 0.0  # stream seconds where the last placed sentence ended
+
+    def hear(self, samples: np.ndarray) -> None:
+        """The stream's next audio ((n,) float32, 16 kHz)."""
+        self.audio.append(samples)
+
+    def add(self, text: str, start: float | None = None, end: float | None = None) -> list[Alignment]:
+        """Queue a sentence (at least one token); returns the alignments of the oldest when too many wait."""
+        self.pending.append(PendingSentence(text, start, end))
+        return self.ready(final=False) + ([self._place(self.pending.popleft(), True)]
+                                          if len(self.pending) > MAX_PENDING_SENTENCES else [])
+
+    def ready(self, final: bool = False) -> list[Alignment]:
+        """The alignments of the waiting sentences whose audio has arrived, in order (all of them when ``final``:
+        the speech ended)."""
+        placed = []
+        while self.pending:
+            alignment = self._place(self.pending[0], final)
+            if alignment is None:
+                break
+            self.pending.popleft()
+            placed.append(alignment)
+        return placed
+
+    def _place(self, sentence: PendingSentence, final: bool) -> Alignment | None:
+        begin = self._begin(sentence, final)
+        if begin is None:
+            return None
+        end = self._end(sentence, begin, final)
+        if end is None:
+            return None
+        samples, first_s = self.audio.span(begin, end)
+        alignment = self.aligner.align(sentence.text, samples, first_s)
+        self.counts.count(alignment, sentence.text)
+        self.cursor = max(self.cursor, end if len(samples) else alignment.words[-1].end)
+        return alignment
+
+    def _begin(self, sentence: PendingSentence, final: bool) -> float | None:
+        """Where the sentence's window starts: its start, else just before the first voiced audio after the cursor
+        (None while none has arrived; the cursor itself at the end of the words)."""
+        if sentence.start is not None:
+            return sentence.start
+        after = max(self.cursor, self.audio.oldest_s)
+        samples, first_s = self.audio.span(after, self.audio.heard_s)
+        voiced = np.flatnonzero(voiced_frames(samples))
+        if not len(voiced):
+            return after if final else None
+        return max(after, first_s + voiced[0] * FRAME_S - ONSET_LEAD_S)
+
+    def _end(self, sentence: PendingSentence, begin: float, final: bool) -> float | None:
+        """Where the sentence's window ends (module docstring); None while its audio is still to come."""
+        heard = self.audio.heard_s
+        if sentence.end is not None:
+            return sentence.end if final or heard >= sentence.end else None
+        expected = sentence.expected_s
+        samples, first_s = self.audio.span(begin, heard)
+        breaks = [first_s + t for t in pauses(samples) if first_s + t >= begin + expected / 2]
+        if breaks:
+            return breaks[0]
+        if heard >= begin + 2 * expected:
+            return begin + 2 * expected
+        return heard if final else None

@@ -1,0 +1,39 @@
+"""The count of every sentence's alignment outcome, never silent: a throttled log line for each sentence that did not
+align fully, and the counts for the run's summary and ``bench gestures``."""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass, field
+
+from gesturecast.log_throttle import ThrottledLog
+from gesturecast.realtime.words.aligner import METHODS, Alignment
+
+logger = logging.getLogger(__name__)
+
+
+@dataclass
+class AlignmentCounts:
+    """Sentences by outcome (:data:`~gesturecast.realtime.words.aligner.METHODS`) and their words."""
+
+    sentences: dict[str, int] = field(default_factory=lambda: dict.fromkeys(METHODS, 0))
+    words: int = 0
+    aligned_words: int = 0
+    _log: ThrottledLog = field(default_factory=lambda: ThrottledLog(logger), repr=False, compare=False)
+
+    def count(self, alignment: Alignment, text: str) -> None:
+        """Count one sentence's alignment; one not fully aligned is logged (at most a line per interval)."""
+        self.sentences[alignment.method] += 1
+        self.words += len(alignment.words)
+        self.aligned_words += round(alignment.confidence * len(alignment.words))
+        if alignment.method != "aligned":
+            self._log.log(logging.INFO, f"words placed by {alignment.method} ({alignment.confidence:.0%} aligned): "
+                                        f"{text[:60]!r}")
+
+    def to_dict(self) -> dict:
+        """The counts as JSON-able data: ``{"aligned": n, "partly": n, "spread": n, "failed": n, "words": n,
+        "aligned_words": n}``."""
+        return {**self.sentences, "words": self.words, "aligned_words": self.aligned_words}
+
+    def __bool__(self) -> bool:
+        return self.words > 0

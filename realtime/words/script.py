@@ -1,0 +1,56 @@
+"""A plain-text script placed on the recording it was read in: split into sentences, each sentence's span estimated
+over the voiced audio by its share of the letters still to come, snapped to the nearest pause, aligned there
+(:class:`~gesturecast.realtime.words.aligner.SentenceAligner`), and the next sentence starts where it ended."""
+
+from __future__ import annotations
+
+import re
+
+import numpy as np
+
+from gesturecast.controls import Word
+from gesturecast.realtime.words.aligner import Alignment, SentenceAligner
+from gesturecast.realtime.words.outcomes import AlignmentCounts
+from gesturecast.realtime.words.voicing import SAMPLE_RATE, letters, pauses, voiced_span
+
+SENTENCE_END = re.compile(r"(?<=[.!?…])[\"')\]]*\s+|\n\s*\n|\n(?=\s*[-*•])")  # after . ! ? …, a blank line, a bullet
+MAX_SENTENCE_WORDS = 40  # a longer run without a sentence end is cut into pieces this long (alignment stays cheap)
+SNAP_S = 1.5  # a sentence's end moves to the nearest pause within this many seconds of its estimate
+
+
+def sentences(text: str) -> list[str]:
+    """The sentences of a script, each at most :data:`MAX_SENTENCE_WORDS` words, whitespace collapsed."""
+    pieces = []
+    for sentence in SENTENCE_END.split(text):
+        tokens = sentence.split()
+        pieces += [" ".join(tokens[i : i + MAX_SENTENCE_WORDS]) for i in range(0, len(tokens), MAX_SENTENCE_WORDS)]
+    return pieces
+
+
+def place_script(text: str, samples: np.ndarray, aligner: SentenceAligner, counts: AlignmentCounts
+                 ) -> tuple[Word, ...]:
+    """Every word of ``text`` with stream times on ``samples`` ((n,) float32, 16 kHz, from stream time 0), each
+    sentence's outcome counted in ``counts``."""
+    parts = sentences(text)
+    duration = len(samples) / SAMPLE_RATE
+    span = voiced_span(samples) or (0.0, duration)
+    breaks = np.array(pauses(samples) + [span[1]])
+    cursor, words = span[0], []
+    weights = [sum(letters(token) for token in part.split()) for part in parts]
+    for index, part in enumerate(parts):
+        share = weights[index] / sum(weights[index:])
+        estimate = cursor + share * max(span[1] - cursor, 0.0)
+        near = breaks[(breaks > cursor) & (np.abs(breaks - estimate) <= SNAP_S)]
+        end = float(near[np.argmin(np.abs(near - estimate))]) if len(near) else estimate
+        end = span[1] if index == len(parts) - 1 else max(end, cursor)
+        alignment = _aligned(aligner, part, samples, cursor, end)
+        counts.count(alignment, part)
+        words += alignment.words
+        cursor = end
+    return tuple(words)
+
+
+def _aligned(aligner: SentenceAligner, text: str, samples: np.ndarray, start: float, end: float) -> Alignment:
+    """``text`` aligned on the audio from ``start`` to ``end`` seconds."""
+    first, last = int(start * SAMPLE_RATE), max(int(end * SAMPLE_RATE), int(start * SAMPLE_RATE))
+    return aligner.align(text, samples[first:last], first / SAMPLE_RATE)

@@ -1,0 +1,60 @@
+"""Voiced and unvoiced stretches of 16 kHz mono audio by frame energy, and words spread over a span by their letters:
+what places a sentence when its forced alignment cannot."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from gesturecast.controls import Word
+
+SAMPLE_RATE = 16_000
+FRAME_S = 0.01  # one energy frame, as the aligner's own frames
+FRAME = int(SAMPLE_RATE * FRAME_S)
+FLOOR_RMS = 0.003  # about -50 dBFS: quieter than any speech frame
+NOISE_FACTOR = 4.0  # a frame is voiced above this many times the audio's quiet frames (its 10th-percentile RMS)
+MIN_PAUSE_S = 0.15  # an unvoiced run this long separates sentences
+
+
+def frame_rms(samples: np.ndarray) -> np.ndarray:
+    """(n,) float32 samples → (n // FRAME,) RMS of each 10 ms frame."""
+    frames = samples[: len(samples) // FRAME * FRAME].reshape(-1, FRAME)  # (F, 160)
+    return np.sqrt(np.mean(np.square(frames, dtype=np.float64), axis=1))
+
+
+def voiced_frames(samples: np.ndarray) -> np.ndarray:
+    """(F,) bool: the 10 ms frames louder than the audio's quiet frames (and than :data:`FLOOR_RMS`)."""
+    rms = frame_rms(samples)
+    if not len(rms):
+        return np.zeros(0, bool)
+    return rms > max(FLOOR_RMS, NOISE_FACTOR * float(np.percentile(rms, 10)))
+
+
+def voiced_span(samples: np.ndarray) -> tuple[float, float] | None:
+    """(first, last) second of voiced audio in ``samples`` (None when none is voiced)."""
+    voiced = np.flatnonzero(voiced_frames(samples))
+    if not len(voiced):
+        return None
+    return float(voiced[0] * FRAME_S), float((voiced[-1] + 1) * FRAME_S)
+
+
+def pauses(samples: np.ndarray, min_pause_s: float = MIN_PAUSE_S) -> list[float]:
+    """The middle second of each unvoiced run at least ``min_pause_s`` long that follows voiced audio (a run still
+    going at the end counts: the speech may have stopped there)."""
+    voiced = np.concatenate([voiced_frames(samples), [True]])  # (F + 1,) a voiced frame closes the last run
+    changes = np.flatnonzero(np.diff(voiced.astype(np.int8)))  # the last frame before each change
+    starts, ends = changes[voiced[changes]] + 1, changes[~voiced[changes]] + 1  # first unvoiced, first voiced again
+    return [float((start + end) / 2 * FRAME_S) for start, end in zip(starts, ends[np.searchsorted(ends, starts)],
+                                                                    strict=True)
+            if (end - start) * FRAME_S >= min_pause_s]
+
+
+def letters(token: str) -> int:
+    """A token's share of speaking time: its letters and digits, plus one for the gap after it."""
+    return sum(char.isalnum() for char in token) + 1
+
+
+def spread(tokens: list[str], start: float, end: float) -> list[Word]:
+    """``tokens`` over ``start``..``end`` seconds, each a share of the span by its letters."""
+    weights = np.array([letters(token) for token in tokens], np.float64)
+    edges = start + (end - start) * np.concatenate([[0.0], np.cumsum(weights)]) / weights.sum()
+    return [Word(token, float(edges[i]), float(edges[i + 1])) for i, token in enumerate(tokens)]
