@@ -28,6 +28,7 @@ from gesturecast.realtime.words.voicing import FRAME_S, SAMPLE_RATE, spread, voi
 
 PAD_S = 0.2  # silence around the span: the alignment starts and ends in silence
 NOMINAL_WORD_S = 0.3  # a word's share of a span without voiced audio
+MIN_GAP_SHARE = 0.5  # unplaced words given less than this share of NOMINAL_WORD_S each share the word before's span
 FILLERS = frozenset(["<s>", "</s>", "<sil>", "(NULL)", "[NOISE]"])
 METHODS = ("aligned", "partly", "spread", "failed")
 ALTERNATE = re.compile(r"\(\d+\)$")  # "the(2)": the dictionary's second pronunciation
@@ -112,7 +113,8 @@ class SentenceAligner:
 
 def _fill(tokens: list[str], placed: dict[int, tuple[float, float]], voiced_end: float) -> list[Word]:
     """Every token with times: the placed ones as aligned, each run of others spread by letters between the end of
-    the placed token before it and the start of the one after (the voiced end after the last)."""
+    the placed token before it and the start of the one after (the voiced end after the last); when that gap is too
+    short for them, the word before took their speech, and shares its span with them."""
     words: list[Word] = []
     index = 0
     while index < len(tokens):
@@ -121,8 +123,12 @@ def _fill(tokens: list[str], placed: dict[int, tuple[float, float]], voiced_end:
             index += 1
             continue
         run_end = next((i for i in range(index, len(tokens)) if i in placed), len(tokens))
-        before = words[-1].end if words else placed[run_end][0] - NOMINAL_WORD_S * (run_end - index)
+        run = tokens[index:run_end]
+        before = words[-1].end if words else placed[run_end][0] - NOMINAL_WORD_S * len(run)
         after = placed[run_end][0] if run_end < len(tokens) else max(voiced_end, before + NOMINAL_WORD_S)
-        words += spread(tokens[index:run_end], before, max(after, before))
+        if words and after - before < MIN_GAP_SHARE * NOMINAL_WORD_S * len(run):  # the word before took their speech
+            absorbing = words.pop()  # tokens[index - 1], placed
+            run, before = [absorbing.text, *run], absorbing.start
+        words += spread(run, before, max(after, before))
         index = run_end
     return words

@@ -82,3 +82,53 @@ def test_spoken_words_pass_the_two_functions(route):
         stream.spoken("Hello everyone.", 0.5)
     assert parsed_texts(parsed) == ["Hello", "everyone."]
     assert placed_phrases(placed) == ["Hello"]
+
+
+SCRIPT = "Hello everyone. Thank you so much for coming."
+
+
+def test_a_plain_text_scripts_words_pass_the_two_functions(route, tmp_path):
+    from gesturecast.tools.bench.speech.espeak_words import spoken
+
+    parsed, placed = route
+    audio, _ = spoken(SCRIPT, tmp_path)
+    soundfile.write(tmp_path / "talk.wav", audio, SAMPLE_RATE)
+    (tmp_path / "talk.txt").write_text(SCRIPT + "\n")  # beside the audio: read without --transcript
+    assert cli.main(["generate", str(tmp_path / "talk.wav"), "-o", str(tmp_path / "talk.bvh")]) == 0
+    assert parsed_texts(parsed) == SCRIPT.split()
+    assert placed_phrases(placed) == ["Hello", "Thank you so much"]
+
+
+def test_a_text_messages_words_pass_the_two_functions(route, tmp_path):
+    from gesturecast.tools.bench.speech.espeak_words import spoken
+
+    parsed, placed = route
+    audio, _ = spoken("Hello everyone.", tmp_path)
+    with gesturecast.Stream(outputs=gesturecast.Outputs(ws=0), paced=False, warm=False) as stream:
+        port = stream.bridges.bridges[0].port
+        with connect(f"ws://127.0.0.1:{port}/", open_timeout=TIMEOUT_S) as client:
+            client.recv(TIMEOUT_S)  # the hello
+            client.send(json.dumps({"type": "words", "text": "Hello everyone."}))  # before its audio, no times
+            assert json.loads(client.recv(TIMEOUT_S))["type"] == "ack"
+        stream.push(np.zeros(SAMPLE_RATE // 4, np.float32), SAMPLE_RATE)  # the controls are applied at the next latent
+        stream.push(audio, SAMPLE_RATE)
+        stream.push(np.zeros(SAMPLE_RATE, np.float32), SAMPLE_RATE)
+        assert stream.session.gestures.alignments.to_dict()["aligned"] == 1
+    assert parsed_texts(parsed) == ["Hello", "everyone."]
+    assert placed_phrases(placed) == ["Hello"]
+
+
+def test_a_sentence_spoken_without_a_start_is_placed_on_its_audio(route, tmp_path):
+    from gesturecast.tools.bench.speech.espeak_words import spoken
+
+    parsed, placed = route
+    audio, timed = spoken("Hello everyone.", tmp_path)
+    with gesturecast.Stream(paced=False, warm=False) as stream:
+        stream.push(np.zeros(SAMPLE_RATE // 2, np.float32), SAMPLE_RATE)
+        stream.push(np.concatenate([audio, np.zeros(SAMPLE_RATE // 2, np.float32)]), SAMPLE_RATE)
+        stream.spoken("Hello everyone.")  # a recogniser's transcript, after its audio and the pause after it
+        assert stream.session.gestures.alignments.to_dict()["aligned"] == 1
+    assert parsed_texts(parsed) == ["Hello", "everyone."]
+    [call] = parsed.call_args_list
+    assert abs(call.args[0][1]["start"] - (0.5 + timed[1].start)) < 0.05
+    assert placed_phrases(placed) == ["Hello"]

@@ -1,0 +1,82 @@
+"""The sentence aligner on real espeak-ng speech: words placed near the synthesiser's own word starts, and a sentence
+it cannot align still yields every word, in order, inside its audio."""
+
+import numpy as np
+import pytest
+
+from gesturecast.realtime.words.aligner import SentenceAligner
+from gesturecast.realtime.words.outcomes import AlignmentCounts
+from gesturecast.realtime.words.script import place_script, sentences
+from gesturecast.realtime.words.voicing import SAMPLE_RATE, pauses, voiced_span
+from gesturecast.tools.bench.speech.espeak_words import spoken
+
+SENTENCE = "Now let me show you the map of the old city."
+SCRIPT = ("Hello everyone, and welcome back to the channel. Today we are going to build a tiny robot. "
+          "Then connect the red wire. Hooray, we did it!")
+OFFSET_S = 7.0  # the audio's first sample in stream time
+
+
+@pytest.fixture(scope="module")
+def aligner() -> SentenceAligner:
+    return SentenceAligner()
+
+
+def starts_error(words, timed, offset: float = 0.0) -> np.ndarray:
+    assert [word.text for word in words] == [word.text for word in timed]
+    return np.abs(np.array([word.start - offset for word in words]) - np.array([word.start for word in timed]))
+
+
+def test_a_sentence_is_placed_on_its_own_speech(aligner, tmp_path):
+    audio, timed = spoken(SENTENCE, tmp_path)
+    alignment = aligner.align(SENTENCE, audio, OFFSET_S)
+    assert alignment.method == "aligned" and alignment.confidence == 1.0
+    assert np.median(starts_error(alignment.words, timed, OFFSET_S)) < 0.05
+
+
+def test_a_word_outside_the_dictionary_is_placed_between_its_neighbours(aligner, tmp_path):
+    text = "Now let me show you the zorblax of the old city."
+    audio, timed = spoken(text, tmp_path)
+    alignment = aligner.align(text, audio, 0.0)
+    assert alignment.method == "partly" and 0.8 < alignment.confidence < 1.0
+    unknown = alignment.words[6]
+    assert unknown.text == "zorblax" and alignment.words[5].end <= unknown.start < alignment.words[7].start
+    assert np.median(starts_error(alignment.words, timed)) < 0.05
+
+
+def test_a_sentence_it_cannot_align_still_yields_its_words(aligner, tmp_path):
+    text = "Zorblax quindle fremp!"
+    audio, _ = spoken(text, tmp_path)
+    alignment = aligner.align(text, audio, OFFSET_S)
+    assert alignment.method == "spread" and alignment.confidence == 0.0
+    first, last = voiced_span(audio)
+    starts = [word.start for word in alignment.words]
+    assert [word.text for word in alignment.words] == text.split()
+    assert starts == sorted(starts) and starts[0] == pytest.approx(OFFSET_S + first)
+    assert alignment.words[-1].end == pytest.approx(OFFSET_S + last)
+
+
+def test_a_sentence_without_its_audio_is_spread_and_counted_as_failed(aligner):
+    counts = AlignmentCounts()
+    alignment = aligner.align("Hello there", np.zeros(SAMPLE_RATE // 2, np.float32), 2.0)
+    counts.count(alignment, "Hello there")
+    assert alignment.method == "failed" and [word.text for word in alignment.words] == ["Hello", "there"]
+    assert alignment.words[0].start == 2.0 and alignment.words[-1].end > 2.0
+    assert counts.to_dict()["failed"] == 1 and counts.to_dict()["aligned_words"] == 0
+
+
+def test_a_script_is_placed_sentence_by_sentence_over_its_recording(aligner, tmp_path):
+    audio, timed = spoken(SCRIPT, tmp_path)
+    counts = AlignmentCounts()
+    words = place_script(SCRIPT, audio, aligner, counts)
+    assert sum(counts.sentences.values()) == len(sentences(SCRIPT)) == 4
+    assert counts.words == len(SCRIPT.split())
+    assert np.median(starts_error(words, timed)) < 0.08
+    starts = [word.start for word in words]
+    assert starts == sorted(starts)
+
+
+def test_pauses_are_the_middles_of_unvoiced_runs():
+    tone = 0.3 * np.sin(np.arange(SAMPLE_RATE) * 0.3).astype(np.float32)  # (16000,) 1 s
+    audio = np.concatenate([tone, np.zeros(SAMPLE_RATE // 2, np.float32), tone])
+    assert pauses(audio) == [pytest.approx(1.25)]
+    assert voiced_span(audio) == (0.0, 2.5)
