@@ -105,6 +105,7 @@ def run_live(args: argparse.Namespace) -> int:
     osc_in = osc_in_address(args.osc_in)  # checked before any output file is opened
     clock = MonotonicClock()
     session = build_session(settings, clock)
+    session.gestures.start_worker()  # the words' work never delays a frame
     if args.input:
         check_input_length(args.input)
     source = open_source(args, clock)  # checks the input before any output file is opened
@@ -125,10 +126,13 @@ def run_live(args: argparse.Namespace) -> int:
         if gestures_in is not None:
             gestures_in.close()
         outputs.close()
+        session.gestures.stop_worker()
     report.outputs = outputs.counters()
     if gestures_in is not None:  # its drops (malformed, wrong token, refused...) in the summary and the report
         report.outputs["osc_in"] = gestures_in.dropped()
     sys.stdout.write(summary_line(report) + "\n")
+    if session.gestures.alignments:
+        sys.stdout.write(f"sentences without word times: {session.gestures.alignments.describe()}\n")
     raise_output_errors(outputs)
     return exit_status(report)
 

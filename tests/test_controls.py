@@ -84,7 +84,7 @@ def test_invalid_controls(message, reason):
 def test_schema_lists_every_field():
     schema = control_schema()
     assert set(schema) == {"style", "style2", "part_styles", "prompt", "style_strength", "guidance", "audio_guidance",
-                           "gamma", "root", "intensity", "pause", "gesture", "words"}
+                           "gamma", "root", "intensity", "pause", "gesture", "words", "text", "start", "end"}
     assert schema["intensity"] == {"type": "number", "min": 0.0, "max": 2.0}
     assert schema["pause"] == {"type": "boolean"}
     assert schema["style_strength"] == {"type": "number", "min": 0.0, "max": 2.0}
@@ -158,7 +158,7 @@ def test_settings_and_the_schema_derive_from_the_one_declaration():
             assert (NUMBER_LIMITS[name].minimum, NUMBER_LIMITS[name].maximum) == (rule.low, rule.high)
         if hasattr(rule, "choices"):
             assert tuple(CHOICES[name]) == rule.choices
-    assert list(control_schema()) == [*STYLE_SETTINGS, "gesture", "words"]
+    assert list(control_schema()) == [*STYLE_SETTINGS, "gesture", "words", "text", "start", "end"]
     assert STYLE_SETTINGS["root"].choices == tuple(mode.value for mode in RootMode)
 
 

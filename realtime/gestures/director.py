@@ -14,6 +14,11 @@ decide reach the plan through :meth:`GestureDirector.place_word_cues`, whichever
 
 from __future__ import annotations
 
+import logging
+from collections import deque
+from collections.abc import Callable
+from concurrent.futures import Future
+
 import numpy as np
 
 from gesturecast.controls import Word, parse_words
@@ -25,6 +30,10 @@ from gesturecast.realtime.gestures.triggers import TriggerVocabulary, WordListen
 from gesturecast.realtime.words.aligner import Alignment, SentenceAligner
 from gesturecast.realtime.words.live import LiveSentences
 from gesturecast.realtime.words.outcomes import AlignmentCounts
+from gesturecast.realtime.words.worker import WordsWorker
+
+logger = logging.getLogger(__name__)
+Decision = tuple[list[Cue], list[Cue]]  # (forced trigger cues, speech-act cues) of some words
 
 
 class GestureDirector:
@@ -38,10 +47,15 @@ class GestureDirector:
         self.vocabulary = TriggerVocabulary(dict(repertoire.triggers))
         self.phrases = PhraseCues(repertoire.names) if repertoire.speech_acts else None
         self.aligner = SentenceAligner()  # sentences without word times, placed on their own speech
+        self.worker: WordsWorker | None = None  # None: words decided on the caller's thread (offline: always)
+        self._decided: deque[Future] = deque()  # handed-over decisions not placed yet, in order
         self.reset()
 
     def reset(self) -> None:
-        """A new stream: no cue placed, no word heard, latent 0 next."""
+        """A new stream: no cue placed, no word heard, latent 0 next (the words worker's last jobs finished first)."""
+        if self.worker is not None:
+            self.worker.submit(lambda: None).result()
+        self._decided.clear()
         self.cues = CuePlan(self.repertoire.first_performances(), self.seconds_per_latent,
                             self.repertoire.performances())
         self.listener = WordListener(self.vocabulary)  # words reported one at a time (a TTS speaking)
@@ -64,17 +78,24 @@ class GestureDirector:
 
     # ---- what the session tells ----
     def heard(self, seconds: float, samples: np.ndarray | None = None) -> list[CueOutcome]:
-        """The stream's audio has arrived up to ``seconds`` (stream time), ``samples`` ((n,) float32, 16 kHz) the
-        audio that arrived since the last call; the sentences waiting for it are placed (their cues returned)."""
+        """The stream's audio has arrived up to ``seconds`` (stream time), ``samples`` ((n,) float32, 16 kHz, not
+        changed afterwards) the audio that arrived since the last call; the sentences waiting for it are placed
+        (their cues returned; with the words worker, at a later latent)."""
         self.heard_s = seconds
         if samples is None:
             return []
-        self.sentences.hear(samples)
-        return self._hear_aligned(self.sentences.ready() if self.sentences.pending else [])
+        if self.worker is not None:
+            samples = samples.copy()  # the worker reads it later
+        def decide() -> list[Decision]:
+            self.sentences.hear(samples)
+            return self._aligned_decisions(self.sentences.ready() if self.sentences.pending else [])
+
+        return self._decided_now(decide, wait=False)
 
     def play(self, latent: int) -> Imposition | None:
         """What the placed clips impose on ``latent``, generated now (None when none does); the placements that
         ended before it are forgotten, and cues from now on are placed from the next latent."""
+        self._place_decided()
         imposed = self.cues.imposition(latent)
         self.cues.forget_before(latent)
         self.next_latent = latent + 1
@@ -113,39 +134,88 @@ class GestureDirector:
         stroke_s = (self.next_latent + BLEND_LATENTS) * self.seconds_per_latent
         return max(0.0, self.latency_s + stroke_s - self.heard_s)
 
-    def hear_words(self, words: tuple[Word, ...]) -> list[CueOutcome]:
+    def hear_words(self, words: tuple[Word, ...], wait: bool = True) -> list[CueOutcome]:
         """Cue the gestures of the speech acts and forced trigger phrases in ``words`` (stream-time stamps, a
         transcript or a words message), the words after those of earlier calls
-        (:class:`~gesturecast.realtime.gestures.phrases.PhraseStream`)."""
-        acts = [] if self.phrase_stream is None else self.phrase_stream.cues(list(words))
-        return self.place_word_cues(self.vocabulary.cues(list(words)), acts)
+        (:class:`~gesturecast.realtime.gestures.phrases.PhraseStream`). With the words worker and ``wait`` False (the
+        stream's own thread), they are decided there and placed at a later latent; returns the cues placed now."""
+        return self._decided_now(lambda: [self._decide(words)], wait)
 
-    def hear_spoken(self, word: Word) -> list[CueOutcome]:
+    def hear_spoken(self, word: Word, wait: bool = True) -> list[CueOutcome]:
         """Cue what ``word`` completes, one of the words a TTS service reports as it speaks them (earlier words of
         the phrase came in earlier calls; a speech act is decided once the words after it that tell arrive)."""
-        acts = [] if self.phrase_listener is None else self.phrase_listener.hear(word)
-        return self.place_word_cues(self.listener.hear(word), acts)
+        def decide() -> list[Decision]:
+            acts = [] if self.phrase_listener is None else self.phrase_listener.hear(word)
+            return [(self.listener.hear(word), acts)]
 
-    def hear_sentence(self, text: str, start: float | None = None, end: float | None = None) -> list[CueOutcome]:
+        return self._decided_now(decide, wait)
+
+    def hear_sentence(self, text: str, start: float | None = None, end: float | None = None, wait: bool = True
+                      ) -> list[CueOutcome]:
         """A sentence without word times (at least one token): its words get times from its own speech once that has
         arrived (:mod:`gesturecast.realtime.words.live`: ``start`` / ``end`` bound it when known), then are heard as
         :meth:`hear_words` hears words. Returns the cues of the sentences placed now (this one, if its audio is
         already here)."""
-        return self._hear_aligned(self.sentences.add(text, start, end))
+        return self._decided_now(lambda: self._aligned_decisions(self.sentences.add(text, start, end)), wait)
 
     def end_of_words(self) -> list[CueOutcome]:
         """The words stopped (the speech ended): the sentences still waiting are placed on the audio that arrived,
-        and the phrases still waiting for the words after them are decided."""
-        outcomes = self._hear_aligned(self.sentences.ready(final=True))
-        return outcomes + self.place_word_cues([], [] if self.phrase_listener is None else self.phrase_listener.flush())
+        and the phrases still waiting for the words after them are decided (waiting for the words worker)."""
+        def decide() -> list[Decision]:
+            acts = [] if self.phrase_listener is None else self.phrase_listener.flush()
+            return [*self._aligned_decisions(self.sentences.ready(final=True)), ([], acts)]
 
-    def _hear_aligned(self, alignments: list[Alignment]) -> list[CueOutcome]:
-        """Hear the words of placed sentences, checked as every door's words are."""
+        return self._decided_now(decide, wait=True)
+
+    # ---- the words worker ----
+    def start_worker(self) -> None:
+        """Decide words and align sentences on a worker thread from now on: a live stream's thread never waits for
+        them (:mod:`gesturecast.realtime.words.worker`)."""
+        if self.worker is None:
+            self.worker = WordsWorker()
+
+    def stop_worker(self) -> None:
+        """Finish the handed-over work, place it, and decide on the caller's thread again."""
+        if self.worker is not None:
+            self.worker.close()
+            self.worker = None
+            self._place_decided()
+
+    def _decide(self, words: tuple[Word, ...]) -> Decision:
+        """The forced trigger cues and the speech acts of ``words`` (the decision state moves on)."""
+        acts = [] if self.phrase_stream is None else self.phrase_stream.cues(list(words))
+        return self.vocabulary.cues(list(words)), acts
+
+    def _aligned_decisions(self, alignments: list[Alignment]) -> list[Decision]:
+        """The decisions of placed sentences' words, checked as every door's words are."""
+        return [self._decide(parse_words([{"word": w.text, "start": w.start, "end": w.end} for w in alignment.words],
+                                         "sentence words")) for alignment in alignments]
+
+    def _decided_now(self, decide: Callable[[], list[Decision]], wait: bool) -> list[CueOutcome]:
+        """Run ``decide`` here (no worker), or on the worker: waited for and placed now when ``wait``, else placed
+        at a later latent. Returns the cues placed now."""
+        if self.worker is None:
+            return self._place(decide())
+        future = self.worker.submit(decide)
+        if not wait:
+            self._decided.append(future)
+            return []
+        outcomes = self._place_decided()  # what was handed over before it is decided by now: placed first
+        return outcomes + self._place(future.result())
+
+    def _place_decided(self) -> list[CueOutcome]:
+        """Place the handed-over decisions that are ready, in order (one that failed is logged, not placed)."""
         outcomes = []
-        for alignment in alignments:
-            items = [{"word": w.text, "start": w.start, "end": w.end} for w in alignment.words]
-            outcomes += self.hear_words(parse_words(items, "sentence words"))
+        while self._decided and (self.worker is None or self._decided[0].done()):
+            future = self._decided.popleft()
+            if future.exception() is not None:
+                logger.warning("words not decided: %s", future.exception())
+                continue
+            outcomes += self._place(future.result())
         return outcomes
+
+    def _place(self, decisions: list[Decision]) -> list[CueOutcome]:
+        return [outcome for forced, acts in decisions for outcome in self.place_word_cues(forced, acts)]
 
     def place_word_cues(self, forced: list[Cue], acts: list[Cue]) -> list[CueOutcome]:
         """The cues that words decided, placed in time order: a forced trigger wins over a speech act on the same

@@ -65,7 +65,7 @@ def script_words(path: Path, audio: Path) -> tuple[Word, ...]:
         raise UserError(f"{path}: the script has no words")
     counts = AlignmentCounts()
     words = place_script(text, load_audio(audio), SentenceAligner(), counts)
-    logger.info("script %s: sentences %s", path.name, " ".join(f"{k}={v}" for k, v in counts.to_dict().items()))
+    logger.info("script %s placed on %s: sentences %s", path.name, audio.name, counts.describe())
     return words_from_list([{"word": w.text, "start": w.start, "end": w.end} for w in words], str(path))
 
 

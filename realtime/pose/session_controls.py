@@ -188,9 +188,9 @@ class SessionControls:
             if isinstance(control, Gesture):  # as soon as possible: its stroke as early as it can be from this latent
                 self.gestures.cue_gesture(control.name, t)
             elif isinstance(control, Sentence):  # placed on its own speech once that has arrived
-                self.gestures.hear_sentence(control.text, control.start, control.end)
+                self.gestures.hear_sentence(control.text, control.start, control.end, wait=False)
             else:  # on the words' own stream times (late by the wait when already generated)
-                self.gestures.hear_words(control.words)
+                self.gestures.hear_words(control.words, wait=False)
         except CueRefused as error:  # the plan filled up since the submit: the stream goes on without them
             self._refused_log.log(logging.WARNING, f"gesture cues not kept: {error}")
 

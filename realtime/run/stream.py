@@ -112,6 +112,8 @@ class Stream:
         self.paced = paced
         self._lock = threading.RLock()  # push, words, close: one thread at a time in the session
         self.session = build_session(self.settings, self.clock)
+        if paced:  # live: the words' work never delays a frame (unpaced: decided at once, as offline)
+            self.session.gestures.start_worker()
         self.bridges = build_outputs(self.outputs, self.settings, self.session, self.clock)
         self._on_frame = on_frame
         self._release = FrameRelease(self.session, self._send, self.clock,
@@ -303,6 +305,7 @@ class Stream:
         atexit.unregister(self._close_at_exit)
         try:
             self._release.stop()
+            self.session.gestures.stop_worker()
         finally:
             self._feeds.end()
             self.bridges.close()

@@ -128,6 +128,7 @@ class ServeStream:
 
     # ---- worker thread ----
     def _run(self) -> None:
+        self.session.gestures.start_worker()  # words decided off this thread, which generates the frames
         try:
             self._consume()
         except Exception as error:  # one broken stream must not take the server down: report and end it
@@ -135,6 +136,8 @@ class ServeStream:
             self.error = f"{type(error).__name__}: {error}"
             self.send(ws_protocol.error_message(f"stream {self.stream_id} failed: {self.error}"))
             self._finished()
+        finally:
+            self.session.gestures.stop_worker()
 
     def _consume(self) -> None:
         while (message := self._inbox.get()) is not None and not self._stopped.is_set():

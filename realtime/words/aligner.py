@@ -27,6 +27,7 @@ from gesturecast.controls import Word
 from gesturecast.realtime.words.voicing import FRAME_S, SAMPLE_RATE, spread, voiced_span
 
 PAD_S = 0.2  # silence around the span: the alignment starts and ends in silence
+BEAM = 1e-30  # narrower than the decoder's default (1e-48): as accurate on espeak-ng speech, a tenth less CPU
 NOMINAL_WORD_S = 0.3  # a word's share of a span without voiced audio
 MIN_GAP_SHARE = 0.5  # unplaced words given less than this share of NOMINAL_WORD_S each share the word before's span
 FILLERS = frozenset(["<s>", "</s>", "<sil>", "(NULL)", "[NOISE]"])
@@ -60,7 +61,8 @@ class SentenceAligner:
         if self._decoder is None:
             from pocketsphinx import Decoder  # the C decoder and its model: loaded when first needed
 
-            self._decoder = Decoder(lm=None, loglevel="FATAL", samprate=SAMPLE_RATE, bestpath=False)
+            self._decoder = Decoder(lm=None, loglevel="FATAL", samprate=SAMPLE_RATE, bestpath=False, beam=BEAM,
+                                    pbeam=BEAM)
         return self._decoder
 
     def known(self, token: str) -> bool:

@@ -26,6 +26,12 @@ gesture moves (the torso during a wave), cued over uncued; the largest jerk with
 clip's ends over the uncued stream's 95th percentile; speech following outside the cue windows, cued over uncued;
 a PNG strip of frames around each cue of the first story.
 
+``--words text`` gives the cued runs the story as a plain-text script placed by the sentence aligner (an intended
+cue's outcome is then the cue nearest its word within :data:`STROKE_TOLERANCE_S`), ``--words unpunctuated`` the
+timed words without punctuation (:mod:`gesturecast.tools.bench.gesture_set.word_modes`); the JSON adds the
+alignment outcomes, the aligner's word start error against the TTS's own word times and its CPU against
+generation's. ``--voice`` speaks the texts in another espeak-ng voice.
+
 ``--decisions-only``: only the speech acts decided on the set's words, without speech or generation
 (:mod:`gesturecast.tools.bench.gesture_set.decisions`).
 """
@@ -36,7 +42,8 @@ import argparse
 import json
 import logging
 import sys
-from dataclasses import dataclass, replace
+import time
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -70,6 +77,7 @@ from gesturecast.tools.bench.gesture_set.texts_second import CUED_STORIES_SECOND
 from gesturecast.tools.bench.gesture_set.texts_seventh import CUED_STORIES_SEVENTH, NARRATION_SEVENTH
 from gesturecast.tools.bench.gesture_set.texts_sixth import CUED_STORIES_SIXTH, NARRATION_SIXTH
 from gesturecast.tools.bench.gesture_set.texts_third import CUED_STORIES_THIRD, NARRATION_THIRD
+from gesturecast.tools.bench.gesture_set.word_modes import WORD_MODES, WordsGiven, story_words, words_summary
 
 WINDOW_BEFORE_S, WINDOW_AFTER_S = 1.5, 2.5  # where an intended gesture must show, around its word
 STROKE_TOLERANCE_S = 0.3
@@ -117,26 +125,49 @@ def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--stories", choices=sorted(STORY_SETS), default="first",
                         help="the held-out text set (default: first; second … eighth: written later, "
                         "see texts_second.py …)")
+    parser.add_argument("--words", choices=WORD_MODES, default="timed",
+                        help="how the cued runs get their words: timed (the TTS's own word times), text (a plain-text "
+                        "script placed by the aligner), unpunctuated (timed, punctuation removed)")
+    parser.add_argument("--voice", default=None, help="the espeak-ng voice (default: its default; the held-out "
+                        "voices are in gesture_set/word_modes.py)")
     parser.add_argument("--decisions-only", action="store_true",
                         help="only which speech acts are decided on the set's words: no speech, no generation "
                         "(decisions.json; a second)")
     parser.set_defaults(func=run)
 
 
-def generate(settings: Settings, story: Story, cued: bool) -> Run:
-    """One run of ``story``, with its words cued or not."""
+def generate(settings: Settings, story: Story, cued: bool, words: WordSource | None = None) -> Run:
+    """One run of ``story``, with its words cued (given as ``words`` says; timed by default) or not."""
     session = build_session(settings, MonotonicClock())
     lines = _Lines()
     log = logging.getLogger("gesturecast.realtime.gestures.cues")
     log.addHandler(lines)
     try:
-        outcomes = session.gestures.hear_words(tuple(story.words)) if cued else []
+        given = story_words(story, words.mode, session.gestures.aligner, words.given) if cued and words else story.words
+        outcomes = session.gestures.hear_words(tuple(given)) if cued else []
         phrases = session.gestures.phrases
-        decided = len(phrases.cues(story.words)) if cued and phrases else len(outcomes)
+        decided = len(phrases.cues(list(given))) if cued and phrases else len(outcomes)
+        started = time.process_time()
         frames, report = run_offline(session, ArraySource(story.audio, SAMPLE_RATE))
+        if words is not None and cued:
+            words.generate_cpu_s += time.process_time() - started
     finally:
         log.removeHandler(lines)
     return Run(frames, outcomes, decided, lines.lines, report.rtf)
+
+
+@dataclass
+class WordSource:
+    """``--words``: how the cued runs get their words, and what that cost (:mod:`.gesture_set.word_modes`)."""
+
+    mode: str
+    given: WordsGiven = field(default_factory=WordsGiven)
+    generate_cpu_s: float = 0.0
+
+    @property
+    def tolerance_s(self) -> float:
+        """How far a cue may sit from its intended word's own time and still be its cue."""
+        return 1e-6 if self.mode != "text" else STROKE_TOLERANCE_S
 
 
 def body_positions(frames: list[PoseFrame]) -> np.ndarray:
@@ -144,16 +175,19 @@ def body_positions(frames: list[PoseFrame]) -> np.ndarray:
     return body_frame_positions(frames_to_motion(frames))
 
 
-def outcome_at(run: Run, time: float) -> CueOutcome | None:
-    return next((o for o in run.outcomes if abs(o.cue.time - time) < 1e-6), None)
+def outcome_at(run: Run, time: float, tolerance_s: float = 1e-6) -> CueOutcome | None:
+    """The cue's outcome nearest stream time ``time``, within ``tolerance_s``."""
+    near = [o for o in run.outcomes if abs(o.cue.time - time) < tolerance_s]
+    return min(near, key=lambda o: abs(o.cue.time - time)) if near else None
 
 
-def intended_rows(story: Story, run: Run, detector: Detector, expected: dict[str, str]) -> list[dict]:
+def intended_rows(story: Story, run: Run, detector: Detector, expected: dict[str, str], tolerance_s: float = 1e-6
+                  ) -> list[dict]:
     """One row per intended cue (module docstring)."""
     rows = []
     for cue in story.intended:
         gesture = expected[cue.intent]
-        outcome = outcome_at(run, cue.time)
+        outcome = outcome_at(run, cue.time, tolerance_s)
         played = outcome is not None and outcome.cue.gesture == gesture and outcome.stroke_time is not None
         word_frame = cue.time * MOTION_FPS
         lo, hi = word_frame - WINDOW_BEFORE_S * MOTION_FPS, word_frame + WINDOW_AFTER_S * MOTION_FPS
@@ -264,9 +298,9 @@ def idle_part_speed_ratio(run: Run, body: np.ndarray, uncued_body: np.ndarray, p
     return total_cued / total_uncued if total_uncued else None
 
 
-def narration_result(settings: Settings, story: Story) -> dict:
+def narration_result(settings: Settings, story: Story, words: WordSource) -> dict:
     """Gestures played per minute on ordinary narration, and detector events per minute with and without words."""
-    cued, uncued = generate(settings, story, True), generate(settings, story, False)
+    cued, uncued = generate(settings, story, True, words), generate(settings, story, False)
     played = [o for o in cued.outcomes if o.stroke_time is not None]
     detected = {run_name: sum(len(Detector(body_positions(run.frames), CANONICAL_WITH_HANDS.names).events(kind))
                               for kind in KINDS) for run_name, run in (("cued", cued), ("uncued", uncued))}
@@ -283,15 +317,15 @@ def silent_drops(run: Run) -> int:
     return unlogged + max(0, run.decided - len(run.outcomes))
 
 
-def story_result(settings: Settings, story: Story, expected: dict[str, str], parts: dict[str, tuple[str, ...]]
-                 ) -> dict:
-    cued, uncued = generate(settings, story, True), generate(settings, story, False)
+def story_result(settings: Settings, story: Story, expected: dict[str, str], parts: dict[str, tuple[str, ...]],
+                 words: WordSource) -> dict:
+    cued, uncued = generate(settings, story, True, words), generate(settings, story, False)
     body, uncued_body = body_positions(cued.frames), body_positions(uncued.frames)
     detector = Detector(body, CANONICAL_WITH_HANDS.names)
-    rows = intended_rows(story, cued, detector, expected)
-    intended_times = {round(c.time, 6) for c in story.intended}
+    rows = intended_rows(story, cued, detector, expected, words.tolerance_s)
+    intended_times = np.array([c.time for c in story.intended])
     extra = [f"{o.cue.gesture} at {o.cue.source!r}" for o in cued.outcomes
-             if o.stroke_time is not None and round(o.cue.time, 6) not in intended_times]
+             if o.stroke_time is not None and not np.any(np.abs(intended_times - o.cue.time) < words.tolerance_s)]
     outcomes: dict[str, int] = {}
     for outcome in cued.outcomes:
         outcomes[outcome.status] = outcomes.get(outcome.status, 0) + 1
@@ -358,13 +392,18 @@ def run(args: argparse.Namespace) -> int:
     cued_texts, narration_texts = STORY_SETS[args.stories]
     if args.decisions_only:
         return run_decisions(args, probe.gestures.phrases, cued_texts, narration_texts)
-    stories = [story_result(settings, make_story(name, sentences), expected, parts)
+    words = WordSource(args.words)
+    stories = [story_result(settings, make_story(name, sentences, voice=args.voice), expected, parts, words)
                for name, sentences in cued_texts.items()]
-    narrations = [narration_result(settings, make_story(name, texts)) for name, texts in narration_texts]
-    floor = seed_floor(settings, make_story(*next(iter(cued_texts.items()))), stories[0]["uncued_body"])
+    narrations = [narration_result(settings, make_story(name, texts, voice=args.voice), words)
+                  for name, texts in narration_texts]
+    floor = seed_floor(settings, make_story(*next(iter(cued_texts.items())), voice=args.voice),
+                       stories[0]["uncued_body"])
     args.out.mkdir(parents=True, exist_ok=True)
     picture = plot_cues(stories[0], args.out / "gestures.png")
-    result = {"stories_set": args.stories, "summary": summary(stories, narrations, floor), "picture": str(picture),
+    result = {"stories_set": args.stories, "words": args.words, "voice": args.voice,
+              "summary": {**summary(stories, narrations, floor), **words_summary(words.given, words.generate_cpu_s)},
+              "picture": str(picture),
               "stories": [{k: v for k, v in s.items() if k not in ("frames_cued", "uncued_body")} for s in stories],
               "narrations": narrations}
     text = json.dumps(result, indent=2, default=str) + "\n"

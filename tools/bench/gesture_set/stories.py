@@ -44,12 +44,12 @@ class Story:
         return len(self.audio) / SAMPLE_RATE / 60
 
 
-def make_story(name: str, sentences: tuple[str, ...], cache: Path = CACHE) -> Story:
-    """The sentences spoken one after another (module docstring)."""
+def make_story(name: str, sentences: tuple[str, ...], cache: Path = CACHE, voice: str | None = None) -> Story:
+    """The sentences spoken one after another (module docstring) in the espeak-ng ``voice`` (None: its default)."""
     pieces, words, intended, start = [np.zeros(int(LEAD_IN_S * SAMPLE_RATE), np.float32)], [], [], LEAD_IN_S
     for sentence in sentences:
         tokens, marks = parse_marked(sentence)
-        audio, timed = spoken(" ".join(tokens), cache)
+        audio, timed = spoken(" ".join(tokens), cache, voice)
         duration = len(audio) / SAMPLE_RATE
         ends = [w.start for w in timed[1:]] + [duration]
         words += [Word(w.text, start + w.start, start + end) for w, end in zip(timed, ends, strict=True)]

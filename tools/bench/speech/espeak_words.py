@@ -27,6 +27,7 @@ CHARS_UTF8 = 1
 EVENT_WORD = 1
 EVENT_LIST_TERMINATED = 0
 POSITION_CHARACTER = 1
+DEFAULT_VOICE = "en"  # what espeak_Initialize selects
 
 
 class _EventId(ctypes.Union):
@@ -71,8 +72,11 @@ class _Espeak:
         self.lib.espeak_Synth.argtypes = [ctypes.c_char_p, ctypes.c_size_t, ctypes.c_uint, ctypes.c_int,
                                           ctypes.c_uint, ctypes.c_uint, ctypes.c_void_p, ctypes.c_void_p]
 
-    def speak(self, text: str) -> tuple[np.ndarray, list[tuple[int, int, int]]]:
-        """(int16 samples at :attr:`rate`, [(character position from 1, length, start ms)] of the words)."""
+    def speak(self, text: str, voice: str | None = None) -> tuple[np.ndarray, list[tuple[int, int, int]]]:
+        """(int16 samples at :attr:`rate`, [(character position from 1, length, start ms)] of the words) in
+        ``voice`` (an espeak-ng voice name with an optional ``+variant``, e.g. ``en-us+f3``; None: the default)."""
+        if self.lib.espeak_SetVoiceByName((voice or DEFAULT_VOICE).encode()) != 0:
+            raise UserError(f"espeak-ng has no voice {voice!r} (espeak-ng --voices=en lists them)")
         chunks: list[np.ndarray] = []
         events: list[tuple[int, int, int]] = []
 
@@ -129,13 +133,14 @@ def words_at(text: str, events: list[tuple[int, int, int]], duration: float) -> 
             for token, t, span in zip(text.split(), starts, spans, strict=True)]
 
 
-def spoken(text: str, cache: Path) -> tuple[np.ndarray, list[TimedWord]]:
-    """(16 kHz audio (n,), each token's start) of ``text`` spoken by espeak-ng's default voice (cached)."""
-    key = hashlib.sha1(text.encode()).hexdigest()[:16]
+def spoken(text: str, cache: Path, voice: str | None = None) -> tuple[np.ndarray, list[TimedWord]]:
+    """(16 kHz audio (n,), each token's start) of ``text`` spoken by espeak-ng in ``voice`` (None: its default;
+    cached)."""
+    key = hashlib.sha1(text.encode() if voice is None else f"{voice}\n{text}".encode()).hexdigest()[:16]
     wav_path, words_path = cache / f"{key}.words.wav", cache / f"{key}.words.json"
     if not (wav_path.is_file() and words_path.is_file()):
         engine = _engine()
-        samples, events = engine.speak(text)
+        samples, events = engine.speak(text, voice)
         timed = words_at(text, events, len(samples) / engine.rate)
         cache.mkdir(parents=True, exist_ok=True)
         with wave.open(str(wav_path), "wb") as out:
