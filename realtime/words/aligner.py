@@ -24,12 +24,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from gesturecast.controls import Word
-from gesturecast.realtime.words.voicing import FRAME_S, SAMPLE_RATE, spread, voiced_span
+from gesturecast.realtime.words.voicing import FRAME_S, SAMPLE_RATE, letters, pauses, spread, voiced_span
 
 PAD_S = 0.2  # silence around the span: the alignment starts and ends in silence
-BEAM = 1e-30  # narrower than the decoder's default (1e-48): as accurate on espeak-ng speech, a tenth less CPU
 NOMINAL_WORD_S = 0.3  # a word's share of a span without voiced audio
 MIN_GAP_SHARE = 0.5  # unplaced words given less than this share of NOMINAL_WORD_S each share the word before's span
+MIN_SPLIT_WORDS = 4  # a sentence the alignment did not finish is aligned again in two parts from this length
+MAX_CUT_SHIFT_S = 1.0  # the cut between the parts moves at most this far to a pause
+CLAUSE_MARKS = frozenset(",;:")
 FILLERS = frozenset(["<s>", "</s>", "<sil>", "(NULL)", "[NOISE]"])
 METHODS = ("aligned", "partly", "spread", "failed")
 ALTERNATE = re.compile(r"\(\d+\)$")  # "the(2)": the dictionary's second pronunciation
@@ -61,8 +63,7 @@ class SentenceAligner:
         if self._decoder is None:
             from pocketsphinx import Decoder  # the C decoder and its model: loaded when first needed
 
-            self._decoder = Decoder(lm=None, loglevel="FATAL", samprate=SAMPLE_RATE, bestpath=False, beam=BEAM,
-                                    pbeam=BEAM)
+            self._decoder = Decoder(lm=None, loglevel="FATAL", samprate=SAMPLE_RATE, bestpath=False)
         return self._decoder
 
     def known(self, token: str) -> bool:
@@ -79,12 +80,29 @@ class SentenceAligner:
             length = max(len(samples) / SAMPLE_RATE, NOMINAL_WORD_S * len(tokens))
             return Alignment(tuple(spread(tokens, start, start + length)), "failed", 0.0)
         voiced = (start + span[0], start + span[1])
-        placed = self._aligned_starts(tokens, samples, start)
+        placed = self._aligned_starts(tokens, samples, start) or self._aligned_in_two(tokens, samples, start, span)
         if not placed:
             return Alignment(tuple(spread(tokens, *voiced)), "spread", 0.0)
         words = _fill(tokens, placed, voiced[1])
         method = "aligned" if len(placed) == len(tokens) else "partly"
         return Alignment(tuple(words), method, len(placed) / len(tokens))
+
+    def _aligned_in_two(self, tokens: list[str], samples: np.ndarray, start: float, span: tuple[float, float]
+                        ) -> dict[int, tuple[float, float]]:
+        """A sentence the alignment did not finish, aligned again as two parts (:func:`_split`), the audio cut at
+        the pause nearest the first part's share of the voiced span (at that share without a pause); {} for a
+        sentence too short to split."""
+        if len(tokens) < MIN_SPLIT_WORDS:
+            return {}
+        cut = _split(tokens)
+        share = sum(letters(token) for token in tokens[:cut]) / sum(letters(token) for token in tokens)
+        estimate = span[0] + share * (span[1] - span[0])
+        at = min(pauses(samples), key=lambda pause: abs(pause - estimate), default=estimate)
+        at = at if abs(at - estimate) <= MAX_CUT_SHIFT_S else estimate
+        middle = int(at * SAMPLE_RATE)
+        first = self._aligned_starts(tokens[:cut], samples[:middle], start)
+        second = self._aligned_starts(tokens[cut:], samples[middle:], start + middle / SAMPLE_RATE)
+        return {**first, **{cut + index: times for index, times in second.items()}}
 
     def _aligned_starts(self, tokens: list[str], samples: np.ndarray, start: float) -> dict[int, tuple[float, float]]:
         """{token index: (start, end)} of the dictionary's tokens the alignment placed, in order (it may stop short
@@ -111,6 +129,15 @@ class SentenceAligner:
             times = offset + np.array([segment.start_frame, segment.end_frame + 1]) * FRAME_S
             placed[index] = tuple(float(t) for t in np.clip(times, start, start + len(samples) / SAMPLE_RATE))
         return placed
+
+
+def _split(tokens: list[str]) -> int:
+    """Where a sentence splits in two: after the clause mark (, ; :) nearest its middle by letters, else at the
+    middle."""
+    shares = np.cumsum([letters(token) for token in tokens]) / sum(letters(token) for token in tokens)
+    marks = [i + 1 for i, token in enumerate(tokens[:-1]) if token[-1] in CLAUSE_MARKS]
+    candidates = marks or list(range(1, len(tokens)))
+    return min(candidates, key=lambda cut: abs(shares[cut - 1] - 0.5))
 
 
 def _fill(tokens: list[str], placed: dict[int, tuple[float, float]], voiced_end: float) -> list[Word]:
