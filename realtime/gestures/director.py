@@ -30,6 +30,7 @@ from gesturecast.realtime.gestures.triggers import TriggerVocabulary, WordListen
 from gesturecast.realtime.words.aligner import Alignment, SentenceAligner
 from gesturecast.realtime.words.live import LiveSentences
 from gesturecast.realtime.words.outcomes import AlignmentCounts
+from gesturecast.realtime.words.punctuation import punctuated_by_pauses
 from gesturecast.realtime.words.worker import WordsWorker
 
 logger = logging.getLogger(__name__)
@@ -182,7 +183,9 @@ class GestureDirector:
             self._place_decided()
 
     def _decide(self, words: tuple[Word, ...]) -> Decision:
-        """The forced trigger cues and the speech acts of ``words`` (the decision state moves on)."""
+        """The forced trigger cues and the speech acts of ``words`` (the decision state moves on); words without
+        punctuation are read with the marks their pauses show (:mod:`gesturecast.realtime.words.punctuation`)."""
+        words = punctuated_by_pauses(words)
         acts = [] if self.phrase_stream is None else self.phrase_stream.cues(list(words))
         return self.vocabulary.cues(list(words)), acts
 

@@ -1,0 +1,30 @@
+"""Punctuation from pauses, for words that come without any (as many recognisers give them): the speech acts read
+sentence ends and clause marks ("Hooray, we did it!"), and a speaker's pauses show where they are.
+
+A word followed by at least :data:`SENTENCE_PAUSE_S` of silence before the next ends its sentence (``.``), by at
+least :data:`CLAUSE_PAUSE_S` its clause (``,``). Words that carry any sentence mark are left as they are: their
+punctuation is the writer's.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+from gesturecast.controls import Word
+
+SENTENCE_PAUSE_S = 0.3  # silence after a word that ends its sentence
+CLAUSE_PAUSE_S = 0.15  # silence after a word that ends its clause
+SENTENCE_MARKS = frozenset(".!?…")
+MARKS = frozenset(".!?…,;:")
+
+
+def punctuated_by_pauses(words: tuple[Word, ...]) -> tuple[Word, ...]:
+    """``words`` with the marks their pauses show (module docstring); unchanged when any word ends a sentence."""
+    if any(word.text.rstrip("\"')]")[-1:] in SENTENCE_MARKS for word in words):
+        return words
+    marked = []
+    for word, following in zip(words, words[1:], strict=False):
+        pause = following.start - word.end
+        mark = "." if pause >= SENTENCE_PAUSE_S else "," if pause >= CLAUSE_PAUSE_S else ""
+        marked.append(replace(word, text=word.text + mark) if mark and word.text[-1] not in MARKS else word)
+    return (*marked, *words[len(marked):])
