@@ -126,7 +126,7 @@ def generate(audio: str | Path | np.ndarray, sample_rate: int | None = None, set
     settings = with_overrides(settings, overrides)
     source = _source(audio, sample_rate)
     session = build_session(settings, MonotonicClock())
-    session.gestures.hear_words(_words(transcript))
+    session.gestures.hear_transcript(_words(transcript))
     frames, _ = run_offline(session, source)
     if not frames:
         raise UserError("the audio is shorter than one motion frame (1/30 s)")

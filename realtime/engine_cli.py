@@ -162,7 +162,7 @@ def osc_listener(args: argparse.Namespace, address: tuple[str, int] | None,
 def start_stream_inputs(session: GestureSession, words: tuple[Word, ...],
                         gestures_in: OscControlListener | None) -> None:
     """Once the stages are warm and the stream starts: the transcript's cues, then the OSC gesture port."""
-    session.gestures.hear_words(words)
+    session.gestures.hear_transcript(words)
     if gestures_in is not None:
         gestures_in.start()
 
@@ -199,7 +199,7 @@ def run_generate(args: argparse.Namespace) -> int:
     if not words and settings.gestures == DEFAULT_GESTURES_DIR:  # no words, no gesture: the bundled lexicon is
         settings = dataclasses.replace(settings, gestures=None)  # not encoded (0.1 s); a user's folder is still checked
     session = build_session(body_only(settings, motion_paths, json_path), MonotonicClock())
-    session.gestures.hear_words(words)
+    session.gestures.hear_transcript(words)
     report = generate_to_files(session, args.audio, motion_paths, json_path, args.vrma_bones)
     process_cpu = time.process_time()  # the whole command: start-up, model, generation, files
     logger.info("process CPU %.2f s for %.1f s of audio: %.3f s per second", process_cpu, report.audio_seconds,

@@ -142,6 +142,10 @@ class GestureDirector:
         stream's own thread), they are decided there and placed at a later latent; returns the cues placed now."""
         return self._decided_now(lambda: [self._decide(words)], wait)
 
+    def hear_transcript(self, words: tuple[Word, ...]) -> list[CueOutcome]:
+        """:meth:`hear_words` for the words of a whole recording (a transcript): its last word ends the speech."""
+        return self._decided_now(lambda: [self._decide(words, ended=True)], wait=True)
+
     def hear_spoken(self, word: Word, wait: bool = True) -> list[CueOutcome]:
         """Cue what ``word`` completes, one of the words a TTS service reports as it speaks them (earlier words of
         the phrase came in earlier calls; a speech act is decided once the words after it that tell arrive)."""
@@ -182,10 +186,10 @@ class GestureDirector:
             self.worker = None
             self._place_decided()
 
-    def _decide(self, words: tuple[Word, ...]) -> Decision:
+    def _decide(self, words: tuple[Word, ...], ended: bool = False) -> Decision:
         """The forced trigger cues and the speech acts of ``words`` (the decision state moves on); words without
         punctuation are read with the marks their pauses show (:mod:`gesturecast.realtime.words.punctuation`)."""
-        words = punctuated_by_pauses(words)
+        words = punctuated_by_pauses(words, ended)
         acts = [] if self.phrase_stream is None else self.phrase_stream.cues(list(words))
         return self.vocabulary.cues(list(words)), acts
 

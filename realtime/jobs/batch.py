@@ -79,7 +79,7 @@ class BatchWorker:
             settings = job.settings(self.base)
             words = transcript_words(job.transcript or transcript_beside(job.audio), settings, job.audio)
             session = self._session_for(body_only(settings, job.motion_paths(), job.json))
-            session.gestures.hear_words(words)
+            session.gestures.hear_transcript(words)
             report = generate_to_files(session, job.audio, job.motion_paths(), job.json)
         except UserError as error:
             return JobResult(str(job.audio), error=str(error))

@@ -2,8 +2,8 @@
 sentence ends and clause marks ("Hooray, we did it!"), and a speaker's pauses show where they are.
 
 A word followed by at least :data:`SENTENCE_PAUSE_S` of silence before the next ends its sentence (``.``), by at
-least :data:`CLAUSE_PAUSE_S` its clause (``,``). Words that carry any sentence mark are left as they are: their
-punctuation is the writer's.
+least :data:`CLAUSE_PAUSE_S` its clause (``,``); the last word of a transcript ends its sentence. Words that carry
+any sentence mark are left as they are: their punctuation is the writer's.
 """
 
 from __future__ import annotations
@@ -18,8 +18,9 @@ SENTENCE_MARKS = frozenset(".!?…")
 MARKS = frozenset(".!?…,;:")
 
 
-def punctuated_by_pauses(words: tuple[Word, ...]) -> tuple[Word, ...]:
-    """``words`` with the marks their pauses show (module docstring); unchanged when any word ends a sentence."""
+def punctuated_by_pauses(words: tuple[Word, ...], ended: bool = False) -> tuple[Word, ...]:
+    """``words`` with the marks their pauses show (module docstring), the last one ending its sentence when the
+    speech ``ended`` with it (a transcript's words); unchanged when any word ends a sentence."""
     if any(word.text.rstrip("\"')]")[-1:] in SENTENCE_MARKS for word in words):
         return words
     marked = []
@@ -27,4 +28,7 @@ def punctuated_by_pauses(words: tuple[Word, ...]) -> tuple[Word, ...]:
         pause = following.start - word.end
         mark = "." if pause >= SENTENCE_PAUSE_S else "," if pause >= CLAUSE_PAUSE_S else ""
         marked.append(replace(word, text=word.text + mark) if mark and word.text[-1] not in MARKS else word)
-    return (*marked, *words[len(marked):])
+    last = words[len(marked):]
+    if ended and last and last[0].text[-1] not in MARKS:
+        last = (replace(last[0], text=last[0].text + "."),)
+    return (*marked, *last)

@@ -65,6 +65,7 @@ from gesturecast.realtime.gestures.strokes import body_frame_positions
 from gesturecast.realtime.run.engine import run_offline
 from gesturecast.realtime.run.engine_setup import build_session
 from gesturecast.realtime.timing.clock import MonotonicClock
+from gesturecast.realtime.words.punctuation import punctuated_by_pauses
 from gesturecast.settings import Settings
 from gesturecast.tools.bench.gesture_set.decisions import decisions
 from gesturecast.tools.bench.gesture_set.detector import Detector, jerk
@@ -144,9 +145,10 @@ def generate(settings: Settings, story: Story, cued: bool, words: WordSource | N
     log.addHandler(lines)
     try:
         given = story_words(story, words.mode, session.gestures.aligner, words.given) if cued and words else story.words
-        outcomes = session.gestures.hear_words(tuple(given)) if cued else []
+        outcomes = session.gestures.hear_transcript(tuple(given)) if cued else []
         phrases = session.gestures.phrases
-        decided = len(phrases.cues(list(given))) if cued and phrases else len(outcomes)
+        decided = len(phrases.cues(list(punctuated_by_pauses(tuple(given), ended=True)))) if cued and phrases \
+            else len(outcomes)
         started = time.process_time()
         frames, report = run_offline(session, ArraySource(story.audio, SAMPLE_RATE))
         if words is not None and cued:
