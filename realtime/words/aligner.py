@@ -83,7 +83,7 @@ class SentenceAligner:
         placed = self._aligned_starts(tokens, samples, start) or self._aligned_in_two(tokens, samples, start, span)
         if not placed:
             return Alignment(tuple(spread(tokens, *voiced)), "spread", 0.0)
-        words = _fill(tokens, placed, voiced[1])
+        words = _fill(tokens, placed, voiced)
         method = "aligned" if len(placed) == len(tokens) else "partly"
         return Alignment(tuple(words), method, len(placed) / len(tokens))
 
@@ -140,9 +140,10 @@ def _split(tokens: list[str]) -> int:
     return min(candidates, key=lambda cut: abs(shares[cut - 1] - 0.5))
 
 
-def _fill(tokens: list[str], placed: dict[int, tuple[float, float]], voiced_end: float) -> list[Word]:
+def _fill(tokens: list[str], placed: dict[int, tuple[float, float]], voiced: tuple[float, float]) -> list[Word]:
     """Every token with times: the placed ones as aligned, each run of others spread by letters between the end of
-    the placed token before it and the start of the one after (the voiced end after the last); when that gap is too
+    the placed token before it (the voiced start before the first) and the start of the one after (the voiced end
+    after the last); when that gap is too
     short for them, the word before took their speech, and shares its span with them."""
     words: list[Word] = []
     index = 0
@@ -153,8 +154,8 @@ def _fill(tokens: list[str], placed: dict[int, tuple[float, float]], voiced_end:
             continue
         run_end = next((i for i in range(index, len(tokens)) if i in placed), len(tokens))
         run = tokens[index:run_end]
-        before = words[-1].end if words else placed[run_end][0] - NOMINAL_WORD_S * len(run)
-        after = placed[run_end][0] if run_end < len(tokens) else max(voiced_end, before + NOMINAL_WORD_S)
+        before = words[-1].end if words else min(voiced[0], placed[run_end][0])
+        after = placed[run_end][0] if run_end < len(tokens) else max(voiced[1], before + NOMINAL_WORD_S)
         if words and after - before < MIN_GAP_SHARE * NOMINAL_WORD_S * len(run):  # the word before took their speech
             absorbing = words.pop()  # tokens[index - 1], placed
             run, before = [absorbing.text, *run], absorbing.start

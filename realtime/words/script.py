@@ -1,5 +1,6 @@
 """A plain-text script placed on the recording it was read in: split into sentences, each sentence's span estimated
-over the voiced audio by its share of the letters still to come, snapped to the nearest pause, aligned there
+over the voiced audio by its share of the letters still to come, snapped to a pause near it (the longer the
+likelier), aligned there
 (:class:`~gesturecast.realtime.words.aligner.SentenceAligner`), and the next sentence starts where it ended."""
 
 from __future__ import annotations
@@ -11,11 +12,13 @@ import numpy as np
 from gesturecast.controls import Word
 from gesturecast.realtime.words.aligner import Alignment, SentenceAligner
 from gesturecast.realtime.words.outcomes import AlignmentCounts
-from gesturecast.realtime.words.voicing import SAMPLE_RATE, letters, pauses, voiced_span
+from gesturecast.realtime.words.voicing import SAMPLE_RATE, letters, pause_runs, voiced_span
 
 SENTENCE_END = re.compile(r"(?<=[.!?…])[\"')\]]*\s+|\n\s*\n|\n(?=\s*[-*•])")  # after . ! ? …, a blank line, a bullet
 MAX_SENTENCE_WORDS = 40  # a longer run without a sentence end is cut into pieces this long (alignment stays cheap)
-SNAP_S = 1.5  # a sentence's end moves to the nearest pause within this many seconds of its estimate
+SNAP_S = 1.5  # a sentence's end moves to a pause within this many seconds of its estimate
+PAUSE_WEIGHT = 2.0  # seconds nearer the estimate that each second more of pause is worth
+LONG_PAUSE_S = 1.0  # the end of the voiced audio counts as a pause this long
 
 
 def sentences(text: str) -> list[str]:
@@ -34,14 +37,16 @@ def place_script(text: str, samples: np.ndarray, aligner: SentenceAligner, count
     parts = sentences(text)
     duration = len(samples) / SAMPLE_RATE
     span = voiced_span(samples) or (0.0, duration)
-    breaks = np.array(pauses(samples) + [span[1]])
+    runs = pause_runs(samples) + [(span[1], LONG_PAUSE_S)]
+    breaks, lengths = np.array([middle for middle, _ in runs]), np.array([length for _, length in runs])
     cursor, words = span[0], []
     weights = [sum(letters(token) for token in part.split()) for part in parts]
     for index, part in enumerate(parts):
         share = weights[index] / sum(weights[index:])
         estimate = cursor + share * max(span[1] - cursor, 0.0)
-        near = breaks[(breaks > cursor) & (np.abs(breaks - estimate) <= SNAP_S)]
-        end = float(near[np.argmin(np.abs(near - estimate))]) if len(near) else estimate
+        near = (breaks > cursor) & (np.abs(breaks - estimate) <= SNAP_S)
+        score = np.abs(breaks - estimate) - PAUSE_WEIGHT * lengths  # a longer pause more likely ends a sentence
+        end = float(breaks[near][np.argmin(score[near])]) if near.any() else estimate
         end = span[1] if index == len(parts) - 1 else max(end, cursor)
         alignment = _aligned(aligner, part, samples, cursor, end)
         counts.count(alignment, part)

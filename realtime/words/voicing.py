@@ -40,11 +40,16 @@ def voiced_span(samples: np.ndarray) -> tuple[float, float] | None:
 def pauses(samples: np.ndarray, min_pause_s: float = MIN_PAUSE_S) -> list[float]:
     """The middle second of each unvoiced run at least ``min_pause_s`` long that follows voiced audio (a run still
     going at the end counts: the speech may have stopped there)."""
+    return [middle for middle, _ in pause_runs(samples, min_pause_s)]
+
+
+def pause_runs(samples: np.ndarray, min_pause_s: float = MIN_PAUSE_S) -> list[tuple[float, float]]:
+    """(middle second, length in seconds) of each pause :func:`pauses` finds."""
     voiced = np.concatenate([voiced_frames(samples), [True]])  # (F + 1,) a voiced frame closes the last run
     changes = np.flatnonzero(np.diff(voiced.astype(np.int8)))  # the last frame before each change
     starts, ends = changes[voiced[changes]] + 1, changes[~voiced[changes]] + 1  # first unvoiced, first voiced again
-    return [float((start + end) / 2 * FRAME_S) for start, end in zip(starts, ends[np.searchsorted(ends, starts)],
-                                                                    strict=True)
+    return [(float((start + end) / 2 * FRAME_S), float((end - start) * FRAME_S))
+            for start, end in zip(starts, ends[np.searchsorted(ends, starts)], strict=True)
             if (end - start) * FRAME_S >= min_pause_s]
 
 
