@@ -3,7 +3,8 @@
 - ``timed``: every word with the synthesiser's own times (the reference);
 - ``text``: the story as a plain-text script, placed on its audio by the sentence aligner
   (:func:`gesturecast.realtime.words.script.place_script`), as ``generate --transcript script.txt`` does;
-- ``unpunctuated``: the timed words with their punctuation removed, as many recognisers give them.
+- ``unpunctuated``: the timed words with their punctuation removed, as many recognisers give them, each ending
+  where its voiced audio ends (a recogniser's word end: the pauses between words show).
 
 :data:`HELD_OUT_VOICES` were chosen before the aligner or the speech acts were tuned on words without times: that
 tuning used espeak-ng's default voice only, so these voices (``--voice``) measure it on speech it never saw.
@@ -21,6 +22,7 @@ from gesturecast.controls import Word
 from gesturecast.realtime.words.aligner import SentenceAligner
 from gesturecast.realtime.words.outcomes import AlignmentCounts
 from gesturecast.realtime.words.script import place_script
+from gesturecast.realtime.words.voicing import SAMPLE_RATE, voiced_span
 from gesturecast.tools.bench.gesture_set.stories import Story
 
 WORD_MODES = ("timed", "text", "unpunctuated")
@@ -42,12 +44,24 @@ def unpunctuated(token: str) -> str:
     return PUNCTUATION.sub("", token) or token
 
 
+def voiced_ends(story: Story) -> list[float]:
+    """Each word's end where its voiced audio ends before the next word starts (a recogniser's word end; the
+    synthesiser reports only starts)."""
+    ends = []
+    for word in story.words:
+        first, last = int(word.start * SAMPLE_RATE), int(word.end * SAMPLE_RATE)
+        span = voiced_span(story.audio[first:last]) if last > first else None
+        ends.append(word.end if span is None else word.start + span[1])
+    return ends
+
+
 def story_words(story: Story, mode: str, aligner: SentenceAligner, given: WordsGiven) -> tuple[Word, ...]:
     """The words of ``story`` as ``mode`` gives them (module docstring); the cost and errors added to ``given``."""
     if mode == "timed":
         return tuple(story.words)
     if mode == "unpunctuated":
-        return tuple(Word(unpunctuated(word.text), word.start, word.end) for word in story.words)
+        ends = voiced_ends(story)
+        return tuple(Word(unpunctuated(w.text), w.start, end) for w, end in zip(story.words, ends, strict=True))
     started = time.process_time()
     words = place_script(" ".join(word.text for word in story.words), story.audio, aligner, given.counts)
     given.cpu_s += time.process_time() - started
