@@ -29,7 +29,7 @@ TIMESTAMP = re.compile(r"(?:(\d{1,5}):)?(\d{1,2}):(\d{2})[.,](\d{1,3})")
 SPAN = re.compile(rf"{TIMESTAMP.pattern}\s*-->\s*{TIMESTAMP.pattern}")
 
 
-def transcript_words(path: Path | None, settings: Settings, audio: Path | None = None) -> tuple[Word, ...]:
+def transcript_words(path: Path | None, settings: Settings, audio: Path | str | None = None) -> tuple[Word, ...]:
     """The words of a transcript file (none without one); refused when gestures are off (nothing to cue). A plain-text
     script (``.txt``) is placed on ``audio``, the recording it was read in (:func:`script_words`)."""
     if path is None:
@@ -39,13 +39,13 @@ def transcript_words(path: Path | None, settings: Settings, audio: Path | None =
     if path.suffix.lower() == SCRIPT_SUFFIX:
         if audio is None:
             raise UserError(f"the script {path} has no times: it is placed on an audio file (--input / the audio)")
-        return script_words(path, audio)
+        return script_words(path, Path(audio))
     return read_transcript(path)
 
 
-def transcript_beside(audio: Path | None) -> Path | None:
+def transcript_beside(audio: Path | str | None) -> Path | None:
     """The plain-text script beside an audio file (``talk.wav`` → ``talk.txt``), when there is one."""
-    script = None if audio is None else audio.with_suffix(SCRIPT_SUFFIX)
+    script = None if audio is None else Path(audio).with_suffix(SCRIPT_SUFFIX)
     if script is None or not script.is_file():
         return None
     logger.info("gesture cues from the script beside the audio: %s", script)
