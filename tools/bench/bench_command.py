@@ -47,6 +47,8 @@ BENCHES: dict[str, tuple[str, str]] = {
                "style visibility: accuracy vs guidance, motion prompts, per-part styles (JSON)"),
     "gestures": ("gesturecast.tools.bench.gestures", "intended gestures on their words, none on ordinary narration, "
                  "no silent drops (espeak-ng texts; JSON + PNG)"),
+    "pipecat": ("gesturecast.tools.bench.agents.pipecat_orders", "a voice agent's gestures on their words, text "
+                "after, before or with its audio (Pipecat; JSON)"),
     "cues": ("gesturecast.tools.bench.cues", "far-future words: a stream's cost per latent against a few (JSON)"),
     "worker-kill": ("gesturecast.tools.bench.worker_kill", "serve --workers under churn, one worker SIGKILLed at a "
                     "time: who is served, how the stop ends (JSON)"),

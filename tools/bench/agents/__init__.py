@@ -1,0 +1,1 @@
+"""Benchmarks of the voice-agent integrations (the Pipecat processor)."""
