@@ -41,13 +41,16 @@ from pipecat.frames.frames import (
     Frame,
     InputAudioRawFrame,
     OutputAudioRawFrame,
+    TranscriptionFrame,
     TTSStoppedFrame,
     TTSTextFrame,
+    VADUserStartedSpeakingFrame,
 )
 from pipecat.processors.frame_processor import FrameDirection, FrameProcessor
 
 from gesturecast.bridges.output_settings import Outputs
 from gesturecast.errors import UserError
+from gesturecast.realtime.agents.sentence_hold import MAX_SENTENCE_HOLD_S, WORDS, SentenceHold
 from gesturecast.realtime.run.stream import Stream
 from gesturecast.settings import Settings
 
@@ -58,6 +61,7 @@ AUDIO_INPUT = "input"  # the user's voice: InputAudioRawFrame
 AUDIO_FRAME_TYPES = {AUDIO_OUTPUT: OutputAudioRawFrame, AUDIO_INPUT: InputAudioRawFrame}
 MAX_HOLD_S = 2.0  # the most audio the processor may hold back (hold_s)
 SUGGESTED_HOLD_S = 1.2  # a word frame that comes with its audio: the 3 words a decision may wait for, the approach
+USER_ONSET_LEAD_S = 0.3  # a user's speech starts up to this long before the VAD's start_secs say
 
 StyleForText = Callable[[str], "dict | None"]  # spoken text → a control message (e.g. {"style": "happy"}) or None
 
@@ -83,12 +87,14 @@ class GesturecastProcessor(FrameProcessor):
     def __init__(self, settings: Settings | None = None, outputs: Outputs | None = None, *,
                  stream: Stream | None = None, audio: str = AUDIO_OUTPUT,
                  style_for_text: StyleForText | None = None, gestures: bool = True, hold_s: float = 0.0,
-                 **kwargs) -> None:
+                 sentence_hold_s: float = MAX_SENTENCE_HOLD_S, **kwargs) -> None:
         super().__init__(**kwargs)
         if audio not in AUDIO_FRAME_TYPES:
             raise UserError(f"audio must be one of {', '.join(AUDIO_FRAME_TYPES)}, got {audio!r}")
         if not 0.0 <= hold_s <= MAX_HOLD_S:
             raise UserError(f"hold_s must be between 0 and {MAX_HOLD_S} s, got {hold_s}")
+        if not 0.0 <= sentence_hold_s <= MAX_SENTENCE_HOLD_S:
+            raise UserError(f"sentence_hold_s must be between 0 and {MAX_SENTENCE_HOLD_S} s, got {sentence_hold_s}")
         self.hold_s = hold_s
         self._held: deque[tuple[Frame, FrameDirection]] = deque()  # audio, words and styles not yet passed on
         self._held_s = 0.0  # seconds of audio in it
@@ -97,6 +103,9 @@ class GesturecastProcessor(FrameProcessor):
         self._audio_type = AUDIO_FRAME_TYPES[audio]
         self._style_for_text = style_for_text
         self._gestures = gestures and self.stream.settings.gestures is not None
+        self._sentences = (SentenceHold(self.stream, self._audio_type, self._release, self.push_frame, sentence_hold_s)
+                           if self._gestures and audio == AUDIO_OUTPUT and sentence_hold_s > 0 else None)
+        self._user_speech_s: float | None = None  # stream time the user's current utterance began (VAD)
 
     @property
     def audio_seconds(self) -> float:
@@ -105,23 +114,40 @@ class GesturecastProcessor(FrameProcessor):
 
     async def process_frame(self, frame: Frame, direction: FrameDirection) -> None:
         await super().process_frame(frame, direction)
+        if self._sentences is not None and await self._sentences.take(frame, direction):
+            return  # held with its sentence
         if isinstance(frame, TTSTextFrame) and self._gestures:
             self._cue_words(frame)  # on arrival: with a hold, its audio is not in the stream yet
-        if self.hold_s > 0 and isinstance(frame, (self._audio_type, TTSTextFrame, GestureStyleFrame)):
+        elif isinstance(frame, VADUserStartedSpeakingFrame):
+            self._user_speech_s = max(0.0, self.stream.audio_seconds - frame.start_secs - USER_ONSET_LEAD_S)
+        elif isinstance(frame, TranscriptionFrame) and self._gestures and self._audio_type is InputAudioRawFrame:
+            await self._cue_transcription(frame)
+        if self._word_hold and isinstance(frame, (self._audio_type, TTSTextFrame, GestureStyleFrame)):
             self._held.append((frame, direction))
             self._held_s += self._duration(frame)
             while self._held and self._held_s > self.hold_s:
-                await self._release(*self._held.popleft())
+                await self._release_held()
             return
         if isinstance(frame, CancelFrame):
             self._held.clear()  # cancelled: nothing more is played
+            self._held_s = 0.0
         while self._held:  # any other frame: what is held goes on first, in order
-            await self._release(*self._held.popleft())
+            await self._release_held()
+        await self._release(frame, direction)
+
+    @property
+    def _word_hold(self) -> bool:
+        """``hold_s`` holds frames: set, and the utterance reports words (the sentence hold has none of its frames)."""
+        return self.hold_s > 0 and (self._sentences is None or self._sentences.order == WORDS)
+
+    async def _release_held(self) -> None:
+        """The oldest frame held by ``hold_s`` goes on."""
+        frame, direction = self._held.popleft()
+        self._held_s -= self._duration(frame)
         await self._release(frame, direction)
 
     async def _release(self, frame: Frame, direction: FrameDirection) -> None:
         """Act on ``frame`` and pass it on."""
-        self._held_s -= self._duration(frame) if self.hold_s > 0 else 0.0
         if isinstance(frame, self._audio_type):
             await asyncio.to_thread(self.stream.push_pcm16, frame.audio, frame.sample_rate, frame.num_channels)
         elif isinstance(frame, GestureStyleFrame):
@@ -149,19 +175,30 @@ class GesturecastProcessor(FrameProcessor):
 
     def _cue_words(self, frame: TTSTextFrame) -> None:
         """The gestures of the words the TTS speaks. A frame with a presentation time is placed there (plus the
-        hold); a word frame without one belongs to the audio received with it (it starts where that audio ends);
-        a sentence without one starts at the audio being heard. Words too late for their stroke are dropped with a
-        log line by the cue plan, and counted."""
+        hold); a word frame without one belongs to the audio received with it (it starts where that audio ends); a
+        sentence that the sentence hold did not take (``sentence_hold_s=0``) is aligned on the audio heard since the
+        sentence before it. Words too late for their stroke are dropped with a log line by the cue plan, and
+        counted."""
         if frame.pts is not None:
             start = self.stream.heard_time((frame.pts - self.get_clock().get_time()) / 1e9 + self.hold_s)
         elif frame.text_type == "word":
             start = self.stream.audio_seconds + self._held_s
         else:
-            start = self.stream.heard_time()
+            start = None
         try:
             self.stream.spoken(frame.text, start)
         except UserError as error:  # a word the words check refuses (e.g. longer than a word can be): no cue
             logger.warning("words %r not cued: %s", frame.text[:80], error)
+
+    async def _cue_transcription(self, frame: TranscriptionFrame) -> None:
+        """The user's own words (``audio="input"``): the STT's final text, aligned on the user's speech heard since
+        the VAD said the utterance began (else since the text before it), up to now. It comes after the speech, so
+        its cues play late or are dropped with a log line, and are counted."""
+        start, self._user_speech_s = self._user_speech_s, None
+        try:
+            await asyncio.to_thread(self.stream.spoken, frame.text, start, self.stream.audio_seconds)
+        except UserError as error:
+            logger.warning("transcription %r not cued: %s", frame.text[:80], error)
 
     def _submit(self, control: dict) -> None:
         """A style change from the pipeline; one the model cannot use is logged and the stream goes on."""

@@ -163,6 +163,13 @@ class GestureDirector:
         already here)."""
         return self._decided_now(lambda: self._aligned_decisions(self.sentences.add(text, start, end)), wait)
 
+    def hear_sentence_with_audio(self, text: str, samples: np.ndarray, start: float) -> list[CueOutcome]:
+        """A sentence (at least one token) and its own speech ((n,) float32, 16 kHz, from stream time ``start``),
+        given before that speech is pushed: aligned on it and its cues placed now (waiting for the words worker), so
+        they are known before the speech's latents are generated."""
+        return self._decided_now(
+            lambda: self._aligned_decisions([self.sentences.place_with_audio(text, samples, start)]), wait=True)
+
     def end_of_words(self) -> list[CueOutcome]:
         """The words stopped (the speech ended): the sentences still waiting are placed on the audio that arrived,
         and the phrases still waiting for the words after them are decided (waiting for the words worker)."""

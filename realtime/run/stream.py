@@ -170,6 +170,20 @@ class Stream:
         self._check_open()
         return self._generate(self._converter.convert(data, sample_rate, channels))
 
+    @one_at_a_time
+    def say(self, text: str, samples: np.ndarray, sample_rate: int = SAMPLE_RATE) -> list[PoseFrame]:
+        """A sentence and its own speech together (a TTS service's sentence text and the audio it made of it): the
+        words are forced-aligned on that speech and their gestures cued before it is pushed, so each stroke lands on
+        its word; then the audio is pushed as :meth:`push` pushes it, and its frames are returned."""
+        self._check_open()
+        return self._say(text, self._converter.convert_samples(samples, sample_rate))
+
+    @one_at_a_time
+    def say_pcm16(self, text: str, data: bytes, sample_rate: int, channels: int = 1) -> list[PoseFrame]:
+        """:meth:`say` for 16-bit little-endian PCM bytes, as :meth:`push_pcm16` takes them."""
+        self._check_open()
+        return self._say(text, self._converter.convert(data, sample_rate, channels))
+
     def control(self, control: dict | None = None, **changes) -> None:
         """Change style, prompt, style2, part_styles, gamma, style_strength, guidance, audio_guidance, root, intensity
         (gesture size 0..2) or pause (True: the idle, breathing pose), blended in from the next latent, or cue a
@@ -267,6 +281,13 @@ class Stream:
                              degradation=self._release.ladder_report())
         report.outputs = self.bridges.counters()
         return report
+
+    def _say(self, text: str, samples: np.ndarray) -> list[PoseFrame]:
+        """Cue ``text``'s gestures on ``samples`` (16 kHz, the stream's next audio), then push them."""
+        tokens = SENTENCE_TEXT.check("text", text).split()
+        if tokens and samples.shape[0] and self.settings.gestures is not None:
+            self.session.gestures.hear_sentence_with_audio(" ".join(tokens), samples, self.audio_seconds)
+        return self._generate(samples)
 
     def _generate(self, samples: np.ndarray) -> list[PoseFrame]:
         if not samples.shape[0]:

@@ -93,6 +93,14 @@ class LiveSentences:
         return self.ready(final=False) + ([self._place(self.pending.popleft(), True)]
                                           if len(self.pending) > MAX_PENDING_SENTENCES else [])
 
+    def place_with_audio(self, text: str, samples: np.ndarray, start: float) -> Alignment:
+        """A sentence given with its own speech ((n,) float32, 16 kHz, from stream time ``start``), before that speech
+        reaches :meth:`hear`: aligned on it at once; the sentences after it look for their speech after its end."""
+        alignment = self.aligner.align(text, samples, start)
+        self.counts.count(alignment, text)
+        self.cursor = max(self.cursor, start + len(samples) / SAMPLE_RATE)
+        return alignment
+
     def ready(self, final: bool = False) -> list[Alignment]:
         """The alignments of the waiting sentences whose audio has arrived, in order (all of them when ``final``:
         the speech ended)."""
