@@ -132,3 +132,18 @@ def test_a_sentence_spoken_without_a_start_is_placed_on_its_audio(route, tmp_pat
     [call] = parsed.call_args_list
     assert abs(call.args[0][1]["start"] - (0.5 + timed[1].start)) < 0.05
     assert placed_phrases(placed) == ["Hello"]
+
+
+def test_a_sentence_said_with_its_audio_is_cued_before_its_audio_is_generated(route, tmp_path):
+    from gesturecast.tools.bench.speech.espeak_words import spoken
+
+    parsed, placed = route
+    audio, timed = spoken("Hello everyone.", tmp_path)
+    with gesturecast.Stream(paced=False, warm=False) as stream:
+        said = np.concatenate([np.zeros(SAMPLE_RATE // 2, np.float32), audio])  # the speech a TTS service made
+        stream.say("Hello everyone.", said, SAMPLE_RATE)
+        [outcome] = stream.session.gestures.cues.outcomes
+        assert stream.audio_seconds == pytest.approx(0.5 + len(audio) / SAMPLE_RATE)
+    assert outcome.status == "on time" and abs(outcome.stroke_time - (0.5 + timed[0].start)) < 0.2
+    assert parsed_texts(parsed) == ["Hello", "everyone."]
+    assert placed_phrases(placed) == ["Hello"]
