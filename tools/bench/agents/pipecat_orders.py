@@ -31,6 +31,7 @@ from pipecat.workers.runner import WorkerRunner
 
 from gesturecast.files import write_text_atomic
 from gesturecast.realtime.agents.pipecat_processor import GesturecastProcessor
+from gesturecast.realtime.agents.sentence_hold import MAX_SENTENCE_HOLD_S
 from gesturecast.realtime.cli_flags import add_generation_arguments, settings_from_args
 from gesturecast.realtime.gestures.cues import CueOutcome
 from gesturecast.realtime.run.stream import Stream
@@ -38,6 +39,7 @@ from gesturecast.settings import Settings
 from gesturecast.tools.bench.agents.tts_feed import ORDERS, IntendedCue, feed_replies, speak_replies
 from gesturecast.tools.bench.gesture_set.stories import CACHE
 from gesturecast.tools.bench.gesture_set.texts_agent import AGENT_REPLIES
+from gesturecast.tools.bench.gesture_set.word_modes import HELD_OUT_VOICES
 
 STROKE_TOLERANCE_S = 0.5
 MATCH_BEFORE_S, MATCH_AFTER_S = 1.5, 2.5  # an outcome of the intended gesture whose cue falls here is the word's
@@ -63,7 +65,11 @@ def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
                                          "before or with its audio (Pipecat; JSON)")
     add_generation_arguments(parser)
     parser.add_argument("--orders", default=",".join(ORDERS), help=f"comma-separated, of {', '.join(ORDERS)}")
-    parser.add_argument("--hold-s", type=float, default=0.0, help="the processor's hold_s")
+    parser.add_argument("--hold-s", type=float, default=0.0, help="the processor's hold_s (word frames)")
+    parser.add_argument("--sentence-hold-s", type=float, default=MAX_SENTENCE_HOLD_S,
+                        help="the processor's sentence_hold_s (0: sentences are not held)")
+    parser.add_argument("--voice", default=None, help="the espeak-ng voice (default: its default; held out: "
+                        f"{', '.join(HELD_OUT_VOICES)})")
     parser.add_argument("--json", action="store_true", help="print the whole JSON result")
     parser.add_argument("--out", type=Path, default=Path("out/bench/pipecat"), help="folder for the JSON")
     parser.set_defaults(func=run)
@@ -109,9 +115,10 @@ def cue_rows(intended: list[IntendedCue], outcomes: list[CueOutcome], expected: 
     return rows
 
 
-def order_result(settings: Settings, replies, intended: list[IntendedCue], order: str, hold_s: float,
+def order_result(settings: Settings, replies, intended: list[IntendedCue], order: str, args: argparse.Namespace,
                  expected: dict[str, str]) -> dict:
-    processor = GesturecastProcessor(stream=Stream(settings), hold_s=hold_s)
+    processor = GesturecastProcessor(stream=Stream(settings), hold_s=args.hold_s,
+                                     sentence_hold_s=args.sentence_hold_s)
     voice = asyncio.run(run_agent(processor, replies, order))
     outcomes = list(processor.session.gestures.cues.outcomes)
     rows = cue_rows(intended, outcomes, expected)
@@ -119,7 +126,9 @@ def order_result(settings: Settings, replies, intended: list[IntendedCue], order
     errors = [abs(r["stroke_error_ms"]) for r in rows if r["hit"]]
     unintended = [o for o in outcomes if o.stroke_time is not None
                   and not any(abs(o.cue.time - c.time) <= MATCH_AFTER_S for c in intended)]
-    return {"order": order, "hold_s": hold_s, "intended": len(rows), "hits": sum(r["hit"] for r in rows),
+    return {"order": order, "hold_s": args.hold_s, "sentence_hold_s": args.sentence_hold_s,
+            "alignments": processor.session.gestures.alignments.to_dict(), "intended": len(rows),
+            "hits": sum(r["hit"] for r in rows),
             "hit_rate": round(sum(r["hit"] for r in rows) / len(rows), 3),
             "played": sum(r["outcome"] not in (None, "dropped") for r in rows),
             "stroke_error_abs_ms_p50": round(float(np.median(errors))) if errors else None,
@@ -139,12 +148,12 @@ def run(args: argparse.Namespace) -> int:
     orders = [order for order in args.orders.split(",") if order]
     if unknown := [order for order in orders if order not in ORDERS]:
         raise SystemExit(f"unknown order {unknown[0]!r}: use {', '.join(ORDERS)}")
-    replies, intended = speak_replies(AGENT_REPLIES, CACHE)
+    replies, intended = speak_replies(AGENT_REPLIES, CACHE, args.voice)
     probe = Stream(settings, paced=False)
     expected = {c.intent: probe.session.gestures.phrases.gesture_of(c.intent) for c in intended}
     probe.close()
-    results = [order_result(settings, replies, intended, order, args.hold_s, expected) for order in orders]
-    result = {"replies": len(replies), "intended": len(intended), "orders": results}
+    results = [order_result(settings, replies, intended, order, args, expected) for order in orders]
+    result = {"voice": args.voice, "replies": len(replies), "intended": len(intended), "orders": results}
     text = json.dumps(result, indent=2) + "\n"
     args.out.mkdir(parents=True, exist_ok=True)
     write_text_atomic(args.out / "pipecat.json", text)

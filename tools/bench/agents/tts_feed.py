@@ -53,14 +53,16 @@ class Reply:
         return sum(len(s.audio) for s in self.sentences) / SAMPLE_RATE
 
 
-def speak_replies(replies: dict[str, tuple[str, ...]], cache) -> tuple[list[Reply], list[IntendedCue]]:
-    """The replies spoken (sentence by sentence) and their intended cues at stream times."""
+def speak_replies(replies: dict[str, tuple[str, ...]], cache, voice: str | None = None
+                  ) -> tuple[list[Reply], list[IntendedCue]]:
+    """The replies spoken (sentence by sentence, in the espeak-ng ``voice``; None: its default) and their intended
+    cues at stream times."""
     spoken_replies, intended, start = [], [], 0.0
     for name, marked_sentences in replies.items():
         sentences = []
         for marked in marked_sentences:
             tokens, marks = parse_marked(marked)
-            audio, timed = spoken(" ".join(tokens), cache)
+            audio, timed = spoken(" ".join(tokens), cache, voice)
             intended += [IntendedCue(name, MARKS[mark], timed[i].text, start + timed[i].start)
                          for i, mark in sorted(marks.items())]
             sentences.append(Sentence(" ".join(tokens), audio, tuple(w.start for w in timed)))
