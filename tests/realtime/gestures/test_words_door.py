@@ -132,3 +132,14 @@ def test_a_sentence_spoken_without_a_start_is_placed_on_its_audio(route, tmp_pat
     [call] = parsed.call_args_list
     assert abs(call.args[0][1]["start"] - (0.5 + timed[1].start)) < 0.05
     assert placed_phrases(placed) == ["Hello"]
+
+
+def test_the_library_places_a_plain_text_script_on_an_array_of_samples(route, tmp_path):
+    from gesturecast.tools.bench.speech.espeak_words import spoken
+
+    parsed, placed = route
+    audio, _ = spoken(SCRIPT, tmp_path)
+    (tmp_path / "script.txt").write_text(SCRIPT)
+    gesturecast.generate(audio, SAMPLE_RATE, transcript=tmp_path / "script.txt")
+    assert parsed_texts(parsed) == SCRIPT.split()
+    assert placed_phrases(placed) == ["Hello", "Thank you so much"]
