@@ -15,10 +15,11 @@ import numpy as np
 from gesturecast.controls import Word
 from gesturecast.errors import UserError
 from gesturecast.frames import PoseFrame
+from gesturecast.models.audio.files import load_audio
 from gesturecast.models.motion.motion import MOTION_FPS
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
 from gesturecast.realtime.audio.sources import ArraySource, AudioSource, FastFileSource
-from gesturecast.realtime.gestures.transcripts import read_transcript, words_from_list
+from gesturecast.realtime.gestures.transcripts import SCRIPT_SUFFIX, read_transcript, script_words, words_from_list
 from gesturecast.realtime.run.engine import run_offline
 from gesturecast.realtime.run.engine_setup import build_session
 from gesturecast.realtime.run.offline_generate import frame_writer
@@ -104,9 +105,9 @@ def generate(audio: str | Path | np.ndarray, sample_rate: int | None = None, set
         sample_rate: the rate of an array of samples (a file carries its own).
         settings: a :class:`Settings` (default ``Settings()``), by name: ``settings=Settings(style="old")``;
             ``overrides`` change single fields, e.g. ``generate("talk.wav", style="happy", seed=3)``.
-        transcript: the audio's words with times, as a file (JSON word list, .srt, .vtt) or a list of
-            ``{"word", "start", "end"}`` (seconds): trigger words ("hello", "thank you") cue gestures of the
-            lexicon with their stroke on the word.
+        transcript: the audio's words, as a file (JSON word list, .srt, .vtt, or a plain-text script ``.txt``
+            placed on the audio sentence by sentence) or a list of ``{"word", "start", "end"}`` (seconds): speech
+            acts ("hello", "thank you") cue gestures of the lexicon with their stroke on the word.
 
     Returns:
         A :class:`Motion`: ``rotations`` (T, 52, 4) local XYZW quaternions on Unity HumanBodyBones names,
@@ -126,16 +127,21 @@ def generate(audio: str | Path | np.ndarray, sample_rate: int | None = None, set
     settings = with_overrides(settings, overrides)
     source = _source(audio, sample_rate)
     session = build_session(settings, MonotonicClock())
-    session.gestures.hear_transcript(_words(transcript))
+    session.gestures.hear_transcript(_words(transcript, audio, sample_rate))
     frames, _ = run_offline(session, source)
     if not frames:
         raise UserError("the audio is shorter than one motion frame (1/30 s)")
     return Motion.from_frames(frames, settings.lipsync_names, settings.face_names)
 
 
-def _words(transcript: str | Path | list[dict] | None) -> tuple[Word, ...]:
+def _words(transcript: str | Path | list[dict] | None, audio: str | Path | np.ndarray, sample_rate: int | None
+           ) -> tuple[Word, ...]:
+    """The transcript's words; a plain-text script (``.txt``) placed on the audio."""
     if transcript is None:
         return ()
+    if isinstance(transcript, (str, Path)) and Path(transcript).suffix.lower() == SCRIPT_SUFFIX:
+        samples = load_audio(audio) if isinstance(audio, (str, Path)) else ArraySource(audio, sample_rate).blocks[0]
+        return script_words(Path(transcript), samples)
     if isinstance(transcript, (str, Path)):
         return read_transcript(Path(transcript))
     return words_from_list(transcript, "transcript")

@@ -16,6 +16,8 @@ import re
 from collections.abc import Mapping
 from pathlib import Path
 
+import numpy as np
+
 from gesturecast.controls import MAX_TRANSCRIPT_WORDS, Word, parse_words
 from gesturecast.errors import UserError
 from gesturecast.input_files import read_bounded
@@ -39,7 +41,9 @@ def transcript_words(path: Path | None, settings: Settings, audio: Path | str | 
     if path.suffix.lower() == SCRIPT_SUFFIX:
         if audio is None:
             raise UserError(f"the script {path} has no times: it is placed on an audio file (--input / the audio)")
-        return script_words(path, Path(audio))
+        from gesturecast.models.audio.files import load_audio
+
+        return script_words(path, load_audio(audio))
     return read_transcript(path)
 
 
@@ -52,10 +56,10 @@ def transcript_beside(audio: Path | str | None) -> Path | None:
     return script
 
 
-def script_words(path: Path, audio: Path) -> tuple[Word, ...]:
-    """The words of the plain-text script ``path`` with times from ``audio``, sentence by sentence
-    (:func:`gesturecast.realtime.words.script.place_script`); how each sentence was placed is logged."""
-    from gesturecast.models.audio.files import load_audio
+def script_words(path: Path, samples: np.ndarray) -> tuple[Word, ...]:
+    """The words of the plain-text script ``path`` with times from the recording ``samples`` ((n,) float32, 16 kHz),
+    sentence by sentence (:func:`gesturecast.realtime.words.script.place_script`); how the sentences were placed is
+    logged."""
     from gesturecast.realtime.words.aligner import SentenceAligner
     from gesturecast.realtime.words.outcomes import AlignmentCounts
     from gesturecast.realtime.words.script import place_script
@@ -64,8 +68,8 @@ def script_words(path: Path, audio: Path) -> tuple[Word, ...]:
     if not text.split():
         raise UserError(f"{path}: the script has no words")
     counts = AlignmentCounts()
-    words = place_script(text, load_audio(audio), SentenceAligner(), counts)
-    logger.info("script %s placed on %s: sentences %s", path.name, audio.name, counts.describe())
+    words = place_script(text, samples, SentenceAligner(), counts)
+    logger.info("script %s placed on its audio: sentences %s", path.name, counts.describe())
     return words_from_list([{"word": w.text, "start": w.start, "end": w.end} for w in words], str(path))
 
 

@@ -1,7 +1,8 @@
 """Forced alignment of one sentence to its own speech (pocketsphinx, its shipped US-English acoustic model and
 dictionary), with a fallback that never loses the sentence.
 
-:meth:`SentenceAligner.align` gives every whitespace-separated token of the sentence stream times, by one of:
+:meth:`SentenceAligner.align` gives every whitespace-separated token of the sentence stream times (a sentence the
+alignment does not finish is aligned again in two parts, cut at a pause), by one of:
 
 - ``aligned``: every token's start and end come from the alignment;
 - ``partly``: the alignment placed some tokens (those in the dictionary, up to where it stopped); the others are
@@ -119,6 +120,7 @@ class SentenceAligner:
             decoder.process_raw(pcm)
             decoder.end_utt()
         except RuntimeError:  # pocketsphinx refused the text or the audio: nothing aligned
+            _close_utterance(decoder)  # an utterance left open would refuse the next sentence
             return {}
         segments = [segment for segment in decoder.seg() or () if segment.word not in FILLERS]
         offset = start - PAD_S
@@ -129,6 +131,14 @@ class SentenceAligner:
             times = offset + np.array([segment.start_frame, segment.end_frame + 1]) * FRAME_S
             placed[index] = tuple(float(t) for t in np.clip(times, start, start + len(samples) / SAMPLE_RATE))
         return placed
+
+
+def _close_utterance(decoder) -> None:
+    """End the decoder's utterance if one is open (ending none raises; nothing else is wrong then)."""
+    try:
+        decoder.end_utt()
+    except RuntimeError:
+        return
 
 
 def _split(tokens: list[str]) -> int:

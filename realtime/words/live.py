@@ -22,11 +22,12 @@ import numpy as np
 
 from gesturecast.realtime.words.aligner import Alignment, SentenceAligner
 from gesturecast.realtime.words.outcomes import AlignmentCounts
-from gesturecast.realtime.words.voicing import FRAME_S, SAMPLE_RATE, letters, pauses, voiced_frames
+from gesturecast.realtime.words.voicing import FRAME_S, SAMPLE_RATE, letters, pause_runs, voiced_frames
 
 HISTORY_S = 30.0  # the audio kept for sentences given after their speech
 LETTER_S = 0.06  # expected speaking time per letter (about 170 words a minute)
 ONSET_LEAD_S = 0.1  # a sentence's window starts this long before its first voiced frame
+VOICING_CONTEXT_S = 10.0  # the audio whose quiet frames set what counts as voiced
 MAX_PENDING_SENTENCES = 64  # sentences waiting for their audio; an older one is placed at once when more come
 
 
@@ -133,10 +134,15 @@ class LiveSentences:
             return sentence.start
         after = max(self.cursor, self.audio.oldest_s)
         samples, first_s = self.audio.span(after, self.audio.heard_s)
-        voiced = np.flatnonzero(voiced_frames(samples))
+        voiced = np.flatnonzero(voiced_frames(samples, self._context()))
         if not len(voiced):
             return after if final else None
         return max(after, first_s + voiced[0] * FRAME_S - ONSET_LEAD_S)
+
+    def _context(self) -> np.ndarray:
+        """The last :data:`VOICING_CONTEXT_S` of audio: what voicing is judged against (a window that is all speech
+        has no quiet frames of its own)."""
+        return self.audio.span(self.audio.heard_s - VOICING_CONTEXT_S, self.audio.heard_s)[0]
 
     def _end(self, sentence: PendingSentence, begin: float, final: bool) -> float | None:
         """Where the sentence's window ends (module docstring); None while its audio is still to come."""
@@ -145,7 +151,8 @@ class LiveSentences:
             return sentence.end if final or heard >= sentence.end else None
         expected = sentence.expected_s
         samples, first_s = self.audio.span(begin, heard)
-        breaks = [first_s + t for t in pauses(samples) if first_s + t >= begin + expected / 2]
+        breaks = [first_s + middle for middle, _ in pause_runs(samples, context=self._context())
+                  if first_s + middle >= begin + expected / 2]
         if breaks:
             return breaks[0]
         if heard >= begin + 2 * expected:

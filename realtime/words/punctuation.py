@@ -13,7 +13,7 @@ from dataclasses import replace
 from gesturecast.controls import Word
 
 SENTENCE_PAUSE_S = 0.3  # silence after a word that ends its sentence
-CLAUSE_PAUSE_S = 0.15  # silence after a word that ends its clause
+CLAUSE_PAUSE_S = 0.14  # silence after a word that ends its clause (espeak-ng pauses about 0.145 s at a comma)
 SENTENCE_MARKS = frozenset(".!?…")
 MARKS = frozenset(".!?…,;:")
 

@@ -21,12 +21,14 @@ def frame_rms(samples: np.ndarray) -> np.ndarray:
     return np.sqrt(np.mean(np.square(frames, dtype=np.float64), axis=1))
 
 
-def voiced_frames(samples: np.ndarray) -> np.ndarray:
-    """(F,) bool: the 10 ms frames louder than the audio's quiet frames (and than :data:`FLOOR_RMS`)."""
+def voiced_frames(samples: np.ndarray, context: np.ndarray | None = None) -> np.ndarray:
+    """(F,) bool: the 10 ms frames louder than the quiet frames of ``context`` (default: ``samples`` itself; a
+    longer stretch around them when they may all be speech) and than :data:`FLOOR_RMS`."""
     rms = frame_rms(samples)
-    if not len(rms):
-        return np.zeros(0, bool)
-    return rms > max(FLOOR_RMS, NOISE_FACTOR * float(np.percentile(rms, 10)))
+    quiet = frame_rms(samples if context is None else context)
+    if not len(rms) or not len(quiet):
+        return np.zeros(len(rms), bool)
+    return rms > max(FLOOR_RMS, NOISE_FACTOR * float(np.percentile(quiet, 10)))
 
 
 def voiced_span(samples: np.ndarray) -> tuple[float, float] | None:
@@ -43,9 +45,11 @@ def pauses(samples: np.ndarray, min_pause_s: float = MIN_PAUSE_S) -> list[float]
     return [middle for middle, _ in pause_runs(samples, min_pause_s)]
 
 
-def pause_runs(samples: np.ndarray, min_pause_s: float = MIN_PAUSE_S) -> list[tuple[float, float]]:
-    """(middle second, length in seconds) of each pause :func:`pauses` finds."""
-    voiced = np.concatenate([voiced_frames(samples), [True]])  # (F + 1,) a voiced frame closes the last run
+def pause_runs(samples: np.ndarray, min_pause_s: float = MIN_PAUSE_S, context: np.ndarray | None = None
+               ) -> list[tuple[float, float]]:
+    """(middle second, length in seconds) of each pause :func:`pauses` finds (voicing judged against ``context``,
+    as :func:`voiced_frames`)."""
+    voiced = np.concatenate([voiced_frames(samples, context), [True]])  # (F + 1,) a voiced frame closes the last run
     changes = np.flatnonzero(np.diff(voiced.astype(np.int8)))  # the last frame before each change
     starts, ends = changes[voiced[changes]] + 1, changes[~voiced[changes]] + 1  # first unvoiced, first voiced again
     return [(float((start + end) / 2 * FRAME_S), float((end - start) * FRAME_S))

@@ -147,3 +147,14 @@ def test_a_sentence_said_with_its_audio_is_cued_before_its_audio_is_generated(ro
     assert outcome.status == "on time" and abs(outcome.stroke_time - (0.5 + timed[0].start)) < 0.2
     assert parsed_texts(parsed) == ["Hello", "everyone."]
     assert placed_phrases(placed) == ["Hello"]
+
+
+def test_the_library_places_a_plain_text_script_on_an_array_of_samples(route, tmp_path):
+    from gesturecast.tools.bench.speech.espeak_words import spoken
+
+    parsed, placed = route
+    audio, _ = spoken(SCRIPT, tmp_path)
+    (tmp_path / "script.txt").write_text(SCRIPT)
+    gesturecast.generate(audio, SAMPLE_RATE, transcript=tmp_path / "script.txt")
+    assert parsed_texts(parsed) == SCRIPT.split()
+    assert placed_phrases(placed) == ["Hello", "Thank you so much"]

@@ -17,7 +17,7 @@ def timed(text: str, pauses: dict[int, float]) -> tuple[Word, ...]:
 
 
 def test_pauses_become_sentence_ends_and_clause_marks():
-    words = timed("well done everyone hooray we did it", {2: 0.6, 3: 0.2})
+    words = timed("well done everyone hooray we did it", {2: 0.6, 3: 0.2})  # a clause pause of 0.2 s
     assert [w.text for w in punctuated_by_pauses(words, ended=True)] == \
         ["well", "done", "everyone.", "hooray,", "we", "did", "it."]
 
