@@ -26,6 +26,7 @@ from gesturecast.realtime.audio.sources import FastFileSource, PacedFileSource
 from gesturecast.realtime.engine_cli import frames_to_motion
 from gesturecast.realtime.generation.generator import Generator
 from gesturecast.realtime.pose.session import GestureSession
+from gesturecast.realtime.pose.style_hearing import StyleHearing
 from gesturecast.realtime.run.engine import LiveEngine, run_offline
 from gesturecast.realtime.run.engine_setup import SessionFactory, generator_settings
 from gesturecast.realtime.timing.clock import FakeClock
@@ -76,9 +77,9 @@ def _session(bundle: ModelBundle, settings: Settings, clock: FakeClock, stylize:
     factory = SessionFactory(settings, bundle)
     if stylize:
         return factory.session(clock)
-    heard = replace(generator_settings(settings, bundle, factory.budget()), generator_style=None)
+    heard = generator_settings(settings, bundle, factory.budget(), StyleHearing())  # every style as asked
     return GestureSession(bundle, Generator(bundle, heard), factory.budget(), clock,
-                          replace(factory.config, style_params=None))
+                          replace(factory.config, style_params=None, hearing=StyleHearing()))
 
 
 def _generated(frames: list[PoseFrame], start: float, setup_s: float) -> Generated:
