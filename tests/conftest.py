@@ -60,7 +60,10 @@ def cli_here(capsys, monkeypatch):
         if cwd is not None:
             monkeypatch.chdir(cwd)
         capsys.readouterr()
-        status = cli.main(list(argv))
+        try:
+            status = cli.main(list(argv))
+        except SystemExit as exited:  # argparse ends --help, --version and a usage error so
+            status = exited.code
         out, err = capsys.readouterr()
         return subprocess.CompletedProcess(["gesturecast", *argv], status, out, err)
 

@@ -29,7 +29,7 @@ from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.models.style.params import DEFAULT_STYLE_PARAMS, StyleBook
 from gesturecast.realtime.generation.generator import Generator, GeneratorSettings
 from gesturecast.realtime.gestures.director import GestureDirector
-from gesturecast.realtime.gestures.repertoire import load_repertoire
+from gesturecast.realtime.gestures.repertoire import GestureRepertoire, load_repertoire
 from gesturecast.realtime.pose.seed_motion import load_seed_motion
 from gesturecast.realtime.pose.session import GestureSession, SessionConfig
 from gesturecast.realtime.pose.style_hearing import StyleHearing, StyleState
@@ -112,13 +112,15 @@ class SessionFactory:
     """Sessions of one model from :class:`Settings`, each with its generator and its gestures
     (:class:`GestureDirector`). What the sessions share is made once: the bundle (loaded from ``settings.model``
     unless given, e.g. a batch worker's or the server's shared-denoiser bundle), the seed motion and the gesture
-    repertoire of ``settings``, and the latency budget of each latency setting asked for."""
+    repertoire of ``settings`` (unless given: one already loaded for the same lexicon, style label, seed and bundle,
+    as a benchmark's runs share), and the latency budget of each latency setting asked for."""
 
-    def __init__(self, settings: Settings, bundle: ModelBundle | None = None) -> None:
+    def __init__(self, settings: Settings, bundle: ModelBundle | None = None,
+                 repertoire: GestureRepertoire | None = None) -> None:
         self.settings = settings
         self.bundle = load_bundle(settings.model) if bundle is None else bundle
         self.config = session_config(settings, self.bundle)
-        self.repertoire = load_repertoire(settings, self.bundle)
+        self.repertoire = load_repertoire(settings, self.bundle) if repertoire is None else repertoire
         self._budgets: dict[tuple, LatencyBudget] = {}
 
     def budget(self, settings: Settings | None = None) -> LatencyBudget:
