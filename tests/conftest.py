@@ -49,6 +49,35 @@ def tiny_model_full_lookahead(tmp_path_factory, shared_data):
                              lookahead_truncation=False)
 
 
+@pytest.fixture(scope="session", autouse=True)
+def shipped_repertoires():
+    """The shipped gesture lexicon, encoded once per model bundle (its folder and its files as they are), style label,
+    seed and threads for the whole run (what :func:`load_repertoire` gives depends on nothing else, and the lexicon is
+    read-only package data): the sessions that many tests build with the default settings would each encode the same
+    clips again (about a second of CPU a session). Any other lexicon is loaded as it is asked for."""
+    from gesturecast.realtime.run import engine_setup
+    from gesturecast.settings import DEFAULT_GESTURES_DIR
+
+    load = engine_setup.load_repertoire
+    loaded = {}
+
+    def load_shipped_once(settings, bundle):
+        if settings.gestures != DEFAULT_GESTURES_DIR:
+            return load(settings, bundle)
+        files = tuple((path.name, path.stat().st_mtime_ns, path.stat().st_size)
+                      for path in sorted(Path(bundle.directory).iterdir()) if path.is_file())
+        prompt = settings.style_prompt()
+        key = (Path(bundle.directory), files, prompt.value if prompt.kind == "label" else None, settings.seed,
+               settings.threads)
+        if key not in loaded:
+            loaded[key] = load(settings, bundle)
+        return loaded[key]
+
+    engine_setup.load_repertoire = load_shipped_once
+    yield
+    engine_setup.load_repertoire = load
+
+
 @pytest.fixture
 def cli_here(capsys, monkeypatch):
     """``gesturecast ARGS`` run by ``gesturecast.cli.main`` in this process (optionally in folder ``cwd``), as a
@@ -60,7 +89,10 @@ def cli_here(capsys, monkeypatch):
         if cwd is not None:
             monkeypatch.chdir(cwd)
         capsys.readouterr()
-        status = cli.main(list(argv))
+        try:
+            status = cli.main(list(argv))
+        except SystemExit as exited:  # argparse ends --help, --version and a usage error so
+            status = exited.code
         out, err = capsys.readouterr()
         return subprocess.CompletedProcess(["gesturecast", *argv], status, out, err)
 

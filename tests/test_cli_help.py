@@ -86,9 +86,17 @@ def test_command_in_finds_the_command_after_global_options():
     assert command_in(["-v", "generate", "x.wav"]) == "generate" and command_in(["--help"]) is None
 
 
-def help_of(*command: str) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-m", "gesturecast.cli", *command, "--help"], capture_output=True,
-                          text=True, check=True)
+@pytest.fixture
+def help_of(cli_here, monkeypatch):
+    """A function: ``gesturecast COMMAND --help``'s text, printed by the CLI's main in this process at 80 columns."""
+    monkeypatch.setenv("COLUMNS", "80")
+
+    def text(*command: str) -> str:
+        result = cli_here(*command, "--help")
+        assert result.returncode == 0
+        return result.stdout
+
+    return text
 
 
 @pytest.mark.parametrize("command", list(HELP))
@@ -103,14 +111,14 @@ def test_every_command_says_what_it_is_for_and_its_examples_parse(command):
 
 
 @pytest.mark.parametrize("command", ["generate", "live", "serve", "train", "eval"])
-def test_help_speaks_in_words_not_equations(command):
-    text = help_of(command).stdout
+def test_help_speaks_in_words_not_equations(command, help_of):
+    text = help_of(command)
     for symbol in ("x̂", "δ", "s_a", "γ·", "batch row"):
         assert symbol not in text, symbol
 
 
-def test_generate_help_names_every_csv_column():
-    assert "transcript" in help_of("generate").stdout.split("--batch", 1)[1]
+def test_generate_help_names_every_csv_column(help_of):
+    assert "transcript" in help_of("generate").split("--batch", 1)[1]
 
 
 @pytest.mark.parametrize("command", ["live", "generate", "serve", "train", "eval-train", "export", "demo"])
@@ -120,17 +128,16 @@ def test_every_flag_has_help(command):
     assert not bare
 
 
-def test_verbose_goes_before_or_after_the_command_and_version_answers():
+def test_verbose_goes_before_or_after_the_command_and_version_answers(cli_here):
     parser = build_parser(only="generate")
     assert parser.parse_args(["generate", "a.wav", "-o", "a.bvh", "-v"]).verbose
     assert parser.parse_args(["-v", "generate", "a.wav", "-o", "a.bvh"]).verbose
     assert not getattr(parser.parse_args(["generate", "a.wav", "-o", "a.bvh"]), "verbose", False)
-    result = subprocess.run([sys.executable, "-m", "gesturecast.cli", "--version"], capture_output=True, text=True)
-    assert result.stdout.strip() == f"gesturecast {gesturecast.__version__}"
+    assert cli_here("--version").stdout.strip() == f"gesturecast {gesturecast.__version__}"
 
 
 @pytest.mark.parametrize("group", ["gestures", "data", "bench"])
-def test_a_group_command_alone_prints_its_usage(group):
-    result = subprocess.run([sys.executable, "-m", "gesturecast.cli", group], capture_output=True, text=True)
+def test_a_group_command_alone_prints_its_usage(group, cli_here):
+    result = cli_here(group)
     assert result.returncode == 2 and "_command" not in result.stdout + result.stderr
     assert f"usage: gesturecast {group}" in result.stdout and "examples:" in result.stdout

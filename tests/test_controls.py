@@ -175,19 +175,22 @@ def test_a_style_change_applies_to_settings_by_name():
 
 
 def test_every_style_setting_reaches_the_generator_through_settings():
-    """StyleChange → Settings → the generator's settings (and the session's root): no field is lost on the way."""
+    """StyleChange → Settings → the session's style and the generator's settings (what it hears of that style; and
+    the session's root): no field is lost on the way."""
     from gesturecast.models.generator.style_prompt import StylePrompt
+    from gesturecast.realtime.pose.style_hearing import StyleState
     from gesturecast.realtime.run.engine_setup import SessionFactory, generator_settings
 
     change = StyleChange(style="happy", style2="old", part_styles=(("arms", "sad"),), style_strength=0.5,
                          guidance=2.0, audio_guidance=1.5, gamma=0.25, root="locked", intensity=0.5, pause=True)
     settings = Settings().with_style(change)
     factory = SessionFactory(settings.replace(gestures=None))
-    made = generator_settings(settings, factory.bundle, factory.budget())
-    assert (made.style, made.second_style) == (StylePrompt("label", "happy"), StylePrompt("label", "old"))
-    assert made.part_styles == (("arms", StylePrompt("label", "sad")),)
-    assert (made.style_strength, made.guidance, made.audio_guidance, made.gamma) == (0.5, 2.0, 1.5, 0.25)
     session = factory.session(MonotonicClock())
+    assert session.controls.style == StyleState(StylePrompt("label", "happy"), StylePrompt("label", "old"), 0.25,
+                                                (("arms", StylePrompt("label", "sad")),), 0.5)
+    made = generator_settings(settings, factory.bundle, factory.budget())
+    assert (made.guidance, made.audio_guidance, made.gamma) == (2.0, 1.5, 0.25)
+    assert StyleState.of(made) == factory.config.hearing.heard(session.controls.style)
     assert session.config.root_mode.value == "locked"
     assert (session.controls.intensity, session.controls.paused, session.controls.gesture_size) == (0.5, True, 0.0)
     assert set(STYLE_SETTINGS) - set(change.changed()) == {"prompt"}  # a prompt replaces the style:

@@ -71,10 +71,9 @@ def test_stereo_int16_at_48k_is_converted(speech):
     assert motion.num_frames == SECONDS * 30 and motion.visemes is None
 
 
-def test_the_library_writes_what_the_command_line_writes(motion, speech_file, tmp_path):
+def test_the_library_writes_what_the_command_line_writes(motion, speech_file, tmp_path, cli_here):
     motion.save(tmp_path / "api.bvh")
-    subprocess.run([sys.executable, "-m", "gesturecast.cli", "generate", str(speech_file), "--style", "happy",
-                    "-o", str(tmp_path / "cli.bvh")], check=True, capture_output=True)
+    assert cli_here("generate", str(speech_file), "--style", "happy", "-o", str(tmp_path / "cli.bvh")).returncode == 0
     assert (tmp_path / "api.bvh").read_bytes() == (tmp_path / "cli.bvh").read_bytes()
 
 
@@ -203,9 +202,8 @@ def test_settings_are_frozen_and_checked_once_with_the_flags_words():
             gesturecast.Settings().replace(**bad)
 
 
-def test_a_flag_and_its_setting_refuse_a_value_in_the_same_words(speech_file, tmp_path):
-    result = subprocess.run([sys.executable, "-m", "gesturecast.cli", "generate", str(speech_file), "--steps", "0",
-                             "-o", str(tmp_path / "x.bvh")], capture_output=True, text=True)
+def test_a_flag_and_its_setting_refuse_a_value_in_the_same_words(speech_file, tmp_path, cli_here):
+    result = cli_here("generate", str(speech_file), "--steps", "0", "-o", str(tmp_path / "x.bvh"))
     assert result.returncode == 2
     assert "--steps: must be an integer from 1 to 1000, got '0'" in result.stderr
 

@@ -43,7 +43,6 @@ from gesturecast.models.generator.diffusion import (
     sampling_plan,
 )
 from gesturecast.models.generator.style_prompt import PartStyles, StylePrompt
-from gesturecast.models.generator.styles import canonical_style
 from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.models.runtime.denoiser_runtime import FrameInputs, roll_cache
 from gesturecast.models.runtime.ort_session import DEFAULT_THREADS
@@ -68,7 +67,7 @@ NEUTRAL_STYLE = StylePrompt("label", "neutral")
 class GeneratorSettings:
     sampler: SamplerConfig = field(default_factory=lambda: SamplerConfig("ddim", 4))
     guidance: float | None = None  # s before the style strength; None = the bundle's default guidance scale
-    style: StylePrompt = NEUTRAL_STYLE
+    style: StylePrompt = NEUTRAL_STYLE  # what the denoiser hears (realtime/pose/style_hearing.py decides it)
     second_style: StylePrompt | None = None  # c2 of x̂0 = γ·D(c1) + (1 − γ)·D(c2)
     gamma: float = SINGLE_STYLE
     seed: int = 0
@@ -77,12 +76,6 @@ class GeneratorSettings:
     lookahead: int | None = None  # δ: audio look-ahead frames heard (None = the model's δa; docs/latency.md)
     part_styles: PartStyles = ()  # (body part, prompt) pairs; parts not named follow ``style``
     style_strength: float = DEFAULT_STYLE_STRENGTH  # k: the sampler's guidance is k·s (0: the null style's motion)
-    # the style the denoiser hears for the styles the stylizer after it gives (realtime/pose/stylizer.py;
-    # docs/stylizer.md), with guidance s; None: every style asked, at k·s
-    generator_style: StylePrompt | None = None
-    # labels the denoiser hears as asked even so, at k·s when one is the main style: the paired speech takes' styles
-    # (speech, flirty …), which the stylizer does not give
-    own_labels: frozenset[str] = frozenset()
 
 
 @dataclass(frozen=True)
@@ -139,7 +132,8 @@ class Generator:
         self.decoder = bundle.vq_decoder(self.settings.threads)
         self.styles = StyleResolver(bundle, self.settings.threads)
         self.history: deque[HistoryFrame] = deque(maxlen=self.config.window)
-        self._second = None if self.settings.second_style is None else self._heard(self.settings.second_style)
+        second = self.settings.second_style
+        self._second = None if second is None else self.styles.embed(second)
         self._set_mixture_values(*self.part_mixture(self.settings.style, self.settings.part_styles))
         self.rung = RUNGS[0]  # the degradation ladder's: the work as asked
         self._plan = self._sampling_plan()
@@ -154,24 +148,8 @@ class Generator:
 
     @property
     def guidance(self) -> float:
-        """The sampler's classifier-free guidance scale: style strength k times s (s when the stylizer gives the
-        main style)."""
-        if not self.hears_as_asked(self.settings.style):
-            return self.base_guidance
+        """The sampler's classifier-free guidance scale: style strength k times s."""
         return self.settings.style_strength * self.base_guidance
-
-    def hears_as_asked(self, prompt: StylePrompt) -> bool:
-        """Whether the denoiser hears this style itself: always without a generator style, else for one of its
-        own labels."""
-        if self.settings.generator_style is None:
-            return True
-        return prompt.kind == "label" and canonical_style(prompt.value) in self.settings.own_labels
-
-    def _heard(self, prompt: StylePrompt) -> np.ndarray:
-        """(S,) the embedding the denoiser hears for a style asked: its own, or the fixed generator style's (the style
-        asked is embedded either way, so one the model cannot use is refused here)."""
-        own = self.styles.embed(prompt)
-        return own if self.hears_as_asked(prompt) else self.styles.embed(self.settings.generator_style)
 
     @property
     def style_embedding(self) -> np.ndarray:
@@ -202,7 +180,7 @@ class Generator:
         return part_mixture(style, dict(part_styles), self.bundle.part_channels, self.latent_dim)
 
     def _set_mixture_values(self, prompts: list[StylePrompt], weights: np.ndarray) -> None:
-        self._mixture_embeddings = np.stack([self._heard(prompt) for prompt in prompts])  # (R, S)
+        self._mixture_embeddings = np.stack([self.styles.embed(prompt) for prompt in prompts])  # (R, S)
         self._mixture_prompts = list(prompts)
         self._weights = np.asarray(weights, np.float32)  # (R, C)
 
@@ -259,11 +237,14 @@ class Generator:
         if rows_changed:
             self._rebuild_cache()
 
-    def set_style(self, style: StylePrompt, second_style: StylePrompt | None = None, gamma: float = SINGLE_STYLE):
-        """Change the (base) style from the next latent on (history keeps the style it was made with); named
-        part styles stay."""
-        self._second = None if second_style is None else self._heard(second_style)
-        self.settings = replace(self.settings, style=style, second_style=second_style, gamma=gamma)
+    def set_style(self, style: StylePrompt, second_style: StylePrompt | None = None, gamma: float = SINGLE_STYLE,
+                  strength: float | None = None):
+        """Change the (base) style, and the style strength k unless None, from the next latent on (history keeps the
+        style it was made with); named part styles stay."""
+        self._second = None if second_style is None else self.styles.embed(second_style)
+        strength = self.settings.style_strength if strength is None else strength
+        self.settings = replace(self.settings, style=style, second_style=second_style, gamma=gamma,
+                                style_strength=strength)
         self._set_mixture_values(*self.part_mixture(style, self.settings.part_styles))
         self._apply_layout()
 
@@ -283,11 +264,12 @@ class Generator:
         self._apply_layout()
 
     def blend_part_styles(self, prompts: list[StylePrompt], weights: np.ndarray, style: StylePrompt,
-                          part_styles: PartStyles) -> None:
+                          part_styles: PartStyles, strength: float | None = None) -> None:
         """A part-style blend starts: the mixture rows ``prompts`` (R) with ``weights`` (R, C) now, toward ``style``
-        and ``part_styles``, the styles asked from the next layout on."""
+        and ``part_styles`` (and the style strength k unless None), the styles heard from the next layout on."""
         self.set_mixture(prompts, weights)
-        self.settings = replace(self.settings, style=style, part_styles=tuple(part_styles))
+        strength = self.settings.style_strength if strength is None else strength
+        self.settings = replace(self.settings, style=style, part_styles=tuple(part_styles), style_strength=strength)
 
     def set_gamma(self, gamma: float) -> None:
         """Move γ of x̂0 = γ·D(c1) + (1 − γ)·D(c2) without re-embedding the styles (used by smooth changes)."""

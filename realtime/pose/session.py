@@ -54,7 +54,8 @@ from gesturecast.realtime.pose.hands import HandPose
 from gesturecast.realtime.pose.idle import IdleMotion
 from gesturecast.realtime.pose.motion_smoother import MotionSmoother
 from gesturecast.realtime.pose.seed_motion import SeedMotion
-from gesturecast.realtime.pose.session_controls import SessionControls, StyleState
+from gesturecast.realtime.pose.session_controls import SessionControls
+from gesturecast.realtime.pose.style_hearing import StyleHearing, StyleState
 from gesturecast.realtime.pose.stylizer import Stylizer
 from gesturecast.realtime.pose.transitions import PoseCrossfade
 from gesturecast.realtime.timing.clock import Clock
@@ -96,6 +97,7 @@ class SessionConfig:
     intensity: float = FULL_SIZE  # gesture size 0..2 around the idle pose (realtime/pose/gesture_size.py)
     paused: bool = False  # the body in the idle pose until a pause control says otherwise
     style: StyleState | None = None  # the stream's style, from Settings (None: what the generator was made with)
+    hearing: StyleHearing | None = None  # what the generator hears of it (None: every style as asked)
 
 
 class GestureSession:
@@ -128,7 +130,7 @@ class GestureSession:
         self.gestures = gestures or GestureDirector(
             GestureRepertoire(), self.denoiser_config.frames_per_latent / self.fps, budget.total_s)
         self.controls = SessionControls(generator, self.root, self.gestures, self.config.intensity, self.config.paused,
-                                        style=self.config.style)
+                                        style=self.config.style, hearing=self.config.hearing)
         self.smoother = MotionSmoother(budget.smoothing_frames)
         self.hands = HandPose(self.fps, seed=generator.settings.seed)
         self.face = None if self.config.face == FACE_OFF else FaceAnimator(

@@ -17,20 +17,21 @@ from __future__ import annotations
 import logging
 import threading
 from collections import deque
-from dataclasses import dataclass, replace
+from dataclasses import replace
 
 from gesturecast.controls import Control, Gesture, Sentence, StyleChange, Words
 from gesturecast.log_throttle import ThrottledLog
 from gesturecast.models.generator.style_prompt import PartStyles, StylePrompt, parse_part_styles
 from gesturecast.models.motion.root_anchor import RootAnchor, RootMode
-from gesturecast.realtime.generation.generator import Generator, GeneratorSettings
+from gesturecast.realtime.generation.generator import Generator
 from gesturecast.realtime.generation.style_mixture import align_mixtures, bound_blend_rows, drop_unused_rows
 from gesturecast.realtime.gestures.cues import CueRefused
 from gesturecast.realtime.gestures.director import GestureDirector
 from gesturecast.realtime.gestures.lexicon import current_name
 from gesturecast.realtime.pose.gesture_size import FULL_SIZE
+from gesturecast.realtime.pose.style_hearing import StyleHearing, StyleState
 from gesturecast.realtime.pose.transitions import DEFAULT_RAMP_S, Ramp
-from gesturecast.settings import DEFAULT_STYLE_STRENGTH, SINGLE_STYLE
+from gesturecast.settings import SINGLE_STYLE
 
 logger = logging.getLogger(__name__)
 
@@ -44,33 +45,17 @@ WORDS_PER_LATENT = 40
 MAX_MIXTURE_ROWS = 8
 
 
-@dataclass(frozen=True)
-class StyleState:
-    """The style a stream is in, owned by its controls: what the stylizer and the face perform, and what the
-    generator is told (it hears the labels it learned with speech itself, and its generator style for the rest)."""
-
-    style: StylePrompt
-    second_style: StylePrompt | None = None  # c2 of x̂0 = γ·D(style) + (1 − γ)·D(second_style), also while blending
-    gamma: float = SINGLE_STYLE
-    part_styles: PartStyles = ()
-    strength: float = DEFAULT_STYLE_STRENGTH
-
-    @staticmethod
-    def of(settings: GeneratorSettings) -> StyleState:
-        """The style the settings a generator was made with ask for."""
-        return StyleState(settings.style, settings.second_style, settings.gamma, tuple(settings.part_styles),
-                          settings.style_strength)
-
-
 class SessionControls:
-    """Holds the control inbox, the ramps and the stream's style (:class:`StyleState`, which the generator is told);
-    :meth:`advance` applies them at stream time ``t``."""
+    """Holds the control inbox, the ramps and the stream's style (:class:`StyleState`); :meth:`advance` applies them
+    at stream time ``t``. The generator is told what ``hearing`` makes of each change (realtime/pose/style_hearing.py),
+    never the style itself."""
 
     def __init__(self, generator: Generator, root: RootAnchor, gestures: GestureDirector,
                  intensity: float = FULL_SIZE, paused: bool = False, fade_s: float = DEFAULT_RAMP_S,
-                 style: StyleState | None = None) -> None:
+                 style: StyleState | None = None, hearing: StyleHearing | None = None) -> None:
         self.generator = generator
         self.style = StyleState.of(generator.settings) if style is None else style  # the session's, from Settings
+        self.hearing = StyleHearing() if hearing is None else hearing
         self.root = root
         self.gestures = gestures
         self.intensity = intensity
@@ -140,7 +125,7 @@ class SessionControls:
         strength = float(self._style_strength.value(t))
         if strength != self.style.strength:
             self.style = replace(self.style, strength=strength)
-            self.generator.set_style_strength(strength)
+            self.generator.set_style_strength(self.heard.strength)
         audio_guidance = float(self._audio_guidance.value(t))
         if audio_guidance != self.generator.settings.audio_guidance:
             self.generator.set_audio_guidance(audio_guidance)
@@ -216,15 +201,21 @@ class SessionControls:
         elif new_style is not None and new_style != self.style.style:
             self._start_style_blend(new_style, t)
 
+    @property
+    def heard(self) -> StyleState:
+        """What the generator hears of the stream's style."""
+        return self.hearing.heard(self.style)
+
     def _set_style(self, style: StylePrompt, second_style: StylePrompt | None = None,
                    gamma: float = SINGLE_STYLE) -> None:
-        """The stream's style, second style and γ (the generator is told)."""
+        """The stream's style, second style and γ (the generator is told what it hears of them)."""
         self.style = replace(self.style, style=style, second_style=second_style, gamma=gamma)
-        self.generator.set_style(style, second_style, gamma)
+        heard = self.heard
+        self.generator.set_style(heard.style, heard.second_style, heard.gamma, heard.strength)
 
     def _set_gamma(self, gamma: float) -> None:
         self.style = replace(self.style, gamma=gamma)
-        self.generator.set_gamma(gamma)
+        self.generator.set_gamma(self.heard.gamma)
 
     def _start_style_blend(self, new_style: StylePrompt, t: float) -> None:
         style = self.style
@@ -243,11 +234,12 @@ class SessionControls:
         if self._blending_from is not None:  # a γ style blend still running ends here
             self._blending_from = None
             self._set_style(self.style.style)
-        old_prompts, old_weights = generator.mixture
-        union, start, target = bound_blend_rows(
-            *align_mixtures(old_prompts, old_weights, *generator.part_mixture(style, parts)), MAX_MIXTURE_ROWS)
-        generator.blend_part_styles(union, start, style, parts)
         self.style = replace(self.style, style=style, part_styles=parts)
+        heard = self.heard
+        old_prompts, old_weights = generator.mixture
+        union, start, target = bound_blend_rows(*align_mixtures(
+            old_prompts, old_weights, *generator.part_mixture(heard.style, heard.part_styles)), MAX_MIXTURE_ROWS)
+        generator.blend_part_styles(union, start, heard.style, heard.part_styles, heard.strength)
         self._mixture_ramp = Ramp(start, self.fade_s, t)
         self._mixture_ramp.set_target(target, t)
 
@@ -257,7 +249,7 @@ class SessionControls:
         weights = self._mixture_ramp.value(t).astype("float32")  # (R, C)
         if self._mixture_ramp.done(t):
             self._mixture_ramp = None
-            self.generator.set_mixture(*drop_unused_rows(self.generator.mixture[0], weights, self.style.style))
+            self.generator.set_mixture(*drop_unused_rows(self.generator.mixture[0], weights, self.heard.style))
         else:
             self.generator.set_mixture_weights(weights)
 

@@ -10,7 +10,7 @@ Every way to give a style reaches it:
 - a label of the fitted book (``neutral``, ``happy``, ``old`` …, or a synonym) takes its fitted parameters
   (``neutral``: none);
 - a label only the generator knows (the paired speech takes' styles: ``speech``, ``flirty``, ``sarcastic`` …) is
-  left to the generator, which learned it with speech and hears it itself (``GeneratorSettings.own_labels``):
+  left to the generator, which learned it with speech and hears it itself (``StyleHearing.own_labels``):
   no change here;
 - any other prompt (free text, a motion clip) is placed in the style space the generator's style resolver embeds it
   in, and takes the book's styles weighted by a softmax (temperature :data:`SIMILARITY_TEMPERATURE`) of its cosine

@@ -29,10 +29,10 @@ from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.models.style.params import DEFAULT_STYLE_PARAMS, StyleBook
 from gesturecast.realtime.generation.generator import Generator, GeneratorSettings
 from gesturecast.realtime.gestures.director import GestureDirector
-from gesturecast.realtime.gestures.repertoire import load_repertoire
+from gesturecast.realtime.gestures.repertoire import GestureRepertoire, load_repertoire
 from gesturecast.realtime.pose.seed_motion import load_seed_motion
 from gesturecast.realtime.pose.session import GestureSession, SessionConfig
-from gesturecast.realtime.pose.session_controls import StyleState
+from gesturecast.realtime.pose.style_hearing import StyleHearing, StyleState
 from gesturecast.realtime.timing.clock import Clock
 from gesturecast.realtime.timing.latency import LatencyBudget
 from gesturecast.settings import LATENCY_SETTINGS, LatencySetting, Settings
@@ -60,27 +60,36 @@ def setting_budget(setting: LatencySetting, bundle: ModelBundle, smoothing: int,
     return LatencyBudget(bundle.frames_per_latent, lookahead, margin, smoothing_frames=smoothing)
 
 
-def generator_settings(settings: Settings, bundle: ModelBundle, budget: LatencyBudget) -> GeneratorSettings:
+def style_hearing(settings: Settings, bundle: ModelBundle) -> StyleHearing:
+    """What the generator hears of the styles asked: the stylizer after it gives the style (docs/stylizer.md), so it
+    hears a label it learned with speech, ``settings.generator_style``, and the model's labels the stylizer does not
+    give (the paired speech takes' styles) as asked, so that the motion follows the voice in every style
+    (docs/voices.md)."""
+    return StyleHearing(StylePrompt("label", settings.generator_style),
+                        StyleBook.labels_left(DEFAULT_STYLE_PARAMS, bundle.styles.labels))
+
+
+def generator_settings(settings: Settings, bundle: ModelBundle, budget: LatencyBudget,
+                       hearing: StyleHearing | None = None) -> GeneratorSettings:
     """DDIM with K steps (the settings', else the model's), or DDPM over all T steps of the model's schedule (the
-    offline-quality path), hearing the budget's look-ahead."""
+    offline-quality path), hearing the budget's look-ahead and what ``hearing`` (default :func:`style_hearing`) makes
+    of the styles asked."""
     steps = (settings.steps or bundle.default_steps) if settings.sampler == "ddim" else \
         bundle.denoiser_config.num_timesteps
+    hearing = style_hearing(settings, bundle) if hearing is None else hearing
+    heard = hearing.heard(style_state(settings))
     return GeneratorSettings(
         sampler=SamplerConfig(settings.sampler, steps),
         guidance=settings.guidance,
-        style_strength=settings.style_strength,
-        style=settings.style_prompt(),
-        second_style=settings.second_style(),
-        gamma=settings.gamma,
+        style_strength=heard.strength,
+        style=heard.style,
+        second_style=heard.second_style,
+        gamma=heard.gamma,
         seed=settings.seed,
         threads=settings.threads,
         audio_guidance=settings.audio_guidance,
         lookahead=budget.lookahead_frames,
-        part_styles=settings.part_styles,
-        # the stylizer after the generator gives the style (docs/stylizer.md); the generator hears a label it learned
-        # with speech, so that the motion follows the voice in every style (docs/voices.md)
-        generator_style=StylePrompt("label", settings.generator_style),
-        own_labels=StyleBook.labels_left(DEFAULT_STYLE_PARAMS, bundle.styles.labels),
+        part_styles=heard.part_styles,
     )
 
 
@@ -90,7 +99,7 @@ def session_config(settings: Settings, bundle: ModelBundle) -> SessionConfig:
     seed = None if settings.seed_motion is None else load_seed_motion(settings.seed_motion, bundle)
     return SessionConfig(root_mode=RootMode(settings.root), seed_motion=seed, lipsync=settings.lipsync,
                          face=settings.face, intensity=settings.intensity, paused=settings.pause,
-                         style=style_state(settings))
+                         style=style_state(settings), hearing=style_hearing(settings, bundle))
 
 
 def style_state(settings: Settings) -> StyleState:
@@ -103,13 +112,15 @@ class SessionFactory:
     """Sessions of one model from :class:`Settings`, each with its generator and its gestures
     (:class:`GestureDirector`). What the sessions share is made once: the bundle (loaded from ``settings.model``
     unless given, e.g. a batch worker's or the server's shared-denoiser bundle), the seed motion and the gesture
-    repertoire of ``settings``, and the latency budget of each latency setting asked for."""
+    repertoire of ``settings`` (unless given: one already loaded for the same lexicon, style label, seed and bundle,
+    as a benchmark's runs share), and the latency budget of each latency setting asked for."""
 
-    def __init__(self, settings: Settings, bundle: ModelBundle | None = None) -> None:
+    def __init__(self, settings: Settings, bundle: ModelBundle | None = None,
+                 repertoire: GestureRepertoire | None = None) -> None:
         self.settings = settings
         self.bundle = load_bundle(settings.model) if bundle is None else bundle
         self.config = session_config(settings, self.bundle)
-        self.repertoire = load_repertoire(settings, self.bundle)
+        self.repertoire = load_repertoire(settings, self.bundle) if repertoire is None else repertoire
         self._budgets: dict[tuple, LatencyBudget] = {}
 
     def budget(self, settings: Settings | None = None) -> LatencyBudget:
@@ -124,7 +135,10 @@ class SessionFactory:
         """A fresh generator of ``settings`` (default the factory's): UserError for a style, body part or look-ahead
         the model does not serve."""
         settings = self.settings if settings is None else settings
-        return Generator(self.bundle, generator_settings(settings, self.bundle, self.budget(settings)))
+        generator = Generator(self.bundle, generator_settings(settings, self.bundle, self.budget(settings)))
+        for prompt in style_state(settings).prompts():  # each style asked is embedded: one the model cannot use is
+            generator.styles.embed(prompt)  # refused here, also where the generator hears another
+        return generator
 
     def session(self, clock: Clock, settings: Settings | None = None) -> GestureSession:
         """A fresh session. ``settings`` (default the factory's) may change what one stream chooses (the style
@@ -132,7 +146,8 @@ class SessionFactory:
         factory's."""
         settings = self.settings if settings is None else settings
         config = replace(self.config, root_mode=RootMode(settings.root), intensity=settings.intensity,
-                         paused=settings.pause, style=style_state(settings))
+                         paused=settings.pause, style=style_state(settings),
+                         hearing=style_hearing(settings, self.bundle))
         budget = self.budget(settings)
         gestures = GestureDirector(self.repertoire, self.bundle.frames_per_latent / self.bundle.feature_config.fps,
                                    budget.total_s)

@@ -12,6 +12,7 @@ import tempfile
 import time
 from dataclasses import dataclass, replace
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 import soundfile
@@ -25,7 +26,9 @@ from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.realtime.audio.sources import FastFileSource, PacedFileSource
 from gesturecast.realtime.engine_cli import frames_to_motion
 from gesturecast.realtime.generation.generator import Generator
+from gesturecast.realtime.gestures.repertoire import GestureRepertoire, load_repertoire
 from gesturecast.realtime.pose.session import GestureSession
+from gesturecast.realtime.pose.style_hearing import StyleHearing
 from gesturecast.realtime.run.engine import LiveEngine, run_offline
 from gesturecast.realtime.run.engine_setup import SessionFactory, generator_settings
 from gesturecast.realtime.timing.clock import FakeClock
@@ -33,6 +36,8 @@ from gesturecast.settings import DEFAULT_AUDIO_GUIDANCE, GENERATOR_STYLE, Settin
 from gesturecast.tools.eval.clips import EvalClip
 
 LIVE_CHUNK_SAMPLES = 160  # 10 ms, a typical microphone callback (the offline path reads 512)
+# the bundle whose repertoires :func:`_repertoire` holds, and those by what they depend on
+_REPERTOIRES = SimpleNamespace(bundle=None, by_key={})
 
 
 @dataclass(frozen=True)
@@ -70,15 +75,27 @@ def eval_settings(bundle: ModelBundle, sampler: SamplerConfig, style: str | Styl
                     threads=1, **style_settings(style))
 
 
+def _repertoire(bundle: ModelBundle, settings: Settings) -> GestureRepertoire:
+    """The gesture repertoire of ``settings`` on ``bundle``, encoded once per lexicon, style label, seed and threads
+    (what it depends on) in this process: a benchmark's many runs share it as a server's streams do."""
+    prompt = settings.style_prompt()
+    key = (settings.gestures, prompt.value if prompt.kind == "label" else None, settings.seed, settings.threads)
+    if _REPERTOIRES.bundle is not bundle:  # the repertoires of one bundle are kept: the one a benchmark runs
+        _REPERTOIRES.bundle, _REPERTOIRES.by_key = bundle, {}
+    if key not in _REPERTOIRES.by_key:
+        _REPERTOIRES.by_key[key] = load_repertoire(settings, bundle)
+    return _REPERTOIRES.by_key[key]
+
+
 def _session(bundle: ModelBundle, settings: Settings, clock: FakeClock, stylize: bool = True) -> GestureSession:
     """The session ``gesturecast generate`` builds from ``settings`` (:class:`SessionFactory`), on a fake clock;
     ``stylize`` False leaves the stylizer out and lets the generator hear the style instead (as before the stylizer)."""
-    factory = SessionFactory(settings, bundle)
+    factory = SessionFactory(settings, bundle, _repertoire(bundle, settings))
     if stylize:
         return factory.session(clock)
-    heard = replace(generator_settings(settings, bundle, factory.budget()), generator_style=None)
+    heard = generator_settings(settings, bundle, factory.budget(), StyleHearing())  # every style as asked
     return GestureSession(bundle, Generator(bundle, heard), factory.budget(), clock,
-                          replace(factory.config, style_params=None))
+                          replace(factory.config, style_params=None, hearing=StyleHearing()))
 
 
 def _generated(frames: list[PoseFrame], start: float, setup_s: float) -> Generated:

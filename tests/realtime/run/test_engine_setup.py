@@ -125,7 +125,8 @@ def test_every_door_and_a_live_style_change_keep_the_speech_label(latency):
         stream.push(np.zeros(16000, np.float32))  # the change is applied at the next latent
         for generator in (stream.session.generator, session.generator):
             np.testing.assert_array_equal(generator.style_embedding, speech)
-        assert stream.session.generator.settings.style == StylePrompt("label", "old")
+        assert stream.session.controls.style.style == StylePrompt("label", "old")  # the session holds the style
+        assert stream.session.generator.settings.style == StylePrompt("label", "speech")  # the generator what it hears
     finally:
         stream.close()
         served.close()

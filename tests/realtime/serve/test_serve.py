@@ -17,6 +17,8 @@ from gesturecast.models.motion.root_anchor import RootMode
 from gesturecast.realtime.audio.sources import AudioChunk
 from gesturecast.realtime.generation.generator import Generator, GeneratorSettings
 from gesturecast.realtime.pose.session import GestureSession, SessionConfig
+from gesturecast.realtime.pose.style_hearing import StyleState
+from gesturecast.realtime.run.engine_setup import style_hearing
 from gesturecast.realtime.serve.server import GestureServer, ServeConfig
 from gesturecast.realtime.serve.setup import StreamSessions
 from gesturecast.realtime.timing.clock import FakeClock, MonotonicClock
@@ -59,12 +61,14 @@ def solo_poses(bundle, audio, style="neutral", guidance=1.5, seed=0, root="bound
                part_styles=None) -> np.ndarray:
     """The same stream through one session alone, as the float32 the wire carries."""
     lookahead = None if latency is None else LATENCY_SETTINGS[latency].lookahead_for(bundle.audio_lookahead)
-    settings = GeneratorSettings(SamplerConfig("ddim", 2), guidance, StylePrompt("label", style), seed=seed,
-                                 lookahead=lookahead, part_styles=parse_part_styles(part_styles or {}),
-                                 # as every door's sessions: the stylizer styles, the generator hears the default label
-                                 generator_style=StylePrompt("label", DEFAULTS.generator_style))
+    # as every door's sessions: the stylizer styles, the generator hears what the default hearing makes of it
+    hearing = style_hearing(DEFAULTS, bundle)
+    state = StyleState(StylePrompt("label", style), part_styles=parse_part_styles(part_styles or {}))
+    heard = hearing.heard(state)
+    settings = GeneratorSettings(SamplerConfig("ddim", 2), guidance, heard.style, seed=seed, lookahead=lookahead,
+                                 part_styles=heard.part_styles, style_strength=heard.strength)
     session = GestureSession(bundle, Generator(bundle, settings), budget(bundle), FakeClock(),
-                             SessionConfig(root_mode=RootMode(root)))
+                             SessionConfig(root_mode=RootMode(root), style=state, hearing=hearing))
     frames = session.push(AudioChunk(audio, 0, 0.0)) + session.finish()
     return np.stack([np.concatenate([f.rotations.ravel(), f.root_position]) for f in frames]).astype(np.float32)
 

@@ -1,13 +1,10 @@
 """``gesturecast bench cues`` runs and prints its JSON: words placed and the per-latent costs per word count."""
 
 import json
-import subprocess
-import sys
 
 
-def test_bench_cues_prints_the_comparison_as_json():
-    result = subprocess.run([sys.executable, "-m", "gesturecast.cli", "bench", "cues", "--words", "10", "2000"],
-                            capture_output=True, text=True, timeout=300)
+def test_bench_cues_prints_the_comparison_as_json(cli_here):
+    result = cli_here("bench", "cues", "--words", "10", "2000")
     assert result.returncode == 0, result.stderr[-2000:]
     report = json.loads(result.stdout)
     assert [r["words"] for r in report["results"]] == [10, 2000]
