@@ -32,7 +32,7 @@ class WordDoor:
     def cue_gesture(self, name: str, t: float) -> None:
         self.steps[-1].append(name)
 
-    def hear_words(self, words: tuple[Word, ...]) -> None:
+    def hear_words(self, words: tuple[Word, ...], wait: bool = True) -> None:
         self.steps[-1].extend(word.text for word in words)
 
 
