@@ -28,6 +28,7 @@ from gesturecast.realtime.timing.clock import Clock
 from gesturecast.realtime.timing.ladder import DegradationLadder
 from gesturecast.realtime.timing.late_warning import LateWarning
 from gesturecast.realtime.timing.latency import MS_PER_S, LatencyStats
+from gesturecast.realtime.timing.priority import raise_thread_priority
 from gesturecast.realtime.timing.scheduler import STAGE_SINK, FrameScheduler, SchedulerConfig, SchedulerWorker
 from gesturecast.realtime.timing.status import StatusLine, build_snapshot
 
@@ -135,7 +136,7 @@ def make_report(session: GestureSession, audio: SourceStats, scheduler_stats: di
         compute_seconds=compute_seconds(session),
         latency=session.stats.summary(),
         scheduler=scheduler_stats,
-        audio={"dropped_samples": audio.dropped_samples, "overruns": audio.overruns,
+        audio={"skipped_samples": audio.skipped_samples, "skip_aheads": audio.skip_aheads,
                "device_overflows": audio.device_overflows, "untimed_blocks": audio.untimed_blocks},
         budget=session.budget.to_dict(),
         nonfinite_poses=session.nonfinite_poses,
@@ -236,6 +237,7 @@ class LiveEngine:
         self.source.close()
 
     def run(self) -> EngineReport:
+        raise_thread_priority()  # the stream thread: as high as the OS allows without rights (docs/latency.md)
         self.release.start()
         chunks = iter(self.source)
         interrupted, warm_up_s = False, 0.0
@@ -273,7 +275,7 @@ class LiveEngine:
             self.session.stats,
             self.scheduler.stats,
             self.scheduler.config.output_fps,
-            self.source.stats().dropped_samples,
+            self.source.stats().skipped_samples,
             last.style if last else "",
             bool(last and last.speaking),
             self.release.ladder,

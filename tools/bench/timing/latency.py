@@ -1,7 +1,7 @@
 """``gesturecast bench latency FILE --json`` (or ``--device NAME``): the live engine in real time.
 
 Measures end-to-end latency (audio capture → bytes handed to the bridges), per-stage compute,
-real-time factor, deadline misses and audio drops, with the real VMC and WebSocket bridges on
+real-time factor, deadline misses and audio skipped ahead, with the real VMC and WebSocket bridges on
 loopback. The input is a recording at real-time pace, or a microphone (``--device``, for
 ``--seconds`` seconds), where capture times come from PortAudio's ADC timestamps; with no sound
 card, ``python -m gesturecast.tools.bench.virtual_mic SPEECH -- gesturecast bench latency --device
@@ -192,7 +192,9 @@ def benchmark_json(report: EngineReport, args: argparse.Namespace, settings: Set
         "rtf": report.rtf,
         "deadline_misses": report.scheduler.get("deadline_misses", 0),
         "degradation": report.degradation,
-        "audio_drops": report.audio["dropped_samples"],
+        "audio_skipped_samples": report.audio["skipped_samples"],
+        "audio_skip_aheads": report.audio["skip_aheads"],
+        "device_overflows": report.audio["device_overflows"],
         "untimed_audio_blocks": report.audio["untimed_blocks"],
         "warm_up_ms": report.warm_up_s * MS_PER_S,
         "frames": report.frames,
