@@ -49,7 +49,8 @@ def test_every_sample_is_read_skipped_or_still_waiting_across_wraparounds():
         if rng.random() < 0.2:
             ring.skip(int(rng.integers(0, 6)))
         read = ring.read(int(rng.integers(1, 8)))
-        received.extend(zip(range(read.start_index, read.start_index + read.samples.shape[0]), read.samples))
+        indices = range(read.start_index, read.start_index + read.samples.shape[0])
+        received.extend(zip(indices, read.samples, strict=True))
         stats = ring.stats()
         assert stats.written_samples == stats.read_samples + stats.skipped_samples + ring.available
     assert all(index == value for index, value in received)  # each sample read at its own stream index
