@@ -43,7 +43,7 @@ from gesturecast.realtime.audio.portaudio import (
 from gesturecast.realtime.audio.ring_buffer import RingBuffer
 from gesturecast.realtime.audio.watchdog import DEFAULT_STALL_TIMEOUT_S, StallWatchdog
 from gesturecast.realtime.timing.clock import Clock, MonotonicClock
-from gesturecast.realtime.timing.priority import audio_switch_interval, raise_thread_priority
+from gesturecast.realtime.timing.priority import live_switch_interval, raise_thread_priority
 
 logger = logging.getLogger(__name__)
 
@@ -226,7 +226,7 @@ class MicSource(AudioSource):
         watchdog = StallWatchdog(self.label, self.clock.now(), self.config.stall_timeout_s)
         stream = self._open_stream()
         try:
-            with audio_switch_interval():
+            with live_switch_interval():
                 self._start(stream)
                 yield from self._consume(resampler, watchdog)
         finally:

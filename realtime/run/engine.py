@@ -28,7 +28,7 @@ from gesturecast.realtime.timing.clock import Clock
 from gesturecast.realtime.timing.ladder import DegradationLadder
 from gesturecast.realtime.timing.late_warning import LateWarning
 from gesturecast.realtime.timing.latency import MS_PER_S, LatencyStats
-from gesturecast.realtime.timing.priority import raise_thread_priority
+from gesturecast.realtime.timing.priority import live_switch_interval, raise_thread_priority
 from gesturecast.realtime.timing.scheduler import STAGE_SINK, FrameScheduler, SchedulerConfig, SchedulerWorker
 from gesturecast.realtime.timing.status import StatusLine, build_snapshot
 
@@ -237,7 +237,16 @@ class LiveEngine:
         self.source.close()
 
     def run(self) -> EngineReport:
-        raise_thread_priority()  # the stream thread: as high as the OS allows without rights (docs/latency.md)
+        """The whole run; paced, with the stream thread's priority raised where allowed and the interpreter's switch
+        interval shortened, so the release thread and an audio callback get the GIL within about 1 ms
+        (docs/latency.md "On a busy machine")."""
+        if not self.scheduler.config.paced:
+            return self._run()
+        raise_thread_priority()
+        with live_switch_interval():
+            return self._run()
+
+    def _run(self) -> EngineReport:
         self.release.start()
         chunks = iter(self.source)
         interrupted, warm_up_s = False, 0.0

@@ -9,9 +9,10 @@ each waits for a core and, in Python, for the interpreter lock (GIL) as well:
   value where ``RLIMIT_NICE`` allows it (``ulimit -e``); elsewhere nothing (macOS and Windows give a
   Python thread no such call without extra packages). A refusal leaves the thread as it was and says so
   in one debug line.
-- :func:`audio_switch_interval` shortens the interpreter's switch interval while a microphone is open, so
-  the audio callback gets the GIL within about 1 ms instead of 5 ms from a stream thread busy in Python:
-  a callback that waits 5 ms per block cannot catch up after a hiccup (measured, docs/latency.md).
+- :func:`live_switch_interval` shortens the interpreter's switch interval during a paced run (and while a
+  microphone is open), so the audio callback and the frame release thread get the GIL within about 1 ms
+  instead of 5 ms from a stream thread busy in Python: a callback that waits 5 ms per block cannot catch up
+  after a hiccup, and a release that waits leaves late (measured, docs/latency.md).
 """
 
 from __future__ import annotations
@@ -27,7 +28,7 @@ logger = logging.getLogger(__name__)
 
 REALTIME_PRIORITY = 10  # SCHED_RR priority asked for (1..99; low: above every normal thread, below the kernel's)
 RAISED_NICENESS = -5  # nice value asked for where RLIMIT_NICE allows it (never below what the limit grants)
-AUDIO_SWITCH_INTERVAL_S = 0.001  # interpreter switch interval while a microphone is open (Python's default: 5 ms)
+LIVE_SWITCH_INTERVAL_S = 0.001  # interpreter switch interval during a live run (Python's default: 5 ms)
 NICE_LIMIT_BASE = 20  # RLIMIT_NICE is 20 - lowest nice value allowed (Linux getrlimit(2))
 
 
@@ -81,7 +82,7 @@ def _soft_limit(name: str) -> int:
 
 
 @contextmanager
-def audio_switch_interval(seconds: float = AUDIO_SWITCH_INTERVAL_S) -> Iterator[None]:
+def live_switch_interval(seconds: float = LIVE_SWITCH_INTERVAL_S) -> Iterator[None]:
     """The interpreter's switch interval shortened to ``seconds`` for the ``with`` body (restored after; never
     lengthened)."""
     previous = sys.getswitchinterval()

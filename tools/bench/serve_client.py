@@ -90,7 +90,7 @@ def words_message(count: int, start_s: float) -> str:
     """A ``words`` control message of ``count`` words timed from ``start_s`` stream seconds on."""
     words = [{"word": FLOOD_WORDS[i % len(FLOOD_WORDS)], "start": start_s + i * FLOOD_WORD_S,
               "end": start_s + (i + 1) * FLOOD_WORD_S} for i in range(count)]
-    return json.dumps({"type": "control", "words": words})
+    return json.dumps({"type": "words", "words": words})
 
 
 async def flood_words(websocket: ClientConnection, result: ClientResult, words_per_message: int) -> None:

@@ -3,7 +3,7 @@
 import sys
 import threading
 
-from gesturecast.realtime.timing.priority import AUDIO_SWITCH_INTERVAL_S, audio_switch_interval, raise_thread_priority
+from gesturecast.realtime.timing.priority import LIVE_SWITCH_INTERVAL_S, live_switch_interval, raise_thread_priority
 
 
 def test_raising_priority_without_rights_falls_back_quietly():
@@ -16,15 +16,15 @@ def test_raising_priority_without_rights_falls_back_quietly():
 
 def test_switch_interval_is_short_inside_and_restored_after():
     before = sys.getswitchinterval()
-    with audio_switch_interval():
-        assert sys.getswitchinterval() <= AUDIO_SWITCH_INTERVAL_S + 1e-9
+    with live_switch_interval():
+        assert sys.getswitchinterval() <= LIVE_SWITCH_INTERVAL_S + 1e-9
     assert sys.getswitchinterval() == before
 
 
 def test_switch_interval_is_restored_when_the_body_raises():
     before = sys.getswitchinterval()
     try:
-        with audio_switch_interval():
+        with live_switch_interval():
             raise RuntimeError("the stream ended with an error")
     except RuntimeError:
         pass
