@@ -5,8 +5,7 @@ the message and counts it). The worker turns each message into an :class:`AudioC
 time is its arrival time minus its duration (the client sends a chunk as soon as it is recorded), kept
 monotonic so presentation times never go back, and pushes it through the :class:`GestureSession`. Its
 denoiser calls go to the server's shared batcher. Frames are released at capture time + L by a
-:class:`FrameRelease` (a scheduler thread, and the degradation ladder that follows each burst's margin: its
-rung counts are in the stream's stats) and handed to ``send`` (thread-safe, bounded) as binary frames.
+:class:`FrameScheduler` and handed to ``send`` (thread-safe, bounded) as binary frames.
 """
 
 from __future__ import annotations
@@ -26,10 +25,10 @@ from gesturecast.frames import PoseFrame
 from gesturecast.models.audio.files import SAMPLE_RATE
 from gesturecast.realtime.audio.sources import AudioChunk
 from gesturecast.realtime.pose.session import GestureSession
-from gesturecast.realtime.run.engine import FrameRelease, compute_seconds
+from gesturecast.realtime.run.engine import compute_seconds
 from gesturecast.realtime.serve.protocol import stats_message
 from gesturecast.realtime.timing.clock import Clock
-from gesturecast.realtime.timing.scheduler import STAGE_END_TO_END, SchedulerConfig
+from gesturecast.realtime.timing.scheduler import STAGE_END_TO_END, FrameScheduler, SchedulerConfig, SchedulerWorker
 
 logger = logging.getLogger(__name__)
 
@@ -96,11 +95,9 @@ class ServeStream:
         self._samples = 0
         self._next_capture = -np.inf
         self._stopped = threading.Event()
-        # frames released at their times by one worker thread; the degradation ladder follows each burst's margin
-        self.release = FrameRelease(session, FrameSender(clock, coords, send), clock,
-                                    SchedulerConfig(self.config.output_fps))
-        self.scheduler = self.release.scheduler
-        self._releaser = self.release.worker
+        release = SchedulerConfig(self.config.output_fps)
+        self.scheduler = FrameScheduler(clock, FrameSender(clock, coords, send), release, stats=session.stats)
+        self._releaser = SchedulerWorker(self.scheduler)
         self._worker = threading.Thread(target=self._run, name=f"stream-{stream_id}", daemon=True)
 
     def start(self) -> ServeStream:
@@ -141,7 +138,7 @@ class ServeStream:
 
     def _consume(self) -> None:
         while (message := self._inbox.get()) is not None and not self._stopped.is_set():
-            self.release.submit(self.session.push(self._chunk(*message)))
+            self._releaser.submit(self.session.push(self._chunk(*message)))
         if not self._stopped.is_set():
             self._finish()
 
@@ -154,7 +151,7 @@ class ServeStream:
         return chunk
 
     def _finish(self) -> None:
-        self.release.submit(self.session.finish())
+        self._releaser.submit(self.session.finish())
         while (due := self.scheduler.next_due()) is not None and self._releaser.running:
             if self._stopped.is_set():
                 return
@@ -185,7 +182,6 @@ class ServeStream:
             "audio_dropped_samples": self.dropped_samples,
             "nonfinite_poses": self.session.nonfinite_poses,
             "deferred_word_steps": self.session.controls.deferred_word_steps,
-            "degradation": self.release.ladder_report(),
             **(self.delivery_counters() if self.delivery_counters is not None else {}),
             "error": self.error,
         }
