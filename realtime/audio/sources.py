@@ -31,6 +31,7 @@ from gesturecast.errors import UserError
 from gesturecast.models.audio.files import SAMPLE_RATE, AudioFileReader, make_resampler
 from gesturecast.realtime.audio.pcm import AudioConverter
 from gesturecast.realtime.audio.portaudio import (
+    advancing_adc_time,
     capture_time,
     check_input_rate,
     close_stream,
@@ -204,6 +205,7 @@ class MicSource(AudioSource):
         self._untimed_blocks = 0
         self._skip_said = False
         self._callback_raised = False
+        self._last_adc_time = 0.0  # of the newest block with a believable ADC time (PortAudio's stream clock)
         self._stream_ended = threading.Event()  # PortAudio ended the stream on its own (device gone)
 
     def _callback(self, indata: np.ndarray, frames: int, time_info: object, status: object) -> None:
@@ -211,9 +213,11 @@ class MicSource(AudioSource):
         if not self._callback_raised:
             self._callback_raised = True
             raise_thread_priority()
-        adc_time = time_info.inputBufferAdcTime
+        adc_time = advancing_adc_time(time_info.inputBufferAdcTime, self._last_adc_time)
         if adc_time <= 0:
             self._untimed_blocks += 1
+        else:
+            self._last_adc_time = adc_time
         now = self.clock.now()
         self.ring.write(indata[:, 0], capture_time(now, adc_time, time_info.currentTime, frames, self.device_rate))
         if status:
@@ -223,6 +227,7 @@ class MicSource(AudioSource):
         resampler = make_resampler(self.device_rate)
         self._stop.clear()
         self._stream_ended.clear()
+        self._last_adc_time = 0.0  # a new stream has its own clock
         watchdog = StallWatchdog(self.label, self.clock.now(), self.config.stall_timeout_s)
         stream = self._open_stream()
         try:
