@@ -244,7 +244,7 @@ def summary_line(report: EngineReport) -> str:
         f"{latency} (L {report.budget['latency_budget_ms']:.0f} ms)",
         f"deadline misses {sched.get('deadline_misses', 0)}",
         f"late releases {sched.get('late_releases', 0)}",
-        f"audio drops {report.audio['dropped_samples']}",
+        f"audio skipped {report.audio['skipped_samples']}",
     ]
     if report.root:
         parts.append(root_summary(report.root))

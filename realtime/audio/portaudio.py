@@ -116,6 +116,13 @@ def capture_time(now: float, adc_time: float, current_time: float, frames: int, 
     return now - frames / sample_rate
 
 
+def advancing_adc_time(adc_time: float, previous_adc_time: float) -> float:
+    """A block's ADC time, or 0 (untimed) when it does not advance past the previous block's: an ALSA plugin that
+    repeats one ADC time would otherwise date every later block back to that moment, and latency would seem to grow
+    by a second every second."""
+    return adc_time if adc_time > previous_adc_time else 0.0
+
+
 def close_stream(stream: object, bound_s: float = CLOSE_BOUND_S) -> bool:
     """Abort and close a sounddevice stream off the calling thread, waiting at most ``bound_s``.
 

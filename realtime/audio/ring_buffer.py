@@ -1,10 +1,11 @@
 """Bounded float32 ring buffer between the audio callback (producer) and the engine (consumer).
 
-The producer only copies samples in (``write``), under a lock held for one or two ``memcpy``s.
-When the consumer falls behind and the buffer is full, the **oldest** samples are overwritten:
-the freshest audio matters for a live avatar. Every overwritten sample is counted
-(``dropped_samples``) and every write that had to overwrite counts as one ``overruns`` event.
-Samples keep absolute stream indices, so the consumer knows where a gap happened.
+The producer only copies samples in (``write``), under a lock held for one or two ``memcpy``s. Nothing is
+lost silently: the consumer may :meth:`RingBuffer.skip` unread samples on purpose (it fell so far behind that
+they can no longer be answered in time), and a write into a full ring skips the oldest samples the same way
+(a ring sized for the worst hiccup never needs to). Every skipped sample is counted (``skipped_samples``), and
+each skip is one ``skips`` event, so ``written = read + skipped + available`` at every moment. Samples keep
+absolute stream indices, so the consumer knows where a skip happened.
 """
 
 from __future__ import annotations
@@ -18,8 +19,9 @@ import numpy as np
 @dataclass(frozen=True)
 class RingStats:
     written_samples: int
-    dropped_samples: int
-    overruns: int
+    read_samples: int
+    skipped_samples: int  # unread samples passed over (consumer skip-ahead or a write into a full ring)
+    skips: int  # skip events (each skip or overfull write counts once)
 
 
 @dataclass(frozen=True)
@@ -38,8 +40,9 @@ class RingBuffer:
         self._data = np.zeros(capacity, np.float32)
         self._written = 0  # absolute index one past the newest sample
         self._read = 0  # absolute index of the oldest unread sample
-        self._dropped = 0
-        self._overruns = 0
+        self._consumed = 0  # samples handed to the consumer
+        self._skipped = 0
+        self._skips = 0
         self._anchor = (0, 0.0)  # (absolute sample index, producer clock time) of the last write
         self._ready = threading.Condition(threading.Lock())
 
@@ -54,11 +57,7 @@ class RingBuffer:
             self._data[: tail.shape[0] - first] = tail[first:]
             self._anchor = (self._written, timestamp)
             self._written += count
-            overflow = self._written - self._read - self.capacity
-            if overflow > 0:
-                self._dropped += overflow
-                self._overruns += 1
-                self._read += overflow
+            self._skip_locked(self._written - self._read - self.capacity)
             self._ready.notify()
 
     def read(self, max_samples: int, timeout: float | None = None) -> RingRead:
@@ -72,7 +71,31 @@ class RingBuffer:
             samples = self._data[indices]
             read = RingRead(samples, self._read, self._anchor[1], self._anchor[0])
             self._read += count
+            self._consumed += count
             return read
+
+    def skip(self, count: int) -> int:
+        """Consumer side: pass over up to ``count`` oldest unread samples on purpose; returns how many."""
+        with self._ready:
+            skipped = min(count, self._written - self._read)
+            self._skip_locked(skipped)
+            return max(skipped, 0)
+
+    def skip_behind(self, limit: int, keep: int) -> int:
+        """Consumer side: when more than ``limit`` samples wait unread, skip all but the newest ``keep``; returns how
+        many were skipped (0 when the backlog is within the limit)."""
+        with self._ready:
+            backlog = self._written - self._read
+            if backlog <= limit:
+                return 0
+            self._skip_locked(backlog - keep)
+            return backlog - keep
+
+    def _skip_locked(self, count: int) -> None:
+        if count > 0:
+            self._read += count
+            self._skipped += count
+            self._skips += 1
 
     @property
     def available(self) -> int:
@@ -81,4 +104,4 @@ class RingBuffer:
 
     def stats(self) -> RingStats:
         with self._ready:
-            return RingStats(self._written, self._dropped, self._overruns)
+            return RingStats(self._written, self._consumed, self._skipped, self._skips)

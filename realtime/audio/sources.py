@@ -5,9 +5,10 @@ first sample and its capture time on the injected :class:`Clock`. Time of sample
 is ``capture_time + i / 16000``.
 
 - :class:`MicSource`: sounddevice callback ``InputStream``; the callback only copies into a
-  bounded :class:`RingBuffer` (drop-oldest on overrun, counted), timestamped from PortAudio's
-  ADC time; the consumer thread resamples from the device rate to 16 kHz (soxr, streaming),
-  watches for a stalled or vanished device, and closes the stream with ``abort()`` within a bound.
+  bounded :class:`RingBuffer` sized for the worst hiccup measured, timestamped from PortAudio's
+  ADC time; the consumer thread resamples from the device rate to 16 kHz (soxr, streaming), skips
+  ahead on purpose (counted, said once) when its backlog can no longer be answered in time, watches
+  for a stalled or vanished device, and closes the stream with ``abort()`` within a bound.
 - :class:`PacedFileSource`: a file replayed at real-time pace (each chunk released when its last
   sample would have been captured); repeatable.
 - :class:`FastFileSource`: a file as fast as possible (offline generation); capture times are
@@ -16,6 +17,7 @@ is ``capture_time + i / 16000``.
 
 from __future__ import annotations
 
+import logging
 import threading
 from abc import ABC, abstractmethod
 from collections.abc import Generator, Iterable, Iterator
@@ -29,6 +31,7 @@ from gesturecast.errors import UserError
 from gesturecast.models.audio.files import SAMPLE_RATE, AudioFileReader, make_resampler
 from gesturecast.realtime.audio.pcm import AudioConverter
 from gesturecast.realtime.audio.portaudio import (
+    advancing_adc_time,
     capture_time,
     check_input_rate,
     close_stream,
@@ -41,6 +44,9 @@ from gesturecast.realtime.audio.portaudio import (
 from gesturecast.realtime.audio.ring_buffer import RingBuffer
 from gesturecast.realtime.audio.watchdog import DEFAULT_STALL_TIMEOUT_S, StallWatchdog
 from gesturecast.realtime.timing.clock import Clock, MonotonicClock
+from gesturecast.realtime.timing.priority import live_switch_interval, raise_thread_priority
+
+logger = logging.getLogger(__name__)
 
 DEFAULT_CHUNK = 512  # 16 kHz samples per yielded chunk (32 ms)
 UNPACED_CHUNK = 64_000  # a source read as fast as possible yields four seconds per chunk: the session then makes
@@ -59,8 +65,8 @@ class AudioChunk:
 class SourceStats:
     chunks: int = 0
     samples: int = 0  # 16 kHz samples delivered
-    dropped_samples: int = 0  # lost to ring-buffer overruns (device-rate samples)
-    overruns: int = 0  # ring-buffer writes that had to drop audio
+    skipped_samples: int = 0  # device-rate samples skipped on purpose: too far behind to answer in time
+    skip_aheads: int = 0  # times the consumer (or a full ring) skipped ahead
     device_overflows: int = 0  # callbacks where PortAudio itself reported input overflow
     untimed_blocks: int = 0  # callbacks without a PortAudio ADC timestamp (timed by their arrival instead)
 
@@ -165,13 +171,19 @@ class PacedFileSource(AudioSource):
             yield self._count(AudioChunk(samples, start, origin + start / SAMPLE_RATE))
 
 
+CATCH_UP_S = 0.25  # the consumer reads up to this much at once, so a backlog is caught up in few session pushes
+SKIP_BEHIND_S = 1.0  # audio waiting this long can no longer be answered in time (twice the default latency L)
+RING_SECONDS = 4.0  # the skip threshold plus ten times the worst capture hiccup measured (0.29 s, docs/latency.md)
+
+
 @dataclass(frozen=True)
 class MicConfig:
     device: str | None = None  # index or name substring; None = first input device
     sample_rate: int | None = None  # device rate; None = the device's default
     block_size: int = 512  # device frames per callback
-    chunk_samples: int = DEFAULT_CHUNK  # device frames read per yielded chunk (before resampling)
-    ring_seconds: float = 2.0  # ring-buffer capacity: older audio is dropped beyond this
+    chunk_samples: int = DEFAULT_CHUNK  # device frames per read at least (more when behind); kept at a skip
+    ring_seconds: float = RING_SECONDS  # ring-buffer capacity (a write into a full ring skips the oldest audio)
+    skip_behind_s: float = SKIP_BEHIND_S  # a backlog longer than this is skipped to the newest chunk
     read_timeout_s: float = 0.1  # consumer wait per read, so close() is noticed promptly
     stall_timeout_s: float = DEFAULT_STALL_TIMEOUT_S  # no samples for this long ends the run (watchdog)
 
@@ -191,13 +203,21 @@ class MicSource(AudioSource):
         self.label = device_label(self.device)
         self._device_overflows = 0
         self._untimed_blocks = 0
+        self._skip_said = False
+        self._callback_raised = False
+        self._last_adc_time = 0.0  # of the newest block with a believable ADC time (PortAudio's stream clock)
         self._stream_ended = threading.Event()  # PortAudio ended the stream on its own (device gone)
 
     def _callback(self, indata: np.ndarray, frames: int, time_info: object, status: object) -> None:
-        """PortAudio thread: copy only (plus a timestamp and an overflow count)."""
-        adc_time = time_info.inputBufferAdcTime
+        """PortAudio thread: copy only (plus a timestamp and an overflow count; its priority raised once)."""
+        if not self._callback_raised:
+            self._callback_raised = True
+            raise_thread_priority()
+        adc_time = advancing_adc_time(time_info.inputBufferAdcTime, self._last_adc_time)
         if adc_time <= 0:
             self._untimed_blocks += 1
+        else:
+            self._last_adc_time = adc_time
         now = self.clock.now()
         self.ring.write(indata[:, 0], capture_time(now, adc_time, time_info.currentTime, frames, self.device_rate))
         if status:
@@ -207,11 +227,13 @@ class MicSource(AudioSource):
         resampler = make_resampler(self.device_rate)
         self._stop.clear()
         self._stream_ended.clear()
+        self._last_adc_time = 0.0  # a new stream has its own clock
         watchdog = StallWatchdog(self.label, self.clock.now(), self.config.stall_timeout_s)
         stream = self._open_stream()
         try:
-            self._start(stream)
-            yield from self._consume(resampler, watchdog)
+            with live_switch_interval():
+                self._start(stream)
+                yield from self._consume(resampler, watchdog)
         finally:
             close_stream(stream)
 
@@ -239,7 +261,9 @@ class MicSource(AudioSource):
     def _consume(self, resampler: soxr.ResampleStream | None, watchdog: StallWatchdog) -> Iterator[AudioChunk]:
         produced = 0
         while not self._stop.is_set():
-            read = self.ring.read(self.config.chunk_samples, timeout=self.config.read_timeout_s)
+            self._skip_ahead()
+            most = max(self.config.chunk_samples, int(CATCH_UP_S * self.device_rate))
+            read = self.ring.read(most, timeout=self.config.read_timeout_s)
             if not read.samples.shape[0]:
                 self._check_silence(watchdog)
                 continue
@@ -249,6 +273,16 @@ class MicSource(AudioSource):
             if samples.shape[0]:
                 yield self._count(AudioChunk(samples, produced, capture))
                 produced += samples.shape[0]
+
+    def _skip_ahead(self) -> None:
+        """A backlog longer than ``skip_behind_s`` is skipped to its newest chunk, on purpose: counted, said once."""
+        self.ring.skip_behind(int(self.config.skip_behind_s * self.device_rate), self.config.chunk_samples)
+        skipped = self.ring.stats().skipped_samples
+        if skipped and not self._skip_said:
+            self._skip_said = True
+            logger.warning("the engine fell more than %.1f s behind %s and skipped %.2f s ahead to the newest audio "
+                           "(counted as skipped samples; said once)", self.config.skip_behind_s, self.label,
+                           skipped / self.device_rate)
 
     def _check_silence(self, watchdog: StallWatchdog) -> None:
         """No samples in this read: a stream PortAudio has ended means the device is gone; else the watchdog."""
@@ -262,8 +296,8 @@ class MicSource(AudioSource):
         return SourceStats(
             chunks=self._chunks,
             samples=self._samples,
-            dropped_samples=ring.dropped_samples,
-            overruns=ring.overruns,
+            skipped_samples=ring.skipped_samples,
+            skip_aheads=ring.skips,
             device_overflows=self._device_overflows,
             untimed_blocks=self._untimed_blocks,
         )

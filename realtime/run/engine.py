@@ -28,6 +28,7 @@ from gesturecast.realtime.timing.clock import Clock
 from gesturecast.realtime.timing.ladder import DegradationLadder
 from gesturecast.realtime.timing.late_warning import LateWarning
 from gesturecast.realtime.timing.latency import MS_PER_S, LatencyStats
+from gesturecast.realtime.timing.priority import live_switch_interval, raise_thread_priority
 from gesturecast.realtime.timing.scheduler import STAGE_SINK, FrameScheduler, SchedulerConfig, SchedulerWorker
 from gesturecast.realtime.timing.status import StatusLine, build_snapshot
 
@@ -135,7 +136,7 @@ def make_report(session: GestureSession, audio: SourceStats, scheduler_stats: di
         compute_seconds=compute_seconds(session),
         latency=session.stats.summary(),
         scheduler=scheduler_stats,
-        audio={"dropped_samples": audio.dropped_samples, "overruns": audio.overruns,
+        audio={"skipped_samples": audio.skipped_samples, "skip_aheads": audio.skip_aheads,
                "device_overflows": audio.device_overflows, "untimed_blocks": audio.untimed_blocks},
         budget=session.budget.to_dict(),
         nonfinite_poses=session.nonfinite_poses,
@@ -236,6 +237,16 @@ class LiveEngine:
         self.source.close()
 
     def run(self) -> EngineReport:
+        """The whole run; paced, with the stream thread's priority raised where allowed and the interpreter's switch
+        interval shortened, so the release thread and an audio callback get the GIL within about 1 ms
+        (docs/latency.md "On a busy machine")."""
+        if not self.scheduler.config.paced:
+            return self._run()
+        raise_thread_priority()
+        with live_switch_interval():
+            return self._run()
+
+    def _run(self) -> EngineReport:
         self.release.start()
         chunks = iter(self.source)
         interrupted, warm_up_s = False, 0.0
@@ -273,7 +284,7 @@ class LiveEngine:
             self.session.stats,
             self.scheduler.stats,
             self.scheduler.config.output_fps,
-            self.source.stats().dropped_samples,
+            self.source.stats().skipped_samples,
             last.style if last else "",
             bool(last and last.speaking),
             self.release.ladder,

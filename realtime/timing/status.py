@@ -1,4 +1,4 @@
-"""The live one-line terminal status: latency percentiles, deadline misses, audio drops, style.
+"""The live one-line terminal status: latency percentiles, deadline misses, audio skipped, style.
 
 Rewritten in place with a carriage return when the stream is a TTY; silent otherwise (logs and pipes
 get the final summary instead of hundreds of partial lines).
@@ -29,7 +29,7 @@ class StatusSnapshot:
     end_to_end_p50_ms: float
     end_to_end_p95_ms: float
     deadline_misses: int
-    audio_drops: int
+    audio_skipped: int  # microphone samples skipped ahead on purpose (the engine fell too far behind)
     late_releases: int = 0
     style: str = ""
     speaking: bool = False
@@ -42,7 +42,7 @@ def build_snapshot(
     stats: LatencyStats,
     scheduler_stats: SchedulerStats,
     output_fps: float,
-    audio_drops: int,
+    audio_skipped: int,
     style: str = "",
     speaking: bool = False,
     ladder: DegradationLadder | None = None,
@@ -52,7 +52,7 @@ def build_snapshot(
     recent_frames = round(RECENT_SECONDS * output_fps)
     p50, p95 = stats.percentiles_ms(STAGE_END_TO_END, (50.0, 95.0), last=recent_frames)
     rung, counts = (0, ()) if ladder is None else (ladder.rung, tuple(ladder.counts))
-    return StatusSnapshot(budget.total_ms, p50, p95, scheduler_stats.deadline_misses, audio_drops,
+    return StatusSnapshot(budget.total_ms, p50, p95, scheduler_stats.deadline_misses, audio_skipped,
                           scheduler_stats.late_releases, style, speaking, rung, counts)
 
 
@@ -61,7 +61,7 @@ def _ms(value: float) -> str:
 
 
 def format_status(snapshot: StatusSnapshot) -> str:
-    """One line, e.g. ``L 500 ms | e2e p50 480 p95 495 ms | misses 0 late 0 | rung 1 (412/9/0) | audio drops 0 |
+    """One line, e.g. ``L 500 ms | e2e p50 480 p95 495 ms | misses 0 late 0 | rung 1 (412/9/0) | audio skipped 0 |
     style happy | speaking`` (misses: late computation; late: frames released more than half a frame after their
     time; rung: the degradation ladder's, with the bursts generated at each rung; left out when the run does not
     adapt)."""
@@ -71,7 +71,7 @@ def format_status(snapshot: StatusSnapshot) -> str:
         f"e2e p50 {_ms(snapshot.end_to_end_p50_ms)} p95 {_ms(snapshot.end_to_end_p95_ms)} ms",
         f"misses {snapshot.deadline_misses} late {snapshot.late_releases}",
         *_rung(snapshot),
-        f"audio drops {snapshot.audio_drops}",
+        f"audio skipped {snapshot.audio_skipped}",
         f"style {style or '-'}",
         "speaking" if snapshot.speaking else "silent",
     ]

@@ -8,6 +8,10 @@ factor (its process CPU seconds per second of audio per stream) and the clients'
 added stream, and how the batcher grouped calls; then the largest N with zero deadline misses and that per CPU
 core.
 
+``--flood``: one more client streams at real-time pace and floods 500-word ``words`` messages meanwhile; the JSON
+adds each measured stream's late share and p95 against L, what the flooder was refused, and the server's log
+lines per second (:mod:`gesturecast.tools.bench.serve_flood`).
+
 ``--churn N [--concurrency C]``: one server, N short streams, C at a time, each with a new id (start,
 CHURN_SECONDS of audio as fast as the server takes it, end, close); reports the process RSS every
 CHURN_REPORT_EVERY finished streams, as a server sees it (no forced garbage collection), and the RSS with no
@@ -20,6 +24,7 @@ from __future__ import annotations
 import argparse
 import asyncio
 import concurrent.futures
+import contextlib
 import itertools
 import json
 import multiprocessing
@@ -44,6 +49,7 @@ from gesturecast.realtime.timing.clock import MonotonicClock
 from gesturecast.realtime.timing.latency import MS_PER_S
 from gesturecast.tools.bench.memory import PROC_STATUS, rss_mb
 from gesturecast.tools.bench.serve_client import ClientResult, stream_audio
+from gesturecast.tools.bench.serve_flood import FLOOD_WORDS_PER_MESSAGE, LogLines, flood_summary, stream_lateness
 from gesturecast.tools.bench.timing.load import add_load_argument, competing_load
 
 DEFAULT_AUDIO = Path(__file__).resolve().parents[3] / "shared" / "data" / "zeggs" / "067_Speech_2_x_1_0.wav"
@@ -73,6 +79,9 @@ def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--concurrency", type=int, default=1, metavar="C",
                         help=f"with --churn: C streams at a time (1..{MAX_CHURN_CONCURRENCY})")
     parser.add_argument("--json", action="store_true", help="print one JSON object on one line")
+    parser.add_argument("--flood", action="store_true",
+                        help=f"one more client sends {FLOOD_WORDS_PER_MESSAGE}-word `words` messages as fast as it "
+                             "can while it streams: what that costs the others, what it is refused, the log lines")
     parser.add_argument("--client-niceness", type=int, default=0, metavar="N",
                         help="run the clients' process N steps nicer (0..19), standing in for clients on other "
                              "machines: the server gets the cores first (default 0)")
@@ -131,24 +140,29 @@ def stream_slices(speech: np.ndarray, streams: int, seconds: float) -> list[np.n
     return [tiled[i * stride : i * stride + length] for i in range(streams)]
 
 
-async def _clients(url: str, slices: list[np.ndarray]) -> list[ClientResult]:
+async def _clients(url: str, slices: list[np.ndarray], flood: bool = False) -> list[ClientResult]:
+    """One client per slice at real-time pace; with ``flood``, the last one floods ``words`` messages too."""
     delays = np.random.default_rng(STAGGER_SEED).uniform(0.0, MAX_STAGGER_S, len(slices))
+    flooder = len(slices) - 1 if flood else -1
 
     async def one(index: int) -> ClientResult:
         await asyncio.sleep(float(delays[index]))
-        return await stream_audio(f"{url}bench-{index}", slices[index], CHUNK_SAMPLES, paced=True)
+        words = FLOOD_WORDS_PER_MESSAGE if index == flooder else 0
+        return await stream_audio(f"{url}bench-{index}", slices[index], CHUNK_SAMPLES, paced=True,
+                                  flood_words_per_message=words)
 
     return await asyncio.gather(*(one(i) for i in range(len(slices))))
 
 
-def timed_clients(url: str, slices: list[np.ndarray]) -> tuple[list[ClientResult], float, float]:
+def timed_clients(url: str, slices: list[np.ndarray], flood: bool = False
+                  ) -> tuple[list[ClientResult], float, float]:
     """The clients' results, and the process CPU and wall seconds they took."""
     cpu_start, wall_start = time.process_time(), time.monotonic()
-    results = asyncio.run(_clients(url, slices))
+    results = asyncio.run(_clients(url, slices, flood))
     return results, time.process_time() - cpu_start, time.monotonic() - wall_start
 
 
-def timed_clients_apart(url: str, slices: list[np.ndarray], niceness: int = 0
+def timed_clients_apart(url: str, slices: list[np.ndarray], niceness: int = 0, flood: bool = False
                         ) -> tuple[list[ClientResult], float, float, float]:
     """The clients run in a child process (their event loop and parsing never take this process's turns), ``niceness``
     steps nicer than this one: their results, this process's CPU seconds meanwhile (the server's), the clients' CPU
@@ -158,7 +172,7 @@ def timed_clients_apart(url: str, slices: list[np.ndarray], niceness: int = 0
                                                 initargs=(niceness,)) as pool:
         pool.submit(int).result()  # the child is up and has imported this module: its start-up is not timed
         cpu_start, wall_start = time.process_time(), time.monotonic()
-        results, client_cpu, _ = pool.submit(timed_clients, url, slices).result()
+        results, client_cpu, _ = pool.submit(timed_clients, url, slices, flood).result()
         return results, time.process_time() - cpu_start, client_cpu, time.monotonic() - wall_start
 
 
@@ -204,21 +218,22 @@ def process_cpu_seconds(pid: int) -> float:
 def measure_workers(args: argparse.Namespace, streams: int, speech: np.ndarray, seconds: float) -> dict:
     """``serve --workers N`` on a free loopback port and the clients in another process: the workers' CPU and
     summed RSS (the bench's own process only waits)."""
-    config = replace(serve_config(args, token=None), host="127.0.0.1", port=0, max_streams=streams)
-    workers = Workers(settings_from_args(args), config, args.workers).start()
-    pids = [process.pid for process in workers.processes]
-    status = [Path(f"/proc/{pid}/status") for pid in pids]
-    try:
-        idle_mb = sum(rss_mb(path) for path in status)
-        cpu_start = sum(process_cpu_seconds(pid) for pid in pids)
-        with PeakRss(status) as peak:
-            results, _, client_cpu, wall = timed_clients_apart(f"ws://127.0.0.1:{workers.port}/stream/",
-                                                               stream_slices(speech, streams, seconds),
-                                                               args.client_niceness)
-        cpu = sum(process_cpu_seconds(pid) for pid in pids) - cpu_start
-    finally:
-        workers.stop()
-    summary = run_summary(results, streams, seconds, cpu, wall, None, None)
+    config = replace(serve_config(args, token=None), host="127.0.0.1", port=0, max_streams=streams + args.flood)
+    with flood_logs(args.flood) as logs:  # the workers inherit the standard error it counts: it starts first
+        workers = Workers(settings_from_args(args), config, args.workers).start()
+        pids = [process.pid for process in workers.processes]
+        status = [Path(f"/proc/{pid}/status") for pid in pids]
+        try:
+            idle_mb = sum(rss_mb(path) for path in status)
+            cpu_start = sum(process_cpu_seconds(pid) for pid in pids)
+            with PeakRss(status) as peak:
+                results, _, client_cpu, wall = timed_clients_apart(f"ws://127.0.0.1:{workers.port}/stream/",
+                                                                   stream_slices(speech, streams + args.flood, seconds),
+                                                                   args.client_niceness, args.flood)
+            cpu = sum(process_cpu_seconds(pid) for pid in pids) - cpu_start
+        finally:
+            workers.stop()
+    summary = run_summary(results[:streams], streams, seconds, cpu, wall, None, None) | flood_part(results, logs)
     return summary | {"workers": args.workers, "streams_per_worker": workers.dealer.dealt,
                       "client_rtf": client_cpu / (streams * seconds),
                       "server_mb": {"idle": idle_mb, "peak": peak.mb, "per_stream": (peak.mb - idle_mb) / streams}}
@@ -229,22 +244,35 @@ def measure_streams(args: argparse.Namespace, streams: int, speech: np.ndarray, 
         return measure_running_server(args.url, streams, speech, seconds)
     if args.workers > 1:
         return measure_workers(args, streams, speech, seconds)
-    server = local_server(args, max_streams=streams)
+    server = local_server(args, max_streams=streams + args.flood)
     idle_mb = rss_mb()
     try:
-        with PeakRss() as peak:
-            results, cpu, client_cpu, wall = timed_clients_apart(server.url, stream_slices(speech, streams, seconds),
-                                                                 args.client_niceness)
+        with PeakRss() as peak, flood_logs(args.flood) as logs:
+            results, cpu, client_cpu, wall = timed_clients_apart(server.url,
+                                                                 stream_slices(speech, streams + args.flood, seconds),
+                                                                 args.client_niceness, args.flood)
         busy_mb = peak.mb
         batching = server.sessions.batcher.stats.to_dict()
         guidance = server.sessions.defaults.guidance
         guidance = server.sessions.bundle.default_guidance if guidance is None else guidance
     finally:
         server.close()
-    summary = run_summary(results, streams, seconds, cpu, wall, batching, guidance)
-    return summary | {"client_rtf": client_cpu / (streams * seconds),
+    summary = run_summary(results[:streams], streams, seconds, cpu, wall, batching, guidance)
+    return summary | flood_part(results, logs) | {"client_rtf": client_cpu / (streams * seconds),
                       "server_mb": {"idle": idle_mb, "peak": busy_mb,
                                     "per_stream": (busy_mb - idle_mb) / streams}}
+
+
+def flood_logs(flood: bool) -> contextlib.AbstractContextManager:
+    """Counts the server's log lines with ``--flood`` (:class:`LogLines`); nothing otherwise."""
+    return LogLines() if flood else contextlib.nullcontext()
+
+
+def flood_part(results: list[ClientResult], logs: LogLines | None) -> dict:
+    """With ``--flood`` (``logs`` given): the last client's flood summary and the log lines; {} otherwise."""
+    if logs is None:
+        return {}
+    return {"flooder": flood_summary(results[-1]), "server_log_lines": logs.to_dict()}
 
 
 def measure_churn(args: argparse.Namespace, speech: np.ndarray, count: int, concurrency: int = 1) -> dict:
@@ -332,6 +360,7 @@ def run_summary(results: list[ClientResult], streams: int, seconds: float, cpu: 
         "deadline_misses": int(sum(s.get("deadline_misses", 0) for s in stats)),
         "misses_per_stream": [s.get("deadline_misses") for s in stats],
         "audio_drops": int(sum(s.get("audio_dropped_samples", 0) for s in stats)),
+        "per_stream": [stream_lateness(s) for s in stats],
         "frames": int(sum(len(r.frames) for r in results)),
         "latency_budget_ms": stats[0].get("latency_budget_ms"),
         "server_end_to_end_p95_ms": {"median_stream": float(np.median(server_p95)), "worst_stream": max(server_p95)},

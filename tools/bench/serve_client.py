@@ -1,6 +1,7 @@
 """A ``gesturecast serve`` client: streams audio over one WebSocket and collects the pose frames.
 
-Used by ``gesturecast bench serve`` (many of them at once, at real-time pace) and by the tests. The
+Used by ``gesturecast bench serve`` (many of them at once, at real-time pace) and by the tests; a flooding
+client (``flood_words``) also sends ``words`` control messages back to back while it streams. The
 client measures its own end-to-end latency per frame: receive time minus the time the frame's first
 audio sample was "captured" on the client (``t0 + seq / fps`` for audio sent at real-time pace).
 """
@@ -19,6 +20,8 @@ from gesturecast.bridges.ws_protocol import BINARY_HEADER, FRAME_MAGIC
 from gesturecast.models.audio.files import SAMPLE_RATE
 
 QUATERNION = 4
+FLOOD_WORDS = ("hello", "thank", "you", "so", "much", "goodbye", "look", "at", "this", "hooray")
+FLOOD_WORD_S = 0.3  # stream seconds per flooded word
 
 
 @dataclass(frozen=True)
@@ -36,6 +39,8 @@ class ClientResult:
     messages: list[dict] = field(default_factory=list)  # every JSON message after the hello
     stats: dict | None = None
     origin: float = 0.0  # client time of audio sample 0
+
+    flood_sent: int = 0  # words messages sent by a flooding client
 
     @property
     def errors(self) -> list[str]:
@@ -79,17 +84,38 @@ async def _send_audio(websocket: ClientConnection, audio: np.ndarray, chunk: int
         if paced:  # a chunk leaves when its last sample would have been recorded
             await asyncio.sleep(max(0.0, result.origin + (start + len(block)) / SAMPLE_RATE - time.monotonic()))
         await websocket.send(np.ascontiguousarray(block, "<f4").tobytes())
-    await websocket.send(json.dumps({"type": "end"}))
+
+
+def words_message(count: int, start_s: float) -> str:
+    """A ``words`` control message of ``count`` words timed from ``start_s`` stream seconds on."""
+    words = [{"word": FLOOD_WORDS[i % len(FLOOD_WORDS)], "start": start_s + i * FLOOD_WORD_S,
+              "end": start_s + (i + 1) * FLOOD_WORD_S} for i in range(count)]
+    return json.dumps({"type": "words", "words": words})
+
+
+async def flood_words(websocket: ClientConnection, result: ClientResult, words_per_message: int) -> None:
+    """Send ``words`` messages as fast as the socket takes them until cancelled (each waits only for the send)."""
+    while True:
+        elapsed = time.monotonic() - result.origin
+        await websocket.send(words_message(words_per_message, elapsed))
+        result.flood_sent += 1
+        await asyncio.sleep(0)  # let the audio sender and the receiver run between messages
 
 
 async def stream_audio(url: str, audio: np.ndarray, chunk_samples: int = 512, paced: bool = True,
-                       start: dict | None = None) -> ClientResult:
-    """Connect, optionally send ``start`` fields, stream float32 audio, send end, collect until close."""
+                       start: dict | None = None, flood_words_per_message: int = 0) -> ClientResult:
+    """Connect, optionally send ``start`` fields, stream float32 audio (flooding ``words`` messages of
+    ``flood_words_per_message`` words meanwhile, when not 0), send end, collect until close."""
     async with connect(url, max_size=None) as websocket:
         result = ClientResult(hello=json.loads(await websocket.recv()))
-        if start is not None:
-            await websocket.send(json.dumps({"type": "start", **start}))
+        if start is not None or flood_words_per_message:  # a flooder starts its stream before its first words
+            await websocket.send(json.dumps({"type": "start", **(start or {})}))
         receiver = asyncio.create_task(_receive(websocket, result))
+        flooder = (asyncio.create_task(flood_words(websocket, result, flood_words_per_message))
+                   if flood_words_per_message else None)
         await _send_audio(websocket, audio, chunk_samples, paced, result)
+        if flooder is not None:
+            flooder.cancel()
+        await websocket.send(json.dumps({"type": "end"}))
         await receiver
     return result

@@ -4,7 +4,7 @@ import threading
 
 import pytest
 
-from gesturecast.realtime.audio.portaudio import capture_time, close_stream
+from gesturecast.realtime.audio.portaudio import advancing_adc_time, capture_time, close_stream
 
 RATE = 48000
 
@@ -19,6 +19,13 @@ RATE = 48000
 )
 def test_capture_time_maps_portaudio_time_onto_the_callers_clock(adc, current, expected):
     assert capture_time(10.0, adc, current, 480, RATE) == pytest.approx(expected)
+
+
+def test_an_adc_time_that_does_not_advance_is_not_believed():
+    assert advancing_adc_time(50.2, 50.1) == 50.2
+    assert advancing_adc_time(50.1, 50.1) == 0.0  # repeated: the block is timed by its arrival instead
+    assert advancing_adc_time(49.0, 50.1) == 0.0  # went back
+    assert advancing_adc_time(0.0, 0.0) == 0.0  # a host API without ADC times stays untimed
 
 
 class RecordingStream:

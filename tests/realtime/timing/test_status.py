@@ -21,7 +21,7 @@ SNAPSHOT = StatusSnapshot(500.0, 481.4, 497.6, 2, 1, late_releases=5, style="hap
 
 def test_format_shows_every_field():
     line = format_status(SNAPSHOT)
-    assert line == "L 500 ms | e2e p50 481 p95 498 ms | misses 2 late 5 | audio drops 1 | style happy | speaking"
+    assert line == "L 500 ms | e2e p50 481 p95 498 ms | misses 2 late 5 | audio skipped 1 | style happy | speaking"
 
 
 def test_an_adapting_run_shows_its_rung_and_the_bursts_at_each_rung():
@@ -30,7 +30,7 @@ def test_an_adapting_run_shows_its_rung_and_the_bursts_at_each_rung():
         ladder.observe(share)
     snapshot = build_snapshot(LatencyBudget(4, 8, 100.0), LatencyStats(FakeClock()), SchedulerStats(), 30.0, 0,
                               ladder=ladder)
-    assert "| misses 0 late 0 | rung 1 (2/1/0) | audio drops 0 |" in format_status(snapshot)
+    assert "| misses 0 late 0 | rung 1 (2/1/0) | audio skipped 0 |" in format_status(snapshot)
 
 
 def test_unmeasured_latency_and_long_style_are_readable():
@@ -76,6 +76,6 @@ def test_snapshot_uses_recent_end_to_end_samples_and_scheduler_counters(output_f
     counters = SchedulerStats(deadline_misses=3, late_releases=7)
     snapshot = build_snapshot(LatencyBudget(4, 8, 100.0), stats, counters, output_fps, 4, "calm")
     assert snapshot.end_to_end_p95_ms == pytest.approx(500.0)
-    assert (snapshot.latency_budget_ms, snapshot.deadline_misses, snapshot.audio_drops) == (500.0, 3, 4)
+    assert (snapshot.latency_budget_ms, snapshot.deadline_misses, snapshot.audio_skipped) == (500.0, 3, 4)
     assert snapshot.late_releases == 7
     assert "style calm" in format_status(snapshot)

@@ -1,7 +1,7 @@
 """``gesturecast bench latency FILE --json`` (or ``--device NAME``): the live engine in real time.
 
 Measures end-to-end latency (audio capture → bytes handed to the bridges), per-stage compute,
-real-time factor, deadline misses and audio drops, with the real VMC and WebSocket bridges on
+real-time factor, deadline misses and audio skipped ahead, with the real VMC and WebSocket bridges on
 loopback. The input is a recording at real-time pace, or a microphone (``--device``, for
 ``--seconds`` seconds), where capture times come from PortAudio's ADC timestamps; with no sound
 card, ``python -m gesturecast.tools.bench.virtual_mic SPEECH -- gesturecast bench latency --device
@@ -22,6 +22,7 @@ import platform
 import sys
 import tempfile
 import threading
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -146,15 +147,17 @@ def lateness_summary(lateness_s: np.ndarray) -> dict:
             "max_lateness_ms": float(lateness_s.max() * MS_PER_S) if lateness_s.size else None}
 
 
-def open_bench_source(args: argparse.Namespace, audio: Path | None, clock: Clock) -> AudioSource:
-    """The file at real-time pace, or the microphone closed after --seconds (a timer thread)."""
+def open_bench_source(args: argparse.Namespace, audio: Path | None, clock: Clock
+                      ) -> tuple[AudioSource, Callable[[], None] | None]:
+    """The file at real-time pace; or the microphone, and what starts the timer thread that closes it after
+    --seconds (started once the engine is warm, as the microphone opens: a warm-up longer than --seconds must not
+    use the time up)."""
     if audio is not None:
-        return PacedFileSource(audio, args.block_size, clock)
+        return PacedFileSource(audio, args.block_size, clock), None
     source = MicSource(MicConfig(device=args.device, block_size=args.block_size), clock)
     timer = threading.Timer(args.seconds or DEFAULT_DEVICE_SECONDS, source.close)
     timer.daemon = True
-    timer.start()
-    return source
+    return source, timer.start
 
 
 def measure(args: argparse.Namespace, audio: Path | None, settings: Settings | None = None) -> dict:
@@ -174,8 +177,9 @@ def measure_with_frames(args: argparse.Namespace, audio: Path | None, keep_frame
     outputs = BridgeFanout([VmcBridge(vmc), viewer])
     log = ReleaseLog(outputs.send, clock, keep_frames)
     try:
-        source = open_bench_source(args, audio, clock)
-        report = LiveEngine(session, source, log.send, clock, warm=args.warm_up, adapt=args.ladder).run()
+        source, on_open = open_bench_source(args, audio, clock)
+        report = LiveEngine(session, source, log.send, clock, warm=args.warm_up, on_warm=on_open,
+                            adapt=args.ladder).run()
     finally:
         outputs.close()
     return {**benchmark_json(report, args, settings, session.generator.guidance), **log.windows()}, log.frames
@@ -192,7 +196,9 @@ def benchmark_json(report: EngineReport, args: argparse.Namespace, settings: Set
         "rtf": report.rtf,
         "deadline_misses": report.scheduler.get("deadline_misses", 0),
         "degradation": report.degradation,
-        "audio_drops": report.audio["dropped_samples"],
+        "audio_skipped_samples": report.audio["skipped_samples"],
+        "audio_skip_aheads": report.audio["skip_aheads"],
+        "device_overflows": report.audio["device_overflows"],
         "untimed_audio_blocks": report.audio["untimed_blocks"],
         "warm_up_ms": report.warm_up_s * MS_PER_S,
         "frames": report.frames,
