@@ -165,6 +165,7 @@ BAD_INPUTS: dict[str, BadInput] = {
                                             write_long_token),
     "live token file 5000 bytes": BadInput("live --input {speech} --ws 0 --token-file {file}", "holds more than 4 KiB",
                                            write_long_token),
+    "demo audio missing": BadInput("demo --out {out}.d --audio {out}.missing.wav", "missing.wav"),
     "block size 0": BadInput("live --input {speech} --bvh {out} --block-size 0", "--block-size: must be an integer"),
     "render start nan": BadInput("render {speech} -o {out} --start nan", "--start: must be a finite number ≥ 0"),
     "render seconds 0": BadInput("render {speech} -o {out} --seconds 0", "--seconds: must be a finite number > 0"),

@@ -15,8 +15,6 @@ from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-import soundfile
-
 from gesturecast.arguments import port_number
 from gesturecast.bridges.fanout import BridgeFanout
 from gesturecast.bridges.output_settings import Outputs
@@ -24,7 +22,7 @@ from gesturecast.bridges.vmc import VMC_DEFAULT_PORT
 from gesturecast.bridges.websocket_server import WS_DEFAULT_PORT, WebSocketBridge
 from gesturecast.errors import UserError
 from gesturecast.files import write_text_atomic
-from gesturecast.models.audio.files import PACKAGED_SAMPLE
+from gesturecast.models.audio.files import PACKAGED_SAMPLE, AudioFileReader
 from gesturecast.realtime.audio.sources import PacedFileSource
 from gesturecast.realtime.cli_flags import add_generation_arguments, settings_from_args
 from gesturecast.realtime.engine_cli import exit_status, raise_output_errors, summary_line
@@ -52,6 +50,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                       help="VMC receiver (VSeeFace, Warudo, EVMC4U) to stream to (default %(default)s)")
     demo.add_argument("--ws", metavar="PORT", type=port_number(allow_any=True),
                       help=f"port of the browser viewer (default {WS_DEFAULT_PORT}, or a free one when it is taken)")
+    demo.add_argument("--audio", type=Path, default=PACKAGED_SAMPLE, metavar="FILE",
+                      help="speech to play instead of the bundled sample (a WAV, FLAC, OGG or MP3 file)")
     demo.add_argument("--loop", action="store_true",
                       help="after the first run (the files written), replay the sample to the viewer and VMC until "
                            "Ctrl-C; without it the demo ends with the sample")
@@ -66,15 +66,16 @@ def run_demo(args: argparse.Namespace) -> int:
     from gesturecast.realtime.run.engine_setup import build_session
 
     settings, clock = settings_from_args(args), MonotonicClock()
+    seconds = AudioFileReader(args.audio).duration_s  # a file that cannot be played says so before the model loads
     _say("loading the model and the gesture lexicon…")
     session = build_session(settings, clock)
     _say(f"opening the outputs: VMC to {args.vmc}, the browser viewer, a BVH recording…")
     viewer_port = WS_DEFAULT_PORT if args.ws is None else args.ws
     live = _demo_outputs(Outputs(vmc=args.vmc, ws=viewer_port), settings, session, clock, free_port=args.ws is None)
     try:
-        status = _play_and_record(args, settings, session, live, clock)
+        status = _play_and_record(args, settings, session, live, clock, seconds)
         if status == 0 and args.loop:
-            status = _replay_until_interrupted(session, live, clock)
+            status = _replay_until_interrupted(args.audio, session, live, clock)
     finally:
         live.close()
     raise_output_errors(live)
@@ -82,7 +83,7 @@ def run_demo(args: argparse.Namespace) -> int:
 
 
 def _play_and_record(args: argparse.Namespace, settings: Settings, session: GestureSession, live: BridgeFanout,
-                     clock: Clock) -> int:
+                     clock: Clock, seconds: float) -> int:
     """The sample once to the live outputs and a BVH recording; then the preview and the latency JSON."""
     from gesturecast.realtime.run.engine import LiveEngine
     from gesturecast.realtime.run.engine_setup import build_outputs
@@ -91,10 +92,9 @@ def _play_and_record(args: argparse.Namespace, settings: Settings, session: Gest
     recorder = build_outputs(Outputs(bvh=bvh), settings, session, clock)
     outputs = BridgeFanout([*live.bridges, *recorder.bridges])
     _say(session.budget.describe())
-    seconds = soundfile.info(PACKAGED_SAMPLE).duration
     after = "replayed until Ctrl-C" if args.loop else "it closes when the sample ends; --loop keeps it up"
     _say(f"playing the {seconds:.0f} s sample; open the viewer now: {_viewer_url(live)} ({after})")
-    engine = LiveEngine(session, _sample(clock), outputs.send, clock, SchedulerConfig(), StatusLine(clock))
+    engine = LiveEngine(session, _sample(args.audio, clock), outputs.send, clock, SchedulerConfig(), StatusLine(clock))
     try:
         report = engine.run()
     finally:
@@ -108,21 +108,22 @@ def _play_and_record(args: argparse.Namespace, settings: Settings, session: Gest
     return 0
 
 
-def _replay_until_interrupted(session: GestureSession, live: BridgeFanout, clock: Clock) -> int:
+def _replay_until_interrupted(audio: Path, session: GestureSession, live: BridgeFanout, clock: Clock) -> int:
     """The sample again and again to the viewer and VMC, each time from a fresh stream, until Ctrl-C (130)."""
     from gesturecast.realtime.run.engine import LiveEngine
 
     _say(f"replaying the sample until Ctrl-C; viewer at {_viewer_url(live)}")
     while True:
         session.reset()
-        report = LiveEngine(session, _sample(clock), live.send, clock, SchedulerConfig(), StatusLine(clock)).run()
+        report = LiveEngine(session, _sample(audio, clock), live.send, clock, SchedulerConfig(),
+                            StatusLine(clock)).run()
         if report.interrupted:
             return exit_status(report)
 
 
-def _sample(clock: Clock) -> PacedFileSource:
-    """The bundled sample at real-time pace, in microphone-sized chunks."""
-    return PacedFileSource(PACKAGED_SAMPLE, chunk_samples=DEMO_BLOCK, clock=clock)
+def _sample(audio: Path, clock: Clock) -> PacedFileSource:
+    """The sample (the bundled one unless --audio) at real-time pace, in microphone-sized chunks."""
+    return PacedFileSource(audio, chunk_samples=DEMO_BLOCK, clock=clock)
 
 
 def _say(line: str) -> None:

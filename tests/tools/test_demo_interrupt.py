@@ -7,6 +7,7 @@ import time
 import urllib.request
 
 import pytest
+import soundfile
 
 from gesturecast.errors import UserError
 from gesturecast.models.motion.bvh import read_bvh
@@ -15,6 +16,7 @@ START_BOUND_S = 90.0  # model load on a loaded 2-core machine
 SAMPLE_BOUND_S = 120.0  # the 25 s sample at real-time pace, then its preview, on a loaded machine
 INTERRUPT_BOUND_S = 5.0  # the demo ends in well under a second here; generous for shared CI cores
 POLL_S = 0.1
+CLIP_S = 3
 
 
 def wait_for_recorded_frames(path, timeout_s: float) -> int:
@@ -56,11 +58,15 @@ def viewer_answers(url: str) -> bool:
         return False
 
 
-def test_demo_loop_keeps_the_viewer_up_after_the_first_run_until_ctrl_c(cli_process, tmp_path, wait_until):
+def test_demo_loop_keeps_the_viewer_up_after_the_first_run_until_ctrl_c(cli_process, tmp_path, wait_until,
+                                                                         shared_data):
     """The files of the first run are written, the viewer still answers, Ctrl-C ends it (130); the loading lines come
-    before the viewer's address, which names the --ws port."""
+    before the viewer's address, which names the --ws port. A 3 s clip stands in for the sample (--audio)."""
     port = free_port()
-    demo = cli_process(["demo", "--out", str(tmp_path), "--ws", str(port), "--loop"])
+    clip = tmp_path / "clip.wav"
+    speech, rate = soundfile.read(shared_data / "speech" / "tts_03_en-gb.wav")
+    soundfile.write(clip, speech[: CLIP_S * rate], rate)
+    demo = cli_process(["demo", "--out", str(tmp_path), "--ws", str(port), "--loop", "--audio", str(clip)])
     preview = tmp_path / "demo.gif"
     assert wait_until(preview.exists, START_BOUND_S + SAMPLE_BOUND_S), demo.stderr_lines
     assert wait_until(lambda: viewer_answers(f"http://127.0.0.1:{port}/"), START_BOUND_S)

@@ -12,9 +12,9 @@ core.
 adds each measured stream's late share and p95 against L, what the flooder was refused, and the server's log
 lines per second (:mod:`gesturecast.tools.bench.serve_flood`).
 
-``--churn N [--concurrency C]``: one server, N short streams, C at a time, each with a new id (start,
-CHURN_SECONDS of audio as fast as the server takes it, end, close); reports the process RSS every
-CHURN_REPORT_EVERY finished streams, as a server sees it (no forced garbage collection), and the RSS with no
+``--churn N [--concurrency C] [--report-every K]``: one server, N short streams, C at a time, each with a new id
+(start, CHURN_SECONDS of audio as fast as the server takes it, end, close); reports the process RSS every K
+(CHURN_REPORT_EVERY) finished streams, as a server sees it (no forced garbage collection), and the RSS with no
 stream open after the warm-up streams (the churn pauses there) and at the end. What closed streams leave
 behind shows up as a slope after the warm-up and as idle growth; both must be flat.
 """
@@ -74,8 +74,10 @@ def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--audio", type=Path, default=DEFAULT_AUDIO, help="speech file the clients replay")
     parser.add_argument("--streams", type=int, nargs="+", default=list(DEFAULT_STREAMS), help="stream counts N")
     parser.add_argument("--seconds", type=float, default=DEFAULT_SECONDS, help=f"audio per stream (≤ {MAX_SECONDS:g})")
-    parser.add_argument("--churn", type=int, metavar="N", help="instead: N short streams, each a new id, RSS every "
-                        f"{CHURN_REPORT_EVERY} (must be flat after the first {CHURN_WARMUP_STREAMS})")
+    parser.add_argument("--churn", type=int, metavar="N", help="instead: N short streams, each a new id, the RSS every "
+                        f"--report-every (must be flat after the first {CHURN_WARMUP_STREAMS})")
+    parser.add_argument("--report-every", type=int, default=CHURN_REPORT_EVERY, metavar="K",
+                        help=f"with --churn: the RSS every K finished streams (default {CHURN_REPORT_EVERY})")
     parser.add_argument("--concurrency", type=int, default=1, metavar="C",
                         help=f"with --churn: C streams at a time (1..{MAX_CHURN_CONCURRENCY})")
     parser.add_argument("--json", action="store_true", help="print one JSON object on one line")
@@ -98,8 +100,8 @@ def run_bench_serve(args: argparse.Namespace) -> int:
         raise UserError(f"--client-niceness must be within 0..{MAX_NICENESS}, got {args.client_niceness}")
     speech = load_audio(args.audio)
     if args.churn is not None:
-        if args.churn < CHURN_REPORT_EVERY:
-            raise UserError(f"--churn wants at least {CHURN_REPORT_EVERY} streams, got {args.churn}")
+        if not 1 <= args.report_every <= args.churn:
+            raise UserError(f"--churn wants at least --report-every ({args.report_every}) streams, got {args.churn}")
         if not 1 <= args.concurrency <= MAX_CHURN_CONCURRENCY:
             raise UserError(f"--concurrency must be within 1..{MAX_CHURN_CONCURRENCY}, got {args.concurrency}")
         result = measure_churn(args, speech[: int(CHURN_SECONDS * SAMPLE_RATE)], args.churn, args.concurrency)
@@ -276,7 +278,7 @@ def flood_part(results: list[ClientResult], logs: LogLines | None) -> dict:
 
 
 def measure_churn(args: argparse.Namespace, speech: np.ndarray, count: int, concurrency: int = 1) -> dict:
-    """RSS (MiB) after every CHURN_REPORT_EVERY of ``count`` short streams, ``concurrency`` at a time, through one
+    """RSS (MiB) after every ``args.report_every`` of ``count`` short streams, ``concurrency`` at a time, through one
     server, and its slope after the warm-up; and the RSS with no stream open after the warm-up streams (the churn
     pauses there) and at the end."""
     server = local_server(args, max_streams=max(args.max_streams, concurrency))
@@ -287,7 +289,8 @@ def measure_churn(args: argparse.Namespace, speech: np.ndarray, count: int, conc
     warmup = min(CHURN_WARMUP_STREAMS, count)
     try:
         for phase, indices in (("after_warmup", range(warmup)), ("end", range(warmup, count))):
-            asyncio.run(churn_streams(server.url, speech, indices, concurrency, finished, samples, errors))
+            asyncio.run(churn_streams(server.url, speech, indices, concurrency, finished, samples, errors,
+                                      args.report_every))
             idle[phase] = idle_rss(server)
         active = server.active_streams()
     finally:
@@ -305,9 +308,9 @@ def idle_rss(server: GestureServer) -> float:
 
 
 async def churn_streams(url: str, speech: np.ndarray, indices: range, concurrency: int, finished: itertools.count,
-                        samples: list[tuple[int, float]], errors: list[str]) -> None:
+                        samples: list[tuple[int, float]], errors: list[str], report_every: int) -> None:
     """Streams ``indices`` (ids churn-0, churn-1, ...) from ``concurrency`` clients; appends (finished, RSS MiB)
-    to ``samples`` every CHURN_REPORT_EVERY finished streams (others still in flight)."""
+    to ``samples`` every ``report_every`` finished streams (others still in flight)."""
     pending = iter(indices)
 
     async def client() -> None:
@@ -315,7 +318,7 @@ async def churn_streams(url: str, speech: np.ndarray, indices: range, concurrenc
             result = await stream_audio(f"{url}churn-{index}", speech, CHUNK_SAMPLES, paced=False)
             errors.extend(result.errors)
             done = next(finished)
-            if done % CHURN_REPORT_EVERY == 0:
+            if done % report_every == 0:
                 samples.append((done, rss_mb()))
 
     await asyncio.gather(*(client() for _ in range(concurrency)))
