@@ -5,13 +5,11 @@ style frame and from spoken text, and the offline example as a subprocess. Bound
 from __future__ import annotations
 
 import asyncio
-import importlib.util
 import os
 import socket
 import subprocess
 import sys
 import threading
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -21,6 +19,7 @@ pytest.importorskip("pipecat", reason="Pipecat is not installed (pip install 'ge
 
 from pipecat.frames.frames import Frame, InputAudioRawFrame, OutputAudioRawFrame, TTSTextFrame  # noqa: E402
 from pipecat.processors.frame_processor import FrameDirection, FrameProcessor  # noqa: E402
+from pipecat_frames import EXAMPLE, Recorder, run_pipeline  # noqa: E402
 from pythonosc.osc_bundle import OscBundle  # noqa: E402
 
 from gesturecast.bridges.output_settings import Outputs  # noqa: E402
@@ -34,8 +33,6 @@ from gesturecast.realtime.agents.pipecat_processor import (  # noqa: E402
 from gesturecast.realtime.run.stream import Stream  # noqa: E402
 from gesturecast.settings import Settings  # noqa: E402
 
-REPO_ROOT = Path(__file__).resolve().parents[3]
-EXAMPLE = REPO_ROOT / "examples" / "pipecat_offline.py"
 SPEECH_S = 2.0
 PIPELINE_BOUND_S = 120.0  # model load + 2 s of audio released in real time, on shared cores
 DATAGRAM_BYTES = 65536
@@ -81,19 +78,6 @@ def vmc_receiver():
     receiver.close()
 
 
-class Recorder(FrameProcessor):
-    """The next stage of the pipeline: keeps every frame that reaches it."""
-
-    def __init__(self) -> None:
-        super().__init__()
-        self.frames: list[Frame] = []
-
-    async def process_frame(self, frame: Frame, direction: FrameDirection) -> None:
-        await super().process_frame(frame, direction)
-        self.frames.append(frame)
-        await self.push_frame(frame, direction)
-
-
 @pytest.fixture(scope="module")
 def speech(shared_data) -> np.ndarray:
     """(n,) float32: 2 s of synthetic speech at 16 kHz."""
@@ -108,15 +92,6 @@ def pcm_frames(audio: np.ndarray, rate: int, channels: int, frame_type: type) ->
             for s in range(0, pcm.shape[0], step)]
 
 
-def load_example():
-    """examples/pipecat_offline.py as a module (its ``run_pipeline`` runs the pipelines here too)."""
-    spec = importlib.util.spec_from_file_location("pipecat_offline", EXAMPLE)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-run_pipeline = load_example().run_pipeline
 
 
 def test_tts_audio_drives_vmc_and_bvh_and_a_style_frame_changes_the_style(tiny_model, speech, vmc_receiver,

@@ -23,10 +23,7 @@ from pipecat.frames.frames import (  # noqa: E402
     TTSTextFrame,
     VADUserStartedSpeakingFrame,
 )
-from pipecat.pipeline.pipeline import Pipeline  # noqa: E402
-from pipecat.pipeline.worker import PipelineWorker  # noqa: E402
-from pipecat.processors.frame_processor import FrameDirection, FrameProcessor  # noqa: E402
-from pipecat.workers.runner import WorkerRunner  # noqa: E402
+from pipecat_frames import Late, Recorder, run_pipeline  # noqa: E402
 
 from gesturecast.models.audio.files import SAMPLE_RATE  # noqa: E402
 from gesturecast.realtime.agents.pipecat_processor import GesturecastProcessor  # noqa: E402
@@ -41,17 +38,6 @@ STROKE_TOLERANCE_S = 0.3
 BOUND_S = 60.0
 
 
-class Recorder(FrameProcessor):
-    def __init__(self) -> None:
-        super().__init__()
-        self.frames: list[Frame] = []
-
-    async def process_frame(self, frame: Frame, direction: FrameDirection) -> None:
-        await super().process_frame(frame, direction)
-        self.frames.append(frame)
-        await self.push_frame(frame, direction)
-
-
 @pytest.fixture(scope="module")
 def sentences(tmp_path_factory) -> dict[str, tuple[np.ndarray, list]]:
     cache = tmp_path_factory.mktemp("espeak")
@@ -63,27 +49,6 @@ def frames_of(audio: np.ndarray, frame_type: type = OutputAudioRawFrame) -> list
     pcm = np.round(audio * 32767).astype("<i2")
     return [frame_type(audio=pcm[at : at + 320].tobytes(), sample_rate=SAMPLE_RATE, num_channels=1)
             for at in range(0, len(pcm), 320)]
-
-
-async def run_parts(processors: list[FrameProcessor], parts: list[list[Frame]], pause_s: float = 0.0) -> None:
-    """Each part of frames queued ``pause_s`` after the one before, then the end."""
-    worker = PipelineWorker(Pipeline(processors), cancel_on_idle_timeout=False, enable_rtvi=False)
-    started = asyncio.Event()
-
-    @worker.event_handler("on_pipeline_started")
-    async def on_started(_worker, _frame):
-        started.set()
-
-    async def feed() -> None:
-        await started.wait()
-        for part in parts:
-            await worker.queue_frames(part)
-            await asyncio.sleep(pause_s)
-        await worker.queue_frames([EndFrame()])
-
-    runner = WorkerRunner(handle_sigint=False)
-    await runner.add_workers(worker)
-    await asyncio.wait_for(asyncio.gather(runner.run(), feed()), BOUND_S)
 
 
 def stroke_error(processor: GesturecastProcessor, gesture: str, word_s: float) -> float | None:
@@ -102,7 +67,7 @@ def test_a_sentence_with_its_text_after_or_before_its_audio_lands_its_gesture_on
     utterance = [TTSStartedFrame(), *([*voice, text] if order == "after" else [text, *voice]), TTSStoppedFrame()]
     processor = GesturecastProcessor(stream=Stream(Settings(), paced=False))
     recorder = Recorder()
-    asyncio.run(run_parts([processor, recorder], [utterance]))
+    asyncio.run(asyncio.wait_for(run_pipeline([processor, recorder], utterance), BOUND_S))
 
     error = stroke_error(processor, "wave", 0.5 + timed[0].start)
     assert error is not None and abs(error) <= STROKE_TOLERANCE_S
@@ -116,7 +81,7 @@ def test_without_the_hold_a_sentence_after_its_audio_comes_too_late_for_its_word
     utterance = [TTSStartedFrame(), *frames_of(np.concatenate([LEAD_IN, audio])),
                  TTSTextFrame(GREETING, text_type="sentence"), TTSStoppedFrame()]
     processor = GesturecastProcessor(stream=Stream(Settings(), paced=False), sentence_hold_s=0.0)
-    asyncio.run(run_parts([processor], [utterance]))
+    asyncio.run(asyncio.wait_for(run_pipeline([processor], utterance), BOUND_S))
     error = stroke_error(processor, "wave", 0.5 + timed[0].start)
     assert error is None or error > STROKE_TOLERANCE_S  # its latents were generated before the text came
 
@@ -124,10 +89,11 @@ def test_without_the_hold_a_sentence_after_its_audio_comes_too_late_for_its_word
 def test_the_bound_lets_the_voice_go_on_and_the_late_text_is_still_aligned_and_counted(sentences):
     audio, timed = sentences[THANKS]
     voice = frames_of(np.concatenate([LEAD_IN, audio]))
-    parts = [[TTSStartedFrame(), *voice], [TTSTextFrame(THANKS, text_type="sentence"), TTSStoppedFrame()]]
+    utterance = [TTSStartedFrame(), *voice, TTSTextFrame(THANKS, text_type="sentence"), TTSStoppedFrame()]
     processor = GesturecastProcessor(stream=Stream(Settings(), paced=False), sentence_hold_s=0.1)
     recorder = Recorder()
-    asyncio.run(run_parts([processor, recorder], parts, pause_s=1.0))  # the text comes 1 s after the audio
+    late_text = Late(TTSTextFrame, 1.0)  # the text comes 1 s after the audio
+    asyncio.run(asyncio.wait_for(run_pipeline([late_text, processor, recorder], utterance), BOUND_S))
 
     passed = [f for f in recorder.frames if isinstance(f, OutputAudioRawFrame)]
     assert [id(f) for f in passed] == [id(f) for f in voice]  # the voice went on before its text came
@@ -142,7 +108,8 @@ def test_the_users_transcription_cues_their_gesture_late_and_counted(sentences):
                                                                      InputAudioRawFrame)]
     transcription = TranscriptionFrame(THANKS, user_id="user", timestamp="")
     processor = GesturecastProcessor(stream=Stream(Settings(), paced=False), audio="input")
-    asyncio.run(run_parts([processor], [said, [transcription]], pause_s=1.0))
+    late = Late(TranscriptionFrame, 1.0)  # after the user's speech, as an STT's final text comes
+    asyncio.run(asyncio.wait_for(run_pipeline([late, processor], [*said, transcription]), BOUND_S))
 
     assert processor.session.gestures.alignments.to_dict()["aligned"] == 1
     error = stroke_error(processor, "bow", 0.5 + timed[0].start)
