@@ -79,19 +79,16 @@ class GestureDirector:
 
     # ---- what the session tells ----
     def heard(self, seconds: float, samples: np.ndarray | None = None) -> list[CueOutcome]:
-        """The stream's audio has arrived up to ``seconds`` (stream time), ``samples`` ((n,) float32, 16 kHz, not
-        changed afterwards) the audio that arrived since the last call; the sentences waiting for it are placed
-        (their cues returned; with the words worker, at a later latent)."""
+        """The stream's audio has arrived up to ``seconds`` (stream time), ``samples`` ((n,) float32, 16 kHz) the audio
+        that arrived since the last call: kept for sentences whose text comes after it, and the sentences waiting
+        for it placed (their cues returned; with the words worker, at a later latent)."""
         self.heard_s = seconds
         if samples is None:
             return []
-        if self.worker is not None:
-            samples = samples.copy()  # the worker reads it later
-        def decide() -> list[Decision]:
-            self.sentences.hear(samples)
-            return self._aligned_decisions(self.sentences.ready() if self.sentences.pending else [])
-
-        return self._decided_now(decide, wait=False)
+        self.sentences.hear(samples)
+        if not self.sentences.pending:  # most chunks: nothing waits for audio, no work handed over
+            return []
+        return self._decided_now(lambda: self._aligned_decisions(self.sentences.ready()), wait=False)
 
     def play(self, latent: int) -> Imposition | None:
         """What the placed clips impose on ``latent``, generated now (None when none does); the placements that

@@ -15,6 +15,7 @@ order they were given:
 
 from __future__ import annotations
 
+import threading
 from collections import deque
 from dataclasses import dataclass
 
@@ -43,11 +44,13 @@ class PendingSentence:
 
 
 class AudioHistory:
-    """The last ``seconds`` of a stream's 16 kHz audio in a ring (no copy of the whole history per chunk)."""
+    """The last ``seconds`` of a stream's 16 kHz audio in a ring (no copy of the whole history per chunk), written by
+    the stream's thread and read by the words worker (a lock keeps each read whole)."""
 
     def __init__(self, seconds: float = HISTORY_S) -> None:
         self.ring = np.zeros(int(seconds * SAMPLE_RATE), np.float32)  # (H,)
         self.samples = 0  # stream samples heard
+        self._lock = threading.Lock()
 
     @property
     def heard_s(self) -> float:
@@ -58,20 +61,23 @@ class AudioHistory:
         return max(0, self.samples - len(self.ring)) / SAMPLE_RATE
 
     def append(self, samples: np.ndarray) -> None:
-        samples = samples[-len(self.ring) :]
-        at = self.samples % len(self.ring)
-        first = min(len(samples), len(self.ring) - at)
-        self.ring[at : at + first] = samples[:first]
-        self.ring[: len(samples) - first] = samples[first:]
-        self.samples += len(samples)
+        """The stream's next (n,) samples, copied into the ring."""
+        kept = samples[-len(self.ring) :]
+        with self._lock:
+            at = (self.samples + len(samples) - len(kept)) % len(self.ring)
+            first = min(len(kept), len(self.ring) - at)
+            self.ring[at : at + first] = kept[:first]
+            self.ring[: len(kept) - first] = kept[first:]
+            self.samples += len(samples)
 
     def span(self, start: float, end: float) -> tuple[np.ndarray, float]:
         """(the kept samples from ``start`` to ``end`` seconds, the stream time of the first), clipped to what is
         kept."""
-        first = max(int(start * SAMPLE_RATE), self.samples - len(self.ring), 0)
-        last = max(min(int(end * SAMPLE_RATE), self.samples), first)
-        indices = np.arange(first, last) % len(self.ring)
-        return self.ring[indices], first / SAMPLE_RATE
+        with self._lock:
+            first = max(int(start * SAMPLE_RATE), self.samples - len(self.ring), 0)
+            last = max(min(int(end * SAMPLE_RATE), self.samples), first)
+            indices = np.arange(first, last) % len(self.ring)
+            return self.ring[indices], first / SAMPLE_RATE
 
 
 class LiveSentences:
