@@ -84,12 +84,8 @@ class RingBuffer:
     def skip_behind(self, limit: int, keep: int) -> int:
         """Consumer side: when more than ``limit`` samples wait unread, skip all but the newest ``keep``; returns how
         many were skipped (0 when the backlog is within the limit)."""
-        with self._ready:
-            backlog = self._written - self._read
-            if backlog <= limit:
-                return 0
-            self._skip_locked(backlog - keep)
-            return backlog - keep
+        backlog = self.available  # a write in between only adds to the newest: the oldest skipped are still old
+        return self.skip(backlog - keep) if backlog > limit else 0
 
     def _skip_locked(self, count: int) -> None:
         if count > 0:
