@@ -122,7 +122,6 @@ def order_result(settings: Settings, replies, intended: list[IntendedCue], order
     voice = asyncio.run(run_agent(processor, replies, order))
     outcomes = list(processor.session.gestures.cues.outcomes)
     rows = cue_rows(intended, outcomes, expected)
-    matched = {(r["reply"], r["word_s"]) for r in rows}
     errors = [abs(r["stroke_error_ms"]) for r in rows if r["hit"]]
     unintended = [o for o in outcomes if o.stroke_time is not None
                   and not any(abs(o.cue.time - c.time) <= MATCH_AFTER_S for c in intended)]
@@ -133,7 +132,7 @@ def order_result(settings: Settings, replies, intended: list[IntendedCue], order
             "played": sum(r["outcome"] not in (None, "dropped") for r in rows),
             "stroke_error_abs_ms_p50": round(float(np.median(errors))) if errors else None,
             "unintended_played": len(unintended), "unintended": [o.describe() for o in unintended], **voice,
-            "matched": len(matched), "cues": rows}
+            "cues": rows}
 
 
 def quiet_pipecat() -> None:
