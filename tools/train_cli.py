@@ -68,6 +68,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--style-swap-parts", nargs="+", default=None, metavar="PART",
                         help="the body parts a swap restyles, e.g. torso legs: the others keep the take's motion "
                              "and follow the speech (default: the preset's, all)")
+    parser.add_argument("--paired-style", default=None, metavar="LABEL",
+                        help="train every take with speech under this style label, e.g. speech (default: the "
+                             "preset's, each take's own)")
     parser.add_argument("--denoiser-layers", type=int, default=None, metavar="N",
                         help="transformer layers of the denoiser (default: the preset's; fewer run cheaper)")
     parser.add_argument("--vq-from", type=Path, default=None,
@@ -95,7 +98,7 @@ def run_train(args: argparse.Namespace) -> int:
                         style_loss_weight=args.style_loss_weight, style_swap_prob=args.style_swap,
                         style_swap_weight=args.style_swap_weight,
                         style_swap_parts=None if args.style_swap_parts is None else tuple(args.style_swap_parts),
-                        denoiser_layers=args.denoiser_layers, vq_steps=args.vq_steps,
+                        paired_style=args.paired_style, denoiser_layers=args.denoiser_layers, vq_steps=args.vq_steps,
                         denoiser_steps=args.denoiser_steps, prompt_steps=args.prompt_steps)
     work_dir = args.work_dir or DEFAULT_WORK_ROOT / preset.name
     started = time.perf_counter()

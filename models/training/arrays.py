@@ -84,9 +84,14 @@ def take_speakers(cache_dir: Path, record: dict, audio: np.ndarray | None,
                            for voice in TRAINING_VOICES[:respoken])]
 
 
+def training_style(record: dict, has_audio: bool, paired_style: str) -> str:
+    """The label a take trains under: ``paired_style`` for a take with speech when given, else the take's own."""
+    return canonical_style(paired_style if paired_style and has_audio else record["style"])
+
+
 def variant_clips(record: dict, part: SkeletonMotion, part_audio: np.ndarray | None, speaker_tag: str,
                   augment: AugmentConfig, copies: int, feature_config: FeatureConfig,
-                  rng: np.random.Generator) -> list[TrainingClip]:
+                  rng: np.random.Generator, style: str) -> list[TrainingClip]:
     """One segment in one speaker's audio: its augmented variants, each with ``copies`` waveform voice copies."""
     clips = []
     for tag, variant, variant_audio in augmented_variants(part, part_audio, augment, SAMPLE_RATE):
@@ -95,7 +100,7 @@ def variant_clips(record: dict, part: SkeletonMotion, part_audio: np.ndarray | N
             audio_features = (
                 None if voice_audio is None else aligned_audio_features(voice_audio, len(features), feature_config)
             )
-            clips.append(TrainingClip(record["name"], record["dataset"], canonical_style(record["style"]), voice_tag,
+            clips.append(TrainingClip(record["name"], record["dataset"], style, voice_tag,
                                       features, audio_features, voice_tag != tag, tuple(record["parts"])))
     return clips
 
@@ -111,10 +116,12 @@ def load_training_clips(
     seed: int = 0,
     partial_takes: bool = False,
     respoken_copies: int = 0,
+    paired_style: str = "",
 ) -> list[TrainingClip]:
     """Every segment of ``split`` in the cache, augmented for training, with audio features; takes that hold only
     some body parts (SHOW) only when ``partial_takes``. In ``train``, each paired take also comes with
-    ``voice_copies`` waveform voice copies per variant and ``respoken_copies`` re-spoken TTS copies."""
+    ``voice_copies`` waveform voice copies per variant and ``respoken_copies`` re-spoken TTS copies. Takes with
+    speech train under ``paired_style`` when it is given."""
     clips = []
     rng = np.random.default_rng(seed)
     copies = voice_copies if split == "train" else 0
@@ -127,13 +134,14 @@ def load_training_clips(
         motion, audio = load_take(cache_dir, record)
         augment = augmentation(audio is not None, split, mirror_motion_only, paired_speeds)
         speakers = take_speakers(cache_dir, record, audio, respoken)
+        style = training_style(record, audio is not None, paired_style)
         for segment in segments:
             part = motion.slice(segment["start"], segment["stop"])
             for speaker_tag, speaker_audio in speakers:
                 part_audio = None if speaker_audio is None else slice_audio(
                     speaker_audio, segment["start"], segment["stop"], motion.fps, SAMPLE_RATE)
                 clips.extend(variant_clips(record, part, part_audio, speaker_tag, augment,
-                                           0 if speaker_tag else copies, feature_config, rng))
+                                           0 if speaker_tag else copies, feature_config, rng, style))
     return clips
 
 

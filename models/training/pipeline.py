@@ -344,7 +344,8 @@ def run_training(preset: TrainPreset, cache_dir: Path, work_dir: Path, resume: b
     checkpoint = open_checkpoint(path, preset, feature_config, resume)
     started = time.perf_counter()
     kwargs = {"mirror_motion_only": preset.mirror_motion_only, "paired_speeds": preset.paired_speeds,
-              "progress": progress, "partial_takes": preset.partial_takes}
+              "progress": progress, "partial_takes": preset.partial_takes,
+              "paired_style": preset.paired_style}
     inputs = TrainInputs(load_training_clips(cache_dir, "train", feature_config, **kwargs,
                                              voice_copies=preset.voice_copies, seed=preset.seed,
                                              respoken_copies=preset.respoken_copies),

@@ -14,6 +14,7 @@ from dataclasses import asdict, dataclass, field, replace
 from gesturecast.errors import UserError
 from gesturecast.models.dataset.respeak import TRAINING_VOICES
 from gesturecast.models.generator.diffusion import DEFAULT_DDIM_STEPS
+from gesturecast.models.generator.styles import canonical_style
 from gesturecast.models.motion.body_parts import PART_NAMES
 
 
@@ -80,6 +81,7 @@ class TrainPreset:
     style_swap_prob: float = 0.0  # share of paired sequences trained with a drawn style (denoiser_objective.py)
     style_swap_weight: float = 0.3  # the style loss's weight on those sequences
     style_swap_parts: tuple[str, ...] = ()  # the body parts a swap restyles (the others stay the take's); (): all
+    paired_style: str = ""  # every take with speech trains under this label ("": each take's own; docs/voices.md)
 
     def to_dict(self) -> dict:
         return asdict(self)
@@ -150,6 +152,8 @@ def get_preset(name: str, **overrides) -> TrainPreset:
     if respoken is not None and not 0 <= respoken <= len(TRAINING_VOICES):
         raise UserError(f"--respoken-copies {respoken}: there are {len(TRAINING_VOICES)} training voices; "
                         f"give 0 to {len(TRAINING_VOICES)}")
+    if overrides.get("paired_style"):
+        canonical_style(overrides["paired_style"])  # an unknown label is refused before any training
     if overrides.get("front_end") not in (None, "mel", "prosody"):
         raise UserError(f"unknown front end {overrides['front_end']!r}; known: mel, prosody")
     nested = {key: overrides.pop(key) for key in NESTED_OVERRIDES if key in overrides}
