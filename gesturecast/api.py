@@ -12,14 +12,19 @@ from pathlib import Path
 
 import numpy as np
 
-from gesturecast.controls import Word
 from gesturecast.errors import UserError
 from gesturecast.frames import PoseFrame
 from gesturecast.models.audio.files import load_audio
 from gesturecast.models.motion.motion import MOTION_FPS
 from gesturecast.models.motion.skeleton import CANONICAL_WITH_HANDS
 from gesturecast.realtime.audio.sources import ArraySource, AudioSource, FastFileSource
-from gesturecast.realtime.gestures.transcripts import SCRIPT_SUFFIX, read_transcript, script_words, words_from_list
+from gesturecast.realtime.gestures.transcripts import (
+    SCRIPT_SUFFIX,
+    Transcript,
+    read_transcript,
+    script_transcript,
+    words_from_list,
+)
 from gesturecast.realtime.run.engine import run_offline
 from gesturecast.realtime.run.engine_setup import build_session
 from gesturecast.realtime.run.offline_generate import frame_writer
@@ -127,24 +132,24 @@ def generate(audio: str | Path | np.ndarray, sample_rate: int | None = None, set
     settings = with_overrides(settings, overrides)
     source = _source(audio, sample_rate)
     session = build_session(settings, MonotonicClock())
-    session.gestures.hear_transcript(_words(transcript, audio, sample_rate))
+    _transcript(transcript, audio, sample_rate).cue(session.gestures)
     frames, _ = run_offline(session, source)
     if not frames:
         raise UserError("the audio is shorter than one motion frame (1/30 s)")
     return Motion.from_frames(frames, settings.lipsync_names, settings.face_names)
 
 
-def _words(transcript: str | Path | list[dict] | None, audio: str | Path | np.ndarray, sample_rate: int | None
-           ) -> tuple[Word, ...]:
-    """The transcript's words; a plain-text script (``.txt``) placed on the audio."""
+def _transcript(transcript: str | Path | list[dict] | None, audio: str | Path | np.ndarray, sample_rate: int | None
+                ) -> Transcript:
+    """The transcript's words; a plain-text script (``.txt``) with the audio it is placed on."""
     if transcript is None:
-        return ()
+        return Transcript()
     if isinstance(transcript, (str, Path)) and Path(transcript).suffix.lower() == SCRIPT_SUFFIX:
         samples = load_audio(audio) if isinstance(audio, (str, Path)) else ArraySource(audio, sample_rate).blocks[0]
-        return script_words(Path(transcript), samples)
+        return script_transcript(Path(transcript), samples)
     if isinstance(transcript, (str, Path)):
-        return read_transcript(Path(transcript))
-    return words_from_list(transcript, "transcript")
+        return Transcript(read_transcript(Path(transcript)))
+    return Transcript(words_from_list(transcript, "transcript"))
 
 
 def _source(audio: str | Path | np.ndarray, sample_rate: int | None) -> AudioSource:

@@ -28,7 +28,6 @@ from gesturecast.bridges.osc_in import (
 from gesturecast.bridges.output_settings import parse_host_port
 from gesturecast.bridges.vrma import FOLDED, VRMA_BONES
 from gesturecast.bridges.ws_access import is_loopback
-from gesturecast.controls import Word
 from gesturecast.errors import INTERRUPTED_EXIT, UserError
 from gesturecast.files import check_distinct
 from gesturecast.frames import PoseFrame
@@ -52,6 +51,7 @@ from gesturecast.realtime.timing.status import StatusLine
 from gesturecast.settings import DEFAULT_GESTURES_DIR
 
 if TYPE_CHECKING:
+    from gesturecast.realtime.gestures.transcripts import Transcript
     from gesturecast.realtime.pose.session import GestureSession
     from gesturecast.realtime.run.engine import EngineReport
 
@@ -90,7 +90,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def run_live(args: argparse.Namespace) -> int:
-    from gesturecast.realtime.gestures.transcripts import transcript_beside, transcript_words
+    from gesturecast.realtime.gestures.transcripts import transcript_beside, transcript_file
     from gesturecast.realtime.run.engine import LiveEngine
     from gesturecast.realtime.run.engine_setup import build_outputs, build_session
 
@@ -101,7 +101,7 @@ def run_live(args: argparse.Namespace) -> int:
     if args.transcript is not None and not args.input:
         raise UserError("--transcript gives the words of an --input file (a microphone's words come as they are "
                         "spoken: send them as a words message)")
-    words = transcript_words(args.transcript or transcript_beside(args.input), settings, args.input)
+    transcript = transcript_file(args.transcript or transcript_beside(args.input), settings, args.input)
     osc_in = osc_in_address(args.osc_in)  # checked before any output file is opened
     clock = MonotonicClock()
     session = build_session(settings, clock)
@@ -119,7 +119,7 @@ def run_live(args: argparse.Namespace) -> int:
         gestures_in = osc_listener(args, osc_in, session)
         sys.stdout.write(session.budget.describe() + "\n")
         engine = LiveEngine(session, source, outputs.send, clock, scheduler_config(args), StatusLine(clock),
-                            on_warm=lambda: start_stream_inputs(session, words, gestures_in))
+                            on_warm=lambda: start_stream_inputs(session, transcript, gestures_in))
         report = engine.run()
     finally:
         source.close()  # already closed after a run; not yet opened when the OSC port was refused
@@ -159,10 +159,10 @@ def osc_listener(args: argparse.Namespace, address: tuple[str, int] | None,
     return OscControlListener(OscInConfig(host, port, token), session.controls.submit)
 
 
-def start_stream_inputs(session: GestureSession, words: tuple[Word, ...],
+def start_stream_inputs(session: GestureSession, transcript: Transcript,
                         gestures_in: OscControlListener | None) -> None:
     """Once the stages are warm and the stream starts: the transcript's cues, then the OSC gesture port."""
-    session.gestures.hear_transcript(words)
+    transcript.cue(session.gestures)
     if gestures_in is not None:
         gestures_in.start()
 
@@ -181,7 +181,7 @@ def raise_output_errors(outputs: BridgeFanout) -> None:
 
 
 def run_generate(args: argparse.Namespace) -> int:
-    from gesturecast.realtime.gestures.transcripts import transcript_beside, transcript_words
+    from gesturecast.realtime.gestures.transcripts import transcript_beside, transcript_file
     from gesturecast.realtime.jobs.batch_cli import run_batch
     from gesturecast.realtime.run.engine_setup import build_session
     from gesturecast.realtime.run.offline_generate import body_only, generate_to_files
@@ -195,11 +195,11 @@ def run_generate(args: argparse.Namespace) -> int:
     check_distinct([("audio", args.audio)], [("-o", args.output), ("--json", args.json), ("--vrma", args.vrma)])
     motion_paths, json_path = output_files(args)
     settings = settings_from_args(args)
-    words = transcript_words(args.transcript or transcript_beside(args.audio), settings, args.audio)
-    if not words and settings.gestures == DEFAULT_GESTURES_DIR:  # no words, no gesture: the bundled lexicon is
+    transcript = transcript_file(args.transcript or transcript_beside(args.audio), settings, args.audio)
+    if not transcript and settings.gestures == DEFAULT_GESTURES_DIR:  # no words, no gesture: the bundled lexicon is
         settings = dataclasses.replace(settings, gestures=None)  # not encoded (0.1 s); a user's folder is still checked
     session = build_session(body_only(settings, motion_paths, json_path), MonotonicClock())
-    session.gestures.hear_transcript(words)
+    transcript.cue(session.gestures)
     report = generate_to_files(session, args.audio, motion_paths, json_path, args.vrma_bones)
     process_cpu = time.process_time()  # the whole command: start-up, model, generation, files
     logger.info("process CPU %.2f s for %.1f s of audio: %.3f s per second", process_cpu, report.audio_seconds,

@@ -10,6 +10,12 @@ processor) and the transcripts of ``generate``, ``live`` and batches.
 
 Every word has been checked by :func:`gesturecast.controls.parse_words` before it comes here; the cues its words
 decide reach the plan through :meth:`GestureDirector.place_word_cues`, whichever door they came through.
+
+A sentence without word times (a script's, a TTS service's, a recogniser's) is aligned on its own speech only when
+its words cue something: with a sentence mark, its speech acts and trigger phrases read only its text, so they are
+decided on the words' order first, and a sentence that cues nothing (most narration) costs no alignment. Without a
+sentence mark, its pauses give its punctuation (:mod:`gesturecast.realtime.words.punctuation`), so it is aligned
+first.
 """
 
 from __future__ import annotations
@@ -18,6 +24,7 @@ import logging
 from collections import deque
 from collections.abc import Callable
 from concurrent.futures import Future
+from dataclasses import replace
 
 import numpy as np
 
@@ -27,10 +34,11 @@ from gesturecast.realtime.gestures.cues import BLEND_LATENTS, CONTROL_SOURCE, Cu
 from gesturecast.realtime.gestures.phrases import PhraseCues, PhraseListener, PhraseStream
 from gesturecast.realtime.gestures.repertoire import GestureRepertoire
 from gesturecast.realtime.gestures.triggers import TriggerVocabulary, WordListener
-from gesturecast.realtime.words.aligner import Alignment, SentenceAligner
+from gesturecast.realtime.words.aligner import SentenceAligner, SentenceAudio
 from gesturecast.realtime.words.live import LiveSentences
 from gesturecast.realtime.words.outcomes import AlignmentCounts
-from gesturecast.realtime.words.punctuation import punctuated_by_pauses
+from gesturecast.realtime.words.punctuation import has_sentence_mark, punctuated_by_pauses
+from gesturecast.realtime.words.script import script_sentences
 from gesturecast.realtime.words.worker import WordsWorker
 
 logger = logging.getLogger(__name__)
@@ -65,7 +73,7 @@ class GestureDirector:
         self.next_latent = 0  # the first latent not generated yet
         self.heard_s = 0.0  # stream seconds of audio arrived
         self.alignments = AlignmentCounts()
-        self.sentences = LiveSentences(self.aligner, self.alignments)  # sentences waiting for their audio
+        self.sentences = LiveSentences()  # sentences waiting for their audio
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -88,7 +96,7 @@ class GestureDirector:
         self.sentences.hear(samples)
         if not self.sentences.pending:  # most chunks: nothing waits for audio, no work handed over
             return []
-        return self._decided_now(lambda: self._aligned_decisions(self.sentences.ready()), wait=False)
+        return self._decided_now(lambda: self._sentence_decisions(self.sentences.ready()), wait=False)
 
     def play(self, latent: int) -> Imposition | None:
         """What the placed clips impose on ``latent``, generated now (None when none does); the placements that
@@ -152,27 +160,39 @@ class GestureDirector:
 
         return self._decided_now(decide, wait)
 
+    def hear_script(self, text: str, samples: np.ndarray) -> list[CueOutcome]:
+        """A plain-text script of the recording ``samples`` ((n,) float32, 16 kHz, from stream time 0), placed on it
+        sentence by sentence (:func:`~gesturecast.realtime.words.script.script_sentences`); its last sentence ends the
+        speech."""
+        def decide() -> list[Decision]:
+            placed = script_sentences(text, samples)
+            return [self._sentence_decision(sentence, ended=index == len(placed) - 1)
+                    for index, sentence in enumerate(placed)]
+
+        return self._decided_now(decide, wait=True)
+
     def hear_sentence(self, text: str, start: float | None = None, end: float | None = None, wait: bool = True
                       ) -> list[CueOutcome]:
         """A sentence without word times (at least one token): its words get times from its own speech once that has
         arrived (:mod:`gesturecast.realtime.words.live`: ``start`` / ``end`` bound it when known), then are heard as
         :meth:`hear_words` hears words. Returns the cues of the sentences placed now (this one, if its audio is
         already here)."""
-        return self._decided_now(lambda: self._aligned_decisions(self.sentences.add(text, start, end)), wait)
+        return self._decided_now(lambda: self._sentence_decisions(self.sentences.add(text, start, end)), wait)
 
     def hear_sentence_with_audio(self, text: str, samples: np.ndarray, start: float) -> list[CueOutcome]:
         """A sentence (at least one token) and its own speech ((n,) float32, 16 kHz, from stream time ``start``),
         given before that speech is pushed: aligned on it and its cues placed now (waiting for the words worker), so
         they are known before the speech's latents are generated."""
-        return self._decided_now(
-            lambda: self._aligned_decisions([self.sentences.place_with_audio(text, samples, start)]), wait=True)
+        sentence = SentenceAudio(text, samples, start)
+        return self._decided_now(lambda: self._sentence_decisions([self.sentences.place_with_audio(sentence)]),
+                                 wait=True)
 
     def end_of_words(self) -> list[CueOutcome]:
         """The words stopped (the speech ended): the sentences still waiting are placed on the audio that arrived,
         and the phrases still waiting for the words after them are decided (waiting for the words worker)."""
         def decide() -> list[Decision]:
             acts = [] if self.phrase_listener is None else self.phrase_listener.flush()
-            return [*self._aligned_decisions(self.sentences.ready(final=True)), ([], acts)]
+            return [*self._sentence_decisions(self.sentences.ready(final=True)), ([], acts)]
 
         return self._decided_now(decide, wait=True)
 
@@ -197,10 +217,28 @@ class GestureDirector:
         acts = [] if self.phrase_stream is None else self.phrase_stream.cues(list(words))
         return self.vocabulary.cues(list(words)), acts
 
-    def _aligned_decisions(self, alignments: list[Alignment]) -> list[Decision]:
-        """The decisions of placed sentences' words, checked as every door's words are."""
-        return [self._decide(parse_words([{"word": w.text, "start": w.start, "end": w.end} for w in alignment.words],
-                                         "sentence words")) for alignment in alignments]
+    def _sentence_decisions(self, sentences: list[SentenceAudio]) -> list[Decision]:
+        return [self._sentence_decision(sentence) for sentence in sentences]
+
+    def _sentence_decision(self, sentence: SentenceAudio, ended: bool = False) -> Decision:
+        """The cues of a sentence without word times, aligned on its audio only when they need it (module
+        docstring); ``ended``: the speech ends with it."""
+        tokens = sentence.text.split()
+        if not has_sentence_mark(tokens):
+            return self._decide(self._aligned_words(sentence), ended)
+        forced, acts = self._decide(in_order(tokens))
+        if not any(cue.gesture in self.cues.clips for cue in forced + acts):
+            self.alignments.count_uncued(len(tokens))
+            return [], []
+        words = self._aligned_words(sentence)
+        return timed_by_words(forced, words), timed_by_words(acts, words)
+
+    def _aligned_words(self, sentence: SentenceAudio) -> tuple[Word, ...]:
+        """The sentence's words with times from its speech (counted), checked as every door's words are."""
+        alignment = self.aligner.align(sentence)
+        self.alignments.count(alignment, sentence.text)
+        return parse_words([{"word": w.text, "start": w.start, "end": w.end} for w in alignment.words],
+                           "sentence words")
 
     def _decided_now(self, decide: Callable[[], list[Decision]], wait: bool) -> list[CueOutcome]:
         """Run ``decide`` here (no worker), or on the worker: waited for and placed now when ``wait``, else placed
@@ -234,3 +272,13 @@ class GestureDirector:
         taken = {cue.time for cue in forced}
         cues = sorted(forced + [cue for cue in acts if cue.time not in taken], key=lambda cue: cue.time)
         return [self.cue(cue) for cue in cues if cue.gesture in self.cues.clips]
+
+
+def in_order(tokens: list[str]) -> tuple[Word, ...]:
+    """The tokens as words timed by their order (word i at i seconds), for decisions that read only the text."""
+    return tuple(Word(token, float(index), float(index)) for index, token in enumerate(tokens))
+
+
+def timed_by_words(cues: list[Cue], words: tuple[Word, ...]) -> list[Cue]:
+    """Cues decided on :func:`in_order` words, at the start of their word in ``words`` (the same tokens, timed)."""
+    return [replace(cue, time=words[round(cue.time)].start) for cue in cues]

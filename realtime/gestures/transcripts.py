@@ -14,7 +14,9 @@ import json
 import logging
 import re
 from collections.abc import Mapping
+from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -22,6 +24,10 @@ from gesturecast.controls import MAX_TRANSCRIPT_WORDS, Word, parse_words
 from gesturecast.errors import UserError
 from gesturecast.input_files import read_bounded
 from gesturecast.settings import Settings
+
+if TYPE_CHECKING:
+    from gesturecast.realtime.gestures.cues import CueOutcome
+    from gesturecast.realtime.gestures.director import GestureDirector
 
 logger = logging.getLogger(__name__)
 MAX_TRANSCRIPT_BYTES = 16 << 20  # a day of speech is a few MB of word JSON
@@ -31,11 +37,32 @@ TIMESTAMP = re.compile(r"(?:(\d{1,5}):)?(\d{1,2}):(\d{2})[.,](\d{1,3})")
 SPAN = re.compile(rf"{TIMESTAMP.pattern}\s*-->\s*{TIMESTAMP.pattern}")
 
 
-def transcript_words(path: Path | None, settings: Settings, audio: Path | str | None = None) -> tuple[Word, ...]:
-    """The words of a transcript file (none without one); refused when gestures are off (nothing to cue). A plain-text
-    script (``.txt``) is placed on ``audio``, the recording it was read in (:func:`script_words`)."""
+@dataclass(frozen=True, eq=False)
+class Transcript:
+    """A recording's words: timed ``words`` (a word list, subtitles), or a plain-text ``script`` with the recording's
+    ``samples`` ((n,) float32, 16 kHz) it is placed on. Empty (false) without either."""
+
+    words: tuple[Word, ...] = ()
+    script: str = ""
+    samples: np.ndarray | None = None
+
+    def __bool__(self) -> bool:
+        return bool(self.words or self.script)
+
+    def cue(self, gestures: GestureDirector) -> list[CueOutcome]:
+        """Cue the gestures the words decide (a script's sentences placed on its recording first)."""
+        if not self.script:
+            return gestures.hear_transcript(self.words)
+        outcomes = gestures.hear_script(self.script, self.samples)
+        logger.info("the script placed on its audio: sentences %s", gestures.alignments.describe())
+        return outcomes
+
+
+def transcript_file(path: Path | None, settings: Settings, audio: Path | str | None = None) -> Transcript:
+    """The transcript in a file (empty without one); refused when gestures are off (nothing to cue). A plain-text
+    script (``.txt``) is placed on ``audio``, the recording it was read in."""
     if path is None:
-        return ()
+        return Transcript()
     if settings.gestures is None:
         raise UserError(f"the transcript {path} cues gestures, and --gestures is off")
     if path.suffix.lower() == SCRIPT_SUFFIX:
@@ -43,8 +70,8 @@ def transcript_words(path: Path | None, settings: Settings, audio: Path | str | 
             raise UserError(f"the script {path} has no times: it is placed on an audio file (--input / the audio)")
         from gesturecast.models.audio.files import load_audio
 
-        return script_words(path, load_audio(audio))
-    return read_transcript(path)
+        return script_transcript(path, load_audio(audio))
+    return Transcript(read_transcript(path))
 
 
 def transcript_beside(audio: Path | str | None) -> Path | None:
@@ -56,21 +83,14 @@ def transcript_beside(audio: Path | str | None) -> Path | None:
     return script
 
 
-def script_words(path: Path, samples: np.ndarray) -> tuple[Word, ...]:
-    """The words of the plain-text script ``path`` with times from the recording ``samples`` ((n,) float32, 16 kHz),
-    sentence by sentence (:func:`gesturecast.realtime.words.script.place_script`); how the sentences were placed is
-    logged."""
-    from gesturecast.realtime.words.aligner import SentenceAligner
-    from gesturecast.realtime.words.outcomes import AlignmentCounts
-    from gesturecast.realtime.words.script import place_script
-
+def script_transcript(path: Path, samples: np.ndarray) -> Transcript:
+    """The plain-text script ``path`` (a regular file of at most MAX_TRANSCRIPT_BYTES) of the recording ``samples``
+    ((n,) float32, 16 kHz)."""
     text = _text(read_bounded(path, MAX_TRANSCRIPT_BYTES, "the script", regular_only=True), path)
     if not text.split():
         raise UserError(f"{path}: the script has no words")
-    counts = AlignmentCounts()
-    words = place_script(text, samples, SentenceAligner(), counts)
-    logger.info("script %s placed on its audio: sentences %s", path.name, counts.describe())
-    return words_from_list([{"word": w.text, "start": w.start, "end": w.end} for w in words], str(path))
+    words_from_list([{"word": token, "start": 0.0} for token in text.split()], str(path))  # every door's limits
+    return Transcript(script=text, samples=samples)
 
 
 def _text(data: bytes, path: Path) -> str:

@@ -25,7 +25,7 @@ from dataclasses import asdict, dataclass, field
 
 from gesturecast import stop_signals
 from gesturecast.errors import UserError
-from gesturecast.realtime.gestures.transcripts import transcript_beside, transcript_words
+from gesturecast.realtime.gestures.transcripts import transcript_beside, transcript_file
 from gesturecast.realtime.jobs.batch_jobs import BatchJob
 from gesturecast.realtime.pose.session import GestureSession
 from gesturecast.realtime.run.engine_setup import build_session, load_bundle
@@ -77,9 +77,9 @@ class BatchWorker:
         """One file: never raises for a bad file, so the batch goes on."""
         try:
             settings = job.settings(self.base)
-            words = transcript_words(job.transcript or transcript_beside(job.audio), settings, job.audio)
+            transcript = transcript_file(job.transcript or transcript_beside(job.audio), settings, job.audio)
             session = self._session_for(body_only(settings, job.motion_paths(), job.json))
-            session.gestures.hear_transcript(words)
+            transcript.cue(session.gestures)
             report = generate_to_files(session, job.audio, job.motion_paths(), job.json)
         except UserError as error:
             return JobResult(str(job.audio), error=str(error))

@@ -20,6 +20,7 @@ normalised (lower case, letters and apostrophes).
 from __future__ import annotations
 
 import re
+import time
 from dataclasses import dataclass
 
 import numpy as np
@@ -47,6 +48,16 @@ class Alignment:
     confidence: float
 
 
+@dataclass(frozen=True, eq=False)
+class SentenceAudio:
+    """A sentence (at least one token) and the audio its speech is in: ``samples`` (n,) float32 at 16 kHz, whose first
+    sample is at stream time ``start``."""
+
+    text: str
+    samples: np.ndarray
+    start: float
+
+
 def dictionary_form(token: str) -> str:
     """How the dictionary spells ``token``: lower case, letters and inner apostrophes only ("Hello," → "hello")."""
     return re.sub(r"[^a-z']", "", token.lower()).strip("'")
@@ -54,10 +65,11 @@ def dictionary_form(token: str) -> str:
 
 class SentenceAligner:
     """Aligns sentences to 16 kHz mono float32 audio; the decoder is loaded on the first alignment (about 0.1 CPU-s)
-    and reused. One aligner serves one thread."""
+    and reused. One aligner serves one thread; ``cpu_s`` is the thread CPU time its alignments took."""
 
     def __init__(self) -> None:
         self._decoder = None
+        self.cpu_s = 0.0
 
     @property
     def decoder(self):
@@ -72,10 +84,15 @@ class SentenceAligner:
         form = dictionary_form(token)
         return bool(form) and self.decoder.lookup_word(form) is not None
 
-    def align(self, text: str, samples: np.ndarray, start: float) -> Alignment:
-        """The tokens of ``text`` placed on ``samples`` ((n,) float32 at 16 kHz), whose first sample is at stream
-        time ``start`` (module docstring); ``text`` must have at least one token."""
-        tokens = text.split()
+    def align(self, sentence: SentenceAudio) -> Alignment:
+        """The sentence's tokens placed on its audio (module docstring)."""
+        started = time.thread_time()
+        try:
+            return self._aligned(sentence.text.split(), sentence.samples, sentence.start)
+        finally:
+            self.cpu_s += time.thread_time() - started
+
+    def _aligned(self, tokens: list[str], samples: np.ndarray, start: float) -> Alignment:
         span = voiced_span(samples)
         if span is None:
             length = max(len(samples) / SAMPLE_RATE, NOMINAL_WORD_S * len(tokens))

@@ -9,8 +9,9 @@ order they were given:
   before it (the stream's start for the first);
 - it ends at ``end`` when given; else at the first pause (:data:`~.voicing.MIN_PAUSE_S` unvoiced) after half its
   expected length (:data:`LETTER_S` a letter), or at twice its expected length without one;
-- it is aligned once the audio up to its end has arrived, or at the end of the words (:meth:`LiveSentences.ready`
-  with ``final``), on what has arrived.
+- it is placed (handed over with its audio, :class:`~gesturecast.realtime.words.aligner.SentenceAudio`) once the
+  audio up to its end has arrived, or at the end of the words (:meth:`LiveSentences.ready` with ``final``), on what
+  has arrived.
 """
 
 from __future__ import annotations
@@ -21,8 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from gesturecast.realtime.words.aligner import Alignment, SentenceAligner
-from gesturecast.realtime.words.outcomes import AlignmentCounts
+from gesturecast.realtime.words.aligner import NOMINAL_WORD_S, SentenceAudio
 from gesturecast.realtime.words.voicing import FRAME_S, SAMPLE_RATE, letters, pause_runs, voiced_frames
 
 HISTORY_S = 30.0  # the audio kept for sentences given after their speech
@@ -83,9 +83,7 @@ class AudioHistory:
 class LiveSentences:
     """The sentences of one live stream waiting for their audio (module docstring)."""
 
-    def __init__(self, aligner: SentenceAligner, counts: AlignmentCounts) -> None:
-        self.aligner = aligner
-        self.counts = counts
+    def __init__(self) -> None:
         self.audio = AudioHistory()
         self.pending: deque[PendingSentence] = deque()
         self.cursor = 0.0  # stream seconds where the last placed sentence ended
@@ -94,33 +92,32 @@ class LiveSentences:
         """The stream's next audio ((n,) float32, 16 kHz)."""
         self.audio.append(samples)
 
-    def add(self, text: str, start: float | None = None, end: float | None = None) -> list[Alignment]:
-        """Queue a sentence (at least one token); returns the alignments of the oldest when too many wait."""
+    def add(self, text: str, start: float | None = None, end: float | None = None) -> list[SentenceAudio]:
+        """Queue a sentence (at least one token); returns the sentences placed now (:meth:`ready`, and the oldest when
+        too many wait)."""
         self.pending.append(PendingSentence(text, start, end))
         return self.ready(final=False) + ([self._place(self.pending.popleft(), True)]
                                           if len(self.pending) > MAX_PENDING_SENTENCES else [])
 
-    def place_with_audio(self, text: str, samples: np.ndarray, start: float) -> Alignment:
-        """A sentence given with its own speech ((n,) float32, 16 kHz, from stream time ``start``), before that speech
-        reaches :meth:`hear`: aligned on it at once; the sentences after it look for their speech after its end."""
-        alignment = self.aligner.align(text, samples, start)
-        self.counts.count(alignment, text)
-        self.cursor = max(self.cursor, start + len(samples) / SAMPLE_RATE)
-        return alignment
+    def place_with_audio(self, sentence: SentenceAudio) -> SentenceAudio:
+        """A sentence given with its own speech, before that speech reaches :meth:`hear`: placed on it at once; the
+        sentences after it look for their speech after its end."""
+        self.cursor = max(self.cursor, sentence.start + len(sentence.samples) / SAMPLE_RATE)
+        return sentence
 
-    def ready(self, final: bool = False) -> list[Alignment]:
-        """The alignments of the waiting sentences whose audio has arrived, in order (all of them when ``final``:
-        the speech ended)."""
+    def ready(self, final: bool = False) -> list[SentenceAudio]:
+        """The waiting sentences whose audio has arrived, in order, with that audio (all of them when ``final``: the
+        speech ended)."""
         placed = []
         while self.pending:
-            alignment = self._place(self.pending[0], final)
-            if alignment is None:
+            sentence = self._place(self.pending[0], final)
+            if sentence is None:
                 break
             self.pending.popleft()
-            placed.append(alignment)
+            placed.append(sentence)
         return placed
 
-    def _place(self, sentence: PendingSentence, final: bool) -> Alignment | None:
+    def _place(self, sentence: PendingSentence, final: bool) -> SentenceAudio | None:
         begin = self._begin(sentence, final)
         if begin is None:
             return None
@@ -128,10 +125,9 @@ class LiveSentences:
         if end is None:
             return None
         samples, first_s = self.audio.span(begin, end)
-        alignment = self.aligner.align(sentence.text, samples, first_s)
-        self.counts.count(alignment, sentence.text)
-        self.cursor = max(self.cursor, end if len(samples) else alignment.words[-1].end)
-        return alignment
+        heard_end = end if len(samples) else first_s + NOMINAL_WORD_S * len(sentence.text.split())  # none: nominal
+        self.cursor = max(self.cursor, heard_end)
+        return SentenceAudio(sentence.text, samples, first_s)
 
     def _begin(self, sentence: PendingSentence, final: bool) -> float | None:
         """Where the sentence's window starts: its start, else just before the first voiced audio after the cursor

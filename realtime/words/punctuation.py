@@ -18,10 +18,15 @@ SENTENCE_MARKS = frozenset(".!?…")
 MARKS = frozenset(".!?…,;:")
 
 
+def has_sentence_mark(texts: list[str]) -> bool:
+    """Whether any of the words ends a sentence by its punctuation (closing quotes and brackets aside)."""
+    return any(text.rstrip("\"')]")[-1:] in SENTENCE_MARKS for text in texts)
+
+
 def punctuated_by_pauses(words: tuple[Word, ...], ended: bool = False) -> tuple[Word, ...]:
     """``words`` with the marks their pauses show (module docstring), the last one ending its sentence when the
     speech ``ended`` with it (a transcript's words); unchanged when any word ends a sentence."""
-    if any(word.text.rstrip("\"')]")[-1:] in SENTENCE_MARKS for word in words):
+    if has_sentence_mark([word.text for word in words]):
         return words
     marked = []
     for word, following in zip(words, words[1:], strict=False):

@@ -1,7 +1,7 @@
 """A plain-text script placed on the recording it was read in: split into sentences, each sentence's span estimated
-over the voiced audio by its share of the letters still to come, snapped to a pause near it (the longer the
-likelier), aligned there
-(:class:`~gesturecast.realtime.words.aligner.SentenceAligner`), and the next sentence starts where it ended."""
+over the voiced audio by its share of the letters still to come and snapped to a pause near it (the longer the
+likelier); the next sentence starts where it ended. Each sentence comes with its span's audio
+(:class:`~gesturecast.realtime.words.aligner.SentenceAudio`), to be aligned there when its words cue something."""
 
 from __future__ import annotations
 
@@ -9,9 +9,7 @@ import re
 
 import numpy as np
 
-from gesturecast.controls import Word
-from gesturecast.realtime.words.aligner import Alignment, SentenceAligner
-from gesturecast.realtime.words.outcomes import AlignmentCounts
+from gesturecast.realtime.words.aligner import SentenceAudio
 from gesturecast.realtime.words.voicing import SAMPLE_RATE, letters, pause_runs, voiced_span
 
 SENTENCE_END = re.compile(r"(?<=[.!?…])[\"')\]]*\s+|\n\s*\n|\n(?=\s*[-*•])")  # after . ! ? …, a blank line, a bullet
@@ -30,32 +28,31 @@ def sentences(text: str) -> list[str]:
     return pieces
 
 
-def place_script(text: str, samples: np.ndarray, aligner: SentenceAligner, counts: AlignmentCounts
-                 ) -> tuple[Word, ...]:
-    """Every word of ``text`` with stream times on ``samples`` ((n,) float32, 16 kHz, from stream time 0), each
-    sentence's outcome counted in ``counts``."""
+def script_sentences(text: str, samples: np.ndarray) -> list[SentenceAudio]:
+    """The sentences of ``text``, each with the audio of its span on ``samples`` ((n,) float32, 16 kHz, from stream
+    time 0)."""
     parts = sentences(text)
     duration = len(samples) / SAMPLE_RATE
     span = voiced_span(samples) or (0.0, duration)
     runs = pause_runs(samples) + [(span[1], LONG_PAUSE_S)]
     breaks, lengths = np.array([middle for middle, _ in runs]), np.array([length for _, length in runs])
-    cursor, words = span[0], []
+    cursor, placed = span[0], []
     weights = [sum(letters(token) for token in part.split()) for part in parts]
+    remaining = sum(weights)  # letters from this sentence on
     for index, part in enumerate(parts):
-        share = weights[index] / sum(weights[index:])
+        share = weights[index] / remaining if remaining else 1.0
+        remaining -= weights[index]
         estimate = cursor + share * max(span[1] - cursor, 0.0)
         near = (breaks > cursor) & (np.abs(breaks - estimate) <= SNAP_S)
         score = np.abs(breaks - estimate) - PAUSE_WEIGHT * lengths  # a longer pause more likely ends a sentence
         end = float(breaks[near][np.argmin(score[near])]) if near.any() else estimate
         end = span[1] if index == len(parts) - 1 else max(end, cursor)
-        alignment = _aligned(aligner, part, samples, cursor, end)
-        counts.count(alignment, part)
-        words += alignment.words
+        placed.append(_with_audio(part, samples, cursor, end))
         cursor = end
-    return tuple(words)
+    return placed
 
 
-def _aligned(aligner: SentenceAligner, text: str, samples: np.ndarray, start: float, end: float) -> Alignment:
-    """``text`` aligned on the audio from ``start`` to ``end`` seconds."""
+def _with_audio(text: str, samples: np.ndarray, start: float, end: float) -> SentenceAudio:
+    """``text`` with the audio from ``start`` to ``end`` seconds."""
     first, last = int(start * SAMPLE_RATE), max(int(end * SAMPLE_RATE), int(start * SAMPLE_RATE))
-    return aligner.align(text, samples[first:last], first / SAMPLE_RATE)
+    return SentenceAudio(text, samples[first:last], first / SAMPLE_RATE)

@@ -60,6 +60,7 @@ from gesturecast.realtime.audio.sources import ArraySource
 from gesturecast.realtime.cli_flags import add_generation_arguments, settings_from_args
 from gesturecast.realtime.engine_cli import frames_to_motion
 from gesturecast.realtime.gestures.cues import CueOutcome
+from gesturecast.realtime.gestures.director import GestureDirector
 from gesturecast.realtime.gestures.lexicon import load_lexicon
 from gesturecast.realtime.gestures.strokes import body_frame_positions
 from gesturecast.realtime.run.engine import run_offline
@@ -78,7 +79,13 @@ from gesturecast.tools.bench.gesture_set.texts_second import CUED_STORIES_SECOND
 from gesturecast.tools.bench.gesture_set.texts_seventh import CUED_STORIES_SEVENTH, NARRATION_SEVENTH
 from gesturecast.tools.bench.gesture_set.texts_sixth import CUED_STORIES_SIXTH, NARRATION_SIXTH
 from gesturecast.tools.bench.gesture_set.texts_third import CUED_STORIES_THIRD, NARRATION_THIRD
-from gesturecast.tools.bench.gesture_set.word_modes import WORD_MODES, WordsGiven, story_words, words_summary
+from gesturecast.tools.bench.gesture_set.word_modes import (
+    WORD_MODES,
+    WordsGiven,
+    decision_words,
+    story_transcript,
+    words_summary,
+)
 
 WINDOW_BEFORE_S, WINDOW_AFTER_S = 1.5, 2.5  # where an intended gesture must show, around its word
 STROKE_TOLERANCE_S = 0.3
@@ -144,10 +151,12 @@ def generate(settings: Settings, story: Story, cued: bool, words: WordSource | N
     log = logging.getLogger("gesturecast.realtime.gestures.cues")
     log.addHandler(lines)
     try:
-        given = story_words(story, words.mode, session.gestures.aligner, words.given) if cued and words else story.words
-        outcomes = session.gestures.hear_transcript(tuple(given)) if cued else []
+        given = story_transcript(story, words.mode if words else "timed")
+        outcomes = given.cue(session.gestures) if cued else []
+        if words is not None and cued:
+            words.note(story, session.gestures)
         phrases = session.gestures.phrases
-        decided = len(phrases.cues(list(punctuated_by_pauses(tuple(given), ended=True)))) if cued and phrases \
+        decided = len(phrases.cues(list(punctuated_by_pauses(decision_words(given), ended=True)))) if cued and phrases \
             else len(outcomes)
         started = time.process_time()
         frames, report = run_offline(session, ArraySource(story.audio, SAMPLE_RATE))
@@ -165,6 +174,12 @@ class WordSource:
     mode: str
     given: WordsGiven = field(default_factory=WordsGiven)
     generate_cpu_s: float = 0.0
+
+    def note(self, story: Story, gestures: GestureDirector) -> None:
+        """What placing the cued run's words cost its session; for scripts, the aligner's errors measured apart."""
+        self.given.add_session(gestures)
+        if self.mode == "text":
+            self.given.add_errors(story)
 
     @property
     def tolerance_s(self) -> float:

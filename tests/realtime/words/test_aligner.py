@@ -4,9 +4,9 @@ it cannot align still yields every word, in order, inside its audio."""
 import numpy as np
 import pytest
 
-from gesturecast.realtime.words.aligner import SentenceAligner
+from gesturecast.realtime.words.aligner import SentenceAligner, SentenceAudio
 from gesturecast.realtime.words.outcomes import AlignmentCounts
-from gesturecast.realtime.words.script import place_script, sentences
+from gesturecast.realtime.words.script import script_sentences, sentences
 from gesturecast.realtime.words.voicing import SAMPLE_RATE, pauses, voiced_span
 from gesturecast.tools.bench.speech.espeak_words import spoken
 
@@ -28,7 +28,7 @@ def starts_error(words, timed, offset: float = 0.0) -> np.ndarray:
 
 def test_a_sentence_is_placed_on_its_own_speech(aligner, tmp_path):
     audio, timed = spoken(SENTENCE, tmp_path)
-    alignment = aligner.align(SENTENCE, audio, OFFSET_S)
+    alignment = aligner.align(SentenceAudio(SENTENCE, audio, OFFSET_S))
     assert alignment.method == "aligned" and alignment.confidence == 1.0
     assert np.median(starts_error(alignment.words, timed, OFFSET_S)) < 0.05
 
@@ -36,7 +36,7 @@ def test_a_sentence_is_placed_on_its_own_speech(aligner, tmp_path):
 def test_a_word_outside_the_dictionary_is_placed_between_its_neighbours(aligner, tmp_path):
     text = "Now let me show you the zorblax of the old city."
     audio, timed = spoken(text, tmp_path)
-    alignment = aligner.align(text, audio, 0.0)
+    alignment = aligner.align(SentenceAudio(text, audio, 0.0))
     assert alignment.method == "partly" and 0.8 < alignment.confidence < 1.0
     unknown = alignment.words[6]
     assert unknown.text == "zorblax" and alignment.words[5].end <= unknown.start < alignment.words[7].start
@@ -46,7 +46,7 @@ def test_a_word_outside_the_dictionary_is_placed_between_its_neighbours(aligner,
 def test_a_sentence_it_cannot_align_still_yields_its_words(aligner, tmp_path):
     text = "Zorblax quindle fremp!"
     audio, _ = spoken(text, tmp_path)
-    alignment = aligner.align(text, audio, OFFSET_S)
+    alignment = aligner.align(SentenceAudio(text, audio, OFFSET_S))
     assert alignment.method == "spread" and alignment.confidence == 0.0
     first, last = voiced_span(audio)
     starts = [word.start for word in alignment.words]
@@ -57,7 +57,7 @@ def test_a_sentence_it_cannot_align_still_yields_its_words(aligner, tmp_path):
 
 def test_a_sentence_without_its_audio_is_spread_and_counted_as_failed(aligner):
     counts = AlignmentCounts()
-    alignment = aligner.align("Hello there", np.zeros(SAMPLE_RATE // 2, np.float32), 2.0)
+    alignment = aligner.align(SentenceAudio("Hello there", np.zeros(SAMPLE_RATE // 2, np.float32), 2.0))
     counts.count(alignment, "Hello there")
     assert alignment.method == "failed" and [word.text for word in alignment.words] == ["Hello", "there"]
     assert alignment.words[0].start == 2.0 and alignment.words[-1].end > 2.0
@@ -66,13 +66,21 @@ def test_a_sentence_without_its_audio_is_spread_and_counted_as_failed(aligner):
 
 def test_a_script_is_placed_sentence_by_sentence_over_its_recording(aligner, tmp_path):
     audio, timed = spoken(SCRIPT, tmp_path)
-    counts = AlignmentCounts()
-    words = place_script(SCRIPT, audio, aligner, counts)
-    assert sum(counts.sentences.values()) == len(sentences(SCRIPT)) == 4
-    assert counts.words == len(SCRIPT.split())
+    placed = script_sentences(SCRIPT, audio)
+    assert [sentence.text for sentence in placed] == sentences(SCRIPT) and len(placed) == 4
+    ends = [sentence.start + len(sentence.samples) / SAMPLE_RATE for sentence in placed]
+    assert all(end <= later.start + 1e-9 for end, later in zip(ends, placed[1:], strict=False))
+    words = [word for sentence in placed for word in aligner.align(sentence).words]
     assert np.median(starts_error(words, timed)) < 0.08
     starts = [word.start for word in words]
     assert starts == sorted(starts)
+
+
+def test_the_aligner_counts_its_cpu_time(aligner, tmp_path):
+    audio, _ = spoken(SENTENCE, tmp_path)
+    before = aligner.cpu_s
+    aligner.align(SentenceAudio(SENTENCE, audio, 0.0))
+    assert aligner.cpu_s > before
 
 
 def test_pauses_are_the_middles_of_unvoiced_runs():

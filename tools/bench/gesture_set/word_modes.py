@@ -1,8 +1,9 @@
 """How ``bench gestures`` gives a story's words to the session (``--words``), and the voices held out for it.
 
 - ``timed``: every word with the synthesiser's own times (the reference);
-- ``text``: the story as a plain-text script, placed on its audio by the sentence aligner
-  (:func:`gesturecast.realtime.words.script.place_script`), as ``generate --transcript script.txt`` does;
+- ``text``: the story as a plain-text script placed on its audio, as ``generate --transcript script.txt`` does
+  (:meth:`gesturecast.realtime.gestures.director.GestureDirector.hear_script`: only the sentences that cue something
+  are aligned); the aligner's word start error is measured apart, on every sentence;
 - ``unpunctuated``: the timed words with their punctuation removed, as many recognisers give them, each ending
   where its voiced audio ends (a recogniser's word end: the pauses between words show).
 
@@ -13,15 +14,16 @@ tuning used espeak-ng's default voice only, so these voices (``--voice``) measur
 from __future__ import annotations
 
 import re
-import time
+from collections import Counter
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from gesturecast.controls import Word
+from gesturecast.realtime.gestures.director import GestureDirector, in_order
+from gesturecast.realtime.gestures.transcripts import Transcript
 from gesturecast.realtime.words.aligner import SentenceAligner
-from gesturecast.realtime.words.outcomes import AlignmentCounts
-from gesturecast.realtime.words.script import place_script
+from gesturecast.realtime.words.script import script_sentences
 from gesturecast.realtime.words.voicing import SAMPLE_RATE, voiced_span
 from gesturecast.tools.bench.gesture_set.stories import Story
 
@@ -32,11 +34,25 @@ PUNCTUATION = re.compile(r"[^\w'’-]|(?<!\w)['’-]|['’-](?!\w)")  # all but 
 
 @dataclass
 class WordsGiven:
-    """What a story's words cost and how far they moved: alignment CPU seconds, counts, start errors (s)."""
+    """What the stories' words cost and how far the aligner moved them: the sessions' alignment CPU seconds and
+    sentence outcomes, and the start errors (s) of every sentence aligned apart."""
 
     cpu_s: float = 0.0
-    counts: AlignmentCounts = field(default_factory=AlignmentCounts)
+    counts: Counter = field(default_factory=Counter)
     start_errors: list[float] = field(default_factory=list)
+    aligner: SentenceAligner = field(default_factory=SentenceAligner)  # the measurement's own, not a session's
+
+    def add_session(self, gestures: GestureDirector) -> None:
+        """What placing one story's words cost its session."""
+        self.cpu_s += gestures.aligner.cpu_s
+        self.counts.update(gestures.alignments.to_dict())
+
+    def add_errors(self, story: Story) -> None:
+        """The start error of every word of ``story``, its script's sentences all aligned on its audio."""
+        text = " ".join(word.text for word in story.words)
+        placed = [word for sentence in script_sentences(text, story.audio)
+                  for word in self.aligner.align(sentence).words]
+        self.start_errors += [abs(word.start - own.start) for word, own in zip(placed, story.words, strict=True)]
 
 
 def unpunctuated(token: str) -> str:
@@ -55,24 +71,26 @@ def voiced_ends(story: Story) -> list[float]:
     return ends
 
 
-def story_words(story: Story, mode: str, aligner: SentenceAligner, given: WordsGiven) -> tuple[Word, ...]:
-    """The words of ``story`` as ``mode`` gives them (module docstring); the cost and errors added to ``given``."""
+def story_transcript(story: Story, mode: str) -> Transcript:
+    """The words of ``story`` as ``mode`` gives them (module docstring)."""
     if mode == "timed":
-        return tuple(story.words)
+        return Transcript(tuple(story.words))
     if mode == "unpunctuated":
         ends = voiced_ends(story)
-        return tuple(Word(unpunctuated(w.text), w.start, end) for w, end in zip(story.words, ends, strict=True))
-    started = time.process_time()
-    words = place_script(" ".join(word.text for word in story.words), story.audio, aligner, given.counts)
-    given.cpu_s += time.process_time() - started
-    given.start_errors += [abs(placed.start - word.start) for placed, word in zip(words, story.words, strict=True)]
-    return words
+        return Transcript(tuple(Word(unpunctuated(w.text), w.start, end)
+                                for w, end in zip(story.words, ends, strict=True)))
+    return Transcript(script=" ".join(word.text for word in story.words), samples=story.audio)
+
+
+def decision_words(transcript: Transcript) -> tuple[Word, ...]:
+    """The words a transcript's speech acts are decided on: its words, or a script's in their order."""
+    return transcript.words or in_order(transcript.script.split())
 
 
 def words_summary(given: WordsGiven, generate_cpu_s: float) -> dict:
     """The aligner's measures for the JSON: outcomes, word start error p50/p95 (ms), CPU against generation's."""
     errors = np.array(given.start_errors) * 1e3
-    return {"alignment": given.counts.to_dict(),
+    return {"alignment": dict(given.counts),
             "start_error_ms": {"p50": round(float(np.percentile(errors, 50)), 1),
                                "p95": round(float(np.percentile(errors, 95)), 1)} if errors.size else None,
             "alignment_cpu_s": round(given.cpu_s, 3), "generate_cpu_s": round(generate_cpu_s, 3),
