@@ -13,7 +13,8 @@ decide reach the plan through :meth:`GestureDirector.place_word_cues`, whichever
 
 A sentence without word times (a script's, a TTS service's, a recogniser's) is aligned on its own speech only when
 its words cue something: with a sentence mark, its speech acts and trigger phrases read only its text, so they are
-decided on the words' order first, and a sentence that cues nothing (most narration) costs no alignment. Without a
+decided on the words' order first, and a sentence that cues nothing (most narration) costs no alignment; one that
+cues is aligned only as far as its last cue's word and :data:`CONTEXT_WORDS` after it. Without a
 sentence mark, its pauses give its punctuation (:mod:`gesturecast.realtime.words.punctuation`), so it is aligned
 first.
 """
@@ -43,6 +44,7 @@ from gesturecast.realtime.words.worker import WordsWorker
 
 logger = logging.getLogger(__name__)
 Decision = tuple[list[Cue], list[Cue]]  # (forced trigger cues, speech-act cues) of some words
+CONTEXT_WORDS = 2  # words after a cue's first word aligned with it (they take any speech the prefix's audio overruns)
 
 
 class GestureDirector:
@@ -227,15 +229,17 @@ class GestureDirector:
         if not has_sentence_mark(tokens):
             return self._decide(self._aligned_words(sentence), ended)
         forced, acts = self._decide(in_order(tokens))
-        if not any(cue.gesture in self.cues.clips for cue in forced + acts):
+        cued = [round(cue.time) for cue in forced + acts if cue.gesture in self.cues.clips]  # their first words
+        if not cued:
             self.alignments.count_uncued(len(tokens))
             return [], []
-        words = self._aligned_words(sentence)
+        words = self._aligned_words(sentence, max(cued) + 1 + CONTEXT_WORDS)
         return timed_by_words(forced, words), timed_by_words(acts, words)
 
-    def _aligned_words(self, sentence: SentenceAudio) -> tuple[Word, ...]:
-        """The sentence's words with times from its speech (counted), checked as every door's words are."""
-        alignment = self.aligner.align(sentence)
+    def _aligned_words(self, sentence: SentenceAudio, needed: int | None = None) -> tuple[Word, ...]:
+        """The sentence's words with times from its speech (counted), checked as every door's words are: only the
+        first ``needed`` when given (:meth:`SentenceAudio.prefix`)."""
+        alignment = self.aligner.align(sentence if needed is None else sentence.prefix(needed))
         self.alignments.count(alignment, sentence.text)
         return parse_words([{"word": w.text, "start": w.start, "end": w.end} for w in alignment.words],
                            "sentence words")

@@ -6,7 +6,8 @@ alignment does not finish is aligned again in two parts, cut at a pause), by one
 
 - ``aligned``: every token's start and end come from the alignment;
 - ``partly``: the alignment placed some tokens (those in the dictionary, up to where it stopped); the others are
-  spread by their letters between their placed neighbours (or over the voiced audio after the last placed one);
+  spread by their letters between their placed neighbours (or over the voiced audio after the last placed one). A
+  hyphenated token the dictionary lacks ("bye-bye") is aligned as its parts when it has them all;
 - ``spread``: nothing aligned (no token in the dictionary, the search did not reach the sentence's end): every token
   is spread by its letters over the voiced part of the audio;
 - ``failed``: the span has no voiced audio: the tokens are spread over the whole span, at least as long as
@@ -20,13 +21,24 @@ normalised (lower case, letters and apostrophes).
 from __future__ import annotations
 
 import re
+import threading
 import time
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 
 import numpy as np
 
 from gesturecast.controls import Word
-from gesturecast.realtime.words.voicing import FRAME_S, SAMPLE_RATE, letters, pauses, spread, voiced_span
+from gesturecast.realtime.words.voicing import (
+    FRAME_S,
+    SAMPLE_RATE,
+    letters,
+    pause_runs,
+    pauses,
+    spread,
+    voiced_span,
+)
 
 PAD_S = 0.2  # silence around the span: the alignment starts and ends in silence
 NOMINAL_WORD_S = 0.3  # a word's share of a span without voiced audio
@@ -37,6 +49,13 @@ CLAUSE_MARKS = frozenset(",;:")
 FILLERS = frozenset(["<s>", "</s>", "<sil>", "(NULL)", "[NOISE]"])
 METHODS = ("aligned", "partly", "spread", "failed")
 ALTERNATE = re.compile(r"\(\d+\)$")  # "the(2)": the dictionary's second pronunciation
+HYPHENS = re.compile(r"[-‐‑–—]")
+# The search's beams, wider than pocketsphinx's defaults (1e-48, 7e-29, 1e-48): with those, an accent the US-English
+# model knows less well (espeak-ng's Scottish voice) left a quarter of the sentences part-aligned (word start error
+# p95 203 ms); with these, 4 of 57 (44 ms), at the same CPU time (docs/words.md).
+BEAMS = {"beam": 1e-80, "wbeam": 1e-60, "pbeam": 1e-80}
+PREFIX_MARGIN_S = 0.3  # a prefix's audio runs to the first gap this long after its estimated end
+PREFIX_GAP_S = 0.05  # the least unvoiced run a prefix's audio is cut at
 
 
 @dataclass(frozen=True)
@@ -57,40 +76,94 @@ class SentenceAudio:
     samples: np.ndarray
     start: float
 
+    def prefix(self, count: int) -> SentenceAudio:
+        """The sentence's first ``count`` tokens with the audio they are spoken in: up to the first gap
+        (:data:`PREFIX_GAP_S` unvoiced) after their share of the voiced audio by letters plus
+        :data:`PREFIX_MARGIN_S`; the whole sentence when it has no more tokens or no such gap."""
+        tokens = self.text.split()
+        span = voiced_span(self.samples)
+        if count >= len(tokens) or span is None:
+            return self
+        share = sum(letters(token) for token in tokens[:count]) / sum(letters(token) for token in tokens)
+        estimate = span[0] + share * (span[1] - span[0]) + PREFIX_MARGIN_S
+        cut = next((middle for middle, _ in pause_runs(self.samples, PREFIX_GAP_S) if estimate <= middle < span[1]),
+                   None)
+        if cut is None:
+            return self
+        return SentenceAudio(" ".join(tokens[:count]), self.samples[: int(cut * SAMPLE_RATE)], self.start)
+
 
 def dictionary_form(token: str) -> str:
     """How the dictionary spells ``token``: lower case, letters and inner apostrophes only ("Hello," → "hello")."""
     return re.sub(r"[^a-z']", "", token.lower()).strip("'")
 
 
-class SentenceAligner:
-    """Aligns sentences to 16 kHz mono float32 audio; the decoder is loaded on the first alignment (about 0.1 CPU-s)
-    and reused. One aligner serves one thread; ``cpu_s`` is the thread CPU time its alignments took."""
+class DecoderPool:
+    """The process's loaded decoders: one is lent to each alignment and given back after it, so a process loads only
+    as many as align at once (a load costs about 0.09 CPU-s; streams come and go)."""
 
     def __init__(self) -> None:
-        self._decoder = None
-        self.cpu_s = 0.0
+        self._free: list = []
+        self._lock = threading.Lock()
 
-    @property
-    def decoder(self):
-        if self._decoder is None:
+    @contextmanager
+    def lend(self) -> Iterator:
+        with self._lock:
+            decoder = self._free.pop() if self._free else None
+        if decoder is None:
             from pocketsphinx import Decoder  # the C decoder and its model: loaded when first needed
 
-            self._decoder = Decoder(lm=None, loglevel="FATAL", samprate=SAMPLE_RATE, bestpath=False)
-        return self._decoder
+            decoder = Decoder(lm=None, loglevel="FATAL", samprate=SAMPLE_RATE, bestpath=False, **BEAMS)
+        try:
+            yield decoder
+        finally:
+            with self._lock:
+                self._free.append(decoder)
 
-    def known(self, token: str) -> bool:
-        """Whether the dictionary has ``token`` (in its :func:`dictionary_form`)."""
-        form = dictionary_form(token)
-        return bool(form) and self.decoder.lookup_word(form) is not None
+
+DECODERS = DecoderPool()
+
+
+class SentenceAligner:
+    """Aligns sentences to 16 kHz mono float32 audio on a decoder lent by :data:`DECODERS` for each alignment. One
+    aligner serves one thread; ``cpu_s`` is the thread CPU time its alignments took (a decoder's load included)."""
+
+    def __init__(self) -> None:
+        self.decoder = None  # the lent decoder, during an alignment
+        self.cepstral_mean: str | None = None  # this aligner's voice so far (the decoder's start when None)
+        self.cpu_s = 0.0
+
+    def pronounced(self, token: str) -> list[str]:
+        """The dictionary words ``token`` is spoken as: its :func:`dictionary_form`, or the forms of its hyphenated
+        parts when the dictionary has them all; [] when it has neither."""
+        for forms in ([dictionary_form(token)], [dictionary_form(part) for part in HYPHENS.split(token)]):
+            if all(forms) and all(self.decoder.lookup_word(form) is not None for form in forms):
+                return forms
+        return []
 
     def align(self, sentence: SentenceAudio) -> Alignment:
         """The sentence's tokens placed on its audio (module docstring)."""
         started = time.thread_time()
         try:
-            return self._aligned(sentence.text.split(), sentence.samples, sentence.start)
+            with DECODERS.lend() as self.decoder:
+                return self._with_own_voice(lambda: self._aligned(sentence.text.split(), sentence.samples,
+                                                                  sentence.start))
         finally:
+            self.decoder = None
             self.cpu_s += time.thread_time() - started
+
+    def _with_own_voice(self, align: Callable[[], Alignment]) -> Alignment:
+        """``align()`` on the lent decoder with this aligner's cepstral mean, kept for its next sentence: the decoder
+        adapts to the voice sentence by sentence, and a sentence's alignment depends only on this aligner's own
+        earlier sentences, whichever decoder is lent."""
+        initial = self.decoder.get_cmn(False)
+        if self.cepstral_mean is not None:
+            self.decoder.set_cmn(self.cepstral_mean)
+        try:
+            return align()
+        finally:
+            self.cepstral_mean = self.decoder.get_cmn(False)
+            self.decoder.set_cmn(initial)
 
     def _aligned(self, tokens: list[str], samples: np.ndarray, start: float) -> Alignment:
         span = voiced_span(samples)
@@ -125,14 +198,14 @@ class SentenceAligner:
     def _aligned_starts(self, tokens: list[str], samples: np.ndarray, start: float) -> dict[int, tuple[float, float]]:
         """{token index: (start, end)} of the dictionary's tokens the alignment placed, in order (it may stop short
         of the sentence's end); {} when it placed none."""
-        indices = [i for i, token in enumerate(tokens) if self.known(token)]
-        if not indices:
+        spoken = [(i, form) for i, token in enumerate(tokens) for form in self.pronounced(token)]  # (token, word)
+        if not spoken:
             return {}
         pad = np.zeros(int(PAD_S * SAMPLE_RATE), np.float32)
         pcm = (np.clip(np.concatenate([pad, samples, pad]), -1, 1) * 32767).astype("<i2").tobytes()
         decoder = self.decoder
         try:
-            decoder.set_align_text(" ".join(dictionary_form(tokens[i]) for i in indices))
+            decoder.set_align_text(" ".join(form for _, form in spoken))
             decoder.start_utt()
             decoder.process_raw(pcm)
             decoder.end_utt()
@@ -141,13 +214,16 @@ class SentenceAligner:
             return {}
         segments = [segment for segment in decoder.seg() or () if segment.word not in FILLERS]
         offset = start - PAD_S
-        placed = {}
-        for index, segment in zip(indices, segments, strict=False):
-            if ALTERNATE.sub("", segment.word) != dictionary_form(tokens[index]):
+        placed, parts = {}, {}  # token index → (start, end), its parts placed
+        for (index, form), segment in zip(spoken, segments, strict=False):
+            if ALTERNATE.sub("", segment.word) != form:
                 break
             times = offset + np.array([segment.start_frame, segment.end_frame + 1]) * FRAME_S
-            placed[index] = tuple(float(t) for t in np.clip(times, start, start + len(samples) / SAMPLE_RATE))
-        return placed
+            begin, end = (float(t) for t in np.clip(times, start, start + len(samples) / SAMPLE_RATE))
+            placed[index] = (placed.get(index, (begin, end))[0], end)
+            parts[index] = parts.get(index, 0) + 1
+        whole = {index for index, count in parts.items() if count == len(self.pronounced(tokens[index]))}
+        return {index: times for index, times in placed.items() if index in whole}
 
 
 def _close_utterance(decoder) -> None:

@@ -23,9 +23,10 @@ class AlignmentCounts:
     _log: ThrottledLog = field(default_factory=lambda: ThrottledLog(logger), repr=False, compare=False)
 
     def count(self, alignment: Alignment, text: str) -> None:
-        """Count one sentence's alignment; one not fully aligned is logged (at most a line per interval)."""
+        """Count one sentence's alignment (of all its words, or of the first of them its cues need); one not fully
+        aligned is logged (at most a line per interval)."""
         self.sentences[alignment.method] += 1
-        self.words += len(alignment.words)
+        self.words += len(text.split())
         self.aligned_words += round(alignment.confidence * len(alignment.words))
         if alignment.method != "aligned":
             self._log.log(logging.INFO, f"words placed by {alignment.method} ({alignment.confidence:.0%} aligned): "
