@@ -88,3 +88,23 @@ def test_pauses_are_the_middles_of_unvoiced_runs():
     audio = np.concatenate([tone, np.zeros(SAMPLE_RATE // 2, np.float32), tone])
     assert pauses(audio) == [pytest.approx(1.25)]
     assert voiced_span(audio) == (0.0, 2.5)
+
+
+def test_an_alignment_depends_only_on_its_own_aligners_sentences(tmp_path):
+    first, _ = spoken(SENTENCE, tmp_path)
+    second, _ = spoken("Thank you so much for watching.", tmp_path)
+    alone = SentenceAligner().align(SentenceAudio("Thank you so much for watching.", second, 0.0))
+    other = SentenceAligner()
+    for _ in range(3):  # another stream's sentences on the pooled decoder
+        other.align(SentenceAudio(SENTENCE, first, 0.0))
+    again = SentenceAligner().align(SentenceAudio("Thank you so much for watching.", second, 0.0))
+    assert again == alone
+    assert other.cepstral_mean is not None
+
+
+def test_a_hyphenated_word_is_aligned_by_its_parts(aligner, tmp_path):
+    text = "Take care, and bye-bye for now."
+    audio, timed = spoken(text, tmp_path)
+    alignment = aligner.align(SentenceAudio(text, audio, 0.0))
+    assert alignment.method == "aligned"  # "bye-bye" is not in the dictionary; "bye" is
+    assert abs(alignment.words[3].start - timed[3].start) < 0.08
