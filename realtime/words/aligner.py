@@ -25,7 +25,7 @@ import threading
 import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -54,6 +54,7 @@ HYPHENS = re.compile(r"[-‐‑–—]")
 # model knows less well (espeak-ng's Scottish voice) left a quarter of the sentences part-aligned (word start error
 # p95 203 ms); with these, 4 of 57 (44 ms), at the same CPU time (docs/words.md).
 BEAMS = {"beam": 1e-80, "wbeam": 1e-60, "pbeam": 1e-80}
+MAX_ONSET_SHIFT_S = 0.5  # the first word's start moves at most this far back to the voiced onset
 PREFIX_MARGIN_S = 0.3  # a prefix's audio runs to the first gap this long after its estimated end
 PREFIX_GAP_S = 0.05  # the least unvoiced run a prefix's audio is cut at
 
@@ -174,7 +175,7 @@ class SentenceAligner:
         placed = self._aligned_starts(tokens, samples, start) or self._aligned_in_two(tokens, samples, start, span)
         if not placed:
             return Alignment(tuple(spread(tokens, *voiced)), "spread", 0.0)
-        words = _fill(tokens, placed, voiced)
+        words = _from_onset(_fill(tokens, placed, voiced), voiced[0])
         method = "aligned" if len(placed) == len(tokens) else "partly"
         return Alignment(tuple(words), method, len(placed) / len(tokens))
 
@@ -224,6 +225,16 @@ class SentenceAligner:
             parts[index] = parts.get(index, 0) + 1
         whole = {index for index, count in parts.items() if count == len(self.pronounced(tokens[index]))}
         return {index: times for index, times in placed.items() if index in whole}
+
+
+def _from_onset(words: list[Word], onset: float) -> list[Word]:
+    """The first word starting at the sentence's voiced onset (at most :data:`MAX_ONSET_SHIFT_S` before where it was
+    aligned): the alignment starts a sentence late when its first sound is weak (the /h/ of "Hello", the /w/ of
+    "Welcome": 0.15-0.35 s late in some voices), and the speech begins with its first word."""
+    first = words[0]
+    if first.start <= onset:
+        return words
+    return [replace(first, start=max(onset, first.start - MAX_ONSET_SHIFT_S)), *words[1:]]
 
 
 def _close_utterance(decoder) -> None:
