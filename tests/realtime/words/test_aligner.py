@@ -108,3 +108,14 @@ def test_a_hyphenated_word_is_aligned_by_its_parts(aligner, tmp_path):
     alignment = aligner.align(SentenceAudio(text, audio, 0.0))
     assert alignment.method == "aligned"  # "bye-bye" is not in the dictionary; "bye" is
     assert abs(alignment.words[3].start - timed[3].start) < 0.08
+
+
+def test_a_prefix_keeps_the_audio_up_to_a_gap_after_its_words():
+    tone = 0.3 * np.sin(np.arange(SAMPLE_RATE // 2) * 0.3).astype(np.float32)  # (8000,) 0.5 s
+    gap = np.zeros(SAMPLE_RATE // 10, np.float32)  # (1600,) 0.1 s
+    audio = np.concatenate([tone, gap, tone, gap, tone, gap, tone])  # four "words", 2.3 s
+    sentence = SentenceAudio("one two three four.", audio, 5.0)
+    prefix = sentence.prefix(2)
+    assert prefix.text == "one two" and prefix.start == 5.0
+    assert len(prefix.samples) / SAMPLE_RATE == pytest.approx(1.75, abs=0.02)  # the gap after the third word
+    assert sentence.prefix(4) is sentence
