@@ -13,8 +13,9 @@ decide reach the plan through :meth:`GestureDirector.place_word_cues`, whichever
 
 A sentence without word times (a script's, a TTS service's, a recogniser's) is aligned on its own speech only when
 its words cue something: with a sentence mark, its speech acts and trigger phrases read only its text, so they are
-decided on the words' order first, and a sentence that cues nothing (most narration) costs no alignment; one that
-cues is aligned only as far as its last cue's word and :data:`CONTEXT_WORDS` after it. Without a
+decided on the words' order first, and a sentence that cues nothing (most narration) costs no alignment; one whose
+cues all sit on its first word takes that word's start from its voiced onset, and any other is aligned only as far as
+its last cue's word and :data:`CONTEXT_WORDS` after it. Without a
 sentence mark, its pauses give its punctuation (:mod:`gesturecast.realtime.words.punctuation`), so it is aligned
 first.
 """
@@ -233,13 +234,18 @@ class GestureDirector:
         if not cued:
             self.alignments.count_uncued(len(tokens))
             return [], []
-        words = self._aligned_words(sentence, max(cued) + 1 + CONTEXT_WORDS)
+        words = self._aligned_words(sentence, max(cued))
         return timed_by_words(forced, words), timed_by_words(acts, words)
 
-    def _aligned_words(self, sentence: SentenceAudio, needed: int | None = None) -> tuple[Word, ...]:
-        """The sentence's words with times from its speech (counted), checked as every door's words are: only the
-        first ``needed`` when given (:meth:`SentenceAudio.prefix`)."""
-        alignment = self.aligner.align(sentence if needed is None else sentence.prefix(needed))
+    def _aligned_words(self, sentence: SentenceAudio, last_cued: int | None = None) -> tuple[Word, ...]:
+        """The sentence's words with times from its speech (counted), checked as every door's words are; with the
+        index of its last cued word, only as far as the cues need: the first word starts at the voiced onset (no
+        alignment), a later one is aligned with :data:`CONTEXT_WORDS` after it (:meth:`SentenceAudio.prefix`)."""
+        if last_cued == 0:
+            alignment = self.aligner.at_onset(sentence)
+        else:
+            needed = None if last_cued is None else last_cued + 1 + CONTEXT_WORDS
+            alignment = self.aligner.align(sentence if needed is None else sentence.prefix(needed))
         self.alignments.count(alignment, sentence.text)
         return parse_words([{"word": w.text, "start": w.start, "end": w.end} for w in alignment.words],
                            "sentence words")

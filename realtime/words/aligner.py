@@ -11,7 +11,9 @@ alignment does not finish is aligned again in two parts, cut at a pause), by one
 - ``spread``: nothing aligned (no token in the dictionary, the search did not reach the sentence's end): every token
   is spread by its letters over the voiced part of the audio;
 - ``failed``: the span has no voiced audio: the tokens are spread over the whole span, at least as long as
-  :data:`NOMINAL_WORD_S` a word.
+  :data:`NOMINAL_WORD_S` a word;
+- ``onset`` (:meth:`SentenceAligner.at_onset`, no alignment asked): the tokens are spread over the voiced audio, so
+  the first word starts at the voiced onset, where an alignment starts it too.
 
 ``confidence`` is the share of tokens whose times the alignment gave (1.0 aligned, 0.0 spread or failed). The
 words keep the sentence's spelling and punctuation (the speech acts read them); only the alignment sees them
@@ -47,7 +49,8 @@ MIN_SPLIT_WORDS = 4  # a sentence the alignment did not finish is aligned again 
 MAX_CUT_SHIFT_S = 1.0  # the cut between the parts moves at most this far to a pause
 CLAUSE_MARKS = frozenset(",;:")
 FILLERS = frozenset(["<s>", "</s>", "<sil>", "(NULL)", "[NOISE]"])
-METHODS = ("aligned", "partly", "spread", "failed")
+METHODS = ("aligned", "onset", "partly", "spread", "failed")
+FALLBACKS = ("partly", "spread", "failed")  # the outcomes of an alignment that did not place every word
 ALTERNATE = re.compile(r"\(\d+\)$")  # "the(2)": the dictionary's second pronunciation
 HYPHENS = re.compile(r"[-‐‑–—]")
 # The search's beams, wider than pocketsphinx's defaults (1e-48, 7e-29, 1e-48): with those, an accent the US-English
@@ -166,11 +169,19 @@ class SentenceAligner:
             self.cepstral_mean = self.decoder.get_cmn(False)
             self.decoder.set_cmn(initial)
 
+    @staticmethod
+    def at_onset(sentence: SentenceAudio) -> Alignment:
+        """The sentence's tokens spread by letters over its voiced audio, without aligning them (``onset``; ``failed``
+        without voiced audio): enough when only its first word's start is needed."""
+        tokens, span = sentence.text.split(), voiced_span(sentence.samples)
+        if span is None:
+            return _failed(tokens, sentence.samples, sentence.start)
+        return Alignment(tuple(spread(tokens, sentence.start + span[0], sentence.start + span[1])), "onset", 0.0)
+
     def _aligned(self, tokens: list[str], samples: np.ndarray, start: float) -> Alignment:
         span = voiced_span(samples)
         if span is None:
-            length = max(len(samples) / SAMPLE_RATE, NOMINAL_WORD_S * len(tokens))
-            return Alignment(tuple(spread(tokens, start, start + length)), "failed", 0.0)
+            return _failed(tokens, samples, start)
         voiced = (start + span[0], start + span[1])
         placed = self._aligned_starts(tokens, samples, start) or self._aligned_in_two(tokens, samples, start, span)
         if not placed:
@@ -225,6 +236,12 @@ class SentenceAligner:
             parts[index] = parts.get(index, 0) + 1
         whole = {index for index, count in parts.items() if count == len(self.pronounced(tokens[index]))}
         return {index: times for index, times in placed.items() if index in whole}
+
+
+def _failed(tokens: list[str], samples: np.ndarray, start: float) -> Alignment:
+    """Tokens spread over audio without voiced speech: over all of it, at least :data:`NOMINAL_WORD_S` a word."""
+    length = max(len(samples) / SAMPLE_RATE, NOMINAL_WORD_S * len(tokens))
+    return Alignment(tuple(spread(tokens, start, start + length)), "failed", 0.0)
 
 
 def _from_onset(words: list[Word], onset: float) -> list[Word]:

@@ -52,10 +52,11 @@ def frames_of(audio: np.ndarray, frame_type: type = OutputAudioRawFrame) -> list
 
 
 def placed_by_alignment(processor: GesturecastProcessor) -> int:
-    """Sentences whose words the aligner placed, all or most of them (espeak-ng's audio of a sentence varies a
-    little with what it spoke before, and the decoder may then stop a word short)."""
+    """Sentences placed on their own audio: aligned, all or most of their words (espeak-ng's audio of a sentence
+    varies a little with what it spoke before, and the decoder may then stop a word short), or by the voiced onset
+    when only their first word cues."""
     counts = processor.session.gestures.alignments.to_dict()
-    return counts["aligned"] + counts["partly"]
+    return counts["aligned"] + counts["partly"] + counts["onset"]
 
 
 def stroke_error(processor: GesturecastProcessor, gesture: str, word_s: float) -> float | None:

@@ -113,7 +113,7 @@ def test_a_text_messages_words_pass_the_two_functions(route, tmp_path):
         stream.push(np.zeros(SAMPLE_RATE // 4, np.float32), SAMPLE_RATE)  # the controls are applied at the next latent
         stream.push(audio, SAMPLE_RATE)
         stream.push(np.zeros(SAMPLE_RATE, np.float32), SAMPLE_RATE)
-        assert stream.session.gestures.alignments.to_dict()["aligned"] == 1
+        assert stream.session.gestures.alignments.to_dict()["onset"] == 1  # "Hello" opens it: its voiced onset
     assert parsed_texts(parsed) == ["Hello", "everyone."]
     assert placed_phrases(placed) == ["Hello"]
 
@@ -127,10 +127,10 @@ def test_a_sentence_spoken_without_a_start_is_placed_on_its_audio(route, tmp_pat
         stream.push(np.zeros(SAMPLE_RATE // 2, np.float32), SAMPLE_RATE)
         stream.push(np.concatenate([audio, np.zeros(SAMPLE_RATE // 2, np.float32)]), SAMPLE_RATE)
         stream.spoken("Hello everyone.")  # a recogniser's transcript, after its audio and the pause after it
-        assert stream.session.gestures.alignments.to_dict()["aligned"] == 1
+        assert stream.session.gestures.alignments.to_dict()["onset"] == 1  # "Hello" opens it: its voiced onset
     assert parsed_texts(parsed) == ["Hello", "everyone."]
     [call] = parsed.call_args_list
-    assert abs(call.args[0][1]["start"] - (0.5 + timed[1].start)) < 0.05
+    assert abs(call.args[0][0]["start"] - (0.5 + timed[0].start)) < 0.05  # the cued word, where its speech starts
     assert placed_phrases(placed) == ["Hello"]
 
 
