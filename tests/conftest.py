@@ -54,9 +54,12 @@ def shipped_repertoires():
     """The shipped gesture lexicon, encoded once per model bundle (its folder and its files as they are), style label,
     seed and threads for the whole run (what :func:`load_repertoire` gives depends on nothing else, and the lexicon is
     read-only package data): the sessions that many tests build with the default settings would each encode the same
-    clips again (about a second of CPU a session). Any other lexicon is loaded as it is asked for."""
+    clips again (about a second of CPU a session). Any other lexicon is loaded as it is asked for. The benchmarks'
+    and ``gesturecast eval``'s sessions (tools/eval/generate.py, which keeps them only per bundle object, and every
+    command loads its bundle anew) share the same ones."""
     from gesturecast.realtime.run import engine_setup
     from gesturecast.settings import DEFAULT_GESTURES_DIR
+    from gesturecast.tools.eval import generate
 
     load = engine_setup.load_repertoire
     loaded = {}
@@ -73,9 +76,9 @@ def shipped_repertoires():
             loaded[key] = load(settings, bundle)
         return loaded[key]
 
-    engine_setup.load_repertoire = load_shipped_once
+    engine_setup.load_repertoire = generate.load_repertoire = load_shipped_once
     yield
-    engine_setup.load_repertoire = load
+    engine_setup.load_repertoire = generate.load_repertoire = load
 
 
 @pytest.fixture
