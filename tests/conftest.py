@@ -81,6 +81,25 @@ def shipped_repertoires():
     engine_setup.load_repertoire = generate.load_repertoire = load
 
 
+RAY_CPUS = 4  # the shared local Ray: a batch's two one-CPU actors, or two Serve replicas and a redeploy's new one
+
+
+@pytest.fixture(scope="session")
+def ray_cluster():
+    """The ``ray`` module, connected to one local Ray (loopback, no dashboard) that every Ray test of the run shares,
+    started on first use (a Ray start and shutdown cost seconds each); skipped where Ray is not installed
+    (``gesturecast[scale]``). Its Serve proxy loads the replica-loss middleware, as under ``serve --ray``."""
+    ray = pytest.importorskip("ray", reason="Ray is the optional extra gesturecast[scale]")
+    from gesturecast.realtime.serve.ray_proxy import install_proxy_callback
+
+    install_proxy_callback()  # as serve --ray does before it starts a local Ray
+    ray.init(num_cpus=RAY_CPUS, include_dashboard=False, logging_level="ERROR")
+    try:
+        yield ray
+    finally:
+        ray.shutdown()
+
+
 @pytest.fixture
 def cli_here(capsys, monkeypatch):
     """``gesturecast ARGS`` run by ``gesturecast.cli.main`` in this process (optionally in folder ``cwd``), as a

@@ -34,7 +34,7 @@ from gesturecast.realtime.serve.ray_cli import (
     application,
     deployment_options,
 )
-from gesturecast.realtime.serve.ray_proxy import REPLICA_LOST_CODE, REPLICA_LOST_REASON, install_proxy_callback
+from gesturecast.realtime.serve.ray_proxy import REPLICA_LOST_CODE, REPLICA_LOST_REASON
 from gesturecast.realtime.serve.serve_command import build_server
 from gesturecast.realtime.timing.clock import MonotonicClock
 from gesturecast.tools.bench.serve_client import stream_audio
@@ -42,8 +42,7 @@ from gesturecast.tools.bench.serve_client import stream_audio
 ray = pytest.importorskip("ray", reason="Ray Serve is the optional extra gesturecast[scale]")
 serve = pytest.importorskip("ray.serve")
 
-RAY_CPUS = 2
-REPLICA_CPUS = 0.5  # two replicas and a redeploy's new one fit in RAY_CPUS
+REPLICA_CPUS = 0.5  # two replicas and a redeploy's new one fit in the shared Ray's CPUs (tests/conftest.py)
 STREAMS_PER_REPLICA = 1
 CHUNK = 8000  # 0.5 s messages when streaming as fast as possible
 PACED_CHUNK = 1600  # 100 ms messages at real-time pace
@@ -74,11 +73,10 @@ def serve_args(model, port: int, *flags: str) -> argparse.Namespace:
 
 
 @pytest.fixture(scope="module")
-def cluster(tiny_model):
-    """A local Ray with Serve's proxy on a free loopback port and the app on 2 replicas."""
+def cluster(ray_cluster, tiny_model):
+    """Serve on the run's local Ray (tests/conftest.py), its proxy on a free loopback port, and the app on 2
+    replicas; Serve is shut down after this module, Ray at the end of the run."""
     port = free_port()
-    install_proxy_callback()  # as serve --ray does before it starts a local Ray
-    ray.init(num_cpus=RAY_CPUS, include_dashboard=False, logging_level="ERROR")
     serve.start(http_options={"host": "127.0.0.1", "port": port})
     args = serve_args(tiny_model[1], port, "--replicas", "2")
     url = f"ws://127.0.0.1:{port}/stream/"
@@ -87,7 +85,6 @@ def cluster(tiny_model):
         yield args, url
     finally:
         serve.shutdown()
-        ray.shutdown()
 
 
 def deploy(args: argparse.Namespace, url: str | None = None) -> None:
