@@ -47,6 +47,7 @@ STREAMS_PER_REPLICA = 1
 CHUNK = 8000  # 0.5 s messages when streaming as fast as possible
 PACED_CHUNK = 1600  # 100 ms messages at real-time pace
 PACED_SECONDS = 4.0
+EQUAL_SECONDS = 2.0  # compared with plain serve: the server releases frames in real time, twice per test
 TIMEOUT_S = 90.0  # a broken deployment fails the test instead of hanging it
 RECONNECT_TRIES = 30
 RECONNECT_PAUSE_S = 1.0
@@ -146,6 +147,7 @@ async def streams(url: str, audio: list[np.ndarray], chunk: int, paced: bool, st
 
 def test_streams_through_two_replicas_equal_plain_serve(cluster, speech):
     args, url = cluster
+    speech = [audio[: int(EQUAL_SECONDS * SAMPLE_RATE)] for audio in speech]
     starts = [{"seed": 1}, {"seed": 2, "style": "old", "guidance": 1.0}]
     through_ray = run(streams(url, speech, CHUNK, False, starts))  # one stream per replica, or one gets 1013
     plain = build_server(argparse.Namespace(**{**vars(args), "port": 0, "max_streams": 2}), MonotonicClock())
