@@ -54,9 +54,12 @@ def shipped_repertoires():
     """The shipped gesture lexicon, encoded once per model bundle (its folder and its files as they are), style label,
     seed and threads for the whole run (what :func:`load_repertoire` gives depends on nothing else, and the lexicon is
     read-only package data): the sessions that many tests build with the default settings would each encode the same
-    clips again (about a second of CPU a session). Any other lexicon is loaded as it is asked for."""
+    clips again (about a second of CPU a session). Any other lexicon is loaded as it is asked for. The benchmarks'
+    and ``gesturecast eval``'s sessions (tools/eval/generate.py, which keeps them only per bundle object, and every
+    command loads its bundle anew) share the same ones."""
     from gesturecast.realtime.run import engine_setup
     from gesturecast.settings import DEFAULT_GESTURES_DIR
+    from gesturecast.tools.eval import generate
 
     load = engine_setup.load_repertoire
     loaded = {}
@@ -73,9 +76,28 @@ def shipped_repertoires():
             loaded[key] = load(settings, bundle)
         return loaded[key]
 
-    engine_setup.load_repertoire = load_shipped_once
+    engine_setup.load_repertoire = generate.load_repertoire = load_shipped_once
     yield
-    engine_setup.load_repertoire = load
+    engine_setup.load_repertoire = generate.load_repertoire = load
+
+
+RAY_CPUS = 4  # the shared local Ray: a batch's two one-CPU actors, or two Serve replicas and a redeploy's new one
+
+
+@pytest.fixture(scope="session")
+def ray_cluster():
+    """The ``ray`` module, connected to one local Ray (loopback, no dashboard) that every Ray test of the run shares,
+    started on first use (a Ray start and shutdown cost seconds each); skipped where Ray is not installed
+    (``gesturecast[scale]``). Its Serve proxy loads the replica-loss middleware, as under ``serve --ray``."""
+    ray = pytest.importorskip("ray", reason="Ray is the optional extra gesturecast[scale]")
+    from gesturecast.realtime.serve.ray_proxy import install_proxy_callback
+
+    install_proxy_callback()  # as serve --ray does before it starts a local Ray
+    ray.init(num_cpus=RAY_CPUS, include_dashboard=False, logging_level="ERROR")
+    try:
+        yield ray
+    finally:
+        ray.shutdown()
 
 
 @pytest.fixture

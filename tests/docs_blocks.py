@@ -28,12 +28,27 @@ RATE = 44100  # talk.wav's rate: a user's recording, not the model's 16 kHz
 
 # The shell the bash blocks run in. The commands are the real ones; the few that would run for minutes or until
 # stopped get a small input: `live` reads talk.wav as fast as possible instead of a microphone, `serve` is stopped
-# (SIGINT, as Ctrl-C) after a few seconds of listening, training and data builds use a few takes and steps.
+# (SIGINT, as Ctrl-C) once it prints where streams go and must then end as after Ctrl-C (status 130; a server still
+# running a minute later is killed and fails), training and data builds use a few takes and steps. `serve` runs in
+# the background with SIGINT at its default (a background job of a script would ignore it).
 BASH_PRELUDE = """set -eo pipefail
+until_gone() {  # poll up to 60 s while process $1 runs and command $2 fails
+  for _ in $(seq 600); do kill -0 "$1" 2>/dev/null && ! eval "$2" || return 0; sleep 0.1; done
+}
+serve_until_ready() {
+  local out status=0 pid; out=$(mktemp)
+  env --default-signal=INT gesturecast "$@" > "$out" & pid=$!
+  until_gone "$pid" 'grep -q "Ctrl-C stops" "$out"'
+  kill -INT "$pid" 2>/dev/null || true
+  until_gone "$pid" false
+  kill -KILL "$pid" 2>/dev/null || true
+  wait "$pid" || status=$?
+  cat "$out"; rm -f "$out"; [ "$status" = 130 ]
+}
 gesturecast() {
   case "$1 $2" in
     "live "*) command gesturecast "$@" --input talk.wav --pace fast ;;
-    "serve "*) local status=0; timeout -s INT 12 gesturecast "$@" || status=$?; [ "$status" = 124 ] ;;
+    "serve "*) serve_until_ready "$@" ;;
     "train "*) command gesturecast "$@" --preset tiny --vq-steps 2 --denoiser-steps 2 --prompt-steps 2 \\
                  --no-progress ;;
     "data build") command gesturecast "$@" --limit 1 ;;

@@ -161,13 +161,19 @@ def test_a_folder_s_jobs_mirror_its_tree_and_a_missing_source_is_refused(tmp_pat
         find_jobs(tmp_path / "nothing", tmp_path / "out", with_json=False)
 
 
-def test_ray_runs_the_same_jobs_with_the_same_bytes(tiny_model, clips, tmp_path):
+def test_ray_runs_the_same_jobs_with_the_same_bytes(tiny_model, clips, tmp_path, cli_here, ray_cluster, monkeypatch):
+    """On the run's shared local Ray (tests/conftest.py): the batch's own start of a local Ray and its shutdown are
+    recorded instead (the README's batch example runs them for real)."""
     pytest.importorskip("ray.data", reason="Ray Data is not installed (pip install 'gesturecast[scale]')")
+    started, stopped = [], []
+    monkeypatch.setattr(ray_cluster, "init", lambda **options: started.append(options))
+    monkeypatch.setattr(ray_cluster, "shutdown", lambda: stopped.append(True))
     model = ["--model", str(tiny_model[1])]
     by_processes, by_ray = tmp_path / "processes", tmp_path / "ray"
     run_cli("generate", "--batch", str(clips), "-o", str(by_processes), "--workers", "1", *model)
-    result = run_cli("generate", "--batch", str(clips), "-o", str(by_ray), "--workers", "2", "--ray", *model)
+    result = cli_here("generate", "--batch", str(clips), "-o", str(by_ray), "--workers", "2", "--ray", *model)
     assert result.returncode == BATCH_FAILED_EXIT, result.stderr[-3000:]
+    assert [options["num_cpus"] for options in started] == [2] and stopped == [True]
     summary = read_summary(by_ray)
     assert (summary["runner"], summary["generated"], summary["failed"]) == ("ray", 2, 2)
     assert sorted(Path(f["path"]).name for f in summary["failures"]) == ["corrupt.wav", "empty.wav"]

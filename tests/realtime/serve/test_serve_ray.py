@@ -6,6 +6,8 @@ only its own stream, with close code 1012 and a reason, and a reconnect works. S
 installed (``gesturecast[scale]``).
 """
 
+from __future__ import annotations
+
 import argparse
 import asyncio
 import contextlib
@@ -15,6 +17,7 @@ import signal
 import socket
 import subprocess
 import sys
+from dataclasses import dataclass
 
 import numpy as np
 import pytest
@@ -34,7 +37,7 @@ from gesturecast.realtime.serve.ray_cli import (
     application,
     deployment_options,
 )
-from gesturecast.realtime.serve.ray_proxy import REPLICA_LOST_CODE, REPLICA_LOST_REASON, install_proxy_callback
+from gesturecast.realtime.serve.ray_proxy import REPLICA_LOST_CODE, REPLICA_LOST_REASON
 from gesturecast.realtime.serve.serve_command import build_server
 from gesturecast.realtime.timing.clock import MonotonicClock
 from gesturecast.tools.bench.serve_client import stream_audio
@@ -42,12 +45,12 @@ from gesturecast.tools.bench.serve_client import stream_audio
 ray = pytest.importorskip("ray", reason="Ray Serve is the optional extra gesturecast[scale]")
 serve = pytest.importorskip("ray.serve")
 
-RAY_CPUS = 2
-REPLICA_CPUS = 0.5  # two replicas and a redeploy's new one fit in RAY_CPUS
+REPLICA_CPUS = 0.5  # two replicas and a redeploy's new one fit in the shared Ray's CPUs (tests/conftest.py)
 STREAMS_PER_REPLICA = 1
 CHUNK = 8000  # 0.5 s messages when streaming as fast as possible
 PACED_CHUNK = 1600  # 100 ms messages at real-time pace
 PACED_SECONDS = 4.0
+EQUAL_SECONDS = 2.0  # compared with plain serve: the server releases frames in real time, twice per test
 TIMEOUT_S = 90.0  # a broken deployment fails the test instead of hanging it
 RECONNECT_TRIES = 30
 RECONNECT_PAUSE_S = 1.0
@@ -73,21 +76,36 @@ def serve_args(model, port: int, *flags: str) -> argparse.Namespace:
                               "--replica-cpus", str(REPLICA_CPUS), *flags])
 
 
+@dataclass
+class ServeCluster:
+    """The app deployed with ``args`` (2 replicas), its streams' ``url``, and how many replicas it has now."""
+
+    args: argparse.Namespace
+    url: str
+    replicas: int
+
+    def with_replicas(self, replicas: int, wait: bool = True) -> ServeCluster:
+        """The app redeployed on ``replicas`` where it has another count (with ``wait``, until every one answers)."""
+        if replicas != self.replicas:
+            deploy(argparse.Namespace(**{**vars(self.args), "replicas": replicas}), self.url if wait else None)
+            self.replicas = replicas
+        return self
+
+
 @pytest.fixture(scope="module")
-def cluster(tiny_model):
-    """A local Ray with Serve's proxy on a free loopback port and the app on 2 replicas."""
+def cluster(ray_cluster, tiny_model):
+    """Serve on the run's local Ray (tests/conftest.py), its proxy on a free loopback port, and the app on 2
+    replicas (a test that needs them asks for them again: the scale-down test leaves one); Serve is shut down after
+    this module, Ray at the end of the run."""
     port = free_port()
-    install_proxy_callback()  # as serve --ray does before it starts a local Ray
-    ray.init(num_cpus=RAY_CPUS, include_dashboard=False, logging_level="ERROR")
     serve.start(http_options={"host": "127.0.0.1", "port": port})
     args = serve_args(tiny_model[1], port, "--replicas", "2")
     url = f"ws://127.0.0.1:{port}/stream/"
     deploy(args, url)
     try:
-        yield args, url
+        yield ServeCluster(args, url, args.replicas)
     finally:
         serve.shutdown()
-        ray.shutdown()
 
 
 def deploy(args: argparse.Namespace, url: str | None = None) -> None:
@@ -148,7 +166,8 @@ async def streams(url: str, audio: list[np.ndarray], chunk: int, paced: bool, st
 
 
 def test_streams_through_two_replicas_equal_plain_serve(cluster, speech):
-    args, url = cluster
+    args, url = cluster.args, cluster.with_replicas(2).url
+    speech = [audio[: int(EQUAL_SECONDS * SAMPLE_RATE)] for audio in speech]
     starts = [{"seed": 1}, {"seed": 2, "style": "old", "guidance": 1.0}]
     through_ray = run(streams(url, speech, CHUNK, False, starts))  # one stream per replica, or one gets 1013
     plain = build_server(argparse.Namespace(**{**vars(args), "port": 0, "max_streams": 2}), MonotonicClock())
@@ -175,29 +194,10 @@ async def hold_and_overflow(url: str) -> tuple[list[str], dict, int]:
 
 
 def test_full_replicas_refuse_a_new_stream_with_1013(cluster):
-    started, refusal, code = run(hold_and_overflow(cluster[1]))
+    started, refusal, code = run(hold_and_overflow(cluster.with_replicas(2).url))
     assert started == ["started", "started"]
     assert refusal == {"type": "error", "message": f"server full ({STREAMS_PER_REPLICA} streams)"}
     assert code == CloseCode.TRY_AGAIN_LATER
-
-
-def test_scaling_down_lets_running_streams_finish(cluster, speech):
-    args, url = cluster
-    assert run(every_replica_answers(url, args.replicas))  # the previous test's streams have left both replicas
-
-    async def scale_down_midway():
-        running = asyncio.ensure_future(streams(url, speech, PACED_CHUNK, True, [None, None]))
-        await asyncio.sleep(PACED_SECONDS / 4)
-        await asyncio.to_thread(deploy, argparse.Namespace(**{**vars(args), "replicas": 1}))
-        return await running
-
-    try:
-        results = run(scale_down_midway())
-    finally:
-        deploy(args, url)  # back to two replicas for the next test
-    for result, audio in zip(results, speech, strict=True):
-        assert result.stats is not None and result.stats["error"] is None
-        assert len(result.frames) == round(len(audio) / SAMPLE_RATE * result.hello["fps"])
 
 
 def replica_pids() -> list[int]:
@@ -228,7 +228,7 @@ async def reconnect(url: str, audio: np.ndarray):
 
 
 def test_a_killed_replica_ends_only_its_own_stream_and_clients_can_reconnect(cluster, speech):
-    _, url = cluster
+    url = cluster.with_replicas(2).url
     pids = replica_pids()
     assert len(pids) == 2
 
@@ -247,6 +247,23 @@ def test_a_killed_replica_ends_only_its_own_stream_and_clients_can_reconnect(clu
     assert len(finished) == 1 and finished[0].stats["error"] is None
     assert len(finished[0].frames) == round(PACED_SECONDS * finished[0].hello["fps"])
     assert again is not None and again.errors == []
+
+
+def test_scaling_down_lets_running_streams_finish(cluster, speech):
+    """The module's last cluster test: it leaves one replica (a test after it would ask for two again)."""
+    url = cluster.with_replicas(2).url
+    assert run(every_replica_answers(url, 2))  # the previous tests' streams have left both, a killed one is back
+
+    async def scale_down_midway():
+        running = asyncio.ensure_future(streams(url, speech, PACED_CHUNK, True, [None, None]))
+        await asyncio.sleep(PACED_SECONDS / 4)
+        await asyncio.to_thread(cluster.with_replicas, 1, False)
+        return await running
+
+    results = run(scale_down_midway())
+    for result, audio in zip(results, speech, strict=True):
+        assert result.stats is not None and result.stats["error"] is None
+        assert len(result.frames) == round(len(audio) / SAMPLE_RATE * result.hello["fps"])
 
 
 def test_autoscaling_flags_become_ray_options(tiny_model):

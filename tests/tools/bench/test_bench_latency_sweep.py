@@ -7,7 +7,7 @@ import soundfile
 from gesturecast.cli import main
 from gesturecast.models.audio.files import SAMPLE_RATE
 
-SECONDS = 4.0  # enough for the following score (it skips 0.5 s at each end and smooths over 0.5 s)
+SECONDS = 3.0  # enough for the following score: 2 s left after 0.5 s skipped at each end, lags up to ±0.5 s
 
 
 def test_sweep_reports_each_setting_of_a_truncation_model_and_skips_what_an_old_model_cannot(

@@ -4,13 +4,16 @@ JSON."""
 import json
 
 from gesturecast.cli import main
+from gesturecast.tools.bench import serve
 
-STREAMS = 20
-REPORT_EVERY = 10
+STREAMS = 6  # two reports, each client streams twice
+REPORT_EVERY = 3
 CONCURRENCY = 3
+SETTLE_S = 0.1  # before each idle sample: what it reads is not checked here, only that it is there
 
 
-def test_churn_reports_rss_every_k_streams_and_the_idle_rss(tiny_model, shared_data, capsys):
+def test_churn_reports_rss_every_k_streams_and_the_idle_rss(tiny_model, shared_data, capsys, monkeypatch):
+    monkeypatch.setattr(serve, "CHURN_SETTLE_S", SETTLE_S)
     code = main(["bench", "serve", "--churn", str(STREAMS), "--concurrency", str(CONCURRENCY), "--json",
                  "--report-every", str(REPORT_EVERY),
                  "--model", str(tiny_model[1]), "--steps", "2",
