@@ -4,7 +4,7 @@ Many TTS services report a sentence's text, not its words' times: Pipecat 1.14's
 queue the text *after* the sentence's audio; others send it before. For the gestures of a sentence to land on its
 words, its words must be known before its latents are generated, so :class:`SentenceHold` holds a sentence's audio
 (and the frames between) until the frame that closes it, then gives text and audio to the stream together
-(:meth:`gesturecast.Stream.say_pcm16`: the words are forced-aligned on that audio and cued, then the audio is pushed)
+(:meth:`gesturecast.Stream.say_pcm16`: the words are placed on that audio and cued, then the audio is pushed)
 and passes the held frames on, in order.
 
 - **Which audio is whose.** Within an utterance (``TTSStartedFrame`` … ``TTSStoppedFrame``), the first frame tells

@@ -277,8 +277,10 @@ class MicSource(AudioSource):
     def _skip_ahead(self) -> None:
         """A backlog longer than ``skip_behind_s`` is skipped to its newest chunk, on purpose: counted, said once."""
         self.ring.skip_behind(int(self.config.skip_behind_s * self.device_rate), self.config.chunk_samples)
+        if self._skip_said:  # said once: no more stats to read on every read
+            return
         skipped = self.ring.stats().skipped_samples
-        if skipped and not self._skip_said:
+        if skipped:
             self._skip_said = True
             logger.warning("the engine fell more than %.1f s behind %s and skipped %.2f s ahead to the newest audio "
                            "(counted as skipped samples; said once)", self.config.skip_behind_s, self.label,

@@ -243,9 +243,10 @@ class GestureDirector:
         alignment), a later one is aligned with :data:`CONTEXT_WORDS` after it (:meth:`SentenceAudio.prefix`)."""
         if last_cued == 0:
             alignment = self.aligner.at_onset(sentence)
+        elif last_cued is None:
+            alignment = self.aligner.align(sentence)
         else:
-            needed = None if last_cued is None else last_cued + 1 + CONTEXT_WORDS
-            alignment = self.aligner.align(sentence if needed is None else sentence.prefix(needed))
+            alignment = self.aligner.align(sentence.prefix(last_cued + 1 + CONTEXT_WORDS))
         self.alignments.count(alignment, sentence.text)
         return parse_words([{"word": w.text, "start": w.start, "end": w.end} for w in alignment.words],
                            "sentence words")

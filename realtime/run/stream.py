@@ -173,8 +173,9 @@ class Stream:
     @one_at_a_time
     def say(self, text: str, samples: np.ndarray, sample_rate: int = SAMPLE_RATE) -> list[PoseFrame]:
         """A sentence and its own speech together (a TTS service's sentence text and the audio it made of it): the
-        words are forced-aligned on that speech and their gestures cued before it is pushed, so each stroke lands on
-        its word; then the audio is pushed as :meth:`push` pushes it, and its frames are returned."""
+        words are placed on that speech (aligned as far as their cues need) and their gestures cued before it is
+        pushed, so each stroke lands on its word; then the audio is pushed as :meth:`push` pushes it, and its frames
+        are returned."""
         self._check_open()
         return self._say(text, self._converter.convert_samples(samples, sample_rate))
 

@@ -25,7 +25,8 @@ from __future__ import annotations
 import re
 import threading
 import time
-from collections.abc import Callable, Iterator
+from collections import Counter
+from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, replace
 
@@ -35,6 +36,7 @@ from gesturecast.controls import Word
 from gesturecast.realtime.words.voicing import (
     FRAME_S,
     SAMPLE_RATE,
+    end_by_letters,
     letters,
     pause_runs,
     pauses,
@@ -55,7 +57,7 @@ ALTERNATE = re.compile(r"\(\d+\)$")  # "the(2)": the dictionary's second pronunc
 HYPHENS = re.compile(r"[-‐‑–—]")
 # The search's beams, wider than pocketsphinx's defaults (1e-48, 7e-29, 1e-48): with those, an accent the US-English
 # model knows less well (espeak-ng's Scottish voice) left a quarter of the sentences part-aligned (word start error
-# p95 203 ms); with these, 4 of 57 (44 ms), at the same CPU time (docs/words.md).
+# p95 203 ms); with these, 3 of 57 (41 ms), at the same CPU time (docs/results.md).
 BEAMS = {"beam": 1e-80, "wbeam": 1e-60, "pbeam": 1e-80}
 MAX_ONSET_SHIFT_S = 0.5  # the first word's start moves at most this far back to the voiced onset
 PREFIX_MARGIN_S = 0.3  # a prefix's audio runs to the first gap this long after its estimated end
@@ -88,8 +90,7 @@ class SentenceAudio:
         span = voiced_span(self.samples)
         if count >= len(tokens) or span is None:
             return self
-        share = sum(letters(token) for token in tokens[:count]) / sum(letters(token) for token in tokens)
-        estimate = span[0] + share * (span[1] - span[0]) + PREFIX_MARGIN_S
+        estimate = end_by_letters(tokens, count, span) + PREFIX_MARGIN_S
         cut = next((middle for middle, _ in pause_runs(self.samples, PREFIX_GAP_S) if estimate <= middle < span[1]),
                    None)
         if cut is None:
@@ -149,22 +150,22 @@ class SentenceAligner:
         """The sentence's tokens placed on its audio (module docstring)."""
         started = time.thread_time()
         try:
-            with DECODERS.lend() as self.decoder:
-                return self._with_own_voice(lambda: self._aligned(sentence.text.split(), sentence.samples,
-                                                                  sentence.start))
+            with DECODERS.lend() as self.decoder, self._own_voice():
+                return self._aligned(sentence.text.split(), sentence.samples, sentence.start)
         finally:
             self.decoder = None
             self.cpu_s += time.thread_time() - started
 
-    def _with_own_voice(self, align: Callable[[], Alignment]) -> Alignment:
-        """``align()`` on the lent decoder with this aligner's cepstral mean, kept for its next sentence: the decoder
-        adapts to the voice sentence by sentence, and a sentence's alignment depends only on this aligner's own
-        earlier sentences, whichever decoder is lent."""
+    @contextmanager
+    def _own_voice(self) -> Iterator[None]:
+        """The lent decoder with this aligner's cepstral mean, kept for its next sentence: the decoder adapts to the
+        voice sentence by sentence, and a sentence's alignment depends only on this aligner's own earlier sentences,
+        whichever decoder is lent."""
         initial = self.decoder.get_cmn(False)
         if self.cepstral_mean is not None:
             self.decoder.set_cmn(self.cepstral_mean)
         try:
-            return align()
+            yield
         finally:
             self.cepstral_mean = self.decoder.get_cmn(False)
             self.decoder.set_cmn(initial)
@@ -198,8 +199,7 @@ class SentenceAligner:
         if len(tokens) < MIN_SPLIT_WORDS:
             return {}
         cut = _split(tokens)
-        share = sum(letters(token) for token in tokens[:cut]) / sum(letters(token) for token in tokens)
-        estimate = span[0] + share * (span[1] - span[0])
+        estimate = end_by_letters(tokens, cut, span)
         at = min(pauses(samples), key=lambda pause: abs(pause - estimate), default=estimate)
         at = at if abs(at - estimate) <= MAX_CUT_SHIFT_S else estimate
         middle = int(at * SAMPLE_RATE)
@@ -226,16 +226,16 @@ class SentenceAligner:
             return {}
         segments = [segment for segment in decoder.seg() or () if segment.word not in FILLERS]
         offset = start - PAD_S
-        placed, parts = {}, {}  # token index → (start, end), its parts placed
+        placed, parts = {}, Counter()  # token index → (start, end), its parts placed
         for (index, form), segment in zip(spoken, segments, strict=False):
             if ALTERNATE.sub("", segment.word) != form:
                 break
             times = offset + np.array([segment.start_frame, segment.end_frame + 1]) * FRAME_S
             begin, end = (float(t) for t in np.clip(times, start, start + len(samples) / SAMPLE_RATE))
             placed[index] = (placed.get(index, (begin, end))[0], end)
-            parts[index] = parts.get(index, 0) + 1
-        whole = {index for index, count in parts.items() if count == len(self.pronounced(tokens[index]))}
-        return {index: times for index, times in placed.items() if index in whole}
+            parts[index] += 1
+        expected = Counter(index for index, _ in spoken)  # a hyphenated token is placed once all its parts are
+        return {index: times for index, times in placed.items() if parts[index] == expected[index]}
 
 
 def _failed(tokens: list[str], samples: np.ndarray, start: float) -> Alignment:

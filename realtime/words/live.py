@@ -118,10 +118,12 @@ class LiveSentences:
         return placed
 
     def _place(self, sentence: PendingSentence, final: bool) -> SentenceAudio | None:
-        begin = self._begin(sentence, final)
+        bounded = sentence.start is not None and sentence.end is not None
+        context = None if bounded else self._context()  # what voicing is judged against, read once
+        begin = self._begin(sentence, final, context)
         if begin is None:
             return None
-        end = self._end(sentence, begin, final)
+        end = self._end(sentence, begin, final, context)
         if end is None:
             return None
         samples, first_s = self.audio.span(begin, end)
@@ -129,14 +131,14 @@ class LiveSentences:
         self.cursor = max(self.cursor, heard_end)
         return SentenceAudio(sentence.text, samples, first_s)
 
-    def _begin(self, sentence: PendingSentence, final: bool) -> float | None:
+    def _begin(self, sentence: PendingSentence, final: bool, context: np.ndarray | None) -> float | None:
         """Where the sentence's window starts: its start, else just before the first voiced audio after the cursor
         (None while none has arrived; the cursor itself at the end of the words)."""
         if sentence.start is not None:
             return sentence.start
         after = max(self.cursor, self.audio.oldest_s)
         samples, first_s = self.audio.span(after, self.audio.heard_s)
-        voiced = np.flatnonzero(voiced_frames(samples, self._context()))
+        voiced = np.flatnonzero(voiced_frames(samples, context))
         if not len(voiced):
             return after if final else None
         return max(after, first_s + voiced[0] * FRAME_S - ONSET_LEAD_S)
@@ -146,14 +148,14 @@ class LiveSentences:
         has no quiet frames of its own)."""
         return self.audio.span(self.audio.heard_s - VOICING_CONTEXT_S, self.audio.heard_s)[0]
 
-    def _end(self, sentence: PendingSentence, begin: float, final: bool) -> float | None:
+    def _end(self, sentence: PendingSentence, begin: float, final: bool, context: np.ndarray | None) -> float | None:
         """Where the sentence's window ends (module docstring); None while its audio is still to come."""
         heard = self.audio.heard_s
         if sentence.end is not None:
             return sentence.end if final or heard >= sentence.end else None
         expected = sentence.expected_s
         samples, first_s = self.audio.span(begin, heard)
-        breaks = [first_s + middle for middle, _ in pause_runs(samples, context=self._context())
+        breaks = [first_s + middle for middle, _ in pause_runs(samples, context=context)
                   if first_s + middle >= begin + expected / 2]
         if breaks:
             return breaks[0]

@@ -62,6 +62,12 @@ def letters(token: str) -> int:
     return sum(char.isalnum() for char in token) + 1
 
 
+def end_by_letters(tokens: list[str], count: int, span: tuple[float, float]) -> float:
+    """Where the first ``count`` of ``tokens`` end when all of them fill ``span`` (seconds) by their letters."""
+    share = sum(letters(token) for token in tokens[:count]) / sum(letters(token) for token in tokens)
+    return span[0] + share * (span[1] - span[0])
+
+
 def spread(tokens: list[str], start: float, end: float) -> list[Word]:
     """``tokens`` over ``start``..``end`` seconds, each a share of the span by its letters."""
     weights = np.array([letters(token) for token in tokens], np.float64)
