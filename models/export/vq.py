@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import io
 from pathlib import Path
 
+import onnx
 import torch
 from torch import nn
 
@@ -33,19 +35,23 @@ def export_vq_decoder_step(model: MotionVQVAE, path: str | Path | None = None) -
     state = model.decoder.initial_state(batch=1)
     input_names = [LATENT_INPUT, *(state_input_name(i) for i in range(len(state)))]
     output_names = [FRAMES_OUTPUT, *(state_output_name(i) for i in range(len(state)))]
-    batch = torch.export.Dim(BATCH_AXIS)
+    buffer = io.BytesIO()
     with torch.no_grad():
-        program = torch.onnx.export(
-            graph,
-            (latent, *state),
-            input_names=input_names,
-            output_names=output_names,
-            dynamic_shapes=({0: batch}, tuple({0: batch} for _ in state)),  # (latent, *state) as export sees it
-            opset_version=ONNX_OPSET,
-            dynamo=True,
-            verbose=False,
-        )
-    data = program.model_proto.SerializeToString()
+        outputs = graph(latent, *state)  # (frames (1, d, D), *new_state)
+        torch.onnx.export(graph, (latent, *state), buffer, input_names=input_names, output_names=output_names,
+                          dynamic_axes={name: {0: BATCH_AXIS} for name in input_names + output_names},
+                          opset_version=ONNX_OPSET, dynamo=False)
+    data = _with_static_dims(buffer.getvalue(), [tuple(output.shape) for output in outputs])
     if path is not None:
         Path(path).write_bytes(data)
     return data
+
+
+def _with_static_dims(data: bytes, shapes: list[tuple[int, ...]]) -> bytes:
+    """The graph with every output's dimensions but the batch written as numbers: the runtime reads d and D from the
+    frames output, and the TorchScript exporter leaves the ones computed by a reshape symbolic."""
+    proto = onnx.load_from_string(data)
+    for output, shape in zip(proto.graph.output, shapes, strict=True):
+        for dim, size in zip(list(output.type.tensor_type.shape.dim)[1:], shape[1:], strict=True):
+            dim.dim_value = size
+    return proto.SerializeToString()
