@@ -216,8 +216,8 @@ class GestureDirector:
     def _decide(self, words: tuple[Word, ...], ended: bool = False) -> Decision:
         """The forced trigger cues and the speech acts of ``words`` (the decision state moves on); words without
         punctuation are read with the marks their pauses show (:mod:`gesturecast.realtime.words.punctuation`)."""
-        words = punctuated_by_pauses(words, ended)
-        acts = [] if self.phrase_stream is None else self.phrase_stream.cues(list(words))
+        words, paused = punctuated_by_pauses(words, ended)
+        acts = [] if self.phrase_stream is None else self.phrase_stream.cues(words, paused)
         return self.vocabulary.cues(list(words)), acts
 
     def _sentence_decisions(self, sentences: list[SentenceAudio]) -> list[Decision]:

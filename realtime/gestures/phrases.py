@@ -11,7 +11,7 @@ after one: :func:`gesturecast.realtime.gestures.speech_acts.addressed`).
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from functools import cache
 from pathlib import Path
 
@@ -60,12 +60,13 @@ class PhraseCues:
         """The gesture that performs ``intent`` in this lexicon (None for "none" or when it has none)."""
         return next((g for g in INTENT_GESTURES.get(intent, ()) if g in self.gestures), None)
 
-    def cues(self, words: list[Word]) -> list[Cue]:
-        """One cue per speech act in ``words`` (a whole transcript or a stretch of it)."""
-        tokens = tokenize([w.text for w in words])
+    def cues(self, words: Sequence[Word], paused: frozenset[int] = frozenset()) -> list[Cue]:
+        """One cue per speech act in ``words`` (a whole transcript or a stretch of it); ``paused``: the words whose
+        marks were read from their pauses (:func:`gesturecast.realtime.words.punctuation.pause_marks`)."""
+        tokens = tokenize([w.text for w in words], paused)
         return [cue for cue, _, _ in self.decided(words, tokens, lambda _: True, None) if cue]
 
-    def decided(self, words: list[Word], tokens: list[Token], ready, since: int | None
+    def decided(self, words: Sequence[Word], tokens: list[Token], ready, since: int | None
                 ) -> list[tuple[Cue | None, int, bool]]:
         """(cue or None for no gesture, the candidate's first token, whether its act opens a talk) of each candidate
         that ``ready(candidate)`` accepts, in order; ``since``: sentence ends between the last act that opens a talk
@@ -93,9 +94,9 @@ class PhraseStream:
         self.phrases = phrases
         self.since: int | None = None  # sentence ends since the last act opening a talk (None: none yet)
 
-    def cues(self, words: list[Word]) -> list[Cue]:
-        """The cues of ``words``, the message after those before."""
-        tokens = tokenize([w.text for w in words])
+    def cues(self, words: Sequence[Word], paused: frozenset[int] = frozenset()) -> list[Cue]:
+        """The cues of ``words``, the message after those before (``paused`` as :meth:`PhraseCues.cues`)."""
+        tokens = tokenize([w.text for w in words], paused)
         decided = self.phrases.decided(words, tokens, lambda _: True, self.since)
         opened = [start for _, start, opens in decided if opens]
         if opened or self.since is not None:

@@ -141,8 +141,8 @@ DETERMINERS = frozenset(["the", "a", "an", "our", "my", "your", "this", "these",
 @dataclass(frozen=True)
 class Token:
     """One word token: its text (lower case), the index of the transcript word it came from, whether punctuation
-    follows it (",", "." …), whether it ends a sentence, whether a hyphen joins it to the next token, and whether a
-    question mark or an exclamation mark follows it."""
+    follows it (",", "." …), whether it ends a sentence, whether a hyphen joins it to the next token, whether a
+    question mark or an exclamation mark follows it, and whether its mark was read from a pause, not written."""
 
     text: str
     word: int
@@ -151,6 +151,7 @@ class Token:
     hyphen: bool
     question: bool = False  # a question mark follows it
     exclaimed: bool = False  # an exclamation mark follows it
+    paused: bool = False  # its mark was read from a pause (gesturecast.realtime.words.punctuation)
 
 
 @dataclass(frozen=True)
@@ -162,8 +163,9 @@ class Candidate:
     intents: tuple[str, ...]
 
 
-def tokenize(texts: list[str]) -> list[Token]:
-    """Transcript words → tokens ("Bye-bye," → "bye" joined by a hyphen to "bye", then a clause end)."""
+def tokenize(texts: list[str], paused: frozenset[int] = frozenset()) -> list[Token]:
+    """Transcript words → tokens ("Bye-bye," → "bye" joined by a hyphen to "bye", then a clause end); ``paused``: the
+    words whose marks were read from their pauses."""
     tokens = []
     for index, text in enumerate(texts):
         parts = list(TOKEN.finditer(text.lower()))
@@ -172,7 +174,7 @@ def tokenize(texts: list[str]) -> list[Token]:
             last = k + 1 == len(parts)
             tokens.append(Token(part.group(), index, bool(CLAUSE_END.search(tail)) or (last and bool(
                 SENTENCE_END.search(tail))), last and bool(SENTENCE_END.search(tail)), "-" in tail and not last,
-                last and "?" in tail, last and "!" in tail))
+                last and "?" in tail, last and "!" in tail, last and index in paused))
     return tokens
 
 
@@ -249,12 +251,13 @@ def rule(tokens: list[Token], candidate: Candidate) -> str | None:
     after = tokens[candidate.stop].text if candidate.stop < stop else ""
     hyphenated = tokens[candidate.stop - 1].hyphen or (candidate.start > first and tokens[candidate.start - 1].hyphen)
     joined = not tokens[candidate.stop - 1].clause_end
-    mentioned = joined and after in BE and "presenting" not in candidate.intents  # "come on is what he said"
-    phrasal = words == ["come", "on"] and joined and after in COME_ON_PLACES  # "come on time", "come on stage"
-    crowd = words == ["cheers"] and joined and after not in ("for", "to")  # "cheers from the crowd"
+    reads_on = joined or tokens[candidate.stop - 1].paused  # a pause is no comma to grammar: "Thanks (165 ms) to the"
+    mentioned = reads_on and after in BE and "presenting" not in candidate.intents  # "come on is what he said"
+    phrasal = words == ["come", "on"] and reads_on and after in COME_ON_PLACES  # "come on time", "come on stage"
+    crowd = words == ["cheers"] and reads_on and after not in ("for", "to")  # "cheers from the crowd"
     if hyphenated or reported(tokens, candidate, first) or mentioned or phrasal or crowd:
         return "none"
-    if words[0] in ("thanks", "thank") and joined and (after in NOT_THANKS or causal_thanks(tokens, candidate, stop)):
+    if words[0] in ("thanks", "thank") and reads_on and (after in NOT_THANKS or causal_thanks(tokens, candidate, stop)):
         return "none"
     if quoted(tokens, candidate, stop) or not_the_act(tokens, candidate, first, stop):
         return "none"

@@ -26,17 +26,18 @@ def has_sentence_mark(texts: list[str]) -> bool:
     return any(text.rstrip("\"')]")[-1:] in SENTENCE_MARKS for text in texts)
 
 
-def punctuated_by_pauses(words: tuple[Word, ...], ended: bool = False) -> tuple[Word, ...]:
-    """``words`` with the marks their pauses show (module docstring), the last one ending its sentence when the
-    speech ``ended`` with it (a transcript's words); unchanged when any word ends a sentence."""
+def punctuated_by_pauses(words: tuple[Word, ...], ended: bool = False) -> tuple[tuple[Word, ...], frozenset[int]]:
+    """(``words`` with the marks their pauses show, the indices of the words given a mark): the last one ends its
+    sentence when the speech ``ended`` with it (a transcript's words); unchanged when any word ends a sentence, and a
+    word that carries a mark keeps its own."""
     if has_sentence_mark([word.text for word in words]):
-        return words
-    marked = []
-    for word, following in zip(words, words[1:], strict=False):
+        return words, frozenset()
+    marks = {}
+    for index, (word, following) in enumerate(zip(words, words[1:], strict=False)):
         pause = following.start - word.end
-        mark = "." if pause >= SENTENCE_PAUSE_S else "," if pause >= CLAUSE_PAUSE_S else ""
-        marked.append(replace(word, text=word.text + mark) if mark and word.text[-1] not in MARKS else word)
-    last = words[len(marked):]
-    if ended and last and last[0].text[-1] not in MARKS:
-        last = (replace(last[0], text=last[0].text + "."),)
-    return (*marked, *last)
+        marks[index] = "." if pause >= SENTENCE_PAUSE_S else "," if pause >= CLAUSE_PAUSE_S else ""
+    if ended and words:
+        marks[len(words) - 1] = "."
+    marks = {index: mark for index, mark in marks.items() if mark and words[index].text[-1] not in MARKS}
+    return (tuple(replace(word, text=word.text + marks[index]) if index in marks else word
+                  for index, word in enumerate(words)), frozenset(marks))

@@ -156,8 +156,8 @@ def generate(settings: Settings, story: Story, cued: bool, words: WordSource | N
         if words is not None and cued:
             words.note(story, session.gestures)
         phrases = session.gestures.phrases
-        decided = len(phrases.cues(list(punctuated_by_pauses(decision_words(given), ended=True)))) if cued and phrases \
-            else len(outcomes)
+        read = punctuated_by_pauses(decision_words(given), ended=True)  # (words, paused) as the session reads them
+        decided = len(phrases.cues(*read)) if cued and phrases else len(outcomes)
         started = time.process_time()
         frames, report = run_offline(session, ArraySource(story.audio, SAMPLE_RATE))
         if words is not None and cued:
