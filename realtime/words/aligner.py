@@ -41,6 +41,7 @@ from gesturecast.realtime.words.voicing import (
     pause_runs,
     pauses,
     spread,
+    voiced_frames,
     voiced_span,
 )
 
@@ -62,6 +63,7 @@ BEAMS = {"beam": 1e-80, "wbeam": 1e-60, "pbeam": 1e-80}
 MAX_ONSET_SHIFT_S = 0.5  # the first word's start moves at most this far back to the voiced onset
 PREFIX_MARGIN_S = 0.3  # a prefix's audio runs to the first gap this long after its estimated end
 PREFIX_GAP_S = 0.05  # the least unvoiced run a prefix's audio is cut at
+LOST_SPEECH_S = 0.3  # an aligned silence over this much voiced audio lost the words spoken there (_trusted)
 
 
 @dataclass(frozen=True)
@@ -224,7 +226,8 @@ class SentenceAligner:
         except RuntimeError:  # pocketsphinx refused the text or the audio: nothing aligned
             _close_utterance(decoder)  # an utterance left open would refuse the next sentence
             return {}
-        segments = [segment for segment in decoder.seg() or () if segment.word not in FILLERS]
+        segments = [segment for segment in _trusted(list(decoder.seg() or ()), voiced_frames(samples))
+                    if segment.word not in FILLERS]
         offset = start - PAD_S
         placed, parts = {}, Counter()  # token index → (start, end), its parts placed
         for (index, form), segment in zip(spoken, segments, strict=False):
@@ -236,6 +239,19 @@ class SentenceAligner:
             parts[index] += 1
         expected = Counter(index for index, _ in spoken)  # a hyphenated token is placed once all its parts are
         return {index: times for index, times in placed.items() if parts[index] == expected[index]}
+
+
+def _trusted(segments: list, voiced: np.ndarray) -> list:
+    """The segments up to the first silence the alignment laid over at least :data:`LOST_SPEECH_S` of ``voiced``
+    audio (F,) frames: the words after it were pushed past speech it could not match (an accent the model knows
+    less well: "and welcome" put 0.7 s late, after a "silence" over them) and are left to the fallback."""
+    pad = round(PAD_S / FRAME_S)
+    for index, segment in enumerate(segments):
+        if segment.word in FILLERS:
+            first, last = max(0, segment.start_frame - pad), max(0, segment.end_frame + 1 - pad)
+            if voiced[first:last].sum() * FRAME_S >= LOST_SPEECH_S:
+                return segments[:index]
+    return segments
 
 
 def _failed(tokens: list[str], samples: np.ndarray, start: float) -> Alignment:

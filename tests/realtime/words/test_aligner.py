@@ -43,6 +43,17 @@ def test_a_word_outside_the_dictionary_is_placed_between_its_neighbours(aligner,
     assert np.median(starts_error(alignment.words, timed)) < 0.05
 
 
+def test_words_the_alignment_lays_a_silence_over_are_left_to_the_fallback(aligner, tmp_path):
+    """The West Midlands voice's "and welcome": the US-English model matches silence over 0.7 s of its speech and
+    crams the words after it into the rest; they are spread over the speech instead, and the sentence counts as
+    partly aligned."""
+    text = "Hello there, and welcome to the museum."
+    audio, timed = spoken(text, tmp_path, voice="en-gb-x-gbcwmd+m2")
+    alignment = aligner.align(SentenceAudio(text, audio, 0.0))
+    assert alignment.method == "partly" and alignment.confidence == 2 / 7
+    assert starts_error(alignment.words, timed)[3] < 0.3  # "welcome": was 0.69 s late
+
+
 def test_a_sentence_it_cannot_align_still_yields_its_words(aligner, tmp_path):
     text = "Zorblax quindle fremp!"
     audio, _ = spoken(text, tmp_path)
