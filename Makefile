@@ -45,9 +45,10 @@ system-deps:
 demo: $(STAMP_RUN)
 	$(BIN)/gesturecast demo
 
+# the suite in two processes, each test file in one (its module fixtures built once; ports and daemons are per test)
 test: system-deps $(STAMP_DEV)
 	$(BIN)/ruff check .
-	$(BIN)/python -m pytest
+	$(BIN)/python -m pytest -n 2 --dist loadfile
 
 lint: $(STAMP_DEV)
 	$(BIN)/ruff check .

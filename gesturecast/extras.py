@@ -12,7 +12,6 @@ TORCH_INSTALL = "pip install torch==2.13.0 && pip install 'gesturecast[train]'" 
 EXTRAS: dict[str, tuple[str, str]] = {
     "torch": ("torch", TORCH_INSTALL),
     "onnx": ("onnx", TORCH_INSTALL),
-    "onnxscript": ("onnxscript", TORCH_INSTALL),
     "pipecat": ("Pipecat", "pip install 'gesturecast[pipecat]'"),
     "ray": ("Ray", "pip install 'gesturecast[scale]'"),
     "matplotlib": ("matplotlib", "pip install 'gesturecast[eval]'"),

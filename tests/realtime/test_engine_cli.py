@@ -67,7 +67,7 @@ BLOCK_TRAINING_PACKAGES = """
 import importlib.abc, sys
 class Blocker(importlib.abc.MetaPathFinder):
     def find_spec(self, name, path, target=None):
-        if name.split(".")[0] in {"torch", "onnx", "onnxscript", "matplotlib", "librosa"}:
+        if name.split(".")[0] in {"torch", "onnx", "matplotlib", "librosa"}:
             raise ModuleNotFoundError(name)
 sys.meta_path.insert(0, Blocker())
 from gesturecast.cli import main
