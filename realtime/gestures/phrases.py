@@ -62,7 +62,7 @@ class PhraseCues:
 
     def cues(self, words: Sequence[Word], paused: frozenset[int] = frozenset()) -> list[Cue]:
         """One cue per speech act in ``words`` (a whole transcript or a stretch of it); ``paused``: the words whose
-        marks were read from their pauses (:func:`gesturecast.realtime.words.punctuation.pause_marks`)."""
+        marks were read from their pauses (:func:`gesturecast.realtime.words.punctuation.punctuated_by_pauses`)."""
         tokens = tokenize([w.text for w in words], paused)
         return [cue for cue, _, _ in self.decided(words, tokens, lambda _: True, None) if cue]
 
