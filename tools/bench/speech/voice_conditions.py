@@ -94,7 +94,7 @@ def voice_set_cases(split: str, shared: Path, cache: Path) -> list[VoiceCase]:
     for item in voice_audio(split, shared):
         voice = item.voice
         source = voice.channel.of if voice.channel is not None else voice.name
-        whole = voice.channel is None and voice.span_s is None and len(voice.files) == 1
+        whole = voice.channel is None and not voice.spans_s and len(voice.files) == 1
         cases.append(VoiceCase(voice.group, source, item.heard, item.reference,
                                motion.get(voice.files[0]) if whole else None, voice=voice.name))
     return cases

@@ -14,7 +14,8 @@ training data; docs/voices.md). Sources:
   model was scored on it, CMU Flite's built-in voices (``slt``, ``rms``, ``awb``: statistical parametric voices
   trained on recorded speakers; ``kal16``: diphone concatenation) — two engines unlike each other. Both must be
   on the PATH (the Makefile's SYSTEM_PACKAGES);
-- **files** of the shared data folder (SHOW clips, spans of the ZeroEGGS Flirty take, the espeak sentences
+- **files** of the shared data folder (SHOW clips, spans of the ZeroEGGS Flirty take, for dev the spans of the
+  ZeroEGGS training takes that training keeps for validation, the espeak sentences
   of ``speech/`` joined);
 - **channel** variants: another voice's audio written at another sample rate and channel count and read
   back through the product's file reader (:func:`load_audio`), scored against the original's clean speech.
@@ -101,8 +102,9 @@ class Voice:
     split: str
     espeak: Espeak | None = None
     flite: Flite | None = None
-    files: tuple[str, ...] = ()  # under the shared data folder; several are joined with PAUSES_S
-    span_s: tuple[float, float] | None = None  # a part of a single file
+    files: tuple[str, ...] = ()  # under the shared data folder; several are joined with ``pauses_s``
+    spans_s: tuple[tuple[float, float], ...] = ()  # the part (start, stop) of each file heard; none: whole files
+    pauses_s: tuple[float, ...] = PAUSES_S  # the silences between files (cycled)
     channel: Channel | None = None
 
 
@@ -114,6 +116,8 @@ TTS_EN, TTS_OTHER, SPONTANEOUS, READ, CHANNEL, TTS_FLITE = (
     "tts english", "tts other languages", "spontaneous", "acted read speech", "resampled / stereo",
     "tts flite (another engine)")
 FLIRTY = "zeggs/037_Flirty_1_x_1_0.wav"
+ZEGGS_SPEECH, ZEGGS_NEUTRAL_0, ZEGGS_NEUTRAL_2 = (
+    "zeggs/067_Speech_2_x_1_0.wav", "zeggs_upper/001_Neutral_0_x_1_0.wav", "zeggs_upper/003_Neutral_2_x_1_0.wav")
 VOICES: tuple[Voice, ...] = (
     _tts("tts en-us f4 160 wpm", TTS_EN, HELD_OUT, "en-us+f4", 160, 60, "agent_booking"),
     _tts("tts en-gb-x-rp m5 140 wpm", TTS_EN, HELD_OUT, "en-gb-x-rp+m5", 140, 45, "agent_museum"),
@@ -127,9 +131,9 @@ VOICES: tuple[Voice, ...] = (
     Voice("show seth 1", SPONTANEOUS, HELD_OUT, files=("show/seth_98201-00_04_32-00_04_42.wav",)),
     Voice("show seth 2", SPONTANEOUS, HELD_OUT, files=("show/seth_98879-00_02_10-00_02_20.wav",)),
     Voice("show chemistry", SPONTANEOUS, HELD_OUT, files=("show/chemistry_68991-00_00_23-00_00_33.wav",)),
-    Voice("flirty 0-30 s", READ, HELD_OUT, files=(FLIRTY,), span_s=(0.0, 30.0)),
-    Voice("flirty 30-60 s", READ, HELD_OUT, files=(FLIRTY,), span_s=(30.0, 60.0)),
-    Voice("flirty 60-90 s", READ, HELD_OUT, files=(FLIRTY,), span_s=(60.0, 90.0)),
+    Voice("flirty 0-30 s", READ, HELD_OUT, files=(FLIRTY,), spans_s=((0.0, 30.0),)),
+    Voice("flirty 30-60 s", READ, HELD_OUT, files=(FLIRTY,), spans_s=((30.0, 60.0),)),
+    Voice("flirty 60-90 s", READ, HELD_OUT, files=(FLIRTY,), spans_s=((60.0, 90.0),)),
     Voice("show seth 1 at 44.1 kHz stereo", CHANNEL, HELD_OUT, channel=Channel("show seth 1", 44100, 2)),
     Voice("tts en-us f4 at 48 kHz stereo, -12 dB", CHANNEL, HELD_OUT,
           channel=Channel("tts en-us f4 160 wpm", 48000, 2, -12.0)),
@@ -149,6 +153,11 @@ VOICES: tuple[Voice, ...] = (
     Voice("dev show oliver 2", SPONTANEOUS, DEV, files=("show/oliver_216111-00_09_32-00_09_42.wav",)),
     Voice("dev show conan", SPONTANEOUS, DEV, files=("show/conan_115563-00_01_35-00_01_45.wav",)),
     Voice("dev show unknown", SPONTANEOUS, DEV, files=("show/unknown_116213-00_02_59-00_03_08.wav",)),
+    # added on 2026-12-02 for choices on read speech: the spans of the ZeroEGGS takes that training keeps for
+    # validation (the dataset cache's ``val`` segments, never trained on; the held-out Flirty take's actress), joined
+    # by silences as long as the long pauses between lines of the training takes (median 7.0 s)
+    Voice("dev zeggs validation spans", READ, DEV, files=(ZEGGS_SPEECH, ZEGGS_NEUTRAL_0, ZEGGS_NEUTRAL_2),
+          spans_s=((51.633, 58.5), (91.067, 103.233), (97.5, 110.5)), pauses_s=(7.0, 5.6)),
 )
 
 
@@ -159,13 +168,13 @@ class VoiceAudio:
     reference: np.ndarray  # (N,) the clean speech its motion is scored against
 
 
-def join_with_pauses(parts: list[np.ndarray]) -> np.ndarray:
-    """Parts joined with the pauses of PAUSES_S (cycled), none after the last: (N,) float32."""
+def join_with_pauses(parts: list[np.ndarray], pauses_s: tuple[float, ...] = PAUSES_S) -> np.ndarray:
+    """Parts joined with the silences of ``pauses_s`` (cycled), none after the last: (N,) float32."""
     pieces = []
     for index, part in enumerate(parts):
         pieces.append(part.astype(np.float32))
         if index < len(parts) - 1:
-            pieces.append(np.zeros(int(round(PAUSES_S[index % len(PAUSES_S)] * SAMPLE_RATE)), np.float32))
+            pieces.append(np.zeros(int(round(pauses_s[index % len(pauses_s)] * SAMPLE_RATE)), np.float32))
     return np.concatenate(pieces)
 
 
@@ -188,10 +197,11 @@ def _file_audio(voice: Voice, shared: Path) -> np.ndarray:
     missing = [name for name in voice.files if not (shared / name).is_file()]
     if missing:
         raise UserError(f"{shared / missing[0]}: not found (the voice '{voice.name}' of bench voices needs it)")
-    audio = join_with_pauses([load_audio(shared / name) for name in voice.files])
-    if voice.span_s is None:
-        return audio
-    return audio[int(voice.span_s[0] * SAMPLE_RATE): int(voice.span_s[1] * SAMPLE_RATE)]
+    parts = [load_audio(shared / name) for name in voice.files]
+    if voice.spans_s:
+        parts = [part[int(start * SAMPLE_RATE): int(stop * SAMPLE_RATE)]
+                 for part, (start, stop) in zip(parts, voice.spans_s, strict=True)]
+    return join_with_pauses(parts, voice.pauses_s)
 
 
 def _clean_audio(voice: Voice, shared: Path, folder: Path) -> np.ndarray:

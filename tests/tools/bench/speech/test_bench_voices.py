@@ -31,21 +31,28 @@ PAIRED_FRAMES = 400  # 13.3 s: the held-out final 15 % is 2 s
 needs_espeak = pytest.mark.skipif(shutil.which("espeak-ng") is None, reason="espeak-ng is not installed")
 
 
-def cut_voice(source: Path, target: Path, seconds: float) -> None:
+def cut_voice(source: Path, target: Path, seconds: float, start_s: float = 0.0) -> None:
+    """``seconds`` of ``source`` from ``start_s``, written at the same place of ``target`` (silence before it)."""
     target.parent.mkdir(parents=True, exist_ok=True)
-    soundfile.write(target, load_audio(source)[: int(seconds * SAMPLE_RATE)], SAMPLE_RATE)
+    start = int(start_s * SAMPLE_RATE)
+    kept = load_audio(source)[start: start + int(seconds * SAMPLE_RATE)]
+    soundfile.write(target, np.concatenate([np.zeros(start, np.float32), kept]), SAMPLE_RATE)
 
 
 @pytest.fixture(scope="module")
-def voices_inputs(tmp_path_factory, shared_data) -> tuple[Path, Path]:
+def voices_inputs(tmp_path_factory, shared_data) -> tuple[Path, Path, Path]:
+    """(the dataset cache, a shared folder for the transforms, one for the dev voices: 2.5 s of each file they hear,
+    in its place)."""
     root = tmp_path_factory.mktemp("voices")
     folder = make_zeggs_folder(root / "zeggs_src", shared_data / "zeggs", {"001_Neutral_0": "Neutral"}, PAIRED_FRAMES)
     build_dataset(zeggs_takes(folder), root / "dataset", progress=False)
-    shared = root / "shared"
-    cut_voice(shared_data / "zeggs_upper" / "001_Neutral_0_x_1_0.wav", shared / "zeggs_upper" / "001_x.wav", 14.0)
-    for name in {name for voice in VOICES if voice.split == DEV for name in voice.files}:
-        cut_voice(shared_data / name, shared / name, 2.5)
-    return root / "dataset", shared
+    transforms, dev = root / "shared_transforms", root / "shared_dev"
+    cut_voice(shared_data / "zeggs_upper" / "001_Neutral_0_x_1_0.wav", transforms / "zeggs_upper" / "001_x.wav", 14.0)
+    for voice in (voice for voice in VOICES if voice.split == DEV):
+        starts = [start for start, _ in voice.spans_s] or [0.0] * len(voice.files)
+        for name, start in zip(voice.files, starts, strict=True):
+            cut_voice(shared_data / name, dev / name, 2.5, start)
+    return root / "dataset", transforms, dev
 
 
 def run_voices(bundle: Path, cache: Path, shared: Path, out: Path, *options: str) -> dict:
@@ -58,7 +65,7 @@ def run_voices(bundle: Path, cache: Path, shared: Path, out: Path, *options: str
 
 def test_bench_voices_scores_every_transform(tiny_model, voices_inputs, tmp_path):
     _, bundle = tiny_model
-    cache, shared = voices_inputs
+    cache, shared, _ = voices_inputs
     plot = tmp_path / "voices.png"
     report = run_voices(bundle, cache, shared, tmp_path / "voices.json", "--set", "transforms", "--plot", str(plot))
     conditions = report["conditions"]
@@ -77,7 +84,7 @@ def test_bench_voices_scores_every_transform(tiny_model, voices_inputs, tmp_path
 @needs_espeak
 def test_bench_voices_scores_each_voice_group_against_chance(tiny_model, voices_inputs, tmp_path):
     _, bundle = tiny_model
-    cache, shared = voices_inputs
+    cache, _, shared = voices_inputs
     report = run_voices(bundle, cache, shared, tmp_path / "dev.json", "--set", "dev", "--guidance", "1")
     dev = [voice for voice in VOICES if voice.split == DEV]
     assert report["set"] == "dev" and report["guidance"] == 1.0
