@@ -19,7 +19,8 @@ from gesturecast.models.motion.skeleton import CANONICAL
 
 X, Y, Z = 0, 1, 2
 PERIOD_JITTER = 0.1  # each oscillator's period varies by up to ±10 % with the seed
-GOLDEN_RATIO = 1.618034  # slow companions of the sway / head oscillators, never in phase with them
+GOLDEN_RATIO = 1.618034  # slow companions of the sway / head / arm oscillators, never in phase with them
+PERIOD_JITTER_RIGHT = 1.13  # the right arm's periods against the left's: the arms never move as one
 LEG_JOINTS = ("LeftUpperLeg", "RightUpperLeg")
 
 
@@ -33,6 +34,8 @@ class IdleConfig:
     sway_deg: float = 1.2
     head_period_s: float = 5.5
     head_deg: float = 2.0
+    arms_period_s: float = 3.1
+    arms_deg: float = 5.0
     arm_down_deg: float = 80.0
     elbow_bend_deg: float = 12.0
 
@@ -43,10 +46,14 @@ class IdleConfig:
             "sway_slow": self.sway_period_s * GOLDEN_RATIO,
             "head": self.head_period_s,
             "head_slow": self.head_period_s * GOLDEN_RATIO,
+            "arm_left": self.arms_period_s,
+            "arm_right": self.arms_period_s * PERIOD_JITTER_RIGHT,
+            "elbow_left": self.arms_period_s * GOLDEN_RATIO,
+            "elbow_right": self.arms_period_s * GOLDEN_RATIO * PERIOD_JITTER_RIGHT,
         }
 
     def amplitudes(self) -> dict[str, float]:
-        return {"breath": self.breath_deg, "sway": self.sway_deg, "head": self.head_deg}
+        return {"breath": self.breath_deg, "sway": self.sway_deg, "head": self.head_deg, "arms": self.arms_deg}
 
 
 # joint, axis, amplitude group, scale of that amplitude, oscillator
@@ -65,6 +72,10 @@ _CHANNELS: tuple[tuple[str, int, str, float, str], ...] = (
     ("Neck", Y, "head", 0.4, "head"),
     ("Head", Y, "head", 1.0, "head"),
     ("Head", X, "head", 0.5, "head_slow"),
+    ("LeftUpperArm", X, "arms", 0.5, "arm_left"),  # the hands drift: each arm swings and bends on its own
+    ("RightUpperArm", X, "arms", 0.5, "arm_right"),
+    ("LeftLowerArm", Y, "arms", 1.0, "elbow_left"),
+    ("RightLowerArm", Y, "arms", 1.0, "elbow_right"),
 )
 
 

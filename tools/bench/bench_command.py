@@ -52,6 +52,7 @@ BENCHES: dict[str, tuple[str, str]] = {
     "cues": ("gesturecast.tools.bench.cues", "far-future words: a stream's cost per latent against a few (JSON)"),
     "worker-kill": ("gesturecast.tools.bench.worker_kill", "serve --workers under churn, one worker SIGKILLed at a "
                     "time: who is served, how the stop ends (JSON)"),
+    "idle": ("gesturecast.tools.bench.idle", "motion in settled pauses: real takes against the idle (JSON)"),
     "face": ("gesturecast.tools.bench.styles.face", "blinks and expressions on minutes of speech (JSON + PNG)"),
 }
 

@@ -79,6 +79,6 @@ def test_relaxed_pose_lowers_arms_beside_the_body():
 
 
 def test_zero_amplitudes_give_the_base_pose():
-    still = IdleConfig(breath_deg=0.0, sway_deg=0.0, head_deg=0.0)
+    still = IdleConfig(breath_deg=0.0, sway_deg=0.0, head_deg=0.0, arms_deg=0.0)
     idle = IdleMotion(still)
     np.testing.assert_allclose(idle.rotations(TIMES[:10]), np.broadcast_to(idle.base_rotations, (10, NUM_JOINTS, 4)))
