@@ -3,14 +3,15 @@
 The session cross-fades to the procedural idle motion (:mod:`gesturecast.realtime.pose.idle`) after a second of
 silence, so in a long pause the avatar moves as much as its idle does. This bench puts that beside real people:
 
-- **real**: every ZeroEGGS take with speech in the dataset cache, its ``train`` split only (what training saw; the
-  validation and test spans stay out of every choice). The speaking flags are the runtime's, from the take's own
+- **real**: every ZeroEGGS take with speech in the dataset cache, its ``train`` split only (the validation and test
+  spans stay out of every choice). The speaking flags are the runtime's, from the take's own
   audio. A pause of at least :data:`LONG_PAUSE_S` has **settled** from :data:`SETTLED_AFTER_S` after its start to its
   end (real motion slows for about a second after the voice stops, then stays low);
 - **idle**: :class:`IdleMotion` at the default :class:`IdleConfig`, seeds 0–2, over :data:`IDLE_SECONDS`.
 
 Speed: the mean speed (m/s) of the joints every take has (spine, chest and arms: the upper-body takes have no head)
-relative to the hips. Reported per take: speaking speed, settled speed, their ratio and the settled seconds; the
+relative to the hips. Reported per take: speaking speed, settled speed, their ratio, the settled seconds and
+``rest`` (``bench voices``' measure of generated motion: speed in every pause ÷ while speaking, the upper body); the
 takes' settled speeds pooled by time and averaged per take; the idle's speed and each real figure over it. One JSON
 object; nothing is asserted.
 """
@@ -31,6 +32,7 @@ from gesturecast.models.evaluation.metrics import root_relative
 from gesturecast.models.motion.motion import MOTION_FPS, SkeletonMotion
 from gesturecast.models.motion.skeleton import CANONICAL
 from gesturecast.realtime.pose.idle import IdleConfig, IdleMotion
+from gesturecast.tools.bench.speech.voices import rest_ratio
 from gesturecast.tools.data_cli import DEFAULT_CACHE
 
 LONG_PAUSE_S = 2.5
@@ -65,15 +67,17 @@ def settled_frames(speaking: np.ndarray, fps: float = MOTION_FPS) -> np.ndarray:
 
 
 def real_take(motion: SkeletonMotion, audio: np.ndarray, frames: int) -> dict:
-    """Speaking and settled-pause speeds of the first ``frames`` frames of one take."""
-    speed = shared_joint_speed(motion.positions()[:frames])  # (T,)
+    """Speaking and settled-pause speeds of the first ``frames`` frames of one take, and its ``rest`` as
+    ``bench voices`` measures generated motion (every pause ÷ speaking, the upper body)."""
+    positions = motion.positions()[:frames]  # (T, J, 3)
+    speed = shared_joint_speed(positions)  # (T,)
     speaking = speaking_flags(extract_features(audio))[: len(speed)]
     speed = speed[: len(speaking)]
     settled = settled_frames(speaking)
     speaking_speed, settled_speed = float(speed[speaking].mean()), float(speed[settled].mean())
     return {"speaking_m_s": round(speaking_speed, 4), "settled_m_s": round(settled_speed, 4),
             "settled_over_speaking": round(settled_speed / speaking_speed, 3),
-            "settled_s": round(float(settled.sum()) / MOTION_FPS, 1)}
+            "settled_s": round(float(settled.sum()) / MOTION_FPS, 1), "rest": round(rest_ratio(positions, audio), 3)}
 
 
 def real_takes(cache: Path) -> dict[str, dict]:
