@@ -7,7 +7,9 @@ silence, so in a long pause the avatar moves as much as its idle does. This benc
   spans stay out of every choice). The speaking flags are the runtime's, from the take's own
   audio. A pause of at least :data:`LONG_PAUSE_S` has **settled** from :data:`SETTLED_AFTER_S` after its start to its
   end (real motion slows for about a second after the voice stops, then stays low);
-- **idle**: :class:`IdleMotion` at the default :class:`IdleConfig`, seeds 0–2, over :data:`IDLE_SECONDS`.
+- **idle**: :class:`IdleMotion` at the default :class:`IdleConfig`, seeds 0–2, over :data:`IDLE_SECONDS`;
+- **avatar**: the bundle's motion for each take's same audio at the product's defaults (``Settings()``, the
+  offline `generate` path), generation seeds ``--seeds``, read by the same ``rest`` measure (``--seeds ''``: none).
 
 Speed: the mean speed (m/s) of the joints every take has (spine, chest and arms: the upper-body takes have no head)
 relative to the hips. Reported per take: speaking speed, settled speed, their ratio, the settled seconds and
@@ -24,16 +26,24 @@ from pathlib import Path
 
 import numpy as np
 
+from gesturecast.errors import UserError
 from gesturecast.models.audio.files import SAMPLE_RATE
 from gesturecast.models.audio.streaming import extract_features, speaking_flags
 from gesturecast.models.dataset.cache import load_take, read_index
 from gesturecast.models.evaluation.beat_consistency import joint_speeds
 from gesturecast.models.evaluation.metrics import root_relative
+from gesturecast.models.generator.diffusion import SamplerConfig
 from gesturecast.models.motion.motion import MOTION_FPS, SkeletonMotion
 from gesturecast.models.motion.skeleton import CANONICAL
+from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.realtime.pose.idle import IdleConfig, IdleMotion
-from gesturecast.tools.bench.speech.voices import rest_ratio
+from gesturecast.realtime.run.engine_setup import load_bundle
+from gesturecast.settings import DEFAULT_MODEL_DIR
+from gesturecast.tools.bench.speech.voices import DEFAULT_SEEDS, parse_seeds, rest_ratio
 from gesturecast.tools.data_cli import DEFAULT_CACHE
+from gesturecast.tools.eval.clips import EvalClip
+from gesturecast.tools.eval.condition import DEFAULT_CONDITION
+from gesturecast.tools.eval.generate import generate_offline
 
 LONG_PAUSE_S = 2.5
 SETTLED_AFTER_S = 1.5
@@ -47,6 +57,9 @@ ZEGGS_DATASETS = ("zeggs", "zeggs_upper")
 def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
     parser = bench_subparsers.add_parser("idle", help="motion in settled pauses: real takes against the idle (JSON)")
     parser.add_argument("--cache", type=Path, default=DEFAULT_CACHE, help="dataset cache (gesturecast data build)")
+    parser.add_argument("--bundle", type=Path, default=DEFAULT_MODEL_DIR, help="model bundle (default: bundled)")
+    parser.add_argument("--seeds", default=DEFAULT_SEEDS, help="comma-separated generation seeds of the avatar's "
+                        "motion on each take's audio ('': none)")
     parser.set_defaults(func=run_bench)
 
 
@@ -74,14 +87,27 @@ def real_take(motion: SkeletonMotion, audio: np.ndarray, frames: int) -> dict:
     speaking = speaking_flags(extract_features(audio))[: len(speed)]
     speed = speed[: len(speaking)]
     settled = settled_frames(speaking)
-    speaking_speed, settled_speed = float(speed[speaking].mean()), float(speed[settled].mean())
-    return {"speaking_m_s": round(speaking_speed, 4), "settled_m_s": round(settled_speed, 4),
-            "settled_over_speaking": round(settled_speed / speaking_speed, 3),
+    speaking_speed = float(speed[speaking].mean())
+    settled_speed = float(speed[settled].mean()) if settled.any() else None  # None: no pause long enough
+    return {"speaking_m_s": round(speaking_speed, 4),
+            "settled_m_s": None if settled_speed is None else round(settled_speed, 4),
+            "settled_over_speaking": None if settled_speed is None else round(settled_speed / speaking_speed, 3),
             "settled_s": round(float(settled.sum()) / MOTION_FPS, 1), "rest": round(rest_ratio(positions, audio), 3)}
 
 
-def real_takes(cache: Path) -> dict[str, dict]:
-    """:func:`real_take` of the train split of every ZeroEGGS take with speech in the cache."""
+def avatar_rest(bundle: ModelBundle, audio: np.ndarray, seeds: list[int]) -> dict:
+    """``rest`` of the bundle's motion for ``audio`` at ``Settings()``, per generation seed and their mean."""
+    sampler = SamplerConfig("ddim", bundle.default_steps)
+    clip = EvalClip("take", audio, DEFAULT_CONDITION.style)
+    per_seed = [rest_ratio(generate_offline(bundle, sampler, clip, DEFAULT_CONDITION.style, seed,
+                                            generator_style=DEFAULT_CONDITION.generator_style).positions, audio)
+                for seed in seeds]
+    return {"per_seed": [round(value, 3) for value in per_seed], "mean": round(float(np.mean(per_seed)), 3)}
+
+
+def real_takes(cache: Path, bundle: ModelBundle | None = None, seeds: list[int] = ()) -> dict[str, dict]:
+    """:func:`real_take` of the train split of every ZeroEGGS take with speech in the cache, with the avatar's
+    ``rest`` on the same audio when ``seeds`` are given."""
     out = {}
     for record in read_index(cache)["takes"]:
         if record["dataset"] not in ZEGGS_DATASETS or not record["has_audio"]:
@@ -90,7 +116,10 @@ def real_takes(cache: Path) -> dict[str, dict]:
         train = [segment for segment in record["segments"] if segment["split"] == "train"]
         stop = max(segment["stop"] for segment in train)  # the train split is the take's first part
         samples = int(round(stop / motion.fps * SAMPLE_RATE))
-        out[f"{record['dataset']}/{record['name']}"] = real_take(motion, audio[:samples], stop)
+        take = real_take(motion, audio[:samples], stop)
+        if seeds:
+            take["avatar_rest"] = avatar_rest(bundle, audio[:samples], seeds)
+        out[f"{record['dataset']}/{record['name']}"] = take
     return out
 
 
@@ -108,9 +137,14 @@ def idle_speed(config: IdleConfig | None = None, seeds: tuple[int, ...] = IDLE_S
 
 
 def idle_report(takes: dict[str, dict], idle: float) -> dict:
-    """The takes, their pooled and per-take settled speeds, and each over the idle's."""
-    seconds = np.array([take["settled_s"] for take in takes.values()])
-    settled = np.array([take["settled_m_s"] for take in takes.values()])
+    """The takes, their pooled and per-take settled speeds (of the takes with a settled pause), and each over the
+    idle's."""
+    settling = [take for take in takes.values() if take["settled_m_s"] is not None]
+    if not settling:
+        raise UserError("no take in the cache has a pause long enough to settle "
+                        f"(≥ {LONG_PAUSE_S} s of silence in its train split)")
+    seconds = np.array([take["settled_s"] for take in settling])
+    settled = np.array([take["settled_m_s"] for take in settling])
     pooled, per_take = float((settled * seconds).sum() / seconds.sum()), float(settled.mean())
     return {"takes": takes, "idle_m_s": round(idle, 4),
             "real_settled_m_s": {"pooled_by_time": round(pooled, 4), "mean_of_takes": round(per_take, 4)},
@@ -119,6 +153,7 @@ def idle_report(takes: dict[str, dict], idle: float) -> dict:
 
 
 def run_bench(args: argparse.Namespace) -> int:
-    takes = real_takes(args.cache)
+    seeds = parse_seeds(args.seeds)
+    takes = real_takes(args.cache, load_bundle(args.bundle) if seeds else None, seeds)
     print(json.dumps(idle_report(takes, idle_speed()), indent=1))
     return 0

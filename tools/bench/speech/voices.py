@@ -170,6 +170,11 @@ def trace(title: str, audio: np.ndarray, positions: np.ndarray) -> VoiceTrace:
     return VoiceTrace(title, moving_average(loudness, width), moving_average(speed, width), MOTION_FPS)
 
 
+def parse_seeds(text: str) -> list[int]:
+    """``--seeds``' comma-separated generation seeds ("" or spaces: none)."""
+    return [int(value) for value in text.split(",") if value.strip()]
+
+
 def case_key(case: VoiceCase) -> tuple[str, str, str]:
     return case.condition, case.file, case.voice
 
@@ -232,7 +237,7 @@ def voices_report(bundle_dir: Path, cache: Path, shared: Path, seeds: list[int],
 
 
 def run_bench(args: argparse.Namespace) -> int:
-    seeds = [int(value) for value in args.seeds.split(",")]
+    seeds = parse_seeds(args.seeds)
     report = voices_report(args.bundle, args.cache, args.shared, seeds, args.steps, args.audio_guidance, args.plot,
                            args.voice_set, args.guidance, Condition.from_args(args))
     text = json.dumps(report, indent=1)
