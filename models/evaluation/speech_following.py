@@ -54,10 +54,11 @@ def frame_energy_db(audio: np.ndarray, sample_rate: int, fps: float, num_frames:
     return energy
 
 
-def upper_body_speed(positions: np.ndarray, fps: float, skeleton: Skeleton = CANONICAL) -> np.ndarray:
-    """(T, J, 3) → (T,) mean speed of the upper-body joints relative to the root (Hips)."""
+def upper_body_speed(positions: np.ndarray, fps: float, skeleton: Skeleton = CANONICAL,
+                     joints: tuple[str, ...] = UPPER_BODY_JOINTS) -> np.ndarray:
+    """(T, J, 3) → (T,) mean speed of the upper-body joints (or of ``joints``) relative to the root (Hips)."""
     relative = root_relative(positions)  # (T, J, 3)
-    joints = [skeleton.index(name) for name in UPPER_BODY_JOINTS]
+    joints = [skeleton.index(name) for name in joints]
     return joint_speeds(relative[:, joints], fps).mean(axis=1)
 
 

@@ -20,7 +20,7 @@ from gesturecast.models.motion.skeleton import CANONICAL
 X, Y, Z = 0, 1, 2
 PERIOD_JITTER = 0.1  # each oscillator's period varies by up to ±10 % with the seed
 GOLDEN_RATIO = 1.618034  # slow companions of the sway / head / arm oscillators, never in phase with them
-PERIOD_JITTER_RIGHT = 1.13  # the right arm's periods against the left's: the arms never move as one
+RIGHT_ARM_PERIOD_FACTOR = 1.13  # the right arm's periods against the left's: the arms never move as one
 LEG_JOINTS = ("LeftUpperLeg", "RightUpperLeg")
 
 
@@ -47,9 +47,9 @@ class IdleConfig:
             "head": self.head_period_s,
             "head_slow": self.head_period_s * GOLDEN_RATIO,
             "arm_left": self.arms_period_s,
-            "arm_right": self.arms_period_s * PERIOD_JITTER_RIGHT,
+            "arm_right": self.arms_period_s * RIGHT_ARM_PERIOD_FACTOR,
             "elbow_left": self.arms_period_s * GOLDEN_RATIO,
-            "elbow_right": self.arms_period_s * GOLDEN_RATIO * PERIOD_JITTER_RIGHT,
+            "elbow_right": self.arms_period_s * GOLDEN_RATIO * RIGHT_ARM_PERIOD_FACTOR,
         }
 
     def amplitudes(self) -> dict[str, float]:

@@ -30,8 +30,7 @@ from gesturecast.errors import UserError
 from gesturecast.models.audio.files import SAMPLE_RATE
 from gesturecast.models.audio.streaming import extract_features, speaking_flags
 from gesturecast.models.dataset.cache import load_take, read_index
-from gesturecast.models.evaluation.beat_consistency import joint_speeds
-from gesturecast.models.evaluation.metrics import root_relative
+from gesturecast.models.evaluation.speech_following import upper_body_speed
 from gesturecast.models.generator.diffusion import SamplerConfig
 from gesturecast.models.motion.motion import MOTION_FPS, SkeletonMotion
 from gesturecast.models.motion.skeleton import CANONICAL
@@ -39,7 +38,7 @@ from gesturecast.models.runtime.bundle import ModelBundle
 from gesturecast.realtime.pose.idle import IdleConfig, IdleMotion
 from gesturecast.realtime.run.engine_setup import load_bundle
 from gesturecast.settings import DEFAULT_MODEL_DIR
-from gesturecast.tools.bench.speech.voices import DEFAULT_SEEDS, parse_seeds, rest_ratio
+from gesturecast.tools.bench.speech.voices import DEFAULT_SEEDS, parse_seeds, rest_ratio_of_flags
 from gesturecast.tools.data_cli import DEFAULT_CACHE
 from gesturecast.tools.eval.clips import EvalClip
 from gesturecast.tools.eval.condition import DEFAULT_CONDITION
@@ -65,8 +64,7 @@ def register_bench(bench_subparsers: argparse._SubParsersAction) -> None:
 
 def shared_joint_speed(positions: np.ndarray) -> np.ndarray:
     """(T, J, 3) → (T,) mean speed (m/s) of :data:`SHARED_JOINTS` relative to the hips."""
-    joints = [CANONICAL.index(name) for name in SHARED_JOINTS]
-    return joint_speeds(root_relative(positions)[:, joints], MOTION_FPS).mean(axis=1)
+    return upper_body_speed(positions, MOTION_FPS, joints=SHARED_JOINTS)
 
 
 def settled_frames(speaking: np.ndarray, fps: float = MOTION_FPS) -> np.ndarray:
@@ -84,7 +82,8 @@ def real_take(motion: SkeletonMotion, audio: np.ndarray, frames: int) -> dict:
     ``bench voices`` measures generated motion (every pause ÷ speaking, the upper body)."""
     positions = motion.positions()[:frames]  # (T, J, 3)
     speed = shared_joint_speed(positions)  # (T,)
-    speaking = speaking_flags(extract_features(audio))[: len(speed)]
+    flags = speaking_flags(extract_features(audio))  # (T',) read once for both measures
+    speaking = flags[: len(speed)]
     speed = speed[: len(speaking)]
     settled = settled_frames(speaking)
     speaking_speed = float(speed[speaking].mean())
@@ -92,15 +91,18 @@ def real_take(motion: SkeletonMotion, audio: np.ndarray, frames: int) -> dict:
     return {"speaking_m_s": round(speaking_speed, 4),
             "settled_m_s": None if settled_speed is None else round(settled_speed, 4),
             "settled_over_speaking": None if settled_speed is None else round(settled_speed / speaking_speed, 3),
-            "settled_s": round(float(settled.sum()) / MOTION_FPS, 1), "rest": round(rest_ratio(positions, audio), 3)}
+            "settled_s": round(float(settled.sum()) / MOTION_FPS, 1),
+            "rest": round(rest_ratio_of_flags(positions, flags), 3)}
 
 
 def avatar_rest(bundle: ModelBundle, audio: np.ndarray, seeds: list[int]) -> dict:
     """``rest`` of the bundle's motion for ``audio`` at ``Settings()``, per generation seed and their mean."""
     sampler = SamplerConfig("ddim", bundle.default_steps)
     clip = EvalClip("take", audio, DEFAULT_CONDITION.style)
-    per_seed = [rest_ratio(generate_offline(bundle, sampler, clip, DEFAULT_CONDITION.style, seed,
-                                            generator_style=DEFAULT_CONDITION.generator_style).positions, audio)
+    speaking = speaking_flags(extract_features(audio))  # (T',) the same for every seed
+    per_seed = [rest_ratio_of_flags(generate_offline(bundle, sampler, clip, DEFAULT_CONDITION.style, seed,
+                                                     generator_style=DEFAULT_CONDITION.generator_style).positions,
+                                    speaking)
                 for seed in seeds]
     return {"per_seed": [round(value, 3) for value in per_seed], "mean": round(float(np.mean(per_seed)), 3)}
 

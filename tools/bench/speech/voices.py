@@ -106,7 +106,12 @@ def chance_r(positions: np.ndarray, own_file: str, references: dict[str, np.ndar
 
 def rest_ratio(positions: np.ndarray, reference: np.ndarray) -> float:
     """Mean upper-body speed in pauses / while speaking (NaN with < MIN_PAUSE_S of pause)."""
-    speaking = speaking_flags(extract_features(reference))[: len(positions)]  # (T',)
+    return rest_ratio_of_flags(positions, speaking_flags(extract_features(reference)))
+
+
+def rest_ratio_of_flags(positions: np.ndarray, speaking: np.ndarray) -> float:
+    """:func:`rest_ratio` with the reference's speaking flags (T',) already read."""
+    speaking = speaking[: len(positions)]  # (T',)
     speed = upper_body_speed(positions[: len(speaking)], MOTION_FPS)
     if (~speaking).sum() < MIN_PAUSE_S * MOTION_FPS or not speaking.any():
         return float("nan")
